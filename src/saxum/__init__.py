@@ -1,0 +1,39 @@
+"""saxum: Non-Smooth Contact Dynamics for masonry structures of rigid blocks.
+
+The pipeline: a ModelBuilder collects blocks and contact laws -> finalize() gives a Model ->
+Simulation(model, dt=...) steps a State with Moreau-Jean time stepping and NLGS.
+"""
+
+from .contacts import Contacts
+from .detection import DetectionSettings
+from .errors import InputError, OverlapError, SimulationError, SolverWarning
+from .integrator import MoreauJean
+from .laws import ContactLaw, LawKind
+from .model import BodyKind, Model, ModelBuilder
+from .simulation import Simulation
+from .solver import NLGS, ContactSolver
+from .state import State
+from .steplog import StepLog, StepReport
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "NLGS",
+    "BodyKind",
+    "ContactLaw",
+    "ContactSolver",
+    "Contacts",
+    "DetectionSettings",
+    "InputError",
+    "LawKind",
+    "Model",
+    "ModelBuilder",
+    "MoreauJean",
+    "OverlapError",
+    "Simulation",
+    "SimulationError",
+    "SolverWarning",
+    "State",
+    "StepLog",
+    "StepReport",
+]

@@ -1,0 +1,85 @@
+"""Contacts: the candidate/antagonist pairs found by detection, as structure-of-arrays.
+
+A contact alpha joins a candidate body (which carries the contact point) and an antagonist body
+(which carries the frame). In 2D the frame is (t, n), n the antagonist's outward face normal and
+t = (n_y, -n_x), so that (t, n) is right-handed; local vectors are stored as (t, n) components.
+`key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
+of the common segment), so that the solver can start from the previous impulses.
+"""
+
+import numba as nb
+import numpy as np
+
+__all__ = ["Contacts"]
+
+
+class Contacts:
+    """Preallocated contact arrays; the first `count` rows are valid."""
+
+    def __init__(self, dim: int = 2, capacity: int = 64) -> None:
+        self.dim = dim
+        self.count = 0
+        self._allocate(max(capacity, 1))
+
+    def _allocate(self, capacity: int) -> None:
+        d = self.dim
+        self.capacity = capacity
+        self.candidate = np.zeros(capacity, dtype=np.int32)
+        """Candidate body index, shape [capacity], int32."""
+        self.antagonist = np.zeros(capacity, dtype=np.int32)
+        """Antagonist body index, shape [capacity], int32."""
+        self.key = np.zeros(capacity, dtype=np.int64)
+        """Identity of the contact across steps, shape [capacity], int64."""
+        self.law = np.zeros(capacity, dtype=np.int32)
+        """Index into Model.laws, shape [capacity], int32."""
+        self.point = np.zeros((capacity, d))
+        """Contact point on the candidate [m], shape [capacity, dim], float64."""
+        self.frame = np.zeros((capacity, d, d))
+        """Rows: t, n (2D) or t, n, s (3D) in world coordinates, shape [capacity, dim, dim]."""
+        self.gap = np.zeros(capacity)
+        """Gap on the predicted configuration [m] (negative: interpenetration), shape [capacity]."""
+        self.impulse = np.zeros((capacity, d))
+        """Contact impulse R over the step in the local frame [N s], shape [capacity, dim]."""
+
+    def reserve(self, capacity: int) -> None:
+        """Make room for `capacity` contacts; existing rows are kept."""
+        if capacity <= self.capacity:
+            return
+        old = {k: getattr(self, k)[: self.count].copy() for k in self._fields()}
+        self._allocate(max(capacity, 2 * self.capacity))
+        for k, a in old.items():
+            getattr(self, k)[: self.count] = a
+
+    @staticmethod
+    def _fields() -> tuple[str, ...]:
+        return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse")
+
+    def copy(self) -> "Contacts":
+        """A deep copy of the valid rows."""
+        c = Contacts(self.dim, max(self.count, 1))
+        c.count = self.count
+        for k in self._fields():
+            getattr(c, k)[: self.count] = getattr(self, k)[: self.count]
+        return c
+
+    def warm_start_from(self, previous: "Contacts") -> int:
+        """Copy impulses of persisting contacts (same key) from `previous`; returns how many."""
+        return _warm_start(
+            self.key[: self.count], self.impulse[: self.count],
+            previous.key[: previous.count], previous.impulse[: previous.count],
+        )
+
+
+@nb.njit(cache=True)
+def _warm_start(key, impulse, old_key, old_impulse):
+    order = np.argsort(old_key, kind="mergesort")
+    sorted_keys = old_key[order]
+    hits = 0
+    for a in range(key.shape[0]):
+        pos = np.searchsorted(sorted_keys, key[a])
+        if pos < sorted_keys.shape[0] and sorted_keys[pos] == key[a]:
+            impulse[a, :] = old_impulse[order[pos], :]
+            hits += 1
+        else:
+            impulse[a, :] = 0.0
+    return hits

@@ -1,0 +1,136 @@
+"""Broad phase: pairs of bodies whose padded bounding boxes overlap, on a uniform hashed grid.
+
+Cost O(N) in the number of bodies: each small body is entered in the (at most 4) cells its box
+covers; a pair is reported only from the cell that holds the lower corner of the two boxes'
+intersection, so it is reported once. Bodies much larger than the cell (grounds, long supports)
+are tested against all bodies directly, which costs O(N) per large body.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+__all__ = ["bounding_boxes", "grid_pairs", "sort_pairs"]
+
+
+@nb.njit(cache=True)
+def bounding_boxes(wv, vertex_start, pad, lo, hi):
+    """Axis-aligned boxes of each body's world vertices wv, enlarged by pad [m] on every side."""
+    for b in range(vertex_start.shape[0] - 1):
+        for d in range(wv.shape[1]):
+            mn = np.inf
+            mx = -np.inf
+            for k in range(vertex_start[b], vertex_start[b + 1]):
+                x = wv[k, d]
+                mn = min(mn, x)
+                mx = max(mx, x)
+            lo[b, d] = mn - pad
+            hi[b, d] = mx + pad
+
+
+@nb.njit(inline="always")
+def _overlap(lo, hi, i, j):
+    for d in range(lo.shape[1]):
+        if lo[i, d] > hi[j, d] or lo[j, d] > hi[i, d]:
+            return False
+    return True
+
+
+@nb.njit(inline="always")
+def _bucket(ix, iy, mask):
+    return ((ix * 73856093) ^ (iy * 19349663)) & mask
+
+
+@nb.njit(cache=True)
+def grid_pairs(lo, hi, mobile, large, cell, out):
+    """Write the pairs (i < j) of overlapping boxes with at least one mobile body into out[:, 0:2].
+
+    lo, hi: boxes [m], shape [n, 2]; mobile, large: bool [n]; cell: grid spacing [m], not smaller
+    than any small body's box. Returns the number of pairs found, which may exceed len(out): the
+    caller then enlarges out and calls again.
+    """
+    n = lo.shape[0]
+    cap = out.shape[0]
+    ix0 = np.empty(n, np.int64)
+    iy0 = np.empty(n, np.int64)
+    ix1 = np.empty(n, np.int64)
+    iy1 = np.empty(n, np.int64)
+    entries = 0
+    for b in range(n):
+        if large[b]:
+            continue
+        ix0[b] = math.floor(lo[b, 0] / cell)
+        iy0[b] = math.floor(lo[b, 1] / cell)
+        ix1[b] = math.floor(hi[b, 0] / cell)
+        iy1[b] = math.floor(hi[b, 1] / cell)
+        entries += (ix1[b] - ix0[b] + 1) * (iy1[b] - iy0[b] + 1)
+    size = 1
+    while size < 2 * entries:
+        size *= 2
+    mask = size - 1
+    start = np.zeros(size + 1, np.int64)
+    for b in range(n):
+        if not large[b]:
+            for ix in range(ix0[b], ix1[b] + 1):
+                for iy in range(iy0[b], iy1[b] + 1):
+                    start[_bucket(ix, iy, mask) + 1] += 1
+    for k in range(size):
+        start[k + 1] += start[k]
+    fill = start[:-1].copy()
+    e_body = np.empty(entries, np.int64)
+    e_ix = np.empty(entries, np.int64)
+    e_iy = np.empty(entries, np.int64)
+    for b in range(n):
+        if not large[b]:
+            for ix in range(ix0[b], ix1[b] + 1):
+                for iy in range(iy0[b], iy1[b] + 1):
+                    k = fill[_bucket(ix, iy, mask)]
+                    e_body[k] = b
+                    e_ix[k] = ix
+                    e_iy[k] = iy
+                    fill[_bucket(ix, iy, mask)] += 1
+
+    count = 0
+    for i in range(n):
+        if large[i]:
+            continue
+        for ix in range(ix0[i], ix1[i] + 1):
+            for iy in range(iy0[i], iy1[i] + 1):
+                bk = _bucket(ix, iy, mask)
+                for k in range(start[bk], start[bk + 1]):
+                    j = e_body[k]
+                    if j <= i or e_ix[k] != ix or e_iy[k] != iy:
+                        continue
+                    if not (mobile[i] or mobile[j]) or not _overlap(lo, hi, i, j):
+                        continue
+                    cx = math.floor(max(lo[i, 0], lo[j, 0]) / cell)
+                    cy = math.floor(max(lo[i, 1], lo[j, 1]) / cell)
+                    if cx == ix and cy == iy:
+                        if count < cap:
+                            out[count, 0] = i
+                            out[count, 1] = j
+                        count += 1
+    for i in range(n):
+        if not large[i]:
+            continue
+        for j in range(n):
+            if j == i or (large[j] and j < i):
+                continue
+            if (mobile[i] or mobile[j]) and _overlap(lo, hi, i, j):
+                if count < cap:
+                    out[count, 0] = min(i, j)
+                    out[count, 1] = max(i, j)
+                count += 1
+    return count
+
+
+@nb.njit(cache=True)
+def sort_pairs(pairs, count, n):
+    """Sort the first `count` pairs by (i, j), so that contact order does not depend on the grid."""
+    code = pairs[:count, 0].astype(np.int64) * n + pairs[:count, 1]
+    order = np.argsort(code, kind="mergesort")
+    tmp = pairs[:count].copy()
+    for k in range(count):
+        pairs[k, 0] = tmp[order[k], 0]
+        pairs[k, 1] = tmp[order[k], 1]

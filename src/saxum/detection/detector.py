@@ -1,0 +1,132 @@
+"""Detection stage of the time step: world geometry, broad phase (refreshed), narrow phase."""
+
+from dataclasses import dataclass
+
+import numba as nb
+import numpy as np
+
+from ..contacts import Contacts
+from ..errors import InputError, OverlapError
+from ..model import BodyKind, Model
+from ..rigid2d import world_vertices
+from .broadphase import bounding_boxes, grid_pairs, sort_pairs
+from .polygons import polygon_contacts
+
+__all__ = ["DetectionSettings", "Detector"]
+
+
+@dataclass(frozen=True)
+class DetectionSettings:
+    """alert [m]: pairs closer than this become contacts (default: 2 % of the smallest free
+    block's size, sqrt(area)). margin [m]: extra padding of the bounding boxes so that the
+    broad phase need only run every `refresh_every` steps (default: equal to alert); it also runs
+    as soon as a body has moved by more than margin/2 since the last time."""
+
+    alert: float | None = None
+    margin: float | None = None
+    refresh_every: int = 10
+
+    def __post_init__(self) -> None:
+        for name in ("alert", "margin"):
+            value = getattr(self, name)
+            if value is not None and not (np.isfinite(value) and value > 0.0):
+                raise InputError(f"detection.{name} must be a finite length > 0 [m], got {value}")
+        if self.refresh_every < 1:
+            raise InputError(f"detection.refresh_every must be >= 1, got {self.refresh_every}")
+
+
+@nb.njit(cache=True)
+def _largest_motion(q, q_ref, radius):
+    """Upper bound of the displacement of any point of any body since q_ref [m]."""
+    worst = 0.0
+    for b in range(q.shape[0]):
+        d = np.hypot(q[b, 0] - q_ref[b, 0], q[b, 1] - q_ref[b, 1])
+        d += abs(q[b, 2] - q_ref[b, 2]) * radius[b]
+        worst = max(worst, d)
+    return worst
+
+
+class Detector:
+    """Finds the contacts of a configuration q. Owns its work arrays; no allocation per step
+    except when the contact or pair count grows."""
+
+    def __init__(self, model: Model, settings: DetectionSettings | None = None) -> None:
+        settings = settings or DetectionSettings()
+        free = model.body_kind == BodyKind.FREE
+        scale = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
+        self.model = model
+        self.alert = settings.alert if settings.alert is not None else 0.02 * scale
+        self.margin = settings.margin if settings.margin is not None else self.alert
+        self.refresh_every = settings.refresh_every
+        self.reference_bias = 0.1 * self.alert
+        n = model.body_count
+        self._mobile = free
+        self._wv = np.empty_like(model.vertex_local)
+        self._lo = np.empty((n, 2))
+        self._hi = np.empty((n, 2))
+        self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
+        self.pair_count = 0
+        self._q_ref = np.full((n, 3), np.nan)
+        self._since_refresh = 0
+        self.refresh_count = 0
+
+    def detect(self, q: np.ndarray, contacts: Contacts) -> None:
+        """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
+        m = self.model
+        world_vertices(q, m.body_vertex_start, m.vertex_local, self._wv)
+        self._since_refresh += 1
+        if (
+            self._since_refresh >= self.refresh_every
+            or not _largest_motion(q, self._q_ref, m.body_radius) <= 0.5 * self.margin
+        ):
+            self._refresh(q)
+        contacts.reserve(2 * self.pair_count)
+        contacts.count = polygon_contacts(
+            self._pairs, self.pair_count, self._wv, m.body_vertex_start, m.body_group,
+            m.group_law, self.alert, self.reference_bias, m.max_vertices,
+            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap,
+        )
+
+    def _refresh(self, q: np.ndarray) -> None:
+        m = self.model
+        bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.alert + self.margin),
+                       self._lo, self._hi)
+        extent = (self._hi - self._lo).max(axis=1)
+        large = extent > 4.0 * np.median(extent)
+        cell = float(extent[~large].max()) if (~large).any() else float(extent.max())
+        while True:
+            count = grid_pairs(self._lo, self._hi, self._mobile, large, cell, self._pairs)
+            if count <= len(self._pairs):
+                break
+            self._pairs = np.empty((2 * count, 2), dtype=np.int32)
+        sort_pairs(self._pairs, count, m.body_count)
+        self.pair_count = count
+        self._q_ref[:] = q
+        self._since_refresh = 0
+        self.refresh_count += 1
+
+    def check_overlaps(self, q: np.ndarray, *, tolerance: float | None = None) -> None:
+        """Raise OverlapError naming the deepest interpenetrating pair at configuration q.
+
+        tolerance [m]: overlaps up to this depth are accepted (default 1e-6 of the largest
+        block size, i.e. round-off of generated geometry).
+        """
+        tol = tolerance if tolerance is not None else 1e-6 * float(self.model.body_size.max())
+        probe = Contacts(self.model.dim)
+        self._since_refresh = self.refresh_every
+        self.detect(q, probe)
+        gaps = probe.gap[: probe.count]
+        bad = np.flatnonzero(gaps < -tol)
+        if bad.size == 0:
+            return
+        worst = bad[np.argmin(gaps[bad])]
+        names = self.model.body_name
+        a, b = probe.candidate[worst], probe.antagonist[worst]
+        pairs = {(min(x, y), max(x, y)) for x, y in zip(probe.candidate[bad], probe.antagonist[bad],
+                                                        strict=True)}
+        raise OverlapError(
+            f"blocks {names[a]!r} and {names[b]!r} overlap by {-gaps[worst]:.6g} m at the start "
+            f"({len(pairs)} overlapping pair(s) in all, tolerance {tol:.3g} m); "
+            "move them apart or shrink them so that they only touch"
+        )

@@ -1,0 +1,141 @@
+"""Narrow phase between convex polygons: reference face, incident face, clipped contact points.
+
+For a pair of blocks, the separating-axis test over the edges of both polygons finds the edge of
+largest separation; its polygon becomes the antagonist (it carries the frame: n is that edge's
+outward normal, t = (n_y, -n_x)), the other the candidate. The candidate's face most opposed to n
+(the incident face) is clipped to the extent of the reference face: the ends of the clipped
+segment are the contact points, each kept if its gap n . (p - a) is below the alert distance.
+Two faces in contact thus give two points at the ends of their common segment, so that a joint
+can open and rotate about either end; a vertex against a face gives one point.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+__all__ = ["polygon_contacts"]
+
+
+@nb.njit(inline="always")
+def _edge(wv, start, count, e):
+    """Start vertex a, unit tangent t, outward normal n = (t_y, -t_x) and length of edge e."""
+    k0 = start + e
+    k1 = start + (e + 1) % count
+    ax = wv[k0, 0]
+    ay = wv[k0, 1]
+    tx = wv[k1, 0] - ax
+    ty = wv[k1, 1] - ay
+    length = math.hypot(tx, ty)
+    tx /= length
+    ty /= length
+    return ax, ay, tx, ty, ty, -tx, length
+
+
+@nb.njit(cache=True)
+def _max_separation(wv, r0, nr, o0, no, alert):
+    """Largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m].
+
+    Stops early once an edge separates by more than `alert`.
+    """
+    best = -np.inf
+    best_e = 0
+    for e in range(nr):
+        ax, ay, _, _, nx, ny, _ = _edge(wv, r0, nr, e)
+        s = np.inf
+        for k in range(o0, o0 + no):
+            s = min(s, nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay))
+        if s > best:
+            best = s
+            best_e = e
+            if s > alert:
+                break
+    return best, best_e
+
+
+@nb.njit(cache=True)
+def polygon_contacts(
+    pairs, npairs, wv, vertex_start, body_group, group_law, alert, ref_tol, max_vertices,
+    candidate, antagonist, key, law, point, frame, gap,
+):
+    """Contacts of the first npairs pairs of polygons with world vertices wv [m].
+
+    alert: alert distance [m]; ref_tol: a face of the first body of a pair stays the reference
+    unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
+    identities stable across steps). Output arrays need room for 2 * npairs contacts.
+    Returns the number of contacts written.
+    """
+    nbody = vertex_start.shape[0] - 1
+    count = 0
+    for p in range(npairs):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        i0 = vertex_start[i]
+        ni = vertex_start[i + 1] - i0
+        j0 = vertex_start[j]
+        nj = vertex_start[j + 1] - j0
+        s_i, e_i = _max_separation(wv, i0, ni, j0, nj, alert)
+        if s_i > alert:
+            continue
+        s_j, e_j = _max_separation(wv, j0, nj, i0, ni, alert)
+        if s_j > alert:
+            continue
+        if s_j > s_i + ref_tol:
+            ant, a0, na, ref = j, j0, nj, e_j
+            cand, c0, nc = i, i0, ni
+        else:
+            ant, a0, na, ref = i, i0, ni, e_i
+            cand, c0, nc = j, j0, nj
+        ax, ay, tx, ty, nx, ny, length = _edge(wv, a0, na, ref)
+
+        inc = 0
+        most = np.inf
+        for e in range(nc):
+            _, _, _, _, mx, my, _ = _edge(wv, c0, nc, e)
+            d = mx * nx + my * ny
+            if d < most:
+                most = d
+                inc = e
+        k0 = c0 + inc
+        k1 = c0 + (inc + 1) % nc
+        p0x = wv[k0, 0]
+        p0y = wv[k0, 1]
+        p1x = wv[k1, 0]
+        p1y = wv[k1, 1]
+        s0 = tx * (p0x - ax) + ty * (p0y - ay)
+        s1 = tx * (p1x - ax) + ty * (p1y - ay)
+        if s0 > s1:
+            p0x, p1x = p1x, p0x
+            p0y, p1y = p1y, p0y
+            s0, s1 = s1, s0
+        if s1 < 0.0 or s0 > length:
+            continue
+        ds = s1 - s0
+        law_index = group_law[body_group[cand], body_group[ant]]
+        base = ((cand * nbody + ant) * max_vertices + ref) * max_vertices + inc
+        for slot in range(2):
+            if slot == 0:
+                s_clip = max(s0, 0.0)
+            else:
+                s_clip = min(s1, length)
+                if ds <= 0.0:
+                    break
+            f = (s_clip - s0) / ds if ds > 0.0 else 0.0
+            px = p0x + f * (p1x - p0x)
+            py = p0y + f * (p1y - p0y)
+            g = nx * (px - ax) + ny * (py - ay)
+            if g > alert:
+                continue
+            candidate[count] = cand
+            antagonist[count] = ant
+            key[count] = base * 2 + slot
+            law[count] = law_index
+            point[count, 0] = px
+            point[count, 1] = py
+            frame[count, 0, 0] = ny
+            frame[count, 0, 1] = -nx
+            frame[count, 1, 0] = nx
+            frame[count, 1, 1] = ny
+            gap[count] = g
+            count += 1
+    return count

@@ -1,0 +1,19 @@
+"""Errors raised on bad input. Each message names the block, parameter or pair at fault."""
+
+__all__ = ["InputError", "OverlapError", "SimulationError", "SolverWarning"]
+
+
+class InputError(ValueError):
+    """Bad model, load or solver input; the message says what is wrong and what to do."""
+
+
+class OverlapError(InputError):
+    """Two blocks interpenetrate at the start of a run."""
+
+
+class SimulationError(RuntimeError):
+    """The time integration broke down (NaN or infinite velocities); the message gives the step."""
+
+
+class SolverWarning(UserWarning):
+    """The contact solver did not converge at some steps; the step log says which."""

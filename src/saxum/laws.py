@@ -1,0 +1,51 @@
+"""Contact laws: the unilateral condition in the normal direction and Coulomb friction.
+
+Each law is written, for an active contact alpha, as the complementarity
+    U_n + b_n >= 0,   R_n >= 0,   (U_n + b_n) R_n = 0,
+with Coulomb's law |R_t| <= mu R_n, R_t = -mu R_n U_t/|U_t| if U_t != 0, where U is the relative
+velocity at the end of the step and b_n a shift that depends on the law (NSCD.md; M. Jean,
+CMAME 177, 1999; names after LMGC90's families):
+
+- SIGNORINI_COULOMB (IQS_CLB): active when the predicted gap g <= 0, b_n = 0 (inelastic shock).
+- RESTITUTION_COULOMB (RST_CLB): active when g <= 0, b_n = e_n min(U_n^-, 0) (Newton's law,
+  U_n^+ >= -e_n U_n^-).
+- GAP_SIGNORINI_COULOMB (GAP_SGR_CLB): active for every contact within the alert distance,
+  b_n = g / (theta h), i.e. the end-of-step gap g + theta h U_n stays >= 0; this removes drift.
+"""
+
+import math
+from dataclasses import dataclass
+from enum import IntEnum
+
+from .errors import InputError
+
+__all__ = ["ContactLaw", "LawKind"]
+
+
+class LawKind(IntEnum):
+    """The normal part of a contact law (friction is Coulomb for all)."""
+
+    SIGNORINI_COULOMB = 0
+    RESTITUTION_COULOMB = 1
+    GAP_SIGNORINI_COULOMB = 2
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """A contact law: friction coefficient mu [-], kind, restitution e_n [-] (RESTITUTION only)."""
+
+    friction: float
+    kind: LawKind = LawKind.GAP_SIGNORINI_COULOMB
+    restitution: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.friction) and self.friction >= 0.0):
+            raise InputError(f"friction must be a finite number >= 0, got {self.friction}")
+        if not (math.isfinite(self.restitution) and 0.0 <= self.restitution <= 1.0):
+            raise InputError(f"restitution must be in [0, 1], got {self.restitution}")
+        if self.restitution != 0.0 and self.kind != LawKind.RESTITUTION_COULOMB:
+            raise InputError(
+                f"restitution={self.restitution} is only used by LawKind.RESTITUTION_COULOMB, "
+                f"not by {self.kind.name}; set kind=LawKind.RESTITUTION_COULOMB or drop it"
+            )
+        object.__setattr__(self, "kind", LawKind(self.kind))

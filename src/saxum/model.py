@@ -1,0 +1,280 @@
+"""The model: what the structure is (bodies, shapes, materials, contact laws, loads).
+
+A `ModelBuilder` collects blocks in Python lists; `finalize()` freezes them into a `Model` of flat
+structure-of-arrays (one array per attribute, `body_<field>`), which the compiled kernels read.
+Where the structure is now (positions, velocities, impulses) lives in `saxum.state.State`.
+
+2D conventions: generalized coordinates q = (x, y, theta) of the centre of mass [m, m, rad],
+velocities v = (vx, vy, omega) [m/s, m/s, rad/s]; a block has unit out-of-plane depth, so its
+density [kg/m^3] times its area [m^2] is its mass per metre of depth [kg].
+"""
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+import numpy as np
+
+from .errors import InputError
+from .geometry2d import normalize_polygon, polygon_properties
+from .laws import ContactLaw
+
+__all__ = ["BodyKind", "Model", "ModelBuilder"]
+
+Motion = Callable[[float], Sequence[float]]
+"""Imposed velocity of a driven body: t [s] -> (vx [m/s], vy [m/s], omega [rad/s])."""
+TimeVector = Callable[[float], Sequence[float]]
+
+
+class BodyKind(IntEnum):
+    """FREE bodies move under forces and contacts; FIXED never move; DRIVEN follow a Motion."""
+
+    FREE = 0
+    FIXED = 1
+    DRIVEN = 2
+
+
+@dataclass(frozen=True)
+class Model:
+    """A frozen 2D model as structure-of-arrays. Build it with `ModelBuilder`."""
+
+    body_count: int
+    body_name: tuple[str, ...]
+    """Block names, shape [body_count], used in messages and outputs."""
+    body_kind: np.ndarray
+    """BodyKind, shape [body_count], int8."""
+    body_group: np.ndarray
+    """Index into `group_names`, shape [body_count], int32."""
+    body_density: np.ndarray
+    """Density [kg/m^3], shape [body_count], float64 (0 for fixed and driven bodies)."""
+    body_mass: np.ndarray
+    """Mass per metre of depth [kg], shape [body_count], float64."""
+    body_inertia: np.ndarray
+    """Polar moment of inertia about the centre of mass [kg m^2], shape [body_count], float64."""
+    body_inv_mass: np.ndarray
+    """Diagonal of M^-1 per dof [1/kg, 1/kg, 1/(kg m^2)], shape [body_count, 3]; 0 unless FREE."""
+    body_q0: np.ndarray
+    """Initial coordinates (x, y, theta) [m, m, rad], shape [body_count, 3], float64."""
+    body_radius: np.ndarray
+    """Largest distance from centre of mass to a vertex [m], shape [body_count], float64."""
+    body_size: np.ndarray
+    """Square root of the area [m], shape [body_count], float64."""
+    body_vertex_start: np.ndarray
+    """Body b owns vertices body_vertex_start[b]:body_vertex_start[b+1], shape [body_count+1]."""
+    vertex_local: np.ndarray
+    """Polygon vertices in the body frame, CCW, [m], shape [vertex_count, 2], float64."""
+    body_motion: np.ndarray
+    """Index into `motions` for DRIVEN bodies, -1 otherwise, shape [body_count], int32."""
+    motions: tuple[Motion, ...]
+    group_names: tuple[str, ...]
+    group_law: np.ndarray
+    """Law index for each pair of groups, -1 if none, shape [group_count, group_count], int32."""
+    laws: tuple[ContactLaw, ...]
+    law_kind: np.ndarray
+    """LawKind per law, shape [law_count], int8."""
+    law_friction: np.ndarray
+    """Coulomb coefficient mu [-], shape [law_count], float64."""
+    law_restitution: np.ndarray
+    """Newton restitution e_n [-], shape [law_count], float64."""
+    gravity: np.ndarray
+    """Gravitational acceleration [m/s^2], shape [2], float64."""
+    accelerations: tuple[TimeVector, ...] = ()
+    """Uniform accelerations t -> (ax, ay) [m/s^2] applied as m a to every free body."""
+    forces: tuple[tuple[np.ndarray, TimeVector], ...] = ()
+    """(body indices, t -> (fx [N], fy [N], torque [N m])) applied to each listed body."""
+    dim: int = 2
+    dof: int = 3
+    max_vertices: int = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "max_vertices", int(np.diff(self.body_vertex_start).max()))
+
+    def body(self, name: str) -> int:
+        """Index of the body called `name`."""
+        try:
+            return self.body_name.index(name)
+        except ValueError:
+            raise KeyError(f"no body named {name!r}") from None
+
+    def vertices(self, b: int, q: np.ndarray | None = None) -> np.ndarray:
+        """World vertices [m] of body b at coordinates q (default: initial), shape (n, 2)."""
+        x, y, th = (self.body_q0 if q is None else q)[b]
+        loc = self.vertex_local[self.body_vertex_start[b] : self.body_vertex_start[b + 1]]
+        c, s = math.cos(th), math.sin(th)
+        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1], y + s * loc[:, 0] + c * loc[:, 1]))
+
+
+@dataclass
+class _Block:
+    name: str
+    vertices: np.ndarray
+    density: float
+    group: str
+    kind: BodyKind
+    motion: Motion | None
+
+
+class ModelBuilder:
+    """Collects blocks, contact laws and loads, then `finalize()`s them into a `Model`.
+
+    >>> b = ModelBuilder()
+    >>> ground = b.add_block([(-1, -0.1), (1, -0.1), (1, 0), (-1, 0)], kind=BodyKind.FIXED,
+    ...                      group="support")
+    >>> stone = b.add_block([(0, 0), (0.2, 0), (0.2, 0.4), (0, 0.4)], density=2500.0)
+    >>> b.set_law("block", "support", ContactLaw(friction=0.6))
+    >>> b.set_law("block", "block", ContactLaw(friction=0.6))
+    >>> model = b.finalize()
+    >>> round(float(model.body_mass[stone]), 6)
+    200.0
+    """
+
+    def __init__(self, *, gravity: Sequence[float] = (0.0, -9.81)) -> None:
+        self._blocks: list[_Block] = []
+        self._laws: dict[frozenset[str], ContactLaw] = {}
+        self._accelerations: list[TimeVector] = []
+        self._forces: list[tuple[np.ndarray, TimeVector]] = []
+        g = np.array(gravity, dtype=np.float64)
+        if g.shape != (2,) or not np.all(np.isfinite(g)):
+            raise InputError(f"gravity must be two finite numbers (gx, gy) [m/s^2], got {gravity}")
+        self._gravity = g
+
+    @property
+    def body_count(self) -> int:
+        return len(self._blocks)
+
+    def add_block(
+        self,
+        vertices,
+        *,
+        density: float = 0.0,
+        group: str = "block",
+        kind: BodyKind = BodyKind.FREE,
+        motion: Motion | None = None,
+        name: str | None = None,
+    ) -> int:
+        """Add a convex polygon block; returns its body index.
+
+        vertices: (x, y) pairs [m] in world coordinates, either orientation.
+        density [kg/m^3]: required (> 0) for FREE blocks, ignored otherwise.
+        motion: for DRIVEN blocks, t [s] -> (vx, vy, omega) of the centre of mass.
+        """
+        index = len(self._blocks)
+        name = name if name is not None else f"block {index}"
+        kind = BodyKind(kind)
+        verts = normalize_polygon(vertices, name=name)
+        if kind == BodyKind.FREE and not (math.isfinite(density) and density > 0.0):
+            raise InputError(f"{name}: density must be a finite number > 0 [kg/m^3], got {density}")
+        if kind == BodyKind.DRIVEN and motion is None:
+            raise InputError(f"{name}: a DRIVEN block needs motion=t -> (vx, vy, omega)")
+        if kind != BodyKind.DRIVEN and motion is not None:
+            raise InputError(f"{name}: motion is only used by DRIVEN blocks, this one is {kind.name}")
+        if not group:
+            raise InputError(f"{name}: group must be a non-empty name")
+        density = density if kind == BodyKind.FREE else 0.0
+        self._blocks.append(_Block(name, verts, float(density), group, kind, motion))
+        return index
+
+    def set_law(self, group_a: str, group_b: str, law: ContactLaw) -> None:
+        """Use `law` for every contact between a body of group_a and one of group_b."""
+        if not isinstance(law, ContactLaw):
+            raise InputError(f"law for ({group_a}, {group_b}) must be a ContactLaw, got {law!r}")
+        self._laws[frozenset((group_a, group_b))] = law
+
+    def add_acceleration(self, acceleration: TimeVector) -> None:
+        """Apply m a(t) to every free body; a: t [s] -> (ax, ay) [m/s^2] (e.g. a load factor)."""
+        self._accelerations.append(acceleration)
+
+    def add_force(self, bodies: Sequence[int], force: TimeVector) -> None:
+        """Apply force(t) = (fx [N], fy [N], torque [N m]) at the centre of mass of each body."""
+        idx = np.atleast_1d(np.asarray(bodies, dtype=np.int64))
+        bad = idx[(idx < 0) | (idx >= len(self._blocks))]
+        if bad.size:
+            raise InputError(f"add_force: no body with index {int(bad[0])}")
+        self._forces.append((idx, force))
+
+    def finalize(self) -> "Model":
+        """Freeze into a Model; checks that every pair of groups that can meet has a law."""
+        if not self._blocks:
+            raise InputError("the model has no blocks")
+        n = len(self._blocks)
+        groups = sorted({blk.group for blk in self._blocks})
+        gidx = {g: i for i, g in enumerate(groups)}
+        self._check_laws(groups)
+        laws = tuple(dict.fromkeys(self._laws.values()))
+        group_law = np.full((len(groups), len(groups)), -1, dtype=np.int32)
+        for key, law in self._laws.items():
+            members = sorted(key) * (2 if len(key) == 1 else 1)
+            if members[0] in gidx and members[1] in gidx:
+                i, j = gidx[members[0]], gidx[members[1]]
+                group_law[i, j] = group_law[j, i] = laws.index(law)
+
+        motions: list[Motion] = []
+        body_motion = np.full(n, -1, dtype=np.int32)
+        kind = np.empty(n, dtype=np.int8)
+        density, mass, inertia, radius, size = (np.zeros(n) for _ in range(5))
+        q0 = np.zeros((n, 3))
+        starts = np.zeros(n + 1, dtype=np.int32)
+        local = []
+        for b, blk in enumerate(self._blocks):
+            props = polygon_properties(blk.vertices)
+            kind[b] = blk.kind
+            density[b] = blk.density
+            mass[b] = blk.density * props.area
+            inertia[b] = blk.density * props.polar_moment
+            q0[b, :2] = props.centroid
+            rel = blk.vertices - props.centroid
+            local.append(rel)
+            radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
+            size[b] = math.sqrt(props.area)
+            starts[b + 1] = starts[b] + len(rel)
+            if blk.motion is not None:
+                if blk.motion not in motions:
+                    motions.append(blk.motion)
+                body_motion[b] = motions.index(blk.motion)
+        inv_mass = np.zeros((n, 3))
+        free = kind == BodyKind.FREE
+        inv_mass[free, 0] = inv_mass[free, 1] = 1.0 / mass[free]
+        inv_mass[free, 2] = 1.0 / inertia[free]
+        return Model(
+            body_count=n,
+            body_name=tuple(blk.name for blk in self._blocks),
+            body_kind=kind,
+            body_group=np.array([gidx[blk.group] for blk in self._blocks], dtype=np.int32),
+            body_density=density,
+            body_mass=mass,
+            body_inertia=inertia,
+            body_inv_mass=inv_mass,
+            body_q0=q0,
+            body_radius=radius,
+            body_size=size,
+            body_vertex_start=starts,
+            vertex_local=np.ascontiguousarray(np.concatenate(local)),
+            body_motion=body_motion,
+            motions=tuple(motions),
+            group_names=tuple(groups),
+            group_law=group_law,
+            laws=laws,
+            law_kind=np.array([law.kind for law in laws], dtype=np.int8),
+            law_friction=np.array([law.friction for law in laws], dtype=np.float64),
+            law_restitution=np.array([law.restitution for law in laws], dtype=np.float64),
+            gravity=self._gravity.copy(),
+            accelerations=tuple(self._accelerations),
+            forces=tuple(self._forces),
+        )
+
+    def _check_laws(self, groups: list[str]) -> None:
+        mobile = {blk.group for blk in self._blocks if blk.kind == BodyKind.FREE}
+        for key in self._laws:
+            unknown = [g for g in key if g not in groups]
+            if unknown:
+                raise InputError(
+                    f"set_law names group {unknown[0]!r}, which no block has; groups: {groups}"
+                )
+        for a in groups:
+            for b in groups:
+                if a <= b and (a in mobile or b in mobile) and frozenset((a, b)) not in self._laws:
+                    raise InputError(
+                        f"no contact law between groups {a!r} and {b!r}; "
+                        f"call set_law({a!r}, {b!r}, ContactLaw(friction=...))"
+                    )

@@ -1,0 +1,87 @@
+"""Kinematics of rigid bodies in the plane, compiled: what the time loop needs that depends on
+the dimension. (A 3D module provides the same functions for 6-dof bodies and quaternions.)
+
+Velocity of a material point M of body i: v(M) = v(G_i) + omega_i e_z x l_i, l_i = M - G_i, so a
+contact direction d gives the row of H* [d_x, d_y, l x d] with l x d = l_x d_y - l_y d_x.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+__all__ = [
+    "contact_jacobians",
+    "kinetic_energy",
+    "predict_positions",
+    "update_positions",
+    "world_vertices",
+]
+
+
+@nb.njit(cache=True)
+def world_vertices(q, vertex_start, vertex_local, out):
+    """out[k] = x_b + Rot(theta_b) vertex_local[k] [m] for every vertex k of every body b."""
+    for b in range(q.shape[0]):
+        c = math.cos(q[b, 2])
+        s = math.sin(q[b, 2])
+        for k in range(vertex_start[b], vertex_start[b + 1]):
+            lx = vertex_local[k, 0]
+            ly = vertex_local[k, 1]
+            out[k, 0] = q[b, 0] + c * lx - s * ly
+            out[k, 1] = q[b, 1] + s * lx + c * ly
+
+
+@nb.njit(cache=True)
+def predict_positions(q, v, step, out):
+    """Predicted configuration for detection: out = q + step v, step = (1 - theta) h [s]."""
+    for b in range(q.shape[0]):
+        for d in range(3):
+            out[b, d] = q[b, d] + step * v[b, d]
+
+
+@nb.njit(cache=True)
+def update_positions(q, v_begin, v_end, h, theta):
+    """Moreau-Jean position update: q += h [(1 - theta) v_begin + theta v_end]."""
+    a = h * (1.0 - theta)
+    c = h * theta
+    for b in range(q.shape[0]):
+        for d in range(3):
+            q[b, d] += a * v_begin[b, d] + c * v_end[b, d]
+
+
+@nb.njit(cache=True)
+def kinetic_energy(v, mass, inertia, inv_mass):
+    """1/2 sum (m |v|^2 + I omega^2) over free bodies [J per metre of depth]."""
+    e = 0.0
+    for b in range(v.shape[0]):
+        if inv_mass[b, 0] > 0.0:
+            e += mass[b] * (v[b, 0] ** 2 + v[b, 1] ** 2) + inertia[b] * v[b, 2] ** 2
+    return 0.5 * e
+
+
+@nb.njit(cache=True)
+def contact_jacobians(q, candidate, antagonist, point, frame, gap, count, h_cand, h_ant):
+    """Rows of H* for each contact: U = h_cand[a] v_cand + h_ant[a] v_ant, U = (U_t, U_n).
+
+    The candidate's material point is `point`; the antagonist's is its projection
+    point - gap n on the antagonist's face.
+    """
+    for a in range(count):
+        c = candidate[a]
+        b = antagonist[a]
+        nx = frame[a, 1, 0]
+        ny = frame[a, 1, 1]
+        lcx = point[a, 0] - q[c, 0]
+        lcy = point[a, 1] - q[c, 1]
+        lax = point[a, 0] - gap[a] * nx - q[b, 0]
+        lay = point[a, 1] - gap[a] * ny - q[b, 1]
+        for r in range(2):
+            dx = frame[a, r, 0]
+            dy = frame[a, r, 1]
+            h_cand[a, r, 0] = dx
+            h_cand[a, r, 1] = dy
+            h_cand[a, r, 2] = lcx * dy - lcy * dx
+            h_ant[a, r, 0] = -dx
+            h_ant[a, r, 1] = -dy
+            h_ant[a, r, 2] = -(lax * dy - lay * dx)

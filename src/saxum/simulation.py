@@ -1,0 +1,148 @@
+"""The time loop: a fixed sequence of named stages per step (NSCD.md, Moreau-Jean):
+
+    forces -> free velocity -> driven velocities -> predicted configuration -> detection
+    -> warm start -> local problem -> contact solve -> position update -> report
+
+The stages call compiled kernels over the model's and state's arrays; this module only
+orchestrates them, so the same loop serves any model whose kinematics module provides them.
+"""
+
+import math
+import warnings
+
+import numpy as np
+
+from .contacts import Contacts
+from .detection import DetectionSettings, Detector
+from .errors import InputError, SimulationError, SolverWarning
+from .integrator import MoreauJean, free_velocity
+from .model import BodyKind, Model
+from .rigid2d import kinetic_energy, predict_positions, update_positions
+from .solver import NLGS, ContactProblem, ContactSolver
+from .state import State
+from .steplog import StepLog, StepReport
+
+__all__ = ["Simulation"]
+
+
+class Simulation:
+    """Steps a Model with Moreau-Jean time stepping and a contact solver (NLGS by default).
+
+    dt [s]: time step; theta [-]: Moreau-Jean parameter in [0.5, 1].
+    Every step appends a StepReport to `self.log`.
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        *,
+        dt: float,
+        theta: float = 0.5,
+        solver: ContactSolver | None = None,
+        detection: DetectionSettings | None = None,
+    ) -> None:
+        self.model = model
+        self.integrator = MoreauJean(dt, theta)
+        self.solver = solver if solver is not None else NLGS()
+        self.detector = Detector(model, detection)
+        self.problem = ContactProblem(model)
+        self.log = StepLog()
+        self._check_step()
+        n, dof = model.body_count, model.dof
+        self._force = np.zeros((n, dof))
+        self._force_end = np.zeros((n, dof))
+        self._v = np.zeros((n, dof))
+        self._q_pred = np.zeros((n, dof))
+        self._spare = Contacts(model.dim)
+        free = model.body_kind == BodyKind.FREE
+        self._free_mass = np.where(free, model.body_mass, 0.0)
+        self._weight = self._free_mass[:, None] * np.append(model.gravity, 0.0)[None, :]
+        self._driven = [np.flatnonzero(model.body_motion == k) for k in range(len(model.motions))]
+
+    def _check_step(self) -> None:
+        g = float(np.hypot(*self.model.gravity))
+        h = self.integrator.dt
+        alert = self.detector.alert
+        if g * h * h > alert:
+            raise InputError(
+                f"dt = {h:g} s is too large for the alert distance {alert:.3g} m: one step of "
+                f"gravity moves a block by |g| dt^2 = {g * h * h:.3g} m, so contacts can be "
+                f"missed; use dt <= {math.sqrt(alert / g):.3g} s or a larger detection.alert"
+            )
+
+    def initial_state(self, *, check_overlaps: bool = True) -> State:
+        """The model at rest at t = 0; raises OverlapError if blocks interpenetrate."""
+        state = State.initial(self.model)
+        if check_overlaps:
+            self.detector.check_overlaps(state.body_q)
+        return state
+
+    def external_force(self, t: float, out: np.ndarray) -> None:
+        """out = F(t) [N, N, N m] per body: weight, uniform accelerations, applied forces."""
+        out[:] = self._weight
+        for acc in self.model.accelerations:
+            ax, ay = acc(t)
+            out[:, 0] += self._free_mass * ax
+            out[:, 1] += self._free_mass * ay
+        for bodies, force in self.model.forces:
+            np.add.at(out, bodies, np.asarray(force(t), dtype=np.float64))
+
+    def step(self, state: State) -> StepReport:
+        """Advance `state` in place by one time step; returns the step's report."""
+        m = self.model
+        h = self.integrator.dt
+        theta = self.integrator.theta
+        t1 = state.time + h
+
+        self.external_force(state.time, self._force)
+        self.external_force(t1, self._force_end)
+        self._force *= 1.0 - theta
+        self._force += theta * self._force_end
+        free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v)
+        for k, bodies in enumerate(self._driven):
+            self._v[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
+        predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)
+
+        contacts = self._spare
+        self.detector.detect(self._q_pred, contacts)
+        contacts.warm_start_from(state.contacts)
+        self.problem.assemble(contacts, self._q_pred, state.body_v, h, theta)
+        self.problem.apply_impulses(contacts.impulse, self._v)
+        solved = self.solver.solve(self.problem, contacts.impulse, self._v)
+
+        update_positions(state.body_q, state.body_v, self._v, h, theta)
+        state.body_v[:] = self._v
+        self._spare, state.contacts = state.contacts, contacts
+        state.time = t1
+        state.step += 1
+
+        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v, h, theta)
+        energy = kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
+        if not math.isfinite(energy):
+            raise SimulationError(
+                f"velocities became NaN or infinite at step {state.step} (t = {t1:g} s); "
+                "reduce dt or check the loads"
+            )
+        report = StepReport(state.step, t1, solved.iterations, solved.error, solved.converged,
+                            contacts.count, loaded, depth, energy)
+        self.log.append(report)
+        return report
+
+    def run(self, state: State, duration: float, *, callback=None) -> StepLog:
+        """Step `state` for `duration` [s] (rounded to whole steps). callback(state, report) is
+        called after each step. Warns (SolverWarning) if the solver failed to converge."""
+        if not (math.isfinite(duration) and duration >= 0.0):
+            raise InputError(f"duration must be a finite number >= 0 [s], got {duration}")
+        first = len(self.log)
+        for _ in range(round(duration / self.integrator.dt)):
+            report = self.step(state)
+            if callback is not None:
+                callback(state, report)
+        bad = self.log.non_converged()
+        bad = bad[bad > (self.log.step[first - 1] if first else 0)]
+        if bad.size:
+            warnings.warn(
+                f"NLGS did not converge at {bad.size} of {len(self.log) - first} steps "
+                f"(first at step {bad[0]}); see Simulation.log", SolverWarning, stacklevel=2
+            )
+        return self.log

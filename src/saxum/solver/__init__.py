@@ -1,0 +1,7 @@
+"""Contact solvers: the local problem of a step and the algorithms that solve it."""
+
+from .base import ContactSolver, SolverReport
+from .nlgs import NLGS
+from .problem import ContactProblem
+
+__all__ = ["NLGS", "ContactProblem", "ContactSolver", "SolverReport"]

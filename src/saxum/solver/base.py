@@ -1,0 +1,29 @@
+"""The interface every contact solver implements, and what it reports."""
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+
+from .problem import ContactProblem
+
+__all__ = ["ContactSolver", "SolverReport"]
+
+
+@dataclass(frozen=True)
+class SolverReport:
+    """What a solver did on one step: iterations, final error, converged or not."""
+
+    iterations: int
+    error: float
+    converged: bool
+
+
+class ContactSolver(ABC):
+    """Finds the impulses R of a ContactProblem and the end-of-step velocities v."""
+
+    @abstractmethod
+    def solve(self, problem: ContactProblem, impulse: np.ndarray, v: np.ndarray) -> SolverReport:
+        """impulse [N s] (count, dim): the starting guess, overwritten with the solution;
+        v [m/s, rad/s] (bodies, dof): free velocity plus M^-1 H impulse on entry, the
+        end-of-step velocity on return."""

@@ -1,0 +1,39 @@
+"""The exact single-contact solve in 2D (Signorini + Coulomb), by enumeration of the cases.
+
+Given the contact's Delassus block W = [[W_tt, W_tn], [W_tn, W_nn]] and the local velocity that
+the other impulses leave, u = (u_t, u_n + b_n), find R = (R_t, R_n) with U = u + W R and
+    U_n >= 0, R_n >= 0, U_n R_n = 0;  |R_t| <= mu R_n, R_t = -mu R_n sign(U_t) if U_t != 0.
+The cases are tried in turn (M. Jean, CMAME 177, 1999, sec. 6; LMGC90's 2D NLGS):
+no contact (u_n >= 0: R = 0); stick (U = 0: R = -W^-1 u, accepted if R_n > 0 and
+|R_t| <= mu R_n); slide in direction s = +1 or -1 (R_t = -s mu R_n, U_n = 0:
+R_n = -u_n / (W_nn - s mu W_tn), accepted if R_n >= 0 and s U_t >= 0).
+"""
+
+import numba as nb
+
+__all__ = ["solve_contact_2d"]
+
+
+@nb.njit(inline="always")
+def solve_contact_2d(wtt, wtn, wnn, ut, un, mu):
+    """Impulse (R_t, R_n) [N s] of one contact; W in [1/kg], u in [m/s]."""
+    if un >= 0.0:
+        return 0.0, 0.0
+    det = wtt * wnn - wtn * wtn
+    rt = (wtn * un - wnn * ut) / det
+    rn = (wtn * ut - wtt * un) / det
+    if rn > 0.0 and abs(rt) <= mu * rn:
+        return rt, rn
+    s = 1.0 if ut + wtn * (-un / wnn) >= 0.0 else -1.0
+    for _ in range(2):
+        denom = wnn - s * mu * wtn
+        if denom > 0.0:
+            rn = -un / denom
+            rt = -s * mu * rn
+            if s * (ut + wtt * rt + wtn * rn) >= 0.0:
+                return rt, rn
+        s = -s
+    # Reached only through round-off at a case boundary: project the frictionless solution.
+    rn = -un / wnn
+    rt = min(max(-(ut + wtn * rn) / wtt, -mu * rn), mu * rn)
+    return rt, rn

@@ -1,0 +1,36 @@
+"""The state: where the structure is now (time, coordinates, velocities, contact impulses)."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contacts import Contacts
+from .model import Model
+
+__all__ = ["State"]
+
+
+@dataclass
+class State:
+    """Time [s], body_q (x, y, theta) [m, m, rad] and body_v (vx, vy, omega) [m/s, m/s, rad/s],
+    both shape [body_count, 3], and the contacts of the last step with their impulses."""
+
+    time: float
+    body_q: np.ndarray
+    body_v: np.ndarray
+    contacts: Contacts
+    step: int = 0
+
+    @classmethod
+    def initial(cls, model: Model, *, time: float = 0.0) -> "State":
+        """The model at rest in its initial position."""
+        return cls(
+            time=time,
+            body_q=model.body_q0.copy(),
+            body_v=np.zeros_like(model.body_q0),
+            contacts=Contacts(model.dim),
+        )
+
+    def copy(self) -> "State":
+        return State(self.time, self.body_q.copy(), self.body_v.copy(), self.contacts.copy(),
+                     self.step)

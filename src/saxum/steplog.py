@@ -1,0 +1,76 @@
+"""Per-step record of what the solver did, kept with the results."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["StepLog", "StepReport"]
+
+
+@dataclass(frozen=True)
+class StepReport:
+    """One step: end time [s], NLGS sweeps, final error [-], converged, contacts found, contacts
+    carrying load (R_n > 0), largest interpenetration at the end [m], kinetic energy [J/m]."""
+
+    step: int
+    time: float
+    iterations: int
+    error: float
+    converged: bool
+    contacts: int
+    active_contacts: int
+    max_interpenetration: float
+    kinetic_energy: float
+
+
+_FIELDS = {
+    "step": np.int64,
+    "time": np.float64,
+    "iterations": np.int64,
+    "error": np.float64,
+    "converged": np.bool_,
+    "contacts": np.int64,
+    "active_contacts": np.int64,
+    "max_interpenetration": np.float64,
+    "kinetic_energy": np.float64,
+}
+
+
+class StepLog:
+    """Growable column arrays of StepReport fields; `log.iterations` etc. give numpy views."""
+
+    def __init__(self) -> None:
+        self._n = 0
+        self._cols = {k: np.zeros(256, dtype=t) for k, t in _FIELDS.items()}
+
+    def __len__(self) -> int:
+        return self._n
+
+    def append(self, r: StepReport) -> None:
+        if self._n == len(self._cols["time"]):
+            self._cols = {k: np.concatenate([a, np.zeros_like(a)]) for k, a in self._cols.items()}
+        for k, col in self._cols.items():
+            col[self._n] = getattr(r, k)
+        self._n += 1
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        cols = self.__dict__.get("_cols", {})
+        if name in cols:
+            return cols[name][: self._n]
+        raise AttributeError(name)
+
+    def non_converged(self) -> np.ndarray:
+        """Step numbers at which the solver stopped on its iteration cap."""
+        return self.step[~self.converged]
+
+    def summary(self) -> str:
+        """One line: steps, iterations (mean, max), non-converged steps, worst interpenetration."""
+        if self._n == 0:
+            return "no steps"
+        bad = self.non_converged()
+        return (
+            f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
+            f"{self.iterations.max()}, not converged at {bad.size} step(s)"
+            + (f" (first: step {bad[0]})" if bad.size else "")
+            + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
+        )
