@@ -52,6 +52,7 @@ class Simulation:
         self._force = np.zeros((n, dof))
         self._force_end = np.zeros((n, dof))
         self._v = np.zeros((n, dof))
+        self._v_free = np.zeros((n, dof))
         self._q_pred = np.zeros((n, dof))
         self._spare = Contacts(model.dim)
         free = model.body_kind == BodyKind.FREE
@@ -98,17 +99,19 @@ class Simulation:
         self.external_force(t1, self._force_end)
         self._force *= 1.0 - theta
         self._force += theta * self._force_end
-        free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v)
+        free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v_free)
         for k, bodies in enumerate(self._driven):
-            self._v[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
+            self._v_free[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
+        self._v[:] = self._v_free
         predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)
 
         contacts = self._spare
         self.detector.detect(self._q_pred, contacts)
         contacts.warm_start_from(state.contacts)
-        self.problem.assemble(contacts, self._q_pred, state.body_v, h, theta)
+        self.problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
+                              self.detector.closed_gap)
         self.problem.apply_impulses(contacts.impulse, self._v)
-        solved = self.solver.solve(self.problem, contacts.impulse, self._v)
+        solved = self.solver.solve(self.problem, contacts.impulse, self._v_free, self._v)
 
         update_positions(state.body_q, state.body_v, self._v, h, theta)
         state.body_v[:] = self._v

@@ -59,6 +59,8 @@ class Detector:
         self.margin = settings.margin if settings.margin is not None else self.alert
         self.refresh_every = settings.refresh_every
         self.reference_bias = 0.1 * self.alert
+        self.closed_gap = 1e-6 * self.alert
+        """Gaps below this [m] count as closed: the round-off of geometry built touching."""
         n = model.body_count
         self._mobile = free
         self._wv = np.empty_like(model.vertex_local)

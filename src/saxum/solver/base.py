@@ -23,7 +23,8 @@ class ContactSolver(ABC):
     """Finds the impulses R of a ContactProblem and the end-of-step velocities v."""
 
     @abstractmethod
-    def solve(self, problem: ContactProblem, impulse: np.ndarray, v: np.ndarray) -> SolverReport:
+    def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
+              v: np.ndarray) -> SolverReport:
         """impulse [N s] (count, dim): the starting guess, overwritten with the solution;
-        v [m/s, rad/s] (bodies, dof): free velocity plus M^-1 H impulse on entry, the
-        end-of-step velocity on return."""
+        v_free [m/s, rad/s] (bodies, dof): the free velocity; v: v_free + M^-1 H impulse on
+        entry, the end-of-step velocity v_free + M^-1 H R on return."""

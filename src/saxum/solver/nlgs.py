@@ -6,10 +6,15 @@ single-contact problem exactly with W_aa, relaxes R_a <- omega R_new + (1 - omeg
 pushes the change straight into the body velocities, v += M^-1 H_a dR. W is never assembled, so
 a sweep costs O(contacts) (M. Jean, CMAME 177, 1999; NSCD.md).
 
-Convergence ("Quad", LMGC90): after each sweep,
-    error = sqrt( sum_a |dR_a|^2 / m ) / ( sum_a |R_a| / m ),
-the quadratic mean of the impulse change over the sweep relative to the mean impulse, m the
-number of active contacts; the solve stops when error <= tolerance or after max_iterations sweeps.
+Convergence: LMGC90's "Quad" criterion compares a quadratic mean of the impulse change over a
+sweep with the impulses. Here the quadratic form is the Delassus one, dR^T W dR = |H dR|^2_M^-1,
+evaluated through the body velocities (which the sweep keeps anyway):
+    error = sqrt( sum_b |v_b - v_b^prev|^2_M / sum_b |v_b - v_b^free|^2_M ),   |x|^2_M = x^T M x,
+v^prev the velocities before the sweep. It is the W-norm of the sweep's impulse change relative
+to the W-norm of the impulse, and unlike a per-contact norm it ignores self-equilibrated impulse
+changes (H dR = 0), which are indeterminate for rigid blocks and do not move anything; so a
+statically indeterminate wall at rest converges instead of wandering in that null space.
+The solve stops when error <= tolerance or after max_iterations sweeps.
 """
 
 import math
@@ -30,7 +35,7 @@ __all__ = ["NLGS"]
 class NLGS(ContactSolver):
     """tolerance [-] on the Quad error, max_iterations sweeps per step, relaxation omega in (0, 1]."""
 
-    tolerance: float = 1e-4
+    tolerance: float = 1e-6
     max_iterations: int = 1000
     relaxation: float = 1.0
 
@@ -41,22 +46,27 @@ class NLGS(ContactSolver):
             raise InputError(f"solver.max_iterations must be >= 1, got {self.max_iterations}")
         if not (0.0 < self.relaxation <= 1.0):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
+        self._v_prev = np.empty((0, 0))
 
-    def solve(self, problem: ContactProblem, impulse: np.ndarray, v: np.ndarray) -> SolverReport:
+    def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
+              v: np.ndarray) -> SolverReport:
         c = problem.contacts
+        if self._v_prev.shape != v.shape:
+            self._v_prev = np.empty_like(v)
         iterations, error = nlgs_2d(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
             problem.bias, problem.friction, problem.active, problem.count,
-            problem.model.body_inv_mass, v, impulse,
+            problem.model.body_inv_mass, v_free, v, self._v_prev, impulse,
             self.tolerance, self.max_iterations, self.relaxation,
         )
         return SolverReport(iterations=iterations, error=error, converged=error <= self.tolerance)
 
 
 @nb.njit(cache=True)
-def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, v,
-            impulse, tolerance, max_iterations, relaxation):
-    """Run NLGS sweeps; returns (sweeps done, final Quad error). Updates v and impulse in place."""
+def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, v_free,
+            v, v_prev, impulse, tolerance, max_iterations, relaxation):
+    """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
+    v_prev is work memory shaped like v."""
     ndof = v.shape[1]
     nactive = 0
     for a in range(count):
@@ -67,9 +77,9 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     it = 0
     while it < max_iterations:
         it += 1
-        sum_dr2 = 0.0
-        sum_r = 0.0
-        for a in range(count):
+        v_prev[:] = v
+        for k in range(count):
+            a = count - 1 - k
             if not active[a]:
                 continue
             c = cand[a]
@@ -96,17 +106,27 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                 _push(h_cand, h_ant, a, c, b, inv_mass, v, dt, dn)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
-            sum_dr2 += dt * dt + dn * dn
-            sum_r += math.sqrt(rt * rt + rn * rn)
-        if sum_dr2 == 0.0:
-            error = 0.0
-        elif sum_r > 0.0:
-            error = math.sqrt(sum_dr2 * nactive) / sum_r
-        else:
-            error = np.inf
+        error = _relative_change(v, v_prev, v_free, inv_mass)
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(cache=True)
+def _relative_change(v, v_prev, v_free, inv_mass):
+    """sqrt(|v - v_prev|^2_M / |v - v_free|^2_M), 0 when nothing changed."""
+    num = 0.0
+    den = 0.0
+    for b in range(v.shape[0]):
+        for d in range(v.shape[1]):
+            if inv_mass[b, d] > 0.0:
+                num += (v[b, d] - v_prev[b, d]) ** 2 / inv_mass[b, d]
+                den += (v[b, d] - v_free[b, d]) ** 2 / inv_mass[b, d]
+    if num == 0.0:
+        return 0.0
+    if den == 0.0:
+        return np.inf
+    return math.sqrt(num / den)
 
 
 @nb.njit(inline="always")

@@ -45,10 +45,13 @@ class ContactProblem:
         """Contact enters the solve this step (else R = 0), shape [capacity]."""
 
     def assemble(
-        self, contacts: Contacts, q: np.ndarray, v_begin: np.ndarray, h: float, theta: float
+        self, contacts: Contacts, q: np.ndarray, v_begin: np.ndarray, h: float, theta: float,
+        closed_gap: float,
     ) -> None:
         """Build the problem of `contacts` detected on configuration q [m, rad]; v_begin is the
-        velocity at the start of the step (for restitution), h [s] the step, theta [-]."""
+        velocity at the start of the step (for restitution), h [s] the step, theta [-].
+        closed_gap [m]: velocity-level laws treat a contact as closed (active) when its gap is
+        below this round-off tolerance, so that blocks built touching are in contact at once."""
         if contacts.count > self.capacity:
             self._allocate(max(contacts.count, 2 * self.capacity))
         self.count = k = contacts.count
@@ -58,7 +61,7 @@ class ContactProblem:
                           contacts.frame, contacts.gap, k, self.h_cand, self.h_ant)
         _assemble(contacts.candidate, contacts.antagonist, contacts.law, contacts.gap, k,
                   self.h_cand, self.h_ant, m.body_inv_mass, v_begin, m.law_kind,
-                  m.law_friction, m.law_restitution, h * theta,
+                  m.law_friction, m.law_restitution, h * theta, closed_gap,
                   self.delassus, self.bias, self.friction, self.active)
 
     def apply_impulses(self, impulse: np.ndarray, v: np.ndarray) -> None:
@@ -85,7 +88,8 @@ def _local_velocity(h_cand, h_ant, a, r, c, b, v):
 
 @nb.njit(cache=True)
 def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_kind,
-              law_friction, law_restitution, h_theta, delassus, bias, friction, active):
+              law_friction, law_restitution, h_theta, closed_gap, delassus, bias, friction,
+              active):
     dim = h_cand.shape[1]
     for a in range(count):
         c = cand[a]
@@ -100,15 +104,17 @@ def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_
         kind = law_kind[law[a]]
         friction[a] = law_friction[law[a]]
         if kind == _SIGNORINI:
-            active[a] = gap[a] <= 0.0
+            active[a] = gap[a] <= closed_gap
             bias[a] = 0.0
         elif kind == _RESTITUTION:
-            active[a] = gap[a] <= 0.0
+            active[a] = gap[a] <= closed_gap
             un = _local_velocity(h_cand, h_ant, a, 1, c, b, v_begin)
             bias[a] = law_restitution[law[a]] * min(un, 0.0)
         else:
             active[a] = True
-            bias[a] = gap[a] / h_theta
+            # Gaps within +-closed_gap count as exactly closed: targets that differ by round-off
+            # would be incompatible in a statically indeterminate assembly.
+            bias[a] = (gap[a] - min(max(gap[a], -closed_gap), closed_gap)) / h_theta
 
 
 @nb.njit(cache=True)
