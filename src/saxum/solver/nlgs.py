@@ -36,7 +36,7 @@ class NLGS(ContactSolver):
     """tolerance [-] on the Quad error, max_iterations sweeps per step, relaxation omega in (0, 1]."""
 
     tolerance: float = 1e-6
-    max_iterations: int = 1000
+    max_iterations: int = 5000
     relaxation: float = 1.0
 
     def __post_init__(self) -> None:
