@@ -4,7 +4,8 @@ Formulas: the shoelace sums over the edges of a simple polygon (e.g. Bourke, "Ca
 area and centroid of a polygon", 1988):
     A   = 1/2 sum (x_i y_i+1 - x_i+1 y_i)
     C   = 1/(6A) sum (p_i + p_i+1)(x_i y_i+1 - x_i+1 y_i)
-    J_O = 1/12 sum (x_i y_i+1 - x_i+1 y_i)(x_i^2 + x_i x_i+1 + x_i+1^2 + y_i^2 + y_i y_i+1 + y_i+1^2)
+    J_O = 1/12 sum (x_i y_i+1 - x_i+1 y_i)
+              (x_i^2 + x_i x_i+1 + x_i+1^2 + y_i^2 + y_i y_i+1 + y_i+1^2)
 and the parallel-axis theorem J_G = J_O - A |C|^2. Multiplied by the density (per unit
 thickness, kg/m^2 in 2D, i.e. kg/m^3 times an out-of-plane depth of 1 m) they give mass and
 polar moment of inertia.
@@ -90,4 +91,5 @@ def polygon_properties(vertices: np.ndarray) -> PolygonProperties:
         )
     ).sum() / 12.0
     polar = j_origin - area * float(centroid @ centroid)
-    return PolygonProperties(area=float(area), centroid=centroid + origin, polar_moment=float(polar))
+    return PolygonProperties(area=float(area), centroid=centroid + origin,
+                             polar_moment=float(polar))

@@ -64,6 +64,11 @@ class Model:
     """Body b owns vertices body_vertex_start[b]:body_vertex_start[b+1], shape [body_count+1]."""
     vertex_local: np.ndarray
     """Polygon vertices in the body frame, CCW, [m], shape [vertex_count, 2], float64."""
+    edge_normal_local: np.ndarray
+    """Outward unit normal of the edge from vertex k to the next, body frame, shape
+    [vertex_count, 2], float64."""
+    edge_length: np.ndarray
+    """Length of the edge from vertex k to the next [m], shape [vertex_count], float64."""
     body_motion: np.ndarray
     """Index into `motions` for DRIVEN bodies, -1 otherwise, shape [body_count], int32."""
     motions: tuple[Motion, ...]
@@ -102,7 +107,8 @@ class Model:
         x, y, th = (self.body_q0 if q is None else q)[b]
         loc = self.vertex_local[self.body_vertex_start[b] : self.body_vertex_start[b + 1]]
         c, s = math.cos(th), math.sin(th)
-        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1], y + s * loc[:, 0] + c * loc[:, 1]))
+        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
+                                y + s * loc[:, 0] + c * loc[:, 1]))
 
 
 @dataclass
@@ -168,7 +174,9 @@ class ModelBuilder:
         if kind == BodyKind.DRIVEN and motion is None:
             raise InputError(f"{name}: a DRIVEN block needs motion=t -> (vx, vy, omega)")
         if kind != BodyKind.DRIVEN and motion is not None:
-            raise InputError(f"{name}: motion is only used by DRIVEN blocks, this one is {kind.name}")
+            raise InputError(
+                f"{name}: motion is only used by DRIVEN blocks, this one is {kind.name}"
+            )
         if not group:
             raise InputError(f"{name}: group must be a non-empty name")
         density = density if kind == BodyKind.FREE else 0.0
@@ -232,6 +240,10 @@ class ModelBuilder:
                 if blk.motion not in motions:
                     motions.append(blk.motion)
                 body_motion[b] = motions.index(blk.motion)
+        vertex_local = np.ascontiguousarray(np.concatenate(local))
+        following = np.concatenate([np.roll(rel, -1, axis=0) for rel in local]) - vertex_local
+        edge_length = np.hypot(following[:, 0], following[:, 1])
+        edge_normal = np.column_stack((following[:, 1], -following[:, 0])) / edge_length[:, None]
         inv_mass = np.zeros((n, 3))
         free = kind == BodyKind.FREE
         inv_mass[free, 0] = inv_mass[free, 1] = 1.0 / mass[free]
@@ -249,7 +261,9 @@ class ModelBuilder:
             body_radius=radius,
             body_size=size,
             body_vertex_start=starts,
-            vertex_local=np.ascontiguousarray(np.concatenate(local)),
+            vertex_local=vertex_local,
+            edge_normal_local=np.ascontiguousarray(edge_normal),
+            edge_length=edge_length,
             body_motion=body_motion,
             motions=tuple(motions),
             group_names=tuple(groups),

@@ -8,13 +8,13 @@ contact direction d gives the row of H* [d_x, d_y, l x d] with l x d = l_x d_y -
 import math
 
 import numba as nb
-import numpy as np
 
 __all__ = [
     "contact_jacobians",
     "kinetic_energy",
     "predict_positions",
     "update_positions",
+    "world_directions",
     "world_vertices",
 ]
 
@@ -30,6 +30,19 @@ def world_vertices(q, vertex_start, vertex_local, out):
             ly = vertex_local[k, 1]
             out[k, 0] = q[b, 0] + c * lx - s * ly
             out[k, 1] = q[b, 1] + s * lx + c * ly
+
+
+@nb.njit(cache=True)
+def world_directions(q, vertex_start, direction_local, out):
+    """out[k] = Rot(theta_b) direction_local[k] for every vertex k of every body b."""
+    for b in range(q.shape[0]):
+        c = math.cos(q[b, 2])
+        s = math.sin(q[b, 2])
+        for k in range(vertex_start[b], vertex_start[b + 1]):
+            lx = direction_local[k, 0]
+            ly = direction_local[k, 1]
+            out[k, 0] = c * lx - s * ly
+            out[k, 1] = s * lx + c * ly
 
 
 @nb.njit(cache=True)

@@ -8,7 +8,7 @@ import numpy as np
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
-from ..rigid2d import world_vertices
+from ..rigid2d import world_directions, world_vertices
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .polygons import polygon_contacts
 
@@ -64,6 +64,7 @@ class Detector:
         n = model.body_count
         self._mobile = free
         self._wv = np.empty_like(model.vertex_local)
+        self._wn = np.empty_like(model.vertex_local)
         self._lo = np.empty((n, 2))
         self._hi = np.empty((n, 2))
         self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
@@ -76,6 +77,7 @@ class Detector:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
         m = self.model
         world_vertices(q, m.body_vertex_start, m.vertex_local, self._wv)
+        world_directions(q, m.body_vertex_start, m.edge_normal_local, self._wn)
         self._since_refresh += 1
         if (
             self._since_refresh >= self.refresh_every
@@ -84,8 +86,9 @@ class Detector:
             self._refresh(q)
         contacts.reserve(2 * self.pair_count)
         contacts.count = polygon_contacts(
-            self._pairs, self.pair_count, self._wv, m.body_vertex_start, m.body_group,
-            m.group_law, self.alert, self.reference_bias, m.max_vertices,
+            self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
+            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.reference_bias,
+            m.max_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap,
         )

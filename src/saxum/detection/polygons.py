@@ -9,8 +9,6 @@ Two faces in contact thus give two points at the ends of their common segment, s
 can open and rotate about either end; a vertex against a face gives one point.
 """
 
-import math
-
 import numba as nb
 import numpy as np
 
@@ -18,22 +16,7 @@ __all__ = ["polygon_contacts"]
 
 
 @nb.njit(inline="always")
-def _edge(wv, start, count, e):
-    """Start vertex a, unit tangent t, outward normal n = (t_y, -t_x) and length of edge e."""
-    k0 = start + e
-    k1 = start + (e + 1) % count
-    ax = wv[k0, 0]
-    ay = wv[k0, 1]
-    tx = wv[k1, 0] - ax
-    ty = wv[k1, 1] - ay
-    length = math.hypot(tx, ty)
-    tx /= length
-    ty /= length
-    return ax, ay, tx, ty, ty, -tx, length
-
-
-@nb.njit(cache=True)
-def _max_separation(wv, r0, nr, o0, no, alert):
+def _max_separation(wv, wn, r0, nr, o0, no, alert):
     """Largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m].
 
     Stops early once an edge separates by more than `alert`.
@@ -41,7 +24,10 @@ def _max_separation(wv, r0, nr, o0, no, alert):
     best = -np.inf
     best_e = 0
     for e in range(nr):
-        ax, ay, _, _, nx, ny, _ = _edge(wv, r0, nr, e)
+        ax = wv[r0 + e, 0]
+        ay = wv[r0 + e, 1]
+        nx = wn[r0 + e, 0]
+        ny = wn[r0 + e, 1]
         s = np.inf
         for k in range(o0, o0 + no):
             s = min(s, nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay))
@@ -55,15 +41,16 @@ def _max_separation(wv, r0, nr, o0, no, alert):
 
 @nb.njit(cache=True)
 def polygon_contacts(
-    pairs, npairs, wv, vertex_start, body_group, group_law, alert, ref_tol, max_vertices,
-    candidate, antagonist, key, law, point, frame, gap,
+    pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, alert, ref_tol,
+    max_vertices, candidate, antagonist, key, law, point, frame, gap,
 ):
-    """Contacts of the first npairs pairs of polygons with world vertices wv [m].
+    """Contacts of the first npairs pairs of polygons with world vertices wv [m] and outward
+    unit normals wn of the edges that start at them.
 
     alert: alert distance [m]; ref_tol: a face of the first body of a pair stays the reference
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
     identities stable across steps). Output arrays need room for 2 * npairs contacts.
-    Returns the number of contacts written.
+    Returns the number of contacts written, in increasing key order for pairs sorted by (i, j).
     """
     nbody = vertex_start.shape[0] - 1
     count = 0
@@ -74,25 +61,31 @@ def polygon_contacts(
         ni = vertex_start[i + 1] - i0
         j0 = vertex_start[j]
         nj = vertex_start[j + 1] - j0
-        s_i, e_i = _max_separation(wv, i0, ni, j0, nj, alert)
+        s_i, e_i = _max_separation(wv, wn, i0, ni, j0, nj, alert)
         if s_i > alert:
             continue
-        s_j, e_j = _max_separation(wv, j0, nj, i0, ni, alert)
+        s_j, e_j = _max_separation(wv, wn, j0, nj, i0, ni, alert)
         if s_j > alert:
             continue
-        if s_j > s_i + ref_tol:
-            ant, a0, na, ref = j, j0, nj, e_j
+        flip = s_j > s_i + ref_tol
+        if flip:
+            ant, a0, ref = j, j0, e_j
             cand, c0, nc = i, i0, ni
         else:
-            ant, a0, na, ref = i, i0, ni, e_i
+            ant, a0, ref = i, i0, e_i
             cand, c0, nc = j, j0, nj
-        ax, ay, tx, ty, nx, ny, length = _edge(wv, a0, na, ref)
+        ax = wv[a0 + ref, 0]
+        ay = wv[a0 + ref, 1]
+        nx = wn[a0 + ref, 0]
+        ny = wn[a0 + ref, 1]
+        tx = -ny
+        ty = nx
+        length = edge_length[a0 + ref]
 
         inc = 0
         most = np.inf
         for e in range(nc):
-            _, _, _, _, mx, my, _ = _edge(wv, c0, nc, e)
-            d = mx * nx + my * ny
+            d = wn[c0 + e, 0] * nx + wn[c0 + e, 1] * ny
             if d < most:
                 most = d
                 inc = e
@@ -112,7 +105,7 @@ def polygon_contacts(
             continue
         ds = s1 - s0
         law_index = group_law[body_group[cand], body_group[ant]]
-        base = ((cand * nbody + ant) * max_vertices + ref) * max_vertices + inc
+        base = (((i * nbody + j) * 2 + flip) * max_vertices + ref) * max_vertices + inc
         for slot in range(2):
             if slot == 0:
                 s_clip = max(s0, 0.0)

@@ -33,7 +33,8 @@ __all__ = ["NLGS"]
 
 @dataclass
 class NLGS(ContactSolver):
-    """tolerance [-] on the Quad error, max_iterations sweeps per step, relaxation omega in (0, 1]."""
+    """tolerance [-] on the relative change per sweep (see module doc), max_iterations sweeps
+    per step, relaxation omega in (0, 1]."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000

@@ -66,11 +66,11 @@ def semicircular_arch(
     law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
     gravity: tuple[float, float] = (0.0, -9.81),
 ) -> Model:
-    """A semicircular arch (see add_semicircular_arch) on a fixed support block that spans both
-    springings ("support", t deep, extending t beyond the extrados), friction mu [-] on every
-    joint. Voussoirs are bodies 1..voussoirs, right springing first; body 0 is the support."""
+    """A semicircular arch (see add_semicircular_arch) on a fixed support block ("support", t
+    deep, 5 R wide, so that a collapsing arch falls onto it), friction mu [-] on every joint.
+    Voussoirs are bodies 1..voussoirs, right springing first; body 0 is the support."""
     builder = ModelBuilder(gravity=gravity)
-    half = radius + 1.5 * thickness
+    half = 2.5 * radius
     builder.add_block([(-half, -thickness), (half, -thickness), (half, 0.0), (-half, 0.0)],
                       kind=BodyKind.FIXED, group="support", name="support")
     add_semicircular_arch(builder, radius=radius, thickness=thickness, voussoirs=voussoirs,
