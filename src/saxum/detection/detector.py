@@ -69,8 +69,8 @@ class Detector:
         self._hi = np.empty((n, 2))
         self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
         self.pair_count = 0
-        self._q_ref = np.full((n, 3), np.nan)
-        self._since_refresh = 0
+        self._q_ref = np.zeros((n, 3))
+        self._since_refresh = self.refresh_every  # the first detection runs the broad phase
         self.refresh_count = 0
 
     def detect(self, q: np.ndarray, contacts: Contacts) -> None:
@@ -78,12 +78,12 @@ class Detector:
         m = self.model
         world_vertices(q, m.body_vertex_start, m.vertex_local, self._wv)
         world_directions(q, m.body_vertex_start, m.edge_normal_local, self._wn)
-        self._since_refresh += 1
         if (
             self._since_refresh >= self.refresh_every
-            or not _largest_motion(q, self._q_ref, m.body_radius) <= 0.5 * self.margin
+            or _largest_motion(q, self._q_ref, m.body_radius) > 0.5 * self.margin
         ):
             self._refresh(q)
+        self._since_refresh += 1
         contacts.reserve(2 * self.pair_count)
         contacts.count = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,

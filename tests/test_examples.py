@@ -1,0 +1,31 @@
+"""The examples run against the current API and give their documented answers."""
+
+import importlib.util
+from pathlib import Path
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_arch_example_stands():
+    # t/R = 0.15 is well above the minimum thickness 0.1075 (Heyman 1969): the crown must not
+    # move by more than 1e-4 R = 0.2 mm.
+    assert _load("arch_standing").main(duration=0.5) < 2e-4
+
+
+def test_wall_example_stays_at_rest():
+    assert _load("wall_at_rest").main(duration=0.2) < 1e-4
+
+
+def test_demo_writes_picture(tmp_path):
+    from saxum.cli import main
+
+    out = tmp_path / "arch.png"
+    assert main(["demo", "arch", "--duration", "1.0", "-o", str(out)]) == 0
+    assert out.stat().st_size > 10_000
