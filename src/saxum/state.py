@@ -23,13 +23,13 @@ class State:
 
     @classmethod
     def initial(cls, model: Model, *, time: float = 0.0) -> "State":
-        """The model at rest in its initial position."""
-        return cls(
-            time=time,
-            body_q=model.body_q0.copy(),
-            body_v=np.zeros_like(model.body_q0),
-            contacts=Contacts(model.dim),
-        )
+        """The model in its initial position, at rest except driven bodies, which move with
+        their imposed velocity at `time` [s]."""
+        body_v = np.zeros_like(model.body_q0)
+        for k, motion in enumerate(model.motions):
+            body_v[model.body_motion == k] = np.asarray(motion(time), dtype=np.float64)
+        return cls(time=time, body_q=model.body_q0.copy(), body_v=body_v,
+                   contacts=Contacts(model.dim))
 
     def copy(self) -> "State":
         return State(self.time, self.body_q.copy(), self.body_v.copy(), self.contacts.copy(),
