@@ -4,7 +4,8 @@
     -> warm start -> local problem -> contact solve -> position update -> report
 
 The stages call compiled kernels over the model's and state's arrays; this module only
-orchestrates them, so the same loop serves any model whose kinematics module provides them.
+orchestrates them, so the same loop serves any model whose kinematics module (`KINEMATICS`,
+by dimension) provides predict_positions, update_positions and kinetic_energy.
 """
 
 import math
@@ -12,17 +13,20 @@ import warnings
 
 import numpy as np
 
+from . import rigid2d
 from .contacts import Contacts
 from .detection import DetectionSettings, Detector
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean, free_velocity
 from .model import BodyKind, Model
-from .rigid2d import kinetic_energy, predict_positions, update_positions
 from .solver import NLGS, ContactProblem, ContactSolver
 from .state import State
 from .steplog import StepLog, StepReport
 
-__all__ = ["Simulation"]
+__all__ = ["KINEMATICS", "Simulation"]
+
+KINEMATICS = {2: rigid2d}
+"""Kinematics module per spatial dimension."""
 
 
 class Simulation:
@@ -42,6 +46,7 @@ class Simulation:
         detection: DetectionSettings | None = None,
     ) -> None:
         self.model = model
+        self.kinematics = KINEMATICS[model.dim]
         self.integrator = MoreauJean(dt, theta)
         self.solver = solver if solver is not None else NLGS()
         self.detector = Detector(model, detection)
@@ -103,7 +108,8 @@ class Simulation:
         for k, bodies in enumerate(self._driven):
             self._v_free[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
         self._v[:] = self._v_free
-        predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)
+        kin = self.kinematics
+        kin.predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)
 
         contacts = self._spare
         self.detector.detect(self._q_pred, contacts)
@@ -113,14 +119,14 @@ class Simulation:
         self.problem.apply_impulses(contacts.impulse, self._v)
         solved = self.solver.solve(self.problem, contacts.impulse, self._v_free, self._v)
 
-        update_positions(state.body_q, state.body_v, self._v, h, theta)
+        kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         state.body_v[:] = self._v
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
 
         loaded, depth = self.problem.statistics(contacts.impulse, state.body_v, h, theta)
-        energy = kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
+        energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if not math.isfinite(energy):
             raise SimulationError(
                 f"velocities became NaN or infinite at step {state.step} (t = {t1:g} s); "
