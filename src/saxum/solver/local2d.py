@@ -20,10 +20,10 @@ def solve_contact_2d(wtt, wtn, wnn, ut, un, mu):
     if un >= 0.0:
         return 0.0, 0.0
     det = wtt * wnn - wtn * wtn
-    rt = (wtn * un - wnn * ut) / det
-    rn = (wtn * ut - wtt * un) / det
-    if rn > 0.0 and abs(rt) <= mu * rn:
-        return rt, rn
+    rt_stick = (wtn * un - wnn * ut) / det
+    rn_stick = (wtn * ut - wtt * un) / det
+    if rn_stick > 0.0 and abs(rt_stick) <= mu * rn_stick:
+        return rt_stick, rn_stick
     s = 1.0 if ut + wtn * (-un / wnn) >= 0.0 else -1.0
     for _ in range(2):
         denom = wnn - s * mu * wtn
@@ -33,7 +33,12 @@ def solve_contact_2d(wtt, wtn, wnn, ut, un, mu):
             if s * (ut + wtt * rt + wtn * rn) >= 0.0:
                 return rt, rn
         s = -s
-    # Reached only through round-off at a case boundary: project the frictionless solution.
-    rn = -un / wnn
-    rt = min(max(-(ut + wtn * rn) / wtt, -mu * rn), mu * rn)
-    return rt, rn
+    # Reached only through round-off at the stick/slide boundary, where U = 0 and the stick
+    # impulse lies on the cone's edge: slide along that edge (keeps the W_tn coupling exact).
+    s = -1.0 if rt_stick > 0.0 else 1.0
+    denom = wnn - s * mu * wtn
+    if denom > 0.0:
+        rn = -un / denom
+        return -s * mu * rn, rn
+    rn = max(rn_stick, 0.0)
+    return min(max(rt_stick, -mu * rn), mu * rn), rn
