@@ -6,11 +6,17 @@ with Coulomb's law |R_t| <= mu R_n, R_t = -mu R_n U_t/|U_t| if U_t != 0, where U
 velocity at the end of the step and b_n a shift that depends on the law (NSCD.md; M. Jean,
 CMAME 177, 1999; names after LMGC90's families):
 
-- SIGNORINI_COULOMB (IQS_CLB): active when the predicted gap g <= 0, b_n = 0 (inelastic shock).
+- SIGNORINI_COULOMB (IQS_CLB): active for every contact within the alert distance,
+  b_n = max(g, 0) / (theta h), g the gap on the predicted configuration: an open contact may
+  close exactly by the end of the step, a closed one gets U_n >= 0 (inelastic shock). It never
+  pushes blocks apart, so an interpenetration, once made, stays.
 - RESTITUTION_COULOMB (RST_CLB): active when g <= 0, b_n = e_n min(U_n^-, 0) (Newton's law,
   U_n^+ >= -e_n U_n^-).
-- GAP_SIGNORINI_COULOMB (GAP_SGR_CLB): active for every contact within the alert distance,
-  b_n = g / (theta h), i.e. the end-of-step gap g + theta h U_n stays >= 0; this removes drift.
+- GAP_SIGNORINI_COULOMB (GAP_SGR_CLB, default): the same velocity problem as SIGNORINI_COULOMB,
+  then a projection of the positions onto g >= 0 at the end of the step (pseudo-velocities,
+  frictionless; saxum.solver.projection), which removes interpenetration and drift without
+  adding a separation velocity. (A gap target b_n = g / (theta h) in the velocity problem, as
+  NSCD.md writes the law, makes impacts rebound as if elastic when theta = 1/2.)
 """
 
 import math

@@ -1,7 +1,8 @@
 """The time loop: a fixed sequence of named stages per step (NSCD.md, Moreau-Jean):
 
     forces -> free velocity -> driven velocities -> predicted configuration -> detection
-    -> warm start -> local problem -> contact solve -> position update -> report
+    -> warm start -> local problem -> contact solve -> position update
+    -> projection (gap-based law) -> report
 
 The stages call compiled kernels over the model's and state's arrays; this module only
 orchestrates them, so the same loop serves any model whose kinematics module (`KINEMATICS`,
@@ -19,7 +20,7 @@ from .detection import DetectionSettings, Detector
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean, free_velocity
 from .model import BodyKind, Model
-from .solver import NLGS, ContactProblem, ContactSolver
+from .solver import NLGS, ContactProblem, ContactSolver, PositionProjection
 from .state import State
 from .steplog import StepLog, StepReport
 
@@ -51,6 +52,7 @@ class Simulation:
         self.solver = solver if solver is not None else NLGS()
         self.detector = Detector(model, detection)
         self.problem = ContactProblem(model)
+        self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
         n, dof = model.body_count, model.dof
@@ -120,20 +122,26 @@ class Simulation:
         solved = self.solver.solve(self.problem, contacts.impulse, self._v_free, self._v)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
+        projected = self.projection.project(self.problem, self.solver, self._v, h, theta)
+        w = self.projection.pseudo_velocity
+        if projected is not None:
+            kin.update_positions(state.body_q, w, w, h, 1.0)
         state.body_v[:] = self._v
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
 
-        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v, h, theta)
+        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v, w, h, theta)
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if not math.isfinite(energy):
             raise SimulationError(
                 f"velocities became NaN or infinite at step {state.step} (t = {t1:g} s); "
                 "reduce dt or check the loads"
             )
-        report = StepReport(state.step, t1, solved.iterations, solved.error, solved.converged,
-                            contacts.count, loaded, depth, energy)
+        converged = solved.converged and (projected is None or projected.converged)
+        report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
+                            contacts.count, loaded, depth, energy,
+                            0 if projected is None else projected.iterations)
         self.log.append(report)
         return report
 

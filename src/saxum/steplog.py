@@ -9,8 +9,10 @@ __all__ = ["StepLog", "StepReport"]
 
 @dataclass(frozen=True)
 class StepReport:
-    """One step: end time [s], NLGS sweeps, final error [-], converged, contacts found, contacts
-    carrying load (R_n > 0), largest interpenetration at the end [m], kinetic energy [J/m]."""
+    """One step: end time [s], solver sweeps, final error [-], converged (the contact solve and
+    the projection, if any), contacts found, contacts carrying load (R_n > 0), largest
+    interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
+    position projection (0 when none was needed; saxum.solver.projection)."""
 
     step: int
     time: float
@@ -21,6 +23,7 @@ class StepReport:
     active_contacts: int
     max_interpenetration: float
     kinetic_energy: float
+    projection_iterations: int = 0
 
 
 _FIELDS = {
@@ -33,6 +36,7 @@ _FIELDS = {
     "active_contacts": np.int64,
     "max_interpenetration": np.float64,
     "kinetic_energy": np.float64,
+    "projection_iterations": np.int64,
 }
 
 

@@ -8,7 +8,7 @@ Model: saxum.structures.running_bond_wall, 25 courses of 20 bricks (half bricks 
 every other course, 512 bricks), 0.25 x 0.065 m, default law (gap-based Signorini-Coulomb,
 mu = 0.6), default NLGS, dt = 1e-3 s, 1 s.
 Tolerances: no brick moves by more than 0.1 mm (or turns by more than 1e-5 rad); the logged
-largest interpenetration never exceeds 0.01 mm; NLGS converged at every step after the first
+largest interpenetration never exceeds 0.01 mm; no joint opens by 1 micrometre; NLGS converged at every step after the first
 (the first step is a cold start from zero impulses).
 """
 
@@ -32,5 +32,7 @@ def test_running_bond_wall_stays_at_rest():
     assert sim.log.max_interpenetration.max() < 1e-5
     assert np.all(sim.log.converged[1:]), (
         f"NLGS did not converge at steps {sim.log.non_converged()[:10]}")
-    # every joint carries load: the contacts did not open (rows of 2 points per joint)
-    assert sim.log.active_contacts[-1] > 0.9 * sim.log.contacts[-1]
+    # no joint opened: every contact point's gap is within 1 micrometre of closed (which
+    # contact points of this statically indeterminate assembly carry the load is not unique)
+    gaps = state.contacts.gap[:state.contacts.count]
+    assert gaps.size == sim.log.contacts[-1] and np.abs(gaps).max() < 1e-6

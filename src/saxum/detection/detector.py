@@ -20,14 +20,17 @@ class DetectionSettings:
     """alert [m]: pairs closer than this become contacts (default: 2 % of the smallest free
     block's size, sqrt(area)). margin [m]: extra padding of the bounding boxes so that the
     broad phase need only run every `refresh_every` steps (default: equal to alert); it also runs
-    as soon as a body has moved by more than margin/2 since the last time."""
+    as soon as a body has moved by more than margin/2 since the last time.
+    interpenetration [m]: the largest interpenetration that the gap-based law leaves at the end
+    of a step before it projects the positions (default: 0.1 % of alert)."""
 
     alert: float | None = None
     margin: float | None = None
     refresh_every: int = 10
+    interpenetration: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("alert", "margin"):
+        for name in ("alert", "margin", "interpenetration"):
             value = getattr(self, name)
             if value is not None and not (np.isfinite(value) and value > 0.0):
                 raise InputError(f"detection.{name} must be a finite length > 0 [m], got {value}")
@@ -60,6 +63,8 @@ class Detector:
         self.refresh_every = settings.refresh_every
         self.reference_bias = 0.1 * self.alert
         self.closed_gap = 1e-6 * self.alert
+        self.interpenetration = (settings.interpenetration if settings.interpenetration
+                                 is not None else 1e-3 * self.alert)
         """Gaps below this [m] count as closed: the round-off of geometry built touching."""
         n = model.body_count
         self._mobile = free

@@ -3,5 +3,6 @@
 from .base import ContactSolver, SolverReport
 from .nlgs import NLGS
 from .problem import ContactProblem
+from .projection import PositionProjection
 
-__all__ = ["NLGS", "ContactProblem", "ContactSolver", "SolverReport"]
+__all__ = ["NLGS", "ContactProblem", "ContactSolver", "PositionProjection", "SolverReport"]

@@ -16,7 +16,6 @@ from ..rigid2d import contact_jacobians
 
 __all__ = ["ContactProblem"]
 
-_SIGNORINI = int(LawKind.SIGNORINI_COULOMB)
 _RESTITUTION = int(LawKind.RESTITUTION_COULOMB)
 
 
@@ -61,7 +60,7 @@ class ContactProblem:
                           contacts.frame, contacts.gap, k, self.h_cand, self.h_ant)
         _assemble(contacts.candidate, contacts.antagonist, contacts.law, contacts.gap, k,
                   self.h_cand, self.h_ant, m.body_inv_mass, v_begin, m.law_kind,
-                  m.law_friction, m.law_restitution, h * theta, closed_gap,
+                  m.law_friction, m.law_restitution, h, theta, closed_gap,
                   self.delassus, self.bias, self.friction, self.active)
 
     def apply_impulses(self, impulse: np.ndarray, v: np.ndarray) -> None:
@@ -70,12 +69,14 @@ class ContactProblem:
         _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, self.count,
                self.model.body_inv_mass, impulse, v)
 
-    def statistics(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float):
+    def statistics(self, impulse: np.ndarray, v: np.ndarray, w: np.ndarray, h: float,
+                   theta: float):
         """(active contacts with R_n > 0, largest end-of-step interpenetration [m]), the gap at
-        the end estimated as g + theta h U_n."""
+        the end estimated as g + theta h U_n(v) + h U_n(w), w the projection's pseudo-velocity
+        (saxum.solver.projection)."""
         c = self.contacts
         return _statistics(c.candidate, c.antagonist, self.h_cand, self.h_ant, c.gap, self.count,
-                           impulse, v, h * theta)
+                           impulse, v, w, h, theta)
 
 
 @nb.njit(inline="always")
@@ -88,9 +89,10 @@ def _local_velocity(h_cand, h_ant, a, r, c, b, v):
 
 @nb.njit(cache=True)
 def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_kind,
-              law_friction, law_restitution, h_theta, closed_gap, delassus, bias, friction,
+              law_friction, law_restitution, h, theta, closed_gap, delassus, bias, friction,
               active):
     dim = h_cand.shape[1]
+    h_theta = h * theta
     for a in range(count):
         c = cand[a]
         b = ant[a]
@@ -103,18 +105,19 @@ def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_
                 delassus[a, r, s] = w
         kind = law_kind[law[a]]
         friction[a] = law_friction[law[a]]
-        if kind == _SIGNORINI:
-            active[a] = gap[a] <= closed_gap
-            bias[a] = 0.0
-        elif kind == _RESTITUTION:
+        # Gaps within +-closed_gap count as exactly closed: targets that differ by round-off
+        # would be incompatible in a statically indeterminate assembly.
+        g = gap[a] - min(max(gap[a], -closed_gap), closed_gap)
+        if kind == _RESTITUTION:
             active[a] = gap[a] <= closed_gap
             un = _local_velocity(h_cand, h_ant, a, 1, c, b, v_begin)
             bias[a] = law_restitution[law[a]] * min(un, 0.0)
         else:
+            # Signorini and gap-based: an open contact may close exactly by the end of the step
+            # (g + theta h U_n >= 0), a closed one gets U_n >= 0; the gap-based law's
+            # interpenetration is removed afterwards by saxum.solver.projection.
             active[a] = True
-            # Gaps within +-closed_gap count as exactly closed: targets that differ by round-off
-            # would be incompatible in a statically indeterminate assembly.
-            bias[a] = (gap[a] - min(max(gap[a], -closed_gap), closed_gap)) / h_theta
+            bias[a] = max(g, 0.0) / h_theta
 
 
 @nb.njit(cache=True)
@@ -136,12 +139,13 @@ def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
 
 
 @nb.njit(cache=True)
-def _statistics(cand, ant, h_cand, h_ant, gap, count, impulse, v, h_theta):
+def _statistics(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h, theta):
     loaded = 0
     worst = 0.0
     for a in range(count):
         if impulse[a, 1] > 0.0:
             loaded += 1
-        g_end = gap[a] + h_theta * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
+        g_end = (gap[a] + theta * h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
+                 + h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], w))
         worst = max(worst, -g_end)
     return loaded, worst
