@@ -102,10 +102,13 @@ class Simulation:
         theta = self.integrator.theta
         t1 = state.time + h
 
-        self.external_force(state.time, self._force)
-        self.external_force(t1, self._force_end)
-        self._force *= 1.0 - theta
-        self._force += theta * self._force_end
+        if self.model.accelerations or self.model.forces:
+            self.external_force(state.time, self._force)
+            self.external_force(t1, self._force_end)
+            self._force *= 1.0 - theta
+            self._force += theta * self._force_end
+        else:
+            self._force[:] = self._weight
         free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v_free)
         for k, bodies in enumerate(self._driven):
             self._v_free[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
@@ -131,7 +134,8 @@ class Simulation:
         state.time = t1
         state.step += 1
 
-        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v, w, h, theta)
+        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v,
+                                                None if projected is None else w, h, theta)
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if not math.isfinite(energy):
             raise SimulationError(

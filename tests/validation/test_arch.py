@@ -19,7 +19,6 @@ Model: saxum.structures.semicircular_arch, mean radius R = 1 m, 15 voussoirs, de
 """
 
 import numpy as np
-import pytest
 
 import saxum as sx
 from saxum.structures import semicircular_arch

@@ -8,8 +8,8 @@ Model: saxum.structures.running_bond_wall, 25 courses of 20 bricks (half bricks 
 every other course, 512 bricks), 0.25 x 0.065 m, default law (gap-based Signorini-Coulomb,
 mu = 0.6), default NLGS, dt = 1e-3 s, 1 s.
 Tolerances: no brick moves by more than 0.1 mm (or turns by more than 1e-5 rad); the logged
-largest interpenetration never exceeds 0.01 mm; no joint opens by 1 micrometre; NLGS converged at every step after the first
-(the first step is a cold start from zero impulses).
+largest interpenetration never exceeds 0.01 mm; no joint opens by 1 micrometre; NLGS converged
+at every step after the first (the first step is a cold start from zero impulses).
 """
 
 import numpy as np

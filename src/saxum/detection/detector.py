@@ -63,9 +63,10 @@ class Detector:
         self.refresh_every = settings.refresh_every
         self.reference_bias = 0.1 * self.alert
         self.closed_gap = 1e-6 * self.alert
+        """Gaps below this [m] count as closed: the round-off of geometry built touching."""
         self.interpenetration = (settings.interpenetration if settings.interpenetration
                                  is not None else 1e-3 * self.alert)
-        """Gaps below this [m] count as closed: the round-off of geometry built touching."""
+        """Largest interpenetration [m] the gap-based law leaves without projecting."""
         n = model.body_count
         self._mobile = free
         self._wv = np.empty_like(model.vertex_local)

@@ -69,14 +69,15 @@ class ContactProblem:
         _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, self.count,
                self.model.body_inv_mass, impulse, v)
 
-    def statistics(self, impulse: np.ndarray, v: np.ndarray, w: np.ndarray, h: float,
+    def statistics(self, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None, h: float,
                    theta: float):
         """(active contacts with R_n > 0, largest end-of-step interpenetration [m]), the gap at
         the end estimated as g + theta h U_n(v) + h U_n(w), w the projection's pseudo-velocity
-        (saxum.solver.projection)."""
+        (saxum.solver.projection; None when there was no projection)."""
         c = self.contacts
         return _statistics(c.candidate, c.antagonist, self.h_cand, self.h_ant, c.gap, self.count,
-                           impulse, v, w, h, theta)
+                           impulse, v, w if w is not None else v, 0.0 if w is None else h, h,
+                           theta)
 
 
 @nb.njit(inline="always")
@@ -139,13 +140,14 @@ def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
 
 
 @nb.njit(cache=True)
-def _statistics(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h, theta):
+def _statistics(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h_w, h, theta):
     loaded = 0
     worst = 0.0
     for a in range(count):
         if impulse[a, 1] > 0.0:
             loaded += 1
-        g_end = (gap[a] + theta * h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
-                 + h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], w))
+        g_end = gap[a] + theta * h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
+        if h_w != 0.0:
+            g_end += h_w * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], w)
         worst = max(worst, -g_end)
     return loaded, worst
