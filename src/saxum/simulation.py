@@ -85,6 +85,18 @@ class Simulation:
             self.detector.check_overlaps(state.body_q)
         return state
 
+    def restore(self, saved: dict) -> State:
+        """The state of a checkpoint (saxum.results.Results.checkpoint), with the detector put
+        back as it was, so that stepping on gives bit for bit what the original run gave."""
+        contacts = Contacts(self.model.dim, max(len(saved["contacts"]["key"]), 1))
+        contacts.count = len(saved["contacts"]["key"])
+        for name, values in saved["contacts"].items():
+            getattr(contacts, name)[: contacts.count] = values
+        self.detector.restore(saved)
+        return State(time=float(saved["time"]), body_q=np.array(saved["body_q"]),
+                     body_v=np.array(saved["body_v"]), contacts=contacts,
+                     step=int(saved["step"]))
+
     def external_force(self, t: float, out: np.ndarray) -> None:
         """out = F(t) [N, N, N m] per body: weight, uniform accelerations, applied forces."""
         out[:] = self._weight

@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StepLog", "StepReport"]
+__all__ = ["STEP_DTYPES", "StepLog", "StepReport"]
 
 
 @dataclass(frozen=True)
@@ -26,7 +26,7 @@ class StepReport:
     projection_iterations: int = 0
 
 
-_FIELDS = {
+STEP_DTYPES = {
     "step": np.int64,
     "time": np.float64,
     "iterations": np.int64,
@@ -45,7 +45,7 @@ class StepLog:
 
     def __init__(self) -> None:
         self._n = 0
-        self._cols = {k: np.zeros(256, dtype=t) for k, t in _FIELDS.items()}
+        self._cols = {k: np.zeros(256, dtype=t) for k, t in STEP_DTYPES.items()}
 
     def __len__(self) -> int:
         return self._n

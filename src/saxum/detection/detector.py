@@ -117,6 +117,24 @@ class Detector:
         self._since_refresh = 0
         self.refresh_count += 1
 
+    def checkpoint(self) -> dict:
+        """The detector's own state, which a bit-identical restart needs: the broad phase's
+        pair list, the configuration it was built on and the steps since."""
+        return {"pairs": self._pairs[: self.pair_count].copy(), "pair_count": self.pair_count,
+                "q_ref": self._q_ref.copy(), "since_refresh": self._since_refresh,
+                "refresh_count": self.refresh_count}
+
+    def restore(self, saved: dict) -> None:
+        """Return to a state taken by checkpoint()."""
+        count = int(saved["pair_count"])
+        if len(self._pairs) < count:
+            self._pairs = np.empty((2 * count, 2), dtype=np.int32)
+        self._pairs[:count] = saved["pairs"]
+        self.pair_count = count
+        self._q_ref[:] = saved["q_ref"]
+        self._since_refresh = int(saved["since_refresh"])
+        self.refresh_count = int(saved["refresh_count"])
+
     def check_overlaps(self, q: np.ndarray, *, tolerance: float | None = None) -> None:
         """Raise OverlapError naming the deepest interpenetrating pair at configuration q.
 
