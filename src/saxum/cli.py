@@ -1,34 +1,192 @@
-"""Command line: `saxum demo NAME`. Exit codes: 0 done, 1 failed, 2 bad input."""
+"""saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input.
+
+    saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--quiet]
+    saxum resume RESULTS [--quiet]
+    saxum demo NAME [-o PICTURE]
+    saxum info RESULTS
+    saxum plot RESULTS [--frame K] [--histories] [-o PNG]
+    saxum animate RESULTS [-o GIF|MP4] [--fps N]
+    saxum export-vtk RESULTS [-o FOLDER]
+"""
 
 import argparse
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from . import __version__
-from .demos import DEMOS
 from .errors import InputError
 
 __all__ = ["main"]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="saxum", description=__doc__)
+def _run(args) -> None:
+    from .runner import describe, run_scenario
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario, args.set)
+    output = args.output or Path(args.scenario).with_suffix(".h5")
+    summary = run_scenario(scenario, output, quiet=args.quiet,
+                           scenario_text=Path(args.scenario).read_text())
+    print(describe(summary))
+
+
+def _resume(args) -> None:
+    from .runner import describe, resume_run
+
+    print(describe(resume_run(args.results, quiet=args.quiet)))
+
+
+def _demo(args) -> None:
+    from .demos import DEMOS
+
+    output = args.output or Path(f"saxum-demo-{args.name}.png")
+    DEMOS[args.name](output, duration=args.duration)
+
+
+def _info(args) -> None:
+    from .results import Results
+
+    with Results(args.results) as r:
+        print(info_text(r))
+
+
+def info_text(r) -> str:
+    """What the run was and what the solver did, for `saxum info`."""
+    s = r.steps
+    lines = [f"results: {r.path} (saxum {r.version})",
+             f"status: {r.status}" + (f" - {r.message}" if r.message else "")]
+    if r.scenario_json:
+        from .scenario import Scenario
+
+        sc = Scenario.model_validate_json(r.scenario_json)
+        st = sc.structure
+        lines.append(f"scenario: {sc.title or '(untitled)'}; structure {st.type} "
+                     + ", ".join(f"{k}={v}" for k, v in st.model_dump().items() if k != "type"))
+        lines.append(f"duration {sc.output.duration:g} s, output every {sc.output.interval:g} s,"
+                     f" checkpoints every {sc.output.checkpoint_interval:g} s")
+    n_bodies = len(r.body_name)
+    free = int(np.sum(r.model["body_kind"] == 0))
+    lines.append(f"model: {n_bodies} bodies ({free} free), dt = {r.dt:g} s, theta = {r.theta:g}")
+    last = r.time[-1] if r.frame_count else float("nan")
+    lines.append(f"frames: {r.frame_count} (t = 0 .. {last:g} s); checkpoints at steps "
+                 f"{', '.join(str(x) for x in r.checkpoint_steps[-5:])}"
+                 + (" (last 5)" if r.checkpoint_steps.size > 5 else ""))
+    if s["step"].size:
+        bad = s["step"][~s["converged"]]
+        lines.append(
+            f"steps: {s['step'].size}; NLGS sweeps mean {s['iterations'].mean():.1f}, max "
+            f"{s['iterations'].max()}; not converged at {bad.size} step(s)"
+            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else ""))
+        lines.append(
+            f"contacts: up to {s['contacts'].max()} ({s['active_contacts'].max()} loaded); "
+            f"largest interpenetration {s['max_interpenetration'].max():.3g} m; "
+            f"projection used at {int(np.count_nonzero(s['projection_iterations']))} step(s); "
+            f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} J/m")
+    return "\n".join(lines)
+
+
+def _plot(args) -> None:
+    from .plot import plot_frame, plot_histories
+    from .results import Results
+
+    with Results(args.results) as r:
+        if args.histories:
+            out = args.output or Path(args.results).with_suffix(".histories.png")
+            plot_histories(r, out, body=args.body)
+        else:
+            out = args.output or Path(args.results).with_suffix(".png")
+            plot_frame(r, args.frame, out)
+    print(f"picture: {Path(out).resolve()}")
+
+
+def _animate(args) -> None:
+    from .plot import animate
+    from .results import Results
+
+    out = args.output or Path(args.results).with_suffix(".gif")
+    with Results(args.results) as r:
+        path = animate(r, out, fps=args.fps)
+    print(f"animation: {Path(path).resolve()}")
+
+
+def _export_vtk(args) -> None:
+    from .results import Results
+    from .vtk import export_vtk
+
+    out = args.output or Path(args.results).with_suffix("")
+    with Results(args.results) as r:
+        pvd = export_vtk(r, out)
+    print(f"ParaView collection: {Path(pvd).resolve()} (open it in ParaView)")
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="saxum", formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Non-Smooth Contact Dynamics of masonry structures.\n\n" + __doc__)
     parser.add_argument("--version", action="version", version=f"saxum {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="run a bundled demonstration")
-    demo.add_argument("name", choices=sorted(DEMOS), help="which demonstration")
-    demo.add_argument("-o", "--output", type=Path, default=None,
-                      help="picture to write (default: saxum-demo-NAME.png here)")
-    demo.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
-    args = parser.parse_args(argv)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("run", help="run a scenario file (TOML) to a results file (HDF5)")
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
+    p.add_argument("-o", "--output", type=Path, help="results file (default: SCENARIO.h5)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scenario key, e.g. --set solver.dt=5e-4 (repeatable)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_run)
+
+    p = sub.add_parser("resume", help="continue a killed, interrupted or finished run from "
+                                      "its last checkpoint")
+    p.add_argument("results", type=Path)
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_resume)
+
+    from .demos import DEMOS
+
+    p = sub.add_parser("demo", help="run a bundled demonstration (no file needed)")
+    p.add_argument("name", choices=sorted(DEMOS), help="which demonstration")
+    p.add_argument("-o", "--output", type=Path, help="picture (default: saxum-demo-NAME.png)")
+    p.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
+    p.set_defaults(func=_demo)
+
+    p = sub.add_parser("info", help="what a run was and what the solver did")
+    p.add_argument("results", type=Path)
+    p.set_defaults(func=_info)
+
+    p = sub.add_parser("plot", help="picture of an output frame, or the time histories")
+    p.add_argument("results", type=Path)
+    p.add_argument("--frame", type=int, default=-1, help="output frame (default: the last)")
+    p.add_argument("--histories", action="store_true",
+                   help="time histories (displacement, energy, solver) instead of a frame")
+    p.add_argument("--body", help="block for --histories (name or index; default: the one "
+                                  "that moved most)")
+    p.add_argument("-o", "--output", type=Path, help="PNG file (default: next to RESULTS)")
+    p.set_defaults(func=_plot)
+
+    p = sub.add_parser("animate", help="animation of the output frames (GIF, or MP4 with "
+                                       "ffmpeg)")
+    p.add_argument("results", type=Path)
+    p.add_argument("-o", "--output", type=Path, help="GIF or MP4 file (default: RESULTS.gif)")
+    p.add_argument("--fps", type=int, default=20, help="frames per second")
+    p.set_defaults(func=_animate)
+
+    p = sub.add_parser("export-vtk", help="ParaView time series (.pvd + .vtu) of the frames")
+    p.add_argument("results", type=Path)
+    p.add_argument("-o", "--output", type=Path, help="folder (default: RESULTS without .h5)")
+    p.set_defaults(func=_export_vtk)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
     try:
-        output = args.output or Path(f"saxum-demo-{args.name}.png")
-        DEMOS[args.name](output, duration=args.duration)
+        args.func(args)
     except InputError as err:
         print(f"saxum: bad input: {err}", file=sys.stderr)
         return 2
-    except Exception as err:  # noqa: BLE001 - report any failure as exit code 1
-        print(f"saxum: failed: {err}", file=sys.stderr)
+    except Exception as err:  # noqa: BLE001 - any failure is reported as exit code 1
+        print(f"saxum: failed: {type(err).__name__}: {err}", file=sys.stderr)
         return 1
     return 0
 

@@ -5,6 +5,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
     /                      attrs: format = "saxum-results", format_version, saxum_version, dim,
                            dof, dt [s], theta [-]
     /scenario              the scenario's TOML text ("" for a run built in Python)
+    /scenario_json         the validated scenario (saxum.scenario.Scenario) as JSON, overrides
+                           applied and paths resolved: what `saxum resume` rebuilds the run from
     /model/...             body_name, body_kind, body_group, group_names, body_mass [kg/m],
                            body_inertia [kg m^2/m], body_q0, body_vertex_start, vertex_local [m],
                            law_kind, law_friction, law_restitution, group_law, gravity [m/s^2]
@@ -82,7 +84,7 @@ class ResultsWriter:
     step reports and checkpoints. Use as a context manager or call close()."""
 
     def __init__(self, path: str | os.PathLike, model, *, dt: float, theta: float,
-                 scenario: str = "", version: str = "") -> None:
+                 scenario: str = "", scenario_json: str = "", version: str = "") -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = f = h5py.File(self.path, "w", libver="latest")
@@ -90,6 +92,7 @@ class ResultsWriter:
         f.attrs.update(format=FORMAT, format_version=FORMAT_VERSION, saxum_version=version,
                        dim=dim, dof=dof, dt=dt, theta=theta)
         f.create_dataset("scenario", data=scenario, dtype=h5py.string_dtype())
+        f.create_dataset("scenario_json", data=scenario_json, dtype=h5py.string_dtype())
         _write_model(f.create_group("model"), model)
 
         frames = f.create_group("frames")
@@ -124,11 +127,13 @@ class ResultsWriter:
         self._steps_buffer: list[StepReport] = []
 
     @classmethod
-    def resume(cls, path: str | os.PathLike, checkpoint: int = -1) -> tuple[ResultsWriter, int]:
+    def resume(cls, path: str | os.PathLike, checkpoint: int = -1, *,
+               frame_every: int = 1) -> tuple[ResultsWriter, int]:
         """Reopen the results of an interrupted or finished run for appending from one of its
         checkpoints (default: the last). The file is rewritten without the rows after that
-        checkpoint, so the resumed run continues exactly where the checkpoint was taken.
-        Returns (writer, index of the checkpoint)."""
+        checkpoint and without frames off the regular output steps (multiples of
+        frame_every, such as the frame written when a run was interrupted), so the resumed
+        run continues exactly as the run made in one go. Returns (writer, checkpoint index)."""
         path = Path(path)
         src = Results(path)
         steps = src.checkpoint_steps
@@ -140,9 +145,11 @@ class ResultsWriter:
         with h5py.File(tmp, "w", libver="latest") as dst:
             for key, value in src.file.attrs.items():
                 dst.attrs[key] = value
-            for name in ("scenario", "model", "run"):
+            for name in ("scenario", "scenario_json", "model", "run"):
                 src.file.copy(src.file[name], dst, name)
-            _copy_rows(src, dst, "frames", src.frame_count, src.file["frames/step"][:] <= cp_step)
+            fsteps = src.step
+            _copy_rows(src, dst, "frames", src.frame_count,
+                       (fsteps <= cp_step) & (fsteps % frame_every == 0))
             n_steps = int(src.file["checkpoints/steps_logged"][k])
             _copy_rows(src, dst, "steps", n_steps, None)
             _copy_rows(src, dst, "checkpoints", k + 1, None)
@@ -307,6 +314,7 @@ class Results:
         self.theta = float(a["theta"])
         self.version = str(a["saxum_version"])
         self.scenario = self.file["scenario"][()].decode()
+        self.scenario_json = self.file["scenario_json"][()].decode()
         m = self.file["model"]
         self.body_name = [s.decode() for s in m["body_name"][:]]
         self.group_names = [s.decode() for s in m["group_names"][:]]

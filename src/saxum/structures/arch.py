@@ -8,7 +8,7 @@ from ..errors import InputError
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 
-__all__ = ["add_semicircular_arch", "semicircular_arch"]
+__all__ = ["add_semicircular_arch", "add_supported_semicircular_arch", "semicircular_arch"]
 
 
 def add_semicircular_arch(
@@ -56,6 +56,20 @@ def add_semicircular_arch(
     return bodies
 
 
+def add_supported_semicircular_arch(
+    builder: ModelBuilder, *, radius: float, thickness: float, voussoirs: int,
+    density: float = 2000.0,
+) -> list[int]:
+    """A fixed support block ("support", t deep, 5 R wide, so that a collapsing arch falls
+    onto it) and a semicircular arch on it (add_semicircular_arch, groups "support" and
+    "voussoir"); returns the voussoirs' body indices."""
+    half = 2.5 * radius
+    builder.add_block([(-half, -thickness), (half, -thickness), (half, 0.0), (-half, 0.0)],
+                      kind=BodyKind.FIXED, group="support", name="support")
+    return add_semicircular_arch(builder, radius=radius, thickness=thickness,
+                                 voussoirs=voussoirs, density=density)
+
+
 def semicircular_arch(
     *,
     radius: float,
@@ -66,15 +80,12 @@ def semicircular_arch(
     law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
     gravity: tuple[float, float] = (0.0, -9.81),
 ) -> Model:
-    """A semicircular arch (see add_semicircular_arch) on a fixed support block ("support", t
-    deep, 5 R wide, so that a collapsing arch falls onto it), friction mu [-] on every joint.
-    Voussoirs are bodies 1..voussoirs, right springing first; body 0 is the support."""
+    """A semicircular arch on its support (add_supported_semicircular_arch), friction mu [-] on
+    every joint. Voussoirs are bodies 1..voussoirs, right springing first; body 0 is the
+    support."""
     builder = ModelBuilder(gravity=gravity)
-    half = 2.5 * radius
-    builder.add_block([(-half, -thickness), (half, -thickness), (half, 0.0), (-half, 0.0)],
-                      kind=BodyKind.FIXED, group="support", name="support")
-    add_semicircular_arch(builder, radius=radius, thickness=thickness, voussoirs=voussoirs,
-                          density=density)
+    add_supported_semicircular_arch(builder, radius=radius, thickness=thickness,
+                                    voussoirs=voussoirs, density=density)
     contact = ContactLaw(friction=friction, kind=law)
     builder.set_law("voussoir", "voussoir", contact)
     builder.set_law("voussoir", "support", contact)

@@ -4,7 +4,7 @@ from ..errors import InputError
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 
-__all__ = ["add_running_bond_wall", "running_bond_wall"]
+__all__ = ["add_grounded_running_bond_wall", "add_running_bond_wall", "running_bond_wall"]
 
 
 def add_running_bond_wall(
@@ -42,6 +42,20 @@ def add_running_bond_wall(
     return bodies
 
 
+def add_grounded_running_bond_wall(
+    builder: ModelBuilder, *, courses: int, bricks: int, brick_length: float = 0.25,
+    brick_height: float = 0.065, density: float = 1800.0,
+) -> list[int]:
+    """A fixed "ground" block three wall lengths wide and a running-bond wall on it
+    (add_running_bond_wall, groups "ground" and "brick"); returns the bricks' body indices."""
+    length = bricks * brick_length
+    builder.add_block([(-length, -brick_height), (2 * length, -brick_height), (2 * length, 0.0),
+                       (-length, 0.0)], kind=BodyKind.FIXED, group="ground", name="ground")
+    return add_running_bond_wall(builder, courses=courses, bricks=bricks,
+                                 brick_length=brick_length, brick_height=brick_height,
+                                 density=density)
+
+
 def running_bond_wall(
     *,
     courses: int,
@@ -52,13 +66,12 @@ def running_bond_wall(
     friction: float = 0.6,
     law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
 ) -> Model:
-    """A running-bond wall (see add_running_bond_wall) on a fixed "ground" block (body 0)."""
+    """A running-bond wall on a fixed ground (add_grounded_running_bond_wall; body 0 is the
+    ground), friction mu [-] on every joint."""
     builder = ModelBuilder()
-    length = bricks * brick_length
-    builder.add_block([(-length, -brick_height), (2 * length, -brick_height), (2 * length, 0.0),
-                       (-length, 0.0)], kind=BodyKind.FIXED, group="ground", name="ground")
-    add_running_bond_wall(builder, courses=courses, bricks=bricks, brick_length=brick_length,
-                          brick_height=brick_height, density=density)
+    add_grounded_running_bond_wall(builder, courses=courses, bricks=bricks,
+                                   brick_length=brick_length, brick_height=brick_height,
+                                   density=density)
     contact = ContactLaw(friction=friction, kind=law)
     builder.set_law("brick", "brick", contact)
     builder.set_law("brick", "ground", contact)

@@ -1,0 +1,137 @@
+"""Running a scenario to a results file: output frames, checkpoints, progress, Ctrl-C, resume.
+
+The run writes the initial state as frame 0 and a checkpoint at step 0, then a frame every
+`output.interval` and a checkpoint every `output.checkpoint_interval` (both rounded to whole
+steps), and both at the end. Ctrl-C (SIGINT) stops after the current step: the state is written
+as a frame and a checkpoint, the file is marked "interrupted", and `saxum resume FILE` continues.
+A resumed run writes exactly what the same run made in one go writes (the checkpoint holds the
+state, the contacts with their impulses and the broad phase's pair list).
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from tqdm import tqdm
+
+from . import __version__
+from .errors import InputError, SimulationError
+from .results import Results, ResultsWriter
+from .scenario import Scenario
+
+__all__ = ["RunSummary", "resume_run", "run_scenario"]
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What a run did: results path, status ("finished" or "interrupted"), steps done, the
+    simulated time reached [s], steps that did not converge, wall time [s]."""
+
+    path: Path
+    status: str
+    steps: int
+    time: float
+    non_converged: int
+    wall_time: float
+
+
+def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
+                 scenario_text: str = "") -> RunSummary:
+    """Run `scenario` from t = 0, writing results to `output` (overwritten)."""
+    sim = scenario.build_simulation()
+    state = sim.initial_state()
+    writer = ResultsWriter(output, sim.model, dt=scenario.solver.dt,
+                           theta=scenario.solver.theta, scenario=scenario_text,
+                           scenario_json=scenario.model_dump_json(), version=__version__)
+    writer.write_frame(state)
+    writer.write_checkpoint(state, sim.detector)
+    return _advance(scenario, sim, state, writer, quiet)
+
+
+def resume_run(path: str | Path, *, quiet: bool = False) -> RunSummary:
+    """Continue the run of results file `path` from its last checkpoint to its duration."""
+    with Results(path) as res:
+        if not res.scenario_json:
+            raise InputError(f"{path}: the run was not made from a scenario; it cannot be "
+                             "resumed (its model is not stored in a rebuildable form)")
+        scenario = Scenario.model_validate_json(res.scenario_json)
+        saved = res.checkpoint(-1)
+    sim = scenario.build_simulation()
+    state = sim.restore(saved)
+    writer, _ = ResultsWriter.resume(
+        path, frame_every=_every(scenario.output.interval, scenario.solver.dt))
+    return _advance(scenario, sim, state, writer, quiet)
+
+
+def _every(interval: float, dt: float) -> int:
+    return max(1, round(interval / dt))
+
+
+def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSummary:
+    out = scenario.output
+    dt = scenario.solver.dt
+    total = round(out.duration / dt)
+    frame_every = _every(out.interval, dt)
+    checkpoint_every = _every(out.checkpoint_interval, dt)
+    stop = {"now": False}
+
+    def on_sigint(signum, frame):
+        stop["now"] = True
+
+    previous = signal.signal(signal.SIGINT, on_sigint)
+    start = time.perf_counter()
+    first = state.step
+    bad = 0
+    status = "finished"
+    bar = tqdm(total=total, initial=state.step, disable=quiet, unit="step", dynamic_ncols=True,
+               desc="saxum", leave=True)
+    try:
+        while state.step < total:
+            report = sim.step(state)
+            writer.log_step(report)
+            bad += not report.converged
+            if state.step % frame_every == 0 and state.step < total:
+                writer.write_frame(state)
+            if state.step % checkpoint_every == 0 and state.step < total:
+                writer.write_checkpoint(state, sim.detector)
+            bar.update(1)
+            if state.step % 20 == 0:
+                bar.set_postfix_str(f"t={state.time:.3f} s NLGS={report.iterations}"
+                                    + (f" not converged: {bad}" if bad else ""), refresh=False)
+            if stop["now"]:
+                status = "interrupted"
+                break
+        # the last state, unless the loop (or the start of the run) has just written it
+        if state.step > first and (state.step % frame_every or state.step == total):
+            writer.write_frame(state)
+        if state.step > first and (state.step % checkpoint_every or state.step == total):
+            writer.write_checkpoint(state, sim.detector)
+        if status == "finished":
+            writer.set_status(1, f"finished at t = {state.time:g} s")
+        else:
+            writer.set_status(2, f"interrupted at step {state.step} (t = {state.time:g} s)")
+    except SimulationError as err:
+        writer.set_status(3, str(err))
+        raise
+    finally:
+        bar.close()
+        signal.signal(signal.SIGINT, previous)
+        writer.close()
+    return RunSummary(Path(writer.path), status, state.step, state.time, bad,
+                      time.perf_counter() - start)
+
+
+def describe(summary: RunSummary) -> str:
+    """A line for the user: what happened and where the results are."""
+    rate = summary.steps / summary.wall_time if summary.wall_time > 0 else math.inf
+    text = (f"{summary.status}: {summary.steps} steps, t = {summary.time:g} s, "
+            f"{summary.wall_time:.1f} s wall ({rate:.0f} steps/s); results: {summary.path}")
+    if summary.non_converged:
+        text += f"; NLGS did not converge at {summary.non_converged} step(s) (saxum info)"
+    if summary.status == "interrupted":
+        text += f"\nresume with: saxum resume {summary.path}"
+    return text

@@ -1,0 +1,324 @@
+"""Scenario files: a whole run described in TOML, validated before anything runs.
+
+A scenario names the structure (a generator with its parameters, or a file of blocks), the
+contact laws per pair of body groups, the loads, the solver and detection settings, and the
+duration and output intervals. Every key, its unit and its default: docs/scenario.md.
+`load_scenario` reads a file, applies `--set key=value` overrides and validates; an unknown
+key, a wrong type, a value out of range or a missing file raises InputError naming the key, the
+line of the file and the allowed values. The same objects can be made in Python:
+`Scenario(structure=ArchStructure(...), laws=[...], output=OutputSpec(duration=2.0))`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from .detection import DetectionSettings
+from .errors import InputError
+from .laws import ContactLaw, LawKind
+from .model import BodyKind, Model, ModelBuilder
+from .simulation import Simulation
+from .solver import NLGS
+from .structures import add_grounded_running_bond_wall, add_supported_semicircular_arch
+
+__all__ = ["ArchStructure", "BlockSpec", "BlocksStructure", "DetectionSpec", "LawSpec",
+           "Loads", "OutputSpec", "Scenario", "SolverSpec", "WallStructure", "load_scenario",
+           "parse_scenario"]
+
+Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class ArchStructure(_Strict):
+    """A semicircular arch of equal voussoirs with radial joints on a fixed support
+    (groups "voussoir" and "support")."""
+
+    type: Literal["semicircular_arch"] = "semicircular_arch"
+    radius: Positive = Field(description="mean radius R [m]")
+    thickness: Positive = Field(description="ring thickness t [m], < 2 R")
+    voussoirs: int = Field(ge=1, description="number of equal voussoirs")
+    density: Positive = Field(2000.0, description="density [kg/m^3]")
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        add_supported_semicircular_arch(builder, radius=self.radius, thickness=self.thickness,
+                                        voussoirs=self.voussoirs, density=self.density)
+
+
+class WallStructure(_Strict):
+    """A running-bond brick wall on a fixed ground (groups "brick" and "ground")."""
+
+    type: Literal["running_bond_wall"] = "running_bond_wall"
+    courses: int = Field(ge=1, description="number of courses")
+    bricks: int = Field(ge=1, description="bricks per course")
+    brick_length: Positive = Field(0.25, description="[m]")
+    brick_height: Positive = Field(0.065, description="[m]")
+    density: Positive = Field(1800.0, description="[kg/m^3]")
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        add_grounded_running_bond_wall(builder, courses=self.courses, bricks=self.bricks,
+                                       brick_length=self.brick_length,
+                                       brick_height=self.brick_height, density=self.density)
+
+
+class BlockSpec(_Strict):
+    """One block of a blocks file: a convex polygon [m] in either orientation."""
+
+    vertices: list[tuple[Finite, Finite]] = Field(min_length=3)
+    density: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
+    group: str = "block"
+    kind: Literal["free", "fixed"] = "free"
+    name: str | None = None
+
+
+class BlocksStructure(_Strict):
+    """Blocks listed in a JSON file: {"blocks": [{"vertices": [[x, y], ...], "density": ...,
+    "group": ..., "kind": "free" | "fixed", "name": ...}, ...]}; a relative path is taken from
+    the scenario file's folder."""
+
+    type: Literal["blocks"] = "blocks"
+    file: Path
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        if not self.file.is_file():
+            raise InputError(f"structure.file: no blocks file at {self.file}")
+        try:
+            data = json.loads(self.file.read_text())
+        except json.JSONDecodeError as err:
+            raise InputError(f"{self.file}: not valid JSON: {err}") from None
+        if not isinstance(data, dict) or not isinstance(data.get("blocks"), list):
+            raise InputError(f'{self.file}: expected {{"blocks": [...]}} at the top level')
+        for k, raw in enumerate(data["blocks"]):
+            try:
+                block = BlockSpec.model_validate(raw)
+            except ValidationError as err:
+                raise InputError(f"{self.file}: block {k} ({_first_error(err)})") from None
+            kind = BodyKind.FREE if block.kind == "free" else BodyKind.FIXED
+            builder.add_block(block.vertices, density=block.density, group=block.group,
+                              kind=kind, name=block.name or f"block {k}")
+
+
+Structure = Annotated[ArchStructure | WallStructure | BlocksStructure,
+                      Field(discriminator="type")]
+
+
+class LawSpec(_Strict):
+    """The contact law between two groups of bodies."""
+
+    groups: tuple[str, str]
+    friction: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
+        "gap_signorini_coulomb")
+    restitution: Annotated[float, Field(ge=0.0, le=1.0)] = 0.0
+
+    def law(self) -> ContactLaw:
+        return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
+                          restitution=self.restitution)
+
+
+class Loads(_Strict):
+    """Gravity [m/s^2] and a horizontal inertial load a_x(t) = (horizontal_acceleration +
+    load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table)."""
+
+    gravity: tuple[Finite, Finite] = (0.0, -9.81)
+    horizontal_acceleration: Finite = 0.0
+    load_factor_rate: Finite = 0.0
+
+
+class SolverSpec(_Strict):
+    """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation."""
+
+    dt: Positive = 1e-3
+    theta: Annotated[float, Field(ge=0.5, le=1.0)] = 0.5
+    tolerance: Positive = 1e-6
+    max_iterations: int = Field(5000, ge=1)
+    relaxation: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
+
+
+class DetectionSpec(_Strict):
+    """Alert distance, margin and tolerated interpenetration [m] (default: from the blocks'
+    size, see saxum.detection.DetectionSettings) and the broad-phase refresh period [steps]."""
+
+    alert: Positive | None = None
+    margin: Positive | None = None
+    interpenetration: Positive | None = None
+    refresh_every: int = Field(10, ge=1)
+
+
+class OutputSpec(_Strict):
+    """Simulated duration [s], interval between output frames [s] and between checkpoints
+    [s] (both rounded to whole steps)."""
+
+    duration: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+    interval: Positive = 0.01
+    checkpoint_interval: Positive = 1.0
+
+
+class Scenario(_Strict):
+    """A whole run. Build it with load_scenario(path) or directly in Python."""
+
+    title: str = ""
+    structure: Structure
+    laws: list[LawSpec] = Field(min_length=1)
+    loads: Loads = Loads()
+    solver: SolverSpec = SolverSpec()
+    detection: DetectionSpec = DetectionSpec()
+    output: OutputSpec
+
+    @field_validator("laws")
+    @classmethod
+    def _one_law_per_pair(cls, laws: list[LawSpec]) -> list[LawSpec]:
+        seen = set()
+        for law in laws:
+            pair = frozenset(law.groups)
+            if pair in seen:
+                raise ValueError(f"two laws for the groups {sorted(pair)}; keep one")
+            seen.add(pair)
+        return laws
+
+    def build_model(self) -> Model:
+        """The Model this scenario describes."""
+        builder = ModelBuilder(gravity=self.loads.gravity)
+        self.structure.add_to(builder)
+        for spec in self.laws:
+            builder.set_law(*spec.groups, spec.law())
+        ax0, rate = self.loads.horizontal_acceleration, self.loads.load_factor_rate
+        if ax0 != 0.0 or rate != 0.0:
+            g = math.hypot(*self.loads.gravity)
+            builder.add_acceleration(lambda t: (ax0 + rate * g * t, 0.0))
+        return builder.finalize()
+
+    def build_simulation(self, model: Model | None = None) -> Simulation:
+        """A Simulation of this scenario's model with its solver and detection settings."""
+        s, d = self.solver, self.detection
+        return Simulation(
+            model if model is not None else self.build_model(), dt=s.dt, theta=s.theta,
+            solver=NLGS(tolerance=s.tolerance, max_iterations=s.max_iterations,
+                        relaxation=s.relaxation),
+            detection=DetectionSettings(alert=d.alert, margin=d.margin,
+                                        refresh_every=d.refresh_every,
+                                        interpenetration=d.interpenetration),
+        )
+
+
+def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scenario:
+    """Read and validate a TOML scenario file; overrides are "dotted.key=value" (TOML value)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"no scenario file at {path}")
+    return parse_scenario(path.read_text(), base_dir=path.parent, overrides=overrides,
+                          source=str(path))
+
+
+def parse_scenario(text: str, *, base_dir: str | Path = ".",
+                   overrides: list[str] | tuple[str, ...] = (),
+                   source: str = "scenario") -> Scenario:
+    """Validate scenario TOML text (see load_scenario); relative files are taken from
+    base_dir."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"{source}: not valid TOML: {err}") from None
+    for item in overrides:
+        _apply_override(data, item)
+    structure = data.get("structure")
+    if isinstance(structure, dict) and isinstance(structure.get("file"), str):
+        file = Path(structure["file"])
+        structure["file"] = str(file if file.is_absolute() else Path(base_dir) / file)
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as err:
+        overridden = {item.partition("=")[0].strip() for item in overrides}
+        lines = [_describe(e, text, source, overridden) for e in err.errors()]
+        raise InputError(f"{source}: {len(lines)} problem(s):\n" + "\n".join(lines)) from None
+
+
+def _apply_override(data: dict, item: str) -> None:
+    key, sep, raw = item.partition("=")
+    if not sep or not key.strip():
+        raise InputError(f"--set {item!r}: expected KEY=VALUE, e.g. solver.dt=5e-4")
+    try:
+        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw.strip()  # a bare word: take it as a string
+    *parents, last = key.strip().split(".")
+    node = data
+    for p in parents:
+        node = node.setdefault(p, {})
+        if not isinstance(node, dict):
+            raise InputError(f"--set {item!r}: {p} is not a table")
+    node[last] = value
+
+
+def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
+    loc = [p for p in error["loc"] if not (isinstance(p, str) and p in _TAGS)]
+    key = ".".join(str(p) if isinstance(p, str) else f"[{p}]" for p in loc).replace(".[", "[")
+    line = None if key in overridden else _line_of(text, loc)
+    where = "--set " if key in overridden else (f"line {line}: " if line else "")
+    msg = error["msg"]
+    if error["type"] == "extra_forbidden":
+        msg = f"unknown key; allowed keys here: {', '.join(_allowed(loc[:-1]))}"
+    elif error["type"] == "missing":
+        msg = "missing (required)"
+    elif "input" in error and not isinstance(error["input"], dict | list):
+        msg += f" (got {error['input']!r})"
+    return f"  {where}{key}: {msg}"
+
+
+_TAGS = {"semicircular_arch", "running_bond_wall", "blocks"}
+_TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
+           "detection": DetectionSpec, "output": OutputSpec}
+
+
+def _allowed(loc: list) -> list[str]:
+    names = [p for p in loc if isinstance(p, str)]
+    if not names:
+        return list(Scenario.model_fields)
+    if names[0] == "structure":
+        return sorted({k for m in (ArchStructure, WallStructure, BlocksStructure)
+                       for k in m.model_fields})
+    model = _TABLES.get(names[0])
+    return list(model.model_fields) if model is not None else []
+
+
+def _line_of(text: str, loc: list) -> int | None:
+    """1-based line of key loc[-1] inside the table loc[:-1] (array tables by index)."""
+    names = [p for p in loc if isinstance(p, str)]
+    if not names:
+        return None
+    table, key = names[:-1], names[-1]
+    index = next((p for p in loc if isinstance(p, int)), None)
+    current: list[str] = []
+    seen: dict[str, int] = {}
+    for n, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if line.startswith("[["):
+            current = line.strip("[] ").split(".")
+            name = ".".join(current)
+            seen[name] = seen.get(name, -1) + 1
+            current = current + [f"#{seen[name]}"]
+        elif line.startswith("["):
+            current = line.strip("[] ").split(".")
+        elif "=" in line and line.split("=", 1)[0].strip() == key:
+            here = [p for p in current if not p.startswith("#")]
+            idx = next((int(p[1:]) for p in current if p.startswith("#")), None)
+            if here == table and (index is None or idx == index):
+                return n
+    for n, raw in enumerate(text.splitlines(), start=1):
+        if raw.strip().strip("[]") == ".".join(names):
+            return n
+    return None
+
+
+def _first_error(err: ValidationError) -> str:
+    e = err.errors()[0]
+    return f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}"
