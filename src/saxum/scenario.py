@@ -266,7 +266,9 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
     where = "--set " if key in overridden else (f"line {line}: " if line else "")
     msg = error["msg"]
     if error["type"] == "extra_forbidden":
-        msg = f"unknown key; allowed keys here: {', '.join(_allowed(loc[:-1]))}"
+        tag = next((p for p in error["loc"] if isinstance(p, str) and p in _TAGS), None)
+        allowed = list(_TAGS[tag].model_fields) if tag else _allowed(loc[:-1])
+        msg = f"unknown key; allowed keys here: {', '.join(allowed)}"
     elif error["type"] == "missing":
         msg = "missing (required)"
     elif "input" in error and not isinstance(error["input"], dict | list):
@@ -274,7 +276,8 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
     return f"  {where}{key}: {msg}"
 
 
-_TAGS = {"semicircular_arch", "running_bond_wall", "blocks"}
+_TAGS = {"semicircular_arch": ArchStructure, "running_bond_wall": WallStructure,
+         "blocks": BlocksStructure}
 _TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
            "detection": DetectionSpec, "output": OutputSpec}
 

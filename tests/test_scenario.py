@@ -1,0 +1,243 @@
+"""Scenario files: every key round-trips, Python and TOML give the same objects, and every kind
+of bad input gets a message naming the key, the line and the allowed values."""
+
+import json
+import textwrap
+
+import numpy as np
+import pytest
+
+import saxum as sx
+from saxum.scenario import (
+    ArchStructure,
+    BlocksStructure,
+    DetectionSpec,
+    LawSpec,
+    Loads,
+    OutputSpec,
+    Scenario,
+    SolverSpec,
+    WallStructure,
+    load_scenario,
+    parse_scenario,
+)
+
+FULL = textwrap.dedent("""\
+    title = "every key"
+
+    [structure]
+    type = "running_bond_wall"
+    courses = 3
+    bricks = 4
+    brick_length = 0.3
+    brick_height = 0.07
+    density = 1900.0
+
+    [[laws]]
+    groups = ["brick", "brick"]
+    friction = 0.7
+    kind = "restitution_coulomb"
+    restitution = 0.2
+
+    [[laws]]
+    groups = ["brick", "ground"]
+    friction = 0.5
+    kind = "signorini_coulomb"
+
+    [loads]
+    gravity = [0.0, -9.8]
+    horizontal_acceleration = 0.5
+    load_factor_rate = 0.01
+
+    [solver]
+    dt = 5e-4
+    theta = 0.6
+    tolerance = 1e-7
+    max_iterations = 300
+    relaxation = 0.9
+
+    [detection]
+    alert = 0.002
+    margin = 0.003
+    interpenetration = 1e-6
+    refresh_every = 5
+
+    [output]
+    duration = 0.1
+    interval = 0.02
+    checkpoint_interval = 0.05
+""")
+
+PYTHON = Scenario(
+    title="every key",
+    structure=WallStructure(courses=3, bricks=4, brick_length=0.3, brick_height=0.07,
+                            density=1900.0),
+    laws=[LawSpec(groups=("brick", "brick"), friction=0.7, kind="restitution_coulomb",
+                  restitution=0.2),
+          LawSpec(groups=("brick", "ground"), friction=0.5, kind="signorini_coulomb")],
+    loads=Loads(gravity=(0.0, -9.8), horizontal_acceleration=0.5, load_factor_rate=0.01),
+    solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
+    detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
+    output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05),
+)
+
+
+def test_every_key_is_read_and_equals_the_python_objects():
+    sc = parse_scenario(FULL)
+    assert sc == PYTHON
+    # and every value differs from its default, so none was silently dropped
+    for part in ("structure", "loads", "solver", "detection", "output"):
+        spec = getattr(sc, part)
+        default = type(spec).model_validate(
+            {k: v for k, v in spec.model_dump().items()
+             if type(spec).model_fields[k].is_required() or k == "type"})
+        for key, field in type(spec).model_fields.items():
+            if key != "type" and not field.is_required():
+                assert getattr(spec, key) != getattr(default, key), f"{part}.{key}"
+
+
+def test_json_round_trip_keeps_every_key():
+    sc = parse_scenario(FULL)
+    assert Scenario.model_validate_json(sc.model_dump_json()) == sc
+
+
+def test_scenario_builds_the_model_and_simulation_it_describes():
+    sc = parse_scenario(FULL)
+    sim = sc.build_simulation()
+    m = sim.model
+    assert m.body_count == 1 + 3 * 4 + 1  # ground + bricks (the middle course has 5 pieces)
+    assert np.allclose(m.gravity, (0.0, -9.8))
+    law = m.laws[m.group_law[m.group_names.index("brick"), m.group_names.index("brick")]]
+    assert law == sx.ContactLaw(0.7, sx.LawKind.RESTITUTION_COULOMB, 0.2)
+    assert sim.integrator.dt == 5e-4 and sim.integrator.theta == 0.6
+    assert (sim.solver.tolerance, sim.solver.max_iterations, sim.solver.relaxation) == (
+        1e-7, 300, 0.9)
+    assert (sim.detector.alert, sim.detector.margin, sim.detector.interpenetration,
+            sim.detector.refresh_every) == (0.002, 0.003, 1e-6, 5)
+    (acc,) = m.accelerations
+    assert acc(2.0) == pytest.approx((0.5 + 0.01 * 9.8 * 2.0, 0.0))
+
+
+def test_override_sets_nested_keys():
+    sc = parse_scenario(FULL, overrides=["solver.dt=1e-4", "structure.courses=5",
+                                         'title="changed"'])
+    assert sc.solver.dt == 1e-4 and sc.structure.courses == 5 and sc.title == "changed"
+
+
+def test_blocks_file_relative_to_the_scenario(tmp_path):
+    (tmp_path / "blocks.json").write_text(json.dumps({"blocks": [
+        {"vertices": [[-1, -0.1], [1, -0.1], [1, 0], [-1, 0]], "kind": "fixed",
+         "group": "ground", "name": "ground"},
+        {"vertices": [[0, 0], [0, 0.5], [0.2, 0.5], [0.2, 0]], "density": 2500.0}]}))
+    (tmp_path / "s.toml").write_text(textwrap.dedent("""\
+        [structure]
+        type = "blocks"
+        file = "blocks.json"
+        [[laws]]
+        groups = ["block", "ground"]
+        friction = 0.6
+        [[laws]]
+        groups = ["block", "block"]
+        friction = 0.6
+        [output]
+        duration = 0.01
+    """))
+    sc = load_scenario(tmp_path / "s.toml")
+    assert isinstance(sc.structure, BlocksStructure)
+    m = sc.build_model()
+    assert m.body_name == ("ground", "block 1")
+    assert m.body_mass[1] == pytest.approx(0.1 * 2500.0)
+
+
+def _error(text, **kw):
+    with pytest.raises(sx.InputError) as info:
+        parse_scenario(text, **kw)
+    return str(info.value)
+
+
+ARCH = textwrap.dedent("""\
+    [structure]
+    type = "semicircular_arch"
+    radius = 1.0
+    thickness = 0.15
+    voussoirs = 9
+
+    [[laws]]
+    groups = ["voussoir", "voussoir"]
+    friction = 0.6
+
+    [[laws]]
+    groups = ["voussoir", "support"]
+    friction = 0.6
+
+    [output]
+    duration = 0.1
+""")
+
+
+@pytest.mark.parametrize("edit, expected", [
+    (("radius = 1.0", "radius = 1.0\ncolour = 3"),
+     ["line 4: structure.colour: unknown key",
+      "allowed keys here: type, radius, thickness, voussoirs, density"]),
+    (("voussoirs = 9", 'voussoirs = "nine"'),
+     ["line 5: structure.voussoirs", "valid integer", "'nine'"]),
+    (("voussoirs = 9", "voussoirs = 0"),
+     ["line 5: structure.voussoirs", "greater than or equal to 1"]),
+    (('friction = 0.6\n\n[[laws]]\ngroups = ["voussoir", "support"]',
+      'friction = 0.6\n\n[[laws]]\ngroups = ["voussoir", "support"]\nkind = "sticky"'),
+     ["laws[1].kind", "'signorini_coulomb', 'restitution_coulomb' or 'gap_signorini_coulomb'",
+      "line 13"]),
+    (("friction = 0.6", "friction = -0.2"),
+     ["line 9: laws[0].friction: Input should be greater than or equal to 0"]),
+    (("duration = 0.1", "interval = 0.1"), ["output.duration: missing (required)"]),
+    (('type = "semicircular_arch"', 'type = "dome"'),
+     ["structure", "'semicircular_arch', 'running_bond_wall', 'blocks'"]),
+    (("[output]", "[solver]\ndt = -1e-3\n[output]"),
+     ["solver.dt: Input should be greater than 0", "(got -0.001)"]),
+    (("[output]", "[solver]\ntheta = 0.3\n[output]"), ["solver.theta", "0.5"]),
+])
+def test_bad_scenarios_name_key_line_and_allowed_values(edit, expected):
+    old, new = edit
+    assert old in ARCH
+    message = _error(ARCH.replace(old, new, 1))
+    for part in expected:
+        assert part in message, (part, message)
+
+
+def test_syntax_error_names_the_line():
+    message = _error(ARCH.replace("radius = 1.0", "radius = = 1.0"), source="s.toml")
+    assert "s.toml: not valid TOML" in message and "line 3" in message
+
+
+def test_missing_files_are_named(tmp_path):
+    with pytest.raises(sx.InputError, match="no scenario file"):
+        load_scenario(tmp_path / "absent.toml")
+    sc = parse_scenario(ARCH.replace(
+        'type = "semicircular_arch"\nradius = 1.0\nthickness = 0.15\nvoussoirs = 9',
+        'type = "blocks"\nfile = "nowhere.json"'), base_dir=tmp_path)
+    with pytest.raises(sx.InputError, match="no blocks file at .*nowhere.json"):
+        sc.build_model()
+
+
+def test_bad_block_in_a_blocks_file_is_named(tmp_path):
+    path = tmp_path / "b.json"
+    path.write_text(json.dumps({"blocks": [{"vertices": [[0, 0], [1, 0], [1, 1]], "density": 1e3},
+                                           {"vertices": [[0, 0], [1, 0]]}]}))
+    sc = Scenario(structure=BlocksStructure(file=path),
+                  laws=[LawSpec(groups=("block", "block"), friction=0.5)],
+                  output=OutputSpec(duration=0.1))
+    with pytest.raises(sx.InputError, match="block 1 .*vertices"):
+        sc.build_model()
+
+
+def test_bad_override_is_named():
+    assert "expected KEY=VALUE" in _error(ARCH, overrides=["solver.dt"])
+    assert "--set solver.dt" in _error(ARCH, overrides=["solver.dt=0"])
+
+
+def test_python_and_toml_arch_are_the_same_scenario():
+    py = Scenario(structure=ArchStructure(radius=1.0, thickness=0.15, voussoirs=9),
+                  laws=[LawSpec(groups=("voussoir", "voussoir"), friction=0.6),
+                        LawSpec(groups=("voussoir", "support"), friction=0.6)],
+                  output=OutputSpec(duration=0.1))
+    assert parse_scenario(ARCH) == py
