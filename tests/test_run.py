@@ -1,0 +1,165 @@
+"""Running scenarios: the command line end to end, results left by a killed run, Ctrl-C, and
+resume giving bit for bit what the run made in one go gives."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+from saxum.cli import main
+from saxum.results import Results
+from saxum.runner import resume_run, run_scenario
+from saxum.scenario import parse_scenario
+
+# A collapsing arch (t/R = 0.09 < 0.1075): every step has work to do for the solver.
+SCENARIO = textwrap.dedent("""\
+    title = "thin arch"
+    [structure]
+    type = "semicircular_arch"
+    radius = 1.0
+    thickness = 0.09
+    voussoirs = 15
+    [[laws]]
+    groups = ["voussoir", "voussoir"]
+    friction = 0.6
+    [[laws]]
+    groups = ["voussoir", "support"]
+    friction = 0.6
+    [output]
+    duration = 1.0
+    interval = 0.01
+    checkpoint_interval = 0.05
+""")
+
+
+@pytest.fixture(scope="module")
+def one_go(tmp_path_factory):
+    """The reference: the scenario run in one go, in this process."""
+    path = tmp_path_factory.mktemp("one_go") / "arch.h5"
+    summary = run_scenario(parse_scenario(SCENARIO), path, quiet=True)
+    assert summary.status == "finished" and summary.steps == 1000
+    return path
+
+
+def _same_results(a_path, b_path):
+    with Results(a_path) as a, Results(b_path) as b:
+        assert a.frame_count == b.frame_count
+        for name in ("time", "step", "body_q", "body_v"):
+            assert np.array_equal(getattr(a, name), getattr(b, name)), name
+        for k in range(a.frame_count):
+            ca, cb = a.contacts(k), b.contacts(k)
+            for name in ca:
+                assert np.array_equal(ca[name], cb[name]), (k, name)
+        for name in a.steps:
+            assert np.array_equal(a.steps[name], b.steps[name]), name
+
+
+def test_results_of_a_run(one_go):
+    with Results(one_go) as r:
+        assert r.status == "finished"
+        assert r.frame_count == 101 and np.allclose(r.time, np.arange(101) * 0.01)
+        assert r.steps["step"].tolist() == list(range(1, 1001))
+        assert r.checkpoint_steps.tolist() == list(range(0, 1001, 50))
+        assert r.units["body_q"] == "m, m, rad"
+        crown = r.body_name.index("voussoir 8")
+        assert r.body_q[-1, crown, 1] < r.body_q[0, crown, 1] - 0.1  # it collapsed
+        c = r.contacts(-1)
+        assert np.array_equal(c["force"], c["impulse"] / r.dt)
+        ds = r.to_xarray()
+        assert ds["body_q"].sel(body="voussoir 8").shape == (101, 3)
+
+
+def _start(args, cwd):
+    env = dict(os.environ)
+    return subprocess.Popen([sys.executable, "-m", "saxum.cli", *args], cwd=cwd, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _wait_for_frames(path, count, proc, timeout=120.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, f"the run ended before it could be stopped: {proc.stderr}"
+        if path.exists():
+            try:
+                with Results(path) as r:
+                    if r.frame_count >= count:
+                        return
+            except Exception:  # noqa: BLE001 - the file is still being created
+                pass
+        time.sleep(0.02)
+    raise AssertionError("no frames appeared")
+
+
+def test_sigkill_leaves_a_readable_file_and_resume_matches_one_go(tmp_path, one_go):
+    scenario = tmp_path / "arch.toml"
+    scenario.write_text(SCENARIO)
+    results = tmp_path / "arch.h5"
+    proc = _start(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
+    _wait_for_frames(results, 12, proc)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    with Results(results) as r:  # everything up to the last flush, consistent
+        assert r.status == "running"
+        assert 12 <= r.frame_count < 101
+        assert r.steps["step"].size >= r.step[-1]
+        assert r.checkpoint_steps.size >= 1
+        left = r.frame_count
+    _same_frames_prefix(results, one_go, left)
+    summary = resume_run(results, quiet=True)
+    assert summary.status == "finished"
+    _same_results(results, one_go)
+
+
+def _same_frames_prefix(path, reference, count):
+    with Results(path) as a, Results(reference) as b:
+        assert np.array_equal(a.body_q[:count], b.body_q[:count])
+
+
+def test_ctrl_c_stops_cleanly_says_how_to_resume_and_resume_matches(tmp_path, one_go):
+    scenario = tmp_path / "arch.toml"
+    scenario.write_text(SCENARIO)
+    results = tmp_path / "arch.h5"
+    proc = _start(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
+    _wait_for_frames(results, 8, proc)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, err
+    assert "interrupted" in out and f"saxum resume {results}" in out
+    with Results(results) as r:
+        assert r.status == "interrupted"
+        stopped = r.step[-1]
+        assert r.checkpoint_steps[-1] == stopped  # a checkpoint where it stopped
+    assert main(["resume", str(results), "--quiet"]) == 0
+    _same_results(results, one_go)
+
+
+def test_cli_run_and_info(tmp_path, capsys):
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(SCENARIO.replace("duration = 1.0", "duration = 0.05"))
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    results = tmp_path / "short.h5"
+    assert "finished: 50 steps" in out and str(results) in out
+    assert main(["info", str(results)]) == 0
+    out = capsys.readouterr().out
+    assert "status: finished" in out and "thin arch" in out and "steps: 50" in out
+
+
+def test_cli_exit_codes(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "absent.toml")]) == 2
+    assert "no scenario file" in capsys.readouterr().err
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SCENARIO.replace("voussoirs = 15", "voussoirs = -1"))
+    assert main(["run", str(bad)]) == 2
+    assert "line 6: structure.voussoirs" in capsys.readouterr().err
+    assert main(["info", str(bad)]) == 2  # not a results file
+    assert main(["run", str(bad), "--set", "structure.voussoirs=15", "--set",
+                 "structure.radius=1e-9", "--quiet"]) == 2  # thickness >= 2 radius
+    with pytest.raises(SystemExit) as info:
+        main(["frobnicate"])
+    assert info.value.code == 2
