@@ -241,3 +241,17 @@ def test_python_and_toml_arch_are_the_same_scenario():
                         LawSpec(groups=("voussoir", "support"), friction=0.6)],
                   output=OutputSpec(duration=0.1))
     assert parse_scenario(ARCH) == py
+
+
+def test_docs_describe_every_key():
+    """docs/scenario.md has a table row for every key of every part of a scenario."""
+    from pathlib import Path
+
+    doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
+    for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, LawSpec, Loads,
+                  SolverSpec, DetectionSpec, OutputSpec):
+        for key in model.model_fields:
+            if key != "type":
+                assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
+    for tag in ("semicircular_arch", "running_bond_wall", "blocks"):
+        assert f'`type = "{tag}"`' in doc
