@@ -1,56 +1,423 @@
-"""Pictures of a 2D model's state with matplotlib (headless backend)."""
+"""Pictures and animations of results with matplotlib.
 
-from collections.abc import Sequence
+Figures are made with matplotlib.figure.Figure, never pyplot, so nothing here changes the
+backend or leaves figures open in the caller's session. A frame shows the blocks filled by
+their displacement (or rotation) from the initial position, fixed and driven bodies hatched
+grey, and the contact forces: at each contact point a segment along the reaction whose width
+is proportional to the normal force |R_n|/dt [N/m], hinges (a joint loaded at one point only)
+as white circles and open contact points as crosses.
+"""
 
-import matplotlib
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from os import PathLike
+from pathlib import Path
+from typing import NamedTuple
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
+import numpy as np
+from matplotlib import animation
+from matplotlib.cm import ScalarMappable
+from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.colors import Normalize
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.transforms import offset_copy
 
-from .model import BodyKind, Model  # noqa: E402
+from .errors import InputError
+from .model import BodyKind, Model
 
-__all__ = ["draw_state", "save_states"]
+__all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
+
+_WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
+_FORCE_COLOUR = "#c0152f"
+_MARKS = {  # joint_states label: marker style (white circle: the usual symbol of a hinge)
+    "hinge": dict(marker="o", markersize=6.5, markerfacecolor="white", markeredgecolor="k",
+                  markeredgewidth=1.1),
+    "open": dict(marker="x", markersize=5, markeredgecolor="#e07b00", markeredgewidth=1.2),
+}
+_COLOUR_BY = ("displacement", "rotation", None)
 
 
-def draw_state(ax, model: Model, q: np.ndarray, *, title: str = "", vmax: float | None = None):
-    """Draw the blocks at coordinates q [m, rad] coloured by displacement from the initial
-    position [m], the initial outline dashed; returns the PolyCollection (for a colour bar)."""
-    n = model.body_count
-    initial = [model.vertices(b) for b in range(n)]
-    now = [model.vertices(b, q) for b in range(n)]
-    moved = np.hypot(*(q[:, :2] - model.body_q0[:, :2]).T)
-    mobile = model.body_kind == BodyKind.FREE
-    ax.add_collection(PolyCollection([initial[b] for b in range(n) if mobile[b]],
-                                     facecolors="none", edgecolors="0.6", linestyles="--",
-                                     linewidths=0.6))
-    ax.add_collection(PolyCollection([now[b] for b in range(n) if not mobile[b]],
-                                     facecolors="0.75", edgecolors="0.3", hatch="//",
-                                     linewidths=0.6))
-    blocks = PolyCollection([now[b] for b in range(n) if mobile[b]], cmap="viridis",
-                            edgecolors="k", linewidths=0.6)
-    blocks.set_array(moved[mobile])
-    blocks.set_clim(0.0, vmax if vmax is not None else max(float(moved[mobile].max()), 1e-12))
-    ax.add_collection(blocks)
-    pts = np.concatenate(initial + now)
-    pad = 0.05 * np.ptp(pts, axis=0).max()
-    ax.set_xlim(pts[:, 0].min() - pad, pts[:, 0].max() + pad)
-    ax.set_ylim(pts[:, 1].min() - pad, pts[:, 1].max() + pad)
+# -- geometry -------------------------------------------------------------------------------
+
+
+class _Blocks(NamedTuple):
+    """The model's polygons as plain arrays, from a Model or from a results file's /model."""
+
+    vertex_start: np.ndarray
+    vertex_local: np.ndarray
+    kind: np.ndarray
+    q0: np.ndarray
+
+    def world(self, q: np.ndarray) -> np.ndarray:
+        """World vertices [m] at coordinates q [..., bodies, 3], shape [..., vertices, 2]."""
+        owner = np.repeat(np.arange(len(self.kind)), np.diff(self.vertex_start))
+        x, y, th = np.moveaxis(q[..., owner, :], -1, 0)
+        c, s = np.cos(th), np.sin(th)
+        lx, ly = self.vertex_local.T
+        return np.stack((x + c * lx - s * ly, y + s * lx + c * ly), axis=-1)
+
+    def polygons(self, q: np.ndarray) -> list[np.ndarray]:
+        return np.split(self.world(q), self.vertex_start[1:-1])
+
+    def size(self) -> float:
+        """Median sqrt(area) of the free blocks (of all bodies if none is free) [m]."""
+        x, y = self.vertex_local.T
+        nxt = np.arange(len(x)) + 1
+        nxt[self.vertex_start[1:] - 1] = self.vertex_start[:-1]  # each polygon closes on itself
+        area = 0.5 * np.add.reduceat(x * y[nxt] - x[nxt] * y, self.vertex_start[:-1])
+        free = self.kind == BodyKind.FREE
+        return float(np.median(np.sqrt(np.abs(area[free] if free.any() else area))))
+
+
+def _results_blocks(results) -> _Blocks:
+    m = results.model
+    return _Blocks(m["body_vertex_start"], m["vertex_local"], m["body_kind"], m["body_q0"])
+
+
+def _model_blocks(model: Model) -> _Blocks:
+    return _Blocks(model.body_vertex_start, model.vertex_local, model.body_kind, model.body_q0)
+
+
+# -- units ----------------------------------------------------------------------------------
+
+
+def _length_unit(largest: float) -> tuple[float, str]:
+    """(factor from metres, unit) that shows lengths up to `largest` [m] with few digits."""
+    if largest >= 1.0:
+        return 1.0, "m"
+    return (1e3, "mm") if largest >= 1e-3 else (1e6, "µm")
+
+
+def _force_unit(largest: float) -> tuple[float, str]:
+    """(factor from N/m, unit) for line forces up to `largest` [N/m]."""
+    if largest >= 1e6:
+        return 1e-6, "MN/m"
+    return (1e-3, "kN/m") if largest >= 1e3 else (1.0, "N/m")
+
+
+def _nice_ceil(value: float) -> float:
+    """The smallest of 1, 2, 5 times a power of ten that is >= value > 0."""
+    power = 10.0 ** np.floor(np.log10(value))
+    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= value * (1 - 1e-12))
+
+
+# -- joints ---------------------------------------------------------------------------------
+
+
+def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
+    """Label each contact "closed", "hinge" or "open".
+
+    contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components),
+    as from Results.contacts. The contacts of one pair of bodies form a joint. A contact is
+    "open" when its gap exceeds gap_tolerance [m]. A touching contact that carries
+    compression is a "hinge" when the rest of its joint has opened (or it is the joint's only
+    point, a corner on a face): the joint has turned about it. Every other contact is
+    "closed", loaded or not (which points of a closed joint carry the load is not unique for
+    rigid blocks, so an unloaded point is no sign of a mechanism)."""
+    a = np.minimum(contacts["candidate"], contacts["antagonist"]).astype(np.int64)
+    b = np.maximum(contacts["candidate"], contacts["antagonist"]).astype(np.int64)
+    _, joint = np.unique(a * (b.max(initial=0) + 1) + b, return_inverse=True)
+    is_open = contacts["gap"] > gap_tolerance
+    loaded = ~is_open & (contacts["force"][:, 1] > 0.0)
+    points = np.bincount(joint)[joint]
+    turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
+    return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
+
+
+# -- drawing --------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Look:
+    """What stays the same on every frame of one picture or animation."""
+
+    xlim: tuple[float, float]
+    ylim: tuple[float, float]
+    colour_by: str | None
+    factor: float  # from metres or degrees to the colour bar's unit
+    mappable: ScalarMappable | None  # colour scale of the free blocks; None: plain fill
+    colour_label: str
+    force_full: float  # |R_n|/dt drawn at _WIDEST [N/m]; 0 when nothing is loaded
+    force_clipped: bool  # some drawn force exceeds force_full (drawn at _WIDEST)
+    strut: float  # length of a force segment [m]
+    gap_tolerance: float  # [m]
+
+
+def _colour_values(blocks: _Blocks, q: np.ndarray, colour_by: str) -> np.ndarray:
+    """Displacement [m] or rotation [deg] of each body from its initial position."""
+    if colour_by == "displacement":
+        return np.linalg.norm(q[..., :2] - blocks.q0[:, :2], axis=-1)
+    return np.degrees(q[..., 2] - blocks.q0[:, 2])
+
+
+def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
+          forces: Sequence[np.ndarray] = ()) -> _Look:
+    """Axes limits covering the initial and all given positions qs [frames, bodies, 3],
+    colour scale over them and force scale over the normal forces [N/m] of their frames."""
+    if colour_by not in _COLOUR_BY:
+        raise InputError(f"colour_by must be one of {_COLOUR_BY}, got {colour_by!r}")
+    pts = np.concatenate([blocks.world(blocks.q0), *blocks.world(qs)])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.05 * float((hi - lo).max())
+    factor, mappable, label = 1.0, None, ""
+    if colour_by is not None:
+        values = np.abs(_colour_values(blocks, qs, colour_by)[:, blocks.kind == BodyKind.FREE])
+        top = float(values.max(initial=0.0))
+        if colour_by == "displacement":
+            factor, unit = _length_unit(top)
+            norm = Normalize(0.0, top * factor or 1.0)
+            mappable = ScalarMappable(norm, "YlGnBu")
+            label = f"displacement [{unit}]"
+        else:
+            top = top or 1.0
+            mappable = ScalarMappable(Normalize(-top, top), "RdBu_r")
+            label = "rotation [deg], anticlockwise +"
+    # An impact lasts a step or two: scaling an animation by its largest force would draw
+    # every other frame with hairlines, so the scale follows the typical frame's largest force.
+    peaks = np.array([f.max(initial=0.0) for f in forces])
+    reference = float(np.percentile(peaks, 90)) if peaks.size else 0.0
+    full = _nice_ceil(reference) if reference > 0 else 0.0
+    size = blocks.size()
+    return _Look((lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad), colour_by, factor,
+                 mappable, label, full, peaks.size > 0 and float(peaks.max()) > full,
+                 0.6 * size, 1e-3 * size)
+
+
+def _draw_blocks(ax, look: _Look, blocks: _Blocks, q: np.ndarray) -> None:
+    now = blocks.polygons(q)
+    free = blocks.kind == BodyKind.FREE
+    # The initial outline goes under the blocks: it shows only where a block has moved.
+    ax.add_collection(PolyCollection([p for p, f in zip(blocks.polygons(blocks.q0), free,
+                                                        strict=True) if f],
+                                     facecolors="none", edgecolors="0.55", linestyles="--",
+                                     linewidths=0.6, zorder=1))
+    ax.add_collection(PolyCollection([p for p, f in zip(now, free, strict=True) if not f],
+                                     facecolors="0.82", edgecolors="0.3", hatch="///",
+                                     linewidths=0.6, zorder=2))
+    moving = PolyCollection([p for p, f in zip(now, free, strict=True) if f],
+                            edgecolors="k", linewidths=0.6, zorder=2)
+    if look.mappable is None:
+        moving.set_facecolor("#e3d5b8")  # sandstone
+    else:
+        moving.set_facecolor(look.mappable.to_rgba(
+            look.factor * _colour_values(blocks, q, look.colour_by)[free]))
+    ax.add_collection(moving)
+
+
+def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
+    """Force segments, hinges and open points, with a legend giving the force scale."""
+    rn = contacts["force"][:, 1]
+    on = rn > 0
+    handles = []
+    if look.force_full > 0:
+        # The segment follows the reaction R_t t + R_n n, centred on the contact point.
+        reaction = np.einsum("ci,cij->cj", contacts["force"][on], contacts["frame"][on])
+        half = 0.5 * look.strut * reaction / np.linalg.norm(reaction, axis=1)[:, None]
+        p = contacts["point"][on]
+        ax.add_collection(LineCollection(
+            np.stack((p - half, p + half), axis=1),
+            linewidths=_WIDEST * np.minimum(rn[on] / look.force_full, 1.0),
+            colors=_FORCE_COLOUR, capstyle="butt", zorder=3))
+        factor, unit = _force_unit(look.force_full)
+        for fraction in (1.0, 0.5):
+            label = f"{look.force_full * fraction * factor:g} {unit}"
+            if fraction == 1.0 and look.force_clipped:
+                label = "≥ " + label
+            handles.append(Line2D([], [], color=_FORCE_COLOUR, lw=_WIDEST * fraction,
+                                  solid_capstyle="butt", label=label))
+    state = joint_states(contacts, look.gap_tolerance)
+    for label, style in _MARKS.items():
+        pts = contacts["point"][state == label]
+        handles += ax.plot(pts[:, 0], pts[:, 1], ls="none", zorder=4,
+                           label=f"{label} ({len(pts)})", **style)
+    # Below the x axis label whatever the axes' height: anchored a fixed distance in points.
+    below = offset_copy(ax.transAxes, ax.figure, y=-34, units="points")
+    ax.legend(handles=handles, title="normal force |R_n|/dt", loc="upper center",
+              bbox_to_anchor=(0.5, 0.0), bbox_transform=below, ncol=len(handles), fontsize=8,
+              title_fontsize=8, frameon=False, handlelength=2.5)
+
+
+def _finish_axes(ax, look: _Look, title: str) -> None:
+    ax.set_xlim(*look.xlim)
+    ax.set_ylim(*look.ylim)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    if title:
-        ax.set_title(title, fontsize=10)
-    return blocks
+    ax.set_title(title, fontsize=10)
 
 
-def save_states(path: str, panels: Sequence[tuple[Model, np.ndarray, str]]) -> None:
-    """Write a PNG with one panel per (model, q, title), each with a displacement colour bar."""
-    fig, axes = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4.5), squeeze=False)
-    for ax, (model, q, title) in zip(axes[0], panels, strict=True):
-        blocks = draw_state(ax, model, q, title=title)
-        fig.colorbar(blocks, ax=ax, shrink=0.6, label="displacement [m]")
-    fig.tight_layout()
+def _colourbar(ax, look: _Look) -> None:
+    if look.mappable is not None:
+        ax.figure.colorbar(look.mappable, ax=ax, shrink=0.8, label=look.colour_label)
+
+
+def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
+                title: str | None) -> None:
+    _draw_blocks(ax, look, blocks, results.body_q[k])
+    if forces:
+        _draw_contacts(ax, look, results.contacts(k))
+    heading = title if title is not None else results.path.stem
+    _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
+
+
+def _figsize(look: _Look) -> tuple[float, float]:
+    """A figure 9 in wide whose axes fit the structure's aspect ratio, with room for the
+    title, axis labels and legend [in]."""
+    aspect = (look.ylim[1] - look.ylim[0]) / (look.xlim[1] - look.xlim[0])
+    return 9.0, float(np.clip(7.0 * aspect + 1.6, 3.5, 10.0))
+
+
+def _frame_index(results, frame: int) -> int:
+    try:
+        return range(results.frame_count)[frame]
+    except IndexError:
+        raise InputError(f"frame {frame} is out of range: {results.path} has "
+                         f"{results.frame_count} output frame(s)") from None
+
+
+def _normal_forces(results, frames: Iterable[int]) -> list[np.ndarray]:
+    return [results.contacts(k)["force"][:, 1] for k in frames]
+
+
+# -- public ---------------------------------------------------------------------------------
+
+
+def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, ax=None,
+               forces: bool = True, colour_by: str | None = "displacement",
+               title: str | None = None, figsize: tuple[float, float] | None = None,
+               dpi: int = 150) -> Figure:
+    """The structure at output frame `frame` of saxum.results.Results: blocks coloured by
+    displacement [mm or m] or rotation [deg] (colour_by "displacement", "rotation" or None),
+    with the contact forces when `forces`. Draws into `ax` if given, else a new figure of
+    figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
+    when given (figsize * dpi pixels)."""
+    k = _frame_index(results, frame)
+    blocks = _results_blocks(results)
+    look = _look(blocks, results.body_q[k:k + 1], colour_by,
+                 _normal_forces(results, [k]) if forces else ())
+    if ax is None:
+        ax = Figure(figsize=figsize or _figsize(look), layout="constrained").add_subplot()
+    fig = ax.figure
+    _draw_frame(ax, results, k, look, blocks, forces, title)
+    _colourbar(ax, look)
+    if path is not None:
+        fig.savefig(path, dpi=dpi)
+    return fig
+
+
+def _body_index(results, body: int | str | None) -> int:
+    """The block named or numbered `body`; None: the free block that moved most."""
+    if body is None:
+        moved = np.linalg.norm(results.body_q[..., :2] - results.model["body_q0"][:, :2],
+                               axis=-1).max(axis=0)
+        moved[results.model["body_kind"] != BodyKind.FREE] = -1.0
+        return int(np.argmax(moved))
+    if body in results.body_name:
+        return results.body_name.index(body)
+    try:
+        return range(len(results.body_name))[int(body)]
+    except (ValueError, IndexError):
+        raise InputError(f"no block {body!r}: give a name (such as "
+                         f"{results.body_name[-1]!r}) or an index below "
+                         f"{len(results.body_name)}") from None
+
+
+def plot_histories(results, path: str | PathLike | None = None, *,
+                   body: int | str | None = None, figsize: tuple[float, float] = (8.0, 9.0),
+                   dpi: int = 150) -> Figure:
+    """Time histories in stacked panels: displacement of block `body` (name or index; default
+    the free block that moved most) [mm or m], kinetic energy [J/m], NLGS iterations per step
+    (non-converged steps in red) and the largest interpenetration [µm, mm or m]. Saved to
+    `path` at dpi when given."""
+    if results.frame_count == 0:
+        raise InputError(f"{results.path} has no output frame")
+    b = _body_index(results, body)
+    s = results.steps
+    fig = Figure(figsize=figsize, layout="constrained")
+    ax_u, ax_e, ax_it, ax_pen = fig.subplots(4, 1, sharex=True)
+
+    u = results.body_q[:, b, :2] - results.model["body_q0"][b, :2]
+    magnitude = np.linalg.norm(u, axis=1)
+    factor, unit = _length_unit(float(magnitude.max()))
+    for values, label in ((u[:, 0], "$u_x$"), (u[:, 1], "$u_y$"), (magnitude, "$|u|$")):
+        ax_u.plot(results.time, factor * values, label=label, lw=1.2)
+    ax_u.set_ylabel(f"displacement [{unit}]")
+    ax_u.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
+    ax_u.legend(fontsize=8, ncol=3)
+
+    ax_e.plot(s["time"], s["kinetic_energy"], lw=1.0, color="C3")
+    ax_e.set_ylabel("kinetic energy [J/m]")
+
+    ax_it.plot(s["time"], s["iterations"], lw=0.7, color="0.3")
+    bad = ~s["converged"]
+    ax_it.scatter(s["time"][bad], s["iterations"][bad], s=12, color="red", zorder=3,
+                  label=f"not converged ({int(bad.sum())} steps)")
+    ax_it.legend(fontsize=8, loc="upper right")
+    ax_it.set_ylabel("NLGS iterations [-]")
+
+    factor, unit = _length_unit(float(s["max_interpenetration"].max(initial=0.0)))
+    ax_pen.plot(s["time"], factor * s["max_interpenetration"], lw=1.0, color="C4")
+    ax_pen.set_ylabel(f"largest interpenetration [{unit}]")
+    ax_pen.set_xlabel("time [s]")
+    for ax in (ax_u, ax_e, ax_it, ax_pen):
+        ax.grid(alpha=0.3)
+    if path is not None:
+        fig.savefig(path, dpi=dpi)
+    return fig
+
+
+def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[int] | None = None,
+            forces: bool = True, figsize: tuple[float, float] | None = None,
+            dpi: int = 100) -> Path:
+    """Write the output frames (all, or the indices in `frames`) as a GIF, or an MP4 when
+    path ends in .mp4 (needs ffmpeg), at fps frames per second and figsize [in] * dpi pixels
+    (default figsize: 9 in wide, as tall as the structure needs; an MP4's size is rounded to
+    even pixels). Axes limits, colour scale and force scale are the same on every frame.
+    Returns the path."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".mp4":
+        if not animation.writers.is_available("ffmpeg"):
+            raise InputError(f"cannot write {path}: MP4 needs ffmpeg, which was not found; "
+                             "use a .gif file name or install ffmpeg")
+        writer = animation.FFMpegWriter(fps=fps)
+    elif suffix == ".gif":
+        writer = animation.PillowWriter(fps=fps)
+    else:
+        raise InputError(f"cannot write {path}: the animation's file name must end in .gif "
+                         "or .mp4")
+    ks = [_frame_index(results, k) for k in
+          (range(results.frame_count) if frames is None else frames)]
+    if not ks:
+        raise InputError(f"no frame to animate in {results.path}")
+    blocks = _results_blocks(results)
+    look = _look(blocks, results.body_q[ks], "displacement",
+                 _normal_forces(results, ks) if forces else ())
+    fig = Figure(figsize=figsize or _figsize(look), layout="constrained")
+    ax = fig.add_subplot()
+    _colourbar(ax, look)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with writer.saving(fig, str(path), dpi):
+        for k in ks:
+            ax.clear()
+            _draw_frame(ax, results, k, look, blocks, forces, None)
+            writer.grab_frame()
+            # Laid out once, on the first frame: the axes then stay put while titles change,
+            # and each frame is drawn once instead of twice (layout, then picture).
+            fig.set_layout_engine(None)
+    return path
+
+
+def save_states(path: str | PathLike, panels: Sequence[tuple[Model, np.ndarray, str]]) -> None:
+    """Write a PNG with one panel per (model, q [m, m, rad] per body, title), blocks coloured
+    by displacement from the initial position [mm or m]."""
+    fig = Figure(figsize=(6 * len(panels), 4.5), layout="constrained")
+    for ax, (model, q, title) in zip(fig.subplots(1, len(panels), squeeze=False)[0], panels,
+                                     strict=True):
+        blocks = _model_blocks(model)
+        look = _look(blocks, q[None], "displacement")
+        _draw_blocks(ax, look, blocks, q)
+        _finish_axes(ax, look, title)
+        _colourbar(ax, look)
     fig.savefig(path, dpi=120)
-    plt.close(fig)

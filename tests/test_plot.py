@@ -1,0 +1,155 @@
+"""Pictures and animations of results (saxum.plot)."""
+
+import matplotlib.animation
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from PIL import Image
+
+import saxum as sx
+from saxum.errors import InputError
+from saxum.plot import animate, joint_states, plot_frame, plot_histories, save_states
+from saxum.results import Results, ResultsWriter
+from saxum.structures import semicircular_arch
+
+STEPS, EVERY = 300, 30  # 0.3 s of a collapsing arch, a frame every 30 steps: 11 frames
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    """A thin arch (t/R = 0.09, below the minimum thickness) starting to collapse: hinges
+    form, so the frames have loaded, hinged and open contacts."""
+    path = tmp_path_factory.mktemp("plot") / "arch.h5"
+    model = semicircular_arch(radius=1.0, thickness=0.09, voussoirs=15)
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    with ResultsWriter(path, model, dt=1e-3, theta=0.5) as w:
+        w.write_frame(state)
+        for _ in range(STEPS):
+            w.log_step(sim.step(state))
+            if state.step % EVERY == 0:
+                w.write_frame(state)
+        w.set_status(1)
+    with Results(path) as r:
+        yield model, state, r
+
+
+def _image(path, fmt: str) -> Image.Image:
+    im = Image.open(path)
+    assert im.format == fmt
+    return im
+
+
+def test_frame_picture_has_the_size_asked_and_labels(run, tmp_path):
+    _, _, r = run
+    out = tmp_path / "frame.png"
+    fig = plot_frame(r, -1, out, figsize=(6.0, 4.0), dpi=50)
+    assert _image(out, "PNG").size == (300, 200)
+    ax = fig.axes[0]
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("x [m]", "y [m]")
+    assert "t = 0.300 s" in ax.get_title()
+    assert fig.axes[1].get_ylabel().startswith("displacement [")  # the colour bar
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(text.endswith("N/m") for text in labels)  # force scale, N/m or kN/m
+    assert any(text.startswith("hinge (") and text != "hinge (0)" for text in labels)
+    assert plt.get_fignums() == []  # nothing left in pyplot's global state
+
+
+def test_frame_draws_into_given_axes(run):
+    _, _, r = run
+    fig = plt.figure()
+    try:
+        ax = fig.add_subplot()
+        assert plot_frame(r, 3, ax=ax, forces=False, colour_by="rotation") is fig
+        assert ax.get_legend() is None
+        assert fig.axes[1].get_ylabel().startswith("rotation [deg]")
+    finally:
+        plt.close(fig)
+
+
+def test_frame_bad_input(run):
+    _, _, r = run
+    with pytest.raises(InputError, match="out of range"):
+        plot_frame(r, r.frame_count)
+    with pytest.raises(InputError, match="colour_by"):
+        plot_frame(r, colour_by="stress")
+
+
+def test_histories_picture(run, tmp_path):
+    _, _, r = run
+    out = tmp_path / "histories.png"
+    fig = plot_histories(r, out, body="voussoir 8", figsize=(5.0, 8.0), dpi=40)
+    assert _image(out, "PNG").size == (200, 320)
+    assert all("[" in ax.get_ylabel() for ax in fig.axes)  # units on every axis
+    assert fig.axes[-1].get_xlabel() == "time [s]"
+    assert "voussoir 8" in fig.axes[0].get_title()
+    # Default: the free block that moved most; an index works as well as a name.
+    moved = np.linalg.norm(r.body_q[-1, :, :2] - r.model["body_q0"][:, :2], axis=1)
+    assert r.body_name[int(np.argmax(moved))] in plot_histories(r).axes[0].get_title()
+    assert "voussoir 2" in plot_histories(r, body="2").axes[0].get_title()
+    with pytest.raises(InputError, match="no block"):
+        plot_histories(r, body="keystone")
+
+
+def test_gif_has_the_frames_and_size_asked(run, tmp_path):
+    _, _, r = run
+    out = animate(r, tmp_path / "anim" / "arch.gif", fps=10, frames=[0, 4, 8, 10],
+                  figsize=(4.0, 2.5), dpi=40)
+    im = _image(out, "GIF")
+    assert im.size == (160, 100)
+    assert im.n_frames == 4
+
+
+def test_gif_of_all_frames(run, tmp_path):
+    _, _, r = run
+    out = animate(r, tmp_path / "all.gif", figsize=(3.0, 2.0), dpi=30, forces=False)
+    assert _image(out, "GIF").n_frames == r.frame_count == STEPS // EVERY + 1
+
+
+def test_mp4_without_ffmpeg_asks_for_gif(run, tmp_path, monkeypatch):
+    _, _, r = run
+    monkeypatch.setattr(matplotlib.animation.writers, "is_available", lambda name: False)
+    with pytest.raises(InputError, match=r"\.gif.*ffmpeg"):
+        animate(r, tmp_path / "arch.mp4")
+    assert not (tmp_path / "arch.mp4").exists()
+
+
+def test_animation_bad_suffix(run, tmp_path):
+    _, _, r = run
+    with pytest.raises(InputError, match=".gif"):
+        animate(r, tmp_path / "arch.avi")
+
+
+def test_save_states_for_the_demo(run, tmp_path):
+    model, state, _ = run
+    out = tmp_path / "states.png"
+    save_states(out, [(model, model.body_q0, "initial"), (model, state.body_q, "after")])
+    assert _image(out, "PNG").size == (2 * 6 * 120, int(4.5 * 120))
+
+
+def _contacts(pairs, normal, gap=None):
+    """Hand-made contacts: (candidate, antagonist) per contact and the normal force [N/m]."""
+    pairs = np.array(pairs, dtype=np.int32)
+    normal = np.array(normal, dtype=float)
+    return {"candidate": pairs[:, 0], "antagonist": pairs[:, 1],
+            "gap": np.zeros(len(normal)) if gap is None else np.array(gap),
+            "force": np.column_stack((np.zeros_like(normal), normal))}
+
+
+def test_joint_states():
+    c = _contacts(
+        [(1, 2), (1, 2),  # both ends touching and loaded
+         (3, 2), (3, 2),  # one end loaded, the other touching and unloaded: still closed
+         (4, 3), (3, 4),  # touching, nothing carried (pair given either way round)
+         (5, 4), (5, 4),  # loaded end, the other end open by 1 mm: a hinge
+         (6, 5),  # a corner on a face, loaded: a hinge
+         (7, 6),  # a corner on a face, unloaded
+         (8, 7), (8, 7)],  # both ends open
+        [500.0, 300.0, 800.0, 0.0, 0.0, 0.0, 995.0, 0.0, 200.0, 0.0, 0.0, 0.0],
+        gap=[0.0] * 7 + [1e-3, 0.0, 0.0, 2e-3, 2e-3])
+    assert joint_states(c, gap_tolerance=1e-4).tolist() == [
+        "closed", "closed", "closed", "closed", "closed", "closed", "hinge", "open", "hinge",
+        "closed", "open", "open"]
+    # a looser gap tolerance counts the 1 mm opening as touching: that joint is closed
+    assert joint_states(c, 1.5e-3).tolist()[6:8] == ["closed", "closed"]
+    assert joint_states(_contacts(np.zeros((0, 2)), []), 1e-4).size == 0
