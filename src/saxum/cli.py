@@ -2,7 +2,7 @@
 
     saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--quiet]
     saxum resume RESULTS [--quiet]
-    saxum demo NAME [-o PICTURE]
+    saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
     saxum info RESULTS
     saxum plot RESULTS [--frame K] [--histories] [-o PNG]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
@@ -147,7 +147,8 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="run a bundled demonstration (no file needed)")
     p.add_argument("name", choices=sorted(DEMOS), help="which demonstration")
     p.add_argument("-o", "--output", type=Path, help="picture (default: saxum-demo-NAME.png)")
-    p.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
+    p.add_argument("--duration", type=float, default=None,
+                   help="simulated time [s] (default: the demo's own)")
     p.set_defaults(func=_demo)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
