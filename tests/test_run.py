@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from saxum.cli import main
 from saxum.results import Results
@@ -148,6 +149,29 @@ def test_cli_run_and_info(tmp_path, capsys):
     assert main(["info", str(results)]) == 0
     out = capsys.readouterr().out
     assert "status: finished" in out and "thin arch" in out and "steps: 50" in out
+
+
+def test_cli_pictures_animation_and_paraview(tmp_path, capsys):
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(SCENARIO.replace("duration = 1.0", "duration = 0.05"))
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    results = tmp_path / "short.h5"
+    assert main(["plot", str(results)]) == 0
+    assert main(["plot", str(results), "--histories", "--body", "voussoir 8", "-o",
+                 str(tmp_path / "h.png")]) == 0
+    assert main(["animate", str(results), "--fps", "5"]) == 0
+    assert main(["export-vtk", str(results)]) == 0
+    out = capsys.readouterr().out
+
+    assert Image.open(tmp_path / "short.png").format == "PNG"
+    assert Image.open(tmp_path / "h.png").format == "PNG"
+    gif = Image.open(tmp_path / "short.gif")
+    assert gif.format == "GIF" and gif.n_frames == 6  # frames at 0, 0.01, ..., 0.05 s
+    assert (tmp_path / "short.pvd").is_file()
+    assert len(list((tmp_path / "short").glob("*.vtu"))) == 12  # blocks + contacts per frame
+    assert "ParaView collection" in out
+    assert main(["plot", str(results), "--frame", "99"]) == 2  # no such frame
+    assert main(["animate", str(results), "-o", str(tmp_path / "a.avi")]) == 2
 
 
 def test_cli_exit_codes(tmp_path, capsys):

@@ -4,18 +4,20 @@ The pipeline: a ModelBuilder collects blocks and contact laws -> finalize() give
 Simulation(model, dt=...) steps a State with Moreau-Jean time stepping and NLGS.
 """
 
+from ._version import __version__ as __version__
 from .contacts import Contacts
 from .detection import DetectionSettings
 from .errors import InputError, OverlapError, SimulationError, SolverWarning
 from .integrator import MoreauJean
 from .laws import ContactLaw, LawKind
 from .model import BodyKind, Model, ModelBuilder
+from .results import Results
+from .runner import run_scenario
+from .scenario import Scenario, load_scenario
 from .simulation import Simulation
 from .solver import NLGS, ContactSolver
 from .state import State
 from .steplog import StepLog, StepReport
-
-__version__ = "0.1.0"
 
 __all__ = [
     "NLGS",
@@ -30,10 +32,14 @@ __all__ = [
     "ModelBuilder",
     "MoreauJean",
     "OverlapError",
+    "Results",
+    "Scenario",
     "Simulation",
     "SimulationError",
     "SolverWarning",
     "State",
     "StepLog",
     "StepReport",
+    "load_scenario",
+    "run_scenario",
 ]

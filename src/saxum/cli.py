@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from ._version import __version__
 from .errors import InputError
 
 __all__ = ["main"]
@@ -115,7 +115,7 @@ def _export_vtk(args) -> None:
     from .results import Results
     from .vtk import export_vtk
 
-    out = args.output or Path(args.results).with_suffix("")
+    out = args.output or Path(args.results).parent
     with Results(args.results) as r:
         pvd = export_vtk(r, out)
     print(f"ParaView collection: {Path(pvd).resolve()} (open it in ParaView)")
@@ -174,7 +174,8 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("export-vtk", help="ParaView time series (.pvd + .vtu) of the frames")
     p.add_argument("results", type=Path)
-    p.add_argument("-o", "--output", type=Path, help="folder (default: RESULTS without .h5)")
+    p.add_argument("-o", "--output", type=Path,
+                   help="folder for NAME.pvd and NAME/*.vtu (default: the results' folder)")
     p.set_defaults(func=_export_vtk)
     return parser
 

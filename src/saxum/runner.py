@@ -18,7 +18,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from . import __version__
+from ._version import __version__
 from .errors import InputError, SimulationError
 from .results import Results, ResultsWriter
 from .scenario import Scenario
