@@ -24,6 +24,7 @@ from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
+from .mechanism import joint_states
 from .model import BodyKind, Model
 
 __all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
@@ -103,26 +104,6 @@ def _nice_ceil(value: float) -> float:
 
 
 # -- joints ---------------------------------------------------------------------------------
-
-
-def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
-    """Label each contact "closed", "hinge" or "open".
-
-    contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components),
-    as from Results.contacts. The contacts of one pair of bodies form a joint. A contact is
-    "open" when its gap exceeds gap_tolerance [m]. A touching contact that carries
-    compression is a "hinge" when the rest of its joint has opened (or it is the joint's only
-    point, a corner on a face): the joint has turned about it. Every other contact is
-    "closed", loaded or not (which points of a closed joint carry the load is not unique for
-    rigid blocks, so an unloaded point is no sign of a mechanism)."""
-    a = np.minimum(contacts["candidate"], contacts["antagonist"]).astype(np.int64)
-    b = np.maximum(contacts["candidate"], contacts["antagonist"]).astype(np.int64)
-    _, joint = np.unique(a * (b.max(initial=0) + 1) + b, return_inverse=True)
-    is_open = contacts["gap"] > gap_tolerance
-    loaded = ~is_open & (contacts["force"][:, 1] > 0.0)
-    points = np.bincount(joint)[joint]
-    turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
-    return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
 
 
 # -- drawing --------------------------------------------------------------------------------

@@ -1,0 +1,184 @@
+"""Loading to collapse: is the structure at rest or collapsing under a given load, and the
+critical value of a load parameter found by bisection.
+
+A trial runs a simulation of the structure under a fixed value of the parameter (a horizontal
+load factor, a point load, a settlement, a thickness...) from rest, and decides:
+
+- **at rest** when, for `settle` seconds in a row, the unbalanced force ratio
+      UFR = sum_b |m_b (v_b+ - v_b-) / h| / sum_b (|F_ext,b| + sum_(alpha at b) |R_alpha| / h)
+  (net force on the free blocks over the forces acting on them: weight and loads plus contact
+  forces) stays below `force_ratio`, and the kinetic energy below `energy` times the potential
+  energy scale m g L (L the structure's height). A mechanism that has started, however slowly,
+  has a net force m a on its blocks, so UFR = a/g-ish stays above the threshold;
+- **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
+  initial position;
+- after `duration` seconds with neither, collapsed if the kinetic energy grew over the second
+  half of the trial (the motion keeps growing), at rest otherwise.
+
+For rigid blocks with unilateral frictional contacts a load below the collapse load is carried
+with no motion at all (a statically admissible set of contact forces exists and v = 0 solves
+every step), so loading from rest to a fixed value and bisecting on that value gives the
+static collapse load; `critical_value` does it to a requested relative accuracy and returns
+the bracket.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InputError
+from .model import BodyKind
+from .simulation import Simulation
+from .state import State
+
+__all__ = ["CollapseCriterion", "CriticalValue", "Trial", "critical_value", "run_trial",
+           "unbalanced_force_ratio"]
+
+
+@dataclass(frozen=True)
+class CollapseCriterion:
+    """Thresholds of a trial (see the module doc): displacement [m] (default: 1 % of the
+    smallest free block's size), duration [s], settle [s], force_ratio [-], energy [-]."""
+
+    displacement: float | None = None
+    duration: float = 1.0
+    settle: float = 0.05
+    force_ratio: float = 1e-4
+    energy: float = 1e-9
+
+    def __post_init__(self) -> None:
+        for name in ("duration", "settle", "force_ratio", "energy"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f"collapse criterion {name} must be > 0, got {value}")
+        if self.displacement is not None and not self.displacement > 0.0:
+            raise InputError(f"collapse criterion displacement must be > 0 [m], got "
+                             f"{self.displacement}")
+
+
+@dataclass
+class Trial:
+    """Outcome of one trial: the parameter value, collapsed or at rest, the time it was
+    decided [s], the largest displacement of a free block [m], the last unbalanced force ratio,
+    the kinetic energy at the end [J/m], and the simulation and state at the end."""
+
+    value: float
+    collapsed: bool
+    time: float
+    displacement: float
+    force_ratio: float
+    kinetic_energy: float
+    simulation: Simulation = field(repr=False)
+    state: State = field(repr=False)
+
+
+def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) -> float:
+    """UFR of the last step (module doc): net force over acting forces on the free blocks;
+    v_before: the velocities at the start of the step [m/s, m/s, rad/s]."""
+    m = sim.model
+    h = sim.integrator.dt
+    free = m.body_kind == BodyKind.FREE
+    net = np.hypot(*((state.body_v[free, :2] - v_before[free, :2]).T)) * m.body_mass[free] / h
+    force = np.empty_like(state.body_v)
+    sim.external_force(state.time, force)
+    applied = np.hypot(*force[free, :2].T)
+    c = state.contacts
+    r = np.hypot(*c.impulse[: c.count].T) / h
+    contact = (np.bincount(c.candidate[: c.count], r, m.body_count)
+               + np.bincount(c.antagonist[: c.count], r, m.body_count))[free]
+    acting = float(applied.sum() + contact.sum())
+    return float(net.sum()) / acting if acting > 0.0 else 0.0
+
+
+def run_trial(sim: Simulation, value: float = math.nan,
+              criterion: CollapseCriterion | None = None) -> Trial:
+    """Run `sim` from rest until it is judged at rest or collapsed (module doc)."""
+    crit = criterion or CollapseCriterion()
+    m = sim.model
+    free = m.body_kind == BodyKind.FREE
+    if not free.any():
+        raise InputError("a collapse trial needs at least one free block")
+    limit = crit.displacement or 0.01 * float(m.body_size[free].min())
+    h = sim.integrator.dt
+    height = float(np.ptp(m.vertex_local[:, 1]) + np.ptp(m.body_q0[:, 1]))
+    g = float(np.hypot(*m.gravity)) or 1.0
+    energy_scale = float(m.body_mass[free].sum()) * g * height
+    state = sim.initial_state()
+    steps = round(crit.duration / h)
+    settle = max(1, round(crit.settle / h))
+    quiet = 0
+    energies = np.zeros(steps)
+    moved = ratio = 0.0
+    v_before = np.empty_like(state.body_v)
+    for k in range(steps):
+        v_before[:] = state.body_v
+        report = sim.step(state)
+        energies[k] = report.kinetic_energy
+        moved = float(np.hypot(*(state.body_q[free, :2] - m.body_q0[free, :2]).T).max())
+        if moved > limit:
+            return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
+                         state)
+        ratio = unbalanced_force_ratio(sim, state, v_before)
+        rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
+        quiet = quiet + 1 if rest else 0
+        if quiet >= settle:
+            return Trial(value, False, state.time, moved, ratio, report.kinetic_energy, sim,
+                         state)
+    half = steps // 2
+    growing = energies[half:].mean() > energies[:half].mean()
+    return Trial(value, bool(growing), state.time, moved, ratio, float(energies[-1]), sim,
+                 state)
+
+
+@dataclass
+class CriticalValue:
+    """The critical value of a parameter, bracketed: the value closest to it at which the
+    structure stood (`stands`) and at which it collapsed (`collapses`), and every trial."""
+
+    stands: float
+    collapses: float
+    trials: list[Trial]
+
+    @property
+    def value(self) -> float:
+        """Midpoint of the bracket."""
+        return 0.5 * (self.stands + self.collapses)
+
+    def collapse(self) -> Trial:
+        """The trial at `collapses`: the structure failing just past the critical value."""
+        return next(t for t in reversed(self.trials) if t.value == self.collapses)
+
+
+def critical_value(make_simulation: Callable[[float], Simulation], stands: float,
+                   collapses: float, *, tolerance: float = 0.005,
+                   criterion: CollapseCriterion | None = None) -> CriticalValue:
+    """Bisect on a parameter x: make_simulation(x) builds the structure under the load x
+    (or with the geometry x). The structure must stand at x = `stands` and collapse at
+    x = `collapses` (either may be the larger: a load factor collapses above, a thickness
+    below), which is checked first. Stops when the bracket is narrower than tolerance times
+    the larger magnitude of its ends."""
+    if not (tolerance > 0.0):
+        raise InputError(f"tolerance must be > 0, got {tolerance}")
+    trials: list[Trial] = []
+
+    def collapsed(x: float) -> bool:
+        trial = run_trial(make_simulation(x), x, criterion)
+        trials.append(trial)
+        return trial.collapsed
+
+    if collapsed(stands):
+        raise InputError(f"the structure already collapses at {stands:g}; start the bracket "
+                         "at a value where it stands")
+    if not collapsed(collapses):
+        raise InputError(f"the structure still stands at {collapses:g}; widen the bracket")
+    while abs(collapses - stands) > tolerance * max(abs(stands), abs(collapses)):
+        mid = 0.5 * (stands + collapses)
+        if collapsed(mid):
+            collapses = mid
+        else:
+            stands = mid
+    return CriticalValue(stands, collapses, trials)

@@ -1,0 +1,168 @@
+"""The mechanism of a structure that moves: which joints hinge, which slide, which open, which
+blocks move, and the thrust line through the joints' force resultants.
+
+A joint is the set of contacts between two bodies (two points for two faces in contact, one
+for a corner on a face). A contact point is open when its gap exceeds a tolerance; a touching
+point that carries compression is a hinge when the rest of its joint has opened (or it is the
+joint's only point): the joint turns about it. A joint slides when a touching point carrying
+compression has a tangential relative velocity |U_t| larger than a fraction of the fastest
+block's speed (and the movement threshold per second, so that a structure at rest, whose
+velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
+its contacts weighted by their normal forces; the thrust line of an arch joins the centres of pressure of its joints,
+which is where the resultant of the joint's forces crosses it (J. Heyman, "The stone skeleton",
+1995).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import BodyKind, Model
+from .state import State
+
+__all__ = ["Joint", "Mechanism", "joint_states", "mechanism"]
+
+_SECOND = 1.0  # [s]: a slip slower than the movement threshold per second is creep, not a slide
+
+
+def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
+    """Label each contact "closed", "hinge" or "open" (module doc).
+
+    contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components),
+    as from Results.contacts. Every touching contact that is not a hinge is "closed", loaded
+    or not (which points of a closed joint carry the load is not unique for rigid blocks, so
+    an unloaded point is no sign of a mechanism)."""
+    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    is_open = contacts["gap"] > gap_tolerance
+    loaded = ~is_open & (contacts["force"][:, 1] > 0.0)
+    points = np.bincount(joint)[joint] if joint.size else joint
+    turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
+    return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
+
+
+def _joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
+    a = np.minimum(candidate, antagonist).astype(np.int64)
+    b = np.maximum(candidate, antagonist).astype(np.int64)
+    return np.unique(a * (b.max(initial=0) + 1) + b, return_inverse=True)[1]
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint: its two bodies (names), whether it hinges (and about which point [m]),
+    slides (largest slip velocity [m/s]) or is open, its centre of pressure [m] and the
+    resultant of its contact forces [N/m] (world frame; nan when it carries nothing)."""
+
+    bodies: tuple[str, str]
+    hinge: bool
+    hinge_point: tuple[float, float] | None
+    sliding: bool
+    slip: float
+    open: bool
+    centre_of_pressure: tuple[float, float]
+    force: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """The joints of a configuration and the blocks that moved by more than `threshold` [m]."""
+
+    joints: list[Joint]
+    moving: list[str]
+    threshold: float
+
+    @property
+    def hinges(self) -> list[Joint]:
+        return [j for j in self.joints if j.hinge]
+
+    @property
+    def sliding(self) -> list[Joint]:
+        return [j for j in self.joints if j.sliding]
+
+    def hinge_angles(self, centre: tuple[float, float] = (0.0, 0.0)) -> list[float]:
+        """Angles of the hinge points from the crown [deg] (from the vertical through
+        `centre` [m], the arch's centre), sorted."""
+        cx, cy = centre
+        return sorted(math.degrees(math.atan2(abs(x - cx), y - cy))
+                      for x, y in (j.hinge_point for j in self.hinges))
+
+    def text(self) -> str:
+        """The mechanism in words, for a report."""
+        lines = [f"moving blocks ({len(self.moving)}, moved > {self.threshold:.3g} m): "
+                 + (", ".join(self.moving) if self.moving else "none")]
+        for j in self.hinges:
+            x, y = j.hinge_point
+            lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} at "
+                         f"({x:.4g}, {y:.4g}) m")
+        for j in self.sliding:
+            lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
+                         f"(slip {j.slip:.3g} m/s)")
+        opened = [j for j in self.joints if j.open]
+        if opened:
+            lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
+                                                      (j.bodies for j in opened)))
+        return "\n".join(lines)
+
+
+def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | None = None,
+              threshold: float | None = None, slip_fraction: float = 0.05) -> Mechanism:
+    """Classify the joints of `state` (contacts of its last step, impulses over dt [s]).
+    gap_tolerance [m]: a point is open beyond it (default 0.1 % of the smallest free block's
+    size); threshold [m]: a block moves when displaced by more (default 1 % of that size);
+    slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
+    `threshold` per second)."""
+    free = model.body_kind == BodyKind.FREE
+    size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
+    gap_tol = gap_tolerance if gap_tolerance is not None else 1e-3 * size
+    moved_by = threshold if threshold is not None else 1e-2 * size
+    c = state.contacts
+    k = c.count
+    cand, ant = c.candidate[:k], c.antagonist[:k]
+    point, frame, gap = c.point[:k], c.frame[:k], c.gap[:k]
+    force = c.impulse[:k] / dt
+    labels = joint_states({"candidate": cand, "antagonist": ant, "gap": gap, "force": force},
+                          gap_tol)
+    # relative velocity of the candidate's material point over the antagonist's, world frame
+    p_ant = point - gap[:, None] * frame[:, 1]
+    q, v = state.body_q, state.body_v
+    u = (_point_velocity(q, v, cand, point) - _point_velocity(q, v, ant, p_ant))
+    slip = np.abs(np.einsum("kd,kd->k", u, frame[:, 0]))
+    speed = float(np.abs(v[:, :2]).max(initial=0.0) + np.abs(v[:, 2] * model.body_radius).max(
+        initial=0.0))
+    touching = (labels != "open") & (force[:, 1] > 0.0)
+    slides = touching & (slip > max(slip_fraction * speed, moved_by / _SECOND))
+    world_force = force[:, :1] * frame[:, 0] + force[:, 1:] * frame[:, 1]
+
+    joint = _joint_index(cand, ant)
+    names = model.body_name
+    joints = []
+    for j in range(joint.max(initial=-1) + 1):
+        rows = np.flatnonzero(joint == j)
+        a, b = sorted((int(cand[rows[0]]), int(ant[rows[0]])))
+        rn = np.where(touching[rows], force[rows, 1], 0.0)
+        total = rn.sum()
+        cop = (rn @ point[rows]) / total if total > 0.0 else np.full(2, np.nan)
+        hinge_rows = rows[labels[rows] == "hinge"]
+        joints.append(Joint(
+            bodies=(names[a], names[b]),
+            hinge=hinge_rows.size > 0,
+            hinge_point=tuple(map(float, point[hinge_rows[0]])) if hinge_rows.size else None,
+            sliding=bool(slides[rows].any()),
+            slip=float(slip[rows][touching[rows]].max(initial=0.0)),
+            open=bool((labels[rows] == "open").all()),
+            centre_of_pressure=(float(cop[0]), float(cop[1])),
+            force=tuple(map(float, world_force[rows].sum(axis=0))) if total > 0.0
+            else (math.nan, math.nan),
+        ))
+    moved = np.hypot(*(state.body_q[:, :2] - model.body_q0[:, :2]).T)
+    moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
+    return Mechanism(joints, moving, moved_by)
+
+
+def _point_velocity(q: np.ndarray, v: np.ndarray, body: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Velocity [m/s] of the material point of `body` at world position p: v + omega x r."""
+    r = p - q[body, :2]
+    w = v[body, 2]
+    return v[body, :2] + np.column_stack((-w * r[:, 1], w * r[:, 0]))
