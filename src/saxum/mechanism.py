@@ -8,9 +8,9 @@ joint's only point): the joint turns about it. A joint slides when a touching po
 compression has a tangential relative velocity |U_t| larger than a fraction of the fastest
 block's speed (and the movement threshold per second, so that a structure at rest, whose
 velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
-its contacts weighted by their normal forces; the thrust line of an arch joins the centres of pressure of its joints,
-which is where the resultant of the joint's forces crosses it (J. Heyman, "The stone skeleton",
-1995).
+its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
+pressure of its joints, which is where the resultant of the joint's forces crosses it
+(J. Heyman, "The stone skeleton", 1995).
 """
 
 from __future__ import annotations
