@@ -6,7 +6,7 @@ for a corner on a face). A contact point is open when its gap exceeds a toleranc
 point that carries compression is a hinge when the rest of its joint has opened (or it is the
 joint's only point): the joint turns about it. A joint slides when a touching point carrying
 compression has a tangential relative velocity |U_t| larger than a fraction of the fastest
-block's speed (and the movement threshold per second, so that a structure at rest, whose
+block's speed (and 0.1 % of the block size per second, so that a structure at rest, whose
 velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
 its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
 pressure of its joints, which is where the resultant of the joint's forces crosses it
@@ -25,7 +25,7 @@ from .state import State
 
 __all__ = ["Joint", "Mechanism", "joint_states", "mechanism"]
 
-_SECOND = 1.0  # [s]: a slip slower than the movement threshold per second is creep, not a slide
+_CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
 
 
 def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
@@ -110,13 +110,17 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
               threshold: float | None = None, slip_fraction: float = 0.05) -> Mechanism:
     """Classify the joints of `state` (contacts of its last step, impulses over dt [s]).
     gap_tolerance [m]: a point is open beyond it (default 0.1 % of the smallest free block's
-    size); threshold [m]: a block moves when displaced by more (default 1 % of that size);
+    size); threshold [m]: a block moves when displaced by more (default 10 % of the largest
+    displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
+    early has moved little, a structure at rest only by round-off);
     slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
-    `threshold` per second)."""
+    0.1 % of the smallest block size per second)."""
     free = model.body_kind == BodyKind.FREE
     size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
     gap_tol = gap_tolerance if gap_tolerance is not None else 1e-3 * size
-    moved_by = threshold if threshold is not None else 1e-2 * size
+    moved = np.hypot(*(state.body_q[:, :2] - model.body_q0[:, :2]).T)
+    largest = float(moved[free].max(initial=0.0))
+    moved_by = threshold if threshold is not None else max(0.1 * largest, 1e-6 * size)
     c = state.contacts
     k = c.count
     cand, ant = c.candidate[:k], c.antagonist[:k]
@@ -132,7 +136,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     speed = float(np.abs(v[:, :2]).max(initial=0.0) + np.abs(v[:, 2] * model.body_radius).max(
         initial=0.0))
     touching = (labels != "open") & (force[:, 1] > 0.0)
-    slides = touching & (slip > max(slip_fraction * speed, moved_by / _SECOND))
+    slides = touching & (slip > max(slip_fraction * speed, _CREEP * size))
     world_force = force[:, :1] * frame[:, 0] + force[:, 1:] * frame[:, 1]
 
     joint = _joint_index(cand, ant)
@@ -156,7 +160,6 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
             force=tuple(map(float, world_force[rows].sum(axis=0))) if total > 0.0
             else (math.nan, math.nan),
         ))
-    moved = np.hypot(*(state.body_q[:, :2] - model.body_q0[:, :2]).T)
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
 
