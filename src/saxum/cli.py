@@ -97,7 +97,7 @@ def _plot(args) -> None:
             plot_histories(r, out, body=args.body)
         else:
             out = args.output or Path(args.results).with_suffix(".png")
-            plot_frame(r, args.frame, out)
+            plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
     print(f"picture: {Path(out).resolve()}")
 
 
@@ -160,6 +160,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--frame", type=int, default=-1, help="output frame (default: the last)")
     p.add_argument("--histories", action="store_true",
                    help="time histories (displacement, energy, solver) instead of a frame")
+    p.add_argument("--thrust-line", action="store_true",
+                   help="draw the thrust line of an arch (joints' centres of pressure)")
     p.add_argument("--body", help="block for --histories (name or index; default: the one "
                                   "that moved most)")
     p.add_argument("-o", "--output", type=Path, help="PNG file (default: next to RESULTS)")

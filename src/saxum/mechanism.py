@@ -23,7 +23,7 @@ import numpy as np
 from .model import BodyKind, Model
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "joint_states", "mechanism"]
+__all__ = ["Joint", "Mechanism", "joint_resultants", "joint_states", "mechanism", "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
 
@@ -41,6 +41,38 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
     points = np.bincount(joint)[joint] if joint.size else joint
     turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
     return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
+
+
+def joint_resultants(contacts: dict, gap_tolerance: float):
+    """Per joint: the two bodies (lower index first), the centre of pressure [m] (contact
+    points weighted by their compressive normal forces, touching points only; nan when the
+    joint carries nothing) and the resultant force [N/m] in world axes, from a contacts dict
+    with candidate, antagonist, point, frame, gap and force ((t, n) components)."""
+    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    n = joint.max(initial=-1) + 1
+    rn = np.where(contacts["gap"] <= gap_tolerance, np.maximum(contacts["force"][:, 1], 0.0),
+                  0.0)
+    total = np.bincount(joint, rn, n)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cop = np.column_stack([np.bincount(joint, rn * contacts["point"][:, d], n) / total
+                               for d in range(2)])
+    world = (contacts["force"][:, :1] * contacts["frame"][:, 0]
+             + contacts["force"][:, 1:] * contacts["frame"][:, 1])
+    resultant = np.column_stack([np.bincount(joint, world[:, d], n) for d in range(2)])
+    first = np.zeros(n, dtype=np.int64)
+    first[joint[::-1]] = np.arange(joint.size)[::-1]
+    pairs = np.sort(np.column_stack((contacts["candidate"][first],
+                                     contacts["antagonist"][first])), axis=1)
+    return pairs, cop, resultant
+
+
+def thrust_line(contacts: dict, gap_tolerance: float, centre: tuple[float, float]):
+    """The centres of pressure of the loaded joints [m], ordered by their angle about `centre`
+    [m] (an arch's centre): the thrust line of an arch, shape (joints, 2)."""
+    _, cop, _ = joint_resultants(contacts, gap_tolerance)
+    cop = cop[np.isfinite(cop[:, 0])]
+    order = np.argsort(np.arctan2(cop[:, 1] - centre[1], cop[:, 0] - centre[0]))
+    return cop[order]
 
 
 def _joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
@@ -126,8 +158,9 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     cand, ant = c.candidate[:k], c.antagonist[:k]
     point, frame, gap = c.point[:k], c.frame[:k], c.gap[:k]
     force = c.impulse[:k] / dt
-    labels = joint_states({"candidate": cand, "antagonist": ant, "gap": gap, "force": force},
-                          gap_tol)
+    contacts = {"candidate": cand, "antagonist": ant, "point": point, "frame": frame,
+                "gap": gap, "force": force}
+    labels = joint_states(contacts, gap_tol)
     # relative velocity of the candidate's material point over the antagonist's, world frame
     p_ant = point - gap[:, None] * frame[:, 1]
     q, v = state.body_q, state.body_v
@@ -137,18 +170,14 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
         initial=0.0))
     touching = (labels != "open") & (force[:, 1] > 0.0)
     slides = touching & (slip > max(slip_fraction * speed, _CREEP * size))
-    world_force = force[:, :1] * frame[:, 0] + force[:, 1:] * frame[:, 1]
-
+    pairs, cop, resultant = joint_resultants(contacts, gap_tol)
     joint = _joint_index(cand, ant)
     names = model.body_name
     joints = []
-    for j in range(joint.max(initial=-1) + 1):
+    for j, (a, b) in enumerate(pairs):
         rows = np.flatnonzero(joint == j)
-        a, b = sorted((int(cand[rows[0]]), int(ant[rows[0]])))
-        rn = np.where(touching[rows], force[rows, 1], 0.0)
-        total = rn.sum()
-        cop = (rn @ point[rows]) / total if total > 0.0 else np.full(2, np.nan)
         hinge_rows = rows[labels[rows] == "hinge"]
+        carries = bool(np.isfinite(cop[j, 0]))
         joints.append(Joint(
             bodies=(names[a], names[b]),
             hinge=hinge_rows.size > 0,
@@ -156,8 +185,8 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
             sliding=bool(slides[rows].any()),
             slip=float(slip[rows][touching[rows]].max(initial=0.0)),
             open=bool((labels[rows] == "open").all()),
-            centre_of_pressure=(float(cop[0]), float(cop[1])),
-            force=tuple(map(float, world_force[rows].sum(axis=0))) if total > 0.0
+            centre_of_pressure=(float(cop[j, 0]), float(cop[j, 1])),
+            force=(float(resultant[j, 0]), float(resultant[j, 1])) if carries
             else (math.nan, math.nan),
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]

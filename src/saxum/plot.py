@@ -24,7 +24,7 @@ from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
-from .mechanism import joint_states
+from .mechanism import joint_states, thrust_line
 from .model import BodyKind, Model
 
 __all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
@@ -242,6 +242,17 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
 
 
+def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None:
+    free = blocks.kind == BodyKind.FREE
+    pts = blocks.world(blocks.q0[None])[0]
+    owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
+    on_free = free[owner]
+    centre = (float(pts[on_free, 0].mean()), float(pts[on_free, 1].min()))
+    line = thrust_line(results.contacts(k), look.gap_tolerance, centre)
+    ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5, zorder=6,
+            label="thrust line")
+
+
 def _figsize(look: _Look) -> tuple[float, float]:
     """A figure 9 in wide whose axes fit the structure's aspect ratio, with room for the
     title, axis labels and legend [in]."""
@@ -267,10 +278,12 @@ def _normal_forces(results, frames: Iterable[int]) -> list[np.ndarray]:
 def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, ax=None,
                forces: bool = True, colour_by: str | None = "displacement",
                title: str | None = None, figsize: tuple[float, float] | None = None,
-               dpi: int = 150) -> Figure:
+               dpi: int = 150, thrust_line: bool = False) -> Figure:
     """The structure at output frame `frame` of saxum.results.Results: blocks coloured by
     displacement [mm or m] or rotation [deg] (colour_by "displacement", "rotation" or None),
-    with the contact forces when `forces`. Draws into `ax` if given, else a new figure of
+    with the contact forces when `forces`, and for an arch the thrust line (the joints'
+    centres of pressure, ordered about the arch's centre: mid-span on the springing line)
+    when `thrust_line`. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
     when given (figsize * dpi pixels)."""
     k = _frame_index(results, frame)
@@ -281,6 +294,8 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
         ax = Figure(figsize=figsize or _figsize(look), layout="constrained").add_subplot()
     fig = ax.figure
     _draw_frame(ax, results, k, look, blocks, forces, title)
+    if thrust_line:
+        _draw_thrust_line(ax, results, k, look, blocks)
     _colourbar(ax, look)
     if path is not None:
         fig.savefig(path, dpi=dpi)
