@@ -187,3 +187,32 @@ def test_cli_exit_codes(tmp_path, capsys):
     with pytest.raises(SystemExit) as info:
         main(["frobnicate"])
     assert info.value.code == 2
+
+
+def test_cli_collapse_finds_the_overturning_load_of_a_block(tmp_path, capsys):
+    """A 0.5 x 1 m block overturns at lambda = b/h = 0.5 (statics of a rigid block)."""
+    (tmp_path / "block.json").write_text(
+        '{"blocks": [{"vertices": [[-2, -0.2], [2, -0.2], [2, 0], [-2, 0]], "kind": "fixed",'
+        ' "group": "ground", "name": "ground"},'
+        ' {"vertices": [[0, 0], [0.5, 0], [0.5, 1], [0, 1]], "density": 2000, "name": "pier"}]}')
+    (tmp_path / "block.toml").write_text(textwrap.dedent("""\
+        [structure]
+        type = "blocks"
+        file = "block.json"
+        [[laws]]
+        groups = ["block", "ground"]
+        friction = 1.0
+        [[laws]]
+        groups = ["block", "block"]
+        friction = 1.0
+        [output]
+        duration = 1.0
+    """))
+    assert main(["collapse", str(tmp_path / "block.toml"), "--vary",
+                 "loads.horizontal_acceleration", "--stands", "1", "--collapses", "8",
+                 "--tolerance", "0.01"]) == 0
+    out = capsys.readouterr().out
+    factor = float(out.split("lambda = a/g: ")[1].split()[0])
+    assert factor == pytest.approx(0.5, rel=0.01)
+    assert "hinge between ground and pier at (0.5" in out
+    assert Image.open(tmp_path / "block-collapse.png").format == "PNG"

@@ -3,6 +3,7 @@
     saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--quiet]
     saxum resume RESULTS [--quiet]
     saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
+    saxum collapse SCENARIO --vary KEY --stands A --collapses B
     saxum info RESULTS
     saxum plot RESULTS [--frame K] [--histories] [-o PNG]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
@@ -43,6 +44,39 @@ def _demo(args) -> None:
 
     output = args.output or Path(f"saxum-demo-{args.name}.png")
     DEMOS[args.name](output, duration=args.duration)
+
+
+def _collapse(args) -> None:
+    from .collapse import CollapseCriterion, scenario_critical_value
+    from .mechanism import mechanism
+    from .plot import plot_frame
+    from .results import Results
+    from .runner import run_scenario
+    from .scenario import load_scenario
+
+    result = scenario_critical_value(
+        args.scenario, args.vary, args.stands, args.collapses, overrides=tuple(args.set),
+        tolerance=args.tolerance, criterion=CollapseCriterion(duration=args.duration))
+    print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
+          f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
+    scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
+    if args.vary == "loads.horizontal_acceleration":
+        g = float(np.hypot(*scenario.loads.gravity))
+        print(f"horizontal load factor lambda = a/g: {result.value / g:.4g} "
+              f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
+    trial = result.collapse()
+    trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
+    print(f"mechanism at {args.vary} = {result.collapses:.6g}:")
+    print(mechanism(trial.simulation.model, trial.state, trial.simulation.integrator.dt).text())
+    output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
+                                                          + "-collapse.h5")
+    scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
+        update={"duration": trial.state.time, "interval": trial.state.time / 20})})
+    run_scenario(scenario, output, quiet=True)
+    with Results(output) as r:
+        picture = output.with_suffix(".png")
+        plot_frame(r, -1, picture, thrust_line=True)
+    print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
 def _info(args) -> None:
@@ -150,6 +184,24 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--duration", type=float, default=None,
                    help="simulated time [s] (default: the demo's own)")
     p.set_defaults(func=_demo)
+
+    p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
+                                        "thickness...) by bisection, and the mechanism")
+    p.add_argument("scenario", type=Path)
+    p.add_argument("--vary", required=True, metavar="KEY",
+                   help="scenario key to vary, e.g. loads.horizontal_acceleration [m/s^2] or "
+                        "structure.thickness [m]")
+    p.add_argument("--stands", type=float, required=True, help="a value at which it stands")
+    p.add_argument("--collapses", type=float, required=True,
+                   help="a value at which it collapses")
+    p.add_argument("--tolerance", type=float, default=0.005,
+                   help="relative width of the final bracket (default 0.005)")
+    p.add_argument("--duration", type=float, default=1.0, help="longest trial [s]")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override another scenario key (repeatable)")
+    p.add_argument("-o", "--output", type=Path,
+                   help="results of the collapsing case (default: SCENARIO-collapse.h5)")
+    p.set_defaults(func=_collapse)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
     p.add_argument("results", type=Path)

@@ -36,7 +36,7 @@ from .simulation import Simulation
 from .state import State
 
 __all__ = ["CollapseCriterion", "CriticalValue", "Trial", "critical_value", "run_trial",
-           "unbalanced_force_ratio"]
+           "scenario_critical_value", "unbalanced_force_ratio"]
 
 
 @dataclass(frozen=True)
@@ -182,3 +182,17 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
         else:
             stands = mid
     return CriticalValue(stands, collapses, trials)
+
+
+def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
+                            overrides: tuple[str, ...] = (), tolerance: float = 0.005,
+                            criterion: CollapseCriterion | None = None) -> CriticalValue:
+    """critical_value over the scenario key `key` (dotted, e.g. loads.horizontal_acceleration
+    or structure.thickness) of the scenario file at `path`, other keys overridden by
+    `overrides` ("key=value")."""
+    from .scenario import load_scenario
+
+    def make(x: float) -> Simulation:
+        return load_scenario(path, [*overrides, f"{key}={x!r}"]).build_simulation()
+
+    return critical_value(make, stands, collapses, tolerance=tolerance, criterion=criterion)

@@ -68,10 +68,11 @@ def joint_resultants(contacts: dict, gap_tolerance: float):
 
 def thrust_line(contacts: dict, gap_tolerance: float, centre: tuple[float, float]):
     """The centres of pressure of the loaded joints [m], ordered by their angle about `centre`
-    [m] (an arch's centre): the thrust line of an arch, shape (joints, 2)."""
+    [m] (an arch's centre) measured from the vertical, so that both springings (at angles
+    -90 and 90 degrees) are the ends: the thrust line of an arch, shape (joints, 2)."""
     _, cop, _ = joint_resultants(contacts, gap_tolerance)
     cop = cop[np.isfinite(cop[:, 0])]
-    order = np.argsort(np.arctan2(cop[:, 1] - centre[1], cop[:, 0] - centre[0]))
+    order = np.argsort(np.arctan2(cop[:, 0] - centre[0], cop[:, 1] - centre[1]))
     return cop[order]
 
 
