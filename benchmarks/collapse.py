@@ -1,0 +1,83 @@
+"""Benchmark of the quasi-static analyses: a load-to-collapse bisection on the 15-voussoir arch
+and a 1000-brick wall brought to rest.
+
+    python benchmarks/collapse.py [--json benchmarks/results/collapse.json]
+
+Prints and writes as JSON: for the arch (R = 1 m, t/R = 0.15, mu = 1), the horizontal collapse
+load factor found by bisection to 0.5 %, the number of trials, simulated and wall time; for
+the wall (40 courses of 25 bricks, 1000 bricks + halves, built touching, at rest under gravity
+from a cold start), the simulated time until saxum.collapse judges it at rest, the wall time,
+NLGS sweeps per step (mean, max) and the time per step. Kernels are compiled (a warm-up run)
+before the clock starts.
+"""
+
+import argparse
+import dataclasses
+import json
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+import saxum as sx
+from saxum.collapse import CollapseCriterion, critical_value, run_trial
+from saxum.structures import running_bond_wall, semicircular_arch
+
+
+def arch_bisection() -> dict:
+    model = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=15, friction=1.0)
+    g = float(np.hypot(*model.gravity))
+
+    def make(factor):
+        loaded = dataclasses.replace(model, accelerations=((lambda t: (factor * g, 0.0)),))
+        return sx.Simulation(loaded, dt=1e-3)
+
+    run_trial(make(0.05), 0.05, CollapseCriterion(duration=0.05))  # compile
+    start = time.perf_counter()
+    result = critical_value(make, 0.05, 0.5, tolerance=0.005)
+    wall = time.perf_counter() - start
+    return {"load_factor": result.value, "bracket": [result.stands, result.collapses],
+            "trials": len(result.trials),
+            "simulated_s": sum(t.time for t in result.trials), "wall_s": wall}
+
+
+def wall_to_rest(courses: int = 40, bricks: int = 25) -> dict:
+    model = running_bond_wall(courses=courses, bricks=bricks)
+    run_trial(sx.Simulation(running_bond_wall(courses=2, bricks=2), dt=1e-3))  # compile
+    sim = sx.Simulation(model, dt=1e-3)
+    start = time.perf_counter()
+    trial = run_trial(sim, criterion=CollapseCriterion(duration=2.0))
+    wall = time.perf_counter() - start
+    it = sim.log.iterations
+    return {"bricks": int((model.body_kind == sx.BodyKind.FREE).sum()),
+            "contacts": int(sim.log.contacts[-1]), "at_rest": not trial.collapsed,
+            "time_to_rest_s": trial.time, "wall_s": wall, "steps": len(sim.log),
+            "ms_per_step": 1e3 * wall / len(sim.log), "sweeps_mean": float(it.mean()),
+            "sweeps_first": int(it[0]), "sweeps_max_after_first": int(it[1:].max(initial=0)),
+            "not_converged": int((~sim.log.converged).sum()),
+            "largest_displacement_m": trial.displacement}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--json", type=Path, default=Path("benchmarks/results/collapse.json"))
+    args = parser.parse_args()
+    out = {"machine": f"{platform.processor() or platform.machine()}, "
+                      f"{platform.platform()}, python {platform.python_version()}",
+           "arch_bisection": arch_bisection(), "wall_to_rest": wall_to_rest()}
+    a, w = out["arch_bisection"], out["wall_to_rest"]
+    print(f"arch 15 voussoirs t/R 0.15: lambda = {a['load_factor']:.4f} "
+          f"({a['bracket'][0]:.4f} .. {a['bracket'][1]:.4f}), {a['trials']} trials, "
+          f"{a['simulated_s']:.2f} s simulated in {a['wall_s']:.2f} s")
+    print(f"wall {w['bricks']} bricks, {w['contacts']} contacts: at rest {w['at_rest']} after "
+          f"{w['time_to_rest_s']:.3f} s simulated, {w['wall_s']:.2f} s wall ({w['steps']} steps,"
+          f" {w['ms_per_step']:.2f} ms/step); sweeps first {w['sweeps_first']}, mean "
+          f"{w['sweeps_mean']:.1f}, max after the first {w['sweeps_max_after_first']}; "
+          f"not converged {w['not_converged']}")
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    args.json.write_text(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()
