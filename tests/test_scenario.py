@@ -15,7 +15,9 @@ from saxum.scenario import (
     LawSpec,
     Loads,
     OutputSpec,
+    PointLoad,
     Scenario,
+    Settlement,
     SolverSpec,
     WallStructure,
     load_scenario,
@@ -49,6 +51,18 @@ FULL = textwrap.dedent("""\
     horizontal_acceleration = 0.5
     load_factor_rate = 0.01
 
+    [[loads.point_loads]]
+    block = "brick c3b2"
+    magnitude = 10.0
+    direction = [1.0, 0.0]
+
+    [[loads.settlements]]
+    block = "ground"
+    magnitude = 0.001
+    direction = [0.0, -1.0]
+    rotation = 0.001
+    time = 0.5
+
     [solver]
     dt = 5e-4
     theta = 0.6
@@ -75,7 +89,10 @@ PYTHON = Scenario(
     laws=[LawSpec(groups=("brick", "brick"), friction=0.7, kind="restitution_coulomb",
                   restitution=0.2),
           LawSpec(groups=("brick", "ground"), friction=0.5, kind="signorini_coulomb")],
-    loads=Loads(gravity=(0.0, -9.8), horizontal_acceleration=0.5, load_factor_rate=0.01),
+    loads=Loads(gravity=(0.0, -9.8), horizontal_acceleration=0.5, load_factor_rate=0.01,
+                point_loads=[PointLoad(block="brick c3b2", magnitude=10.0, direction=(1.0, 0.0))],
+                settlements=[Settlement(block="ground", magnitude=0.001, direction=(0.0, -1.0),
+                                        rotation=0.001, time=0.5)]),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05),
@@ -249,9 +266,46 @@ def test_docs_describe_every_key():
 
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, LawSpec, Loads,
-                  SolverSpec, DetectionSpec, OutputSpec):
+                  PointLoad, Settlement, SolverSpec, DetectionSpec, OutputSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
     for tag in ("semicircular_arch", "running_bond_wall", "blocks"):
         assert f'`type = "{tag}"`' in doc
+
+
+def test_point_loads_and_settlements():
+    text = ARCH + textwrap.dedent("""\
+        [[loads.point_loads]]
+        block = "voussoir 5"
+        magnitude = 1000.0
+        direction = [3.0, -4.0]
+        [[loads.settlements]]
+        block = "support"
+        magnitude = 0.02
+        rotation = 0.01
+        time = 0.5
+    """)
+    sc = parse_scenario(text, overrides=["loads.point_loads[0].magnitude=2000"])
+    assert sc.loads.point_loads[0] == PointLoad(block="voussoir 5", magnitude=2000.0,
+                                                direction=(3.0, -4.0))
+    m = sc.build_model()
+    (bodies, force), = m.forces
+    assert [m.body_name[b] for b in bodies] == ["voussoir 5"]
+    assert force(0.3) == pytest.approx((1200.0, -1600.0, 0.0))
+    support = m.body("support")
+    assert m.body_kind[support] == sx.BodyKind.DRIVEN
+    motion = m.motions[m.body_motion[support]]
+    assert motion(0.1) == pytest.approx((0.0, -0.04, 0.02)) and motion(0.6) == (0.0, 0.0, 0.0)
+
+
+def test_bad_loads_are_named():
+    bad_block = ARCH + '[[loads.point_loads]]\nblock = "keystone"\nmagnitude = 1.0\n'
+    with pytest.raises(sx.InputError, match="no block named 'keystone'"):
+        parse_scenario(bad_block).build_model()
+    unknown = ARCH + '[[loads.point_loads]]\nblock = "voussoir 1"\nmagnitude = 1.0\nsize = 2\n'
+    message = _error(unknown)
+    assert "loads.point_loads[0].size: unknown key; allowed keys here: block, magnitude" in message
+    assert "line 20" in message
+    assert "--set 'laws[5].friction=1': no 5 in the scenario" in _error(
+        ARCH, overrides=["laws[5].friction=1"])

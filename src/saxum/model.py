@@ -183,6 +183,26 @@ class ModelBuilder:
         self._blocks.append(_Block(name, verts, float(density), group, kind, motion))
         return index
 
+    def drive(self, name: str, motion: Motion) -> int:
+        """Make the FIXED block called `name` (a support) DRIVEN by motion: t [s] ->
+        (vx, vy, omega) of its centre of mass, e.g. a settlement; returns its index."""
+        index = self.index(name)
+        block = self._blocks[index]
+        if block.kind != BodyKind.FIXED:
+            raise InputError(f"{name}: only a FIXED block (a support) can be driven, this one "
+                             f"is {block.kind.name}")
+        block.kind, block.motion = BodyKind.DRIVEN, motion
+        return index
+
+    def index(self, name: str) -> int:
+        """Body index of the block called `name`."""
+        for index, block in enumerate(self._blocks):
+            if block.name == name:
+                return index
+        raise InputError(f"no block named {name!r}; the blocks are: "
+                         + ", ".join(b.name for b in self._blocks[:20])
+                         + (" ..." if len(self._blocks) > 20 else ""))
+
     def set_law(self, group_a: str, group_b: str, law: ContactLaw) -> None:
         """Use `law` for every contact between a body of group_a and one of group_b."""
         if not isinstance(law, ContactLaw):

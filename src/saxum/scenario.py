@@ -13,10 +13,12 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from pathlib import Path
 from typing import Annotated, Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .detection import DetectionSettings
@@ -28,8 +30,8 @@ from .solver import NLGS
 from .structures import add_grounded_running_bond_wall, add_supported_semicircular_arch
 
 __all__ = ["ArchStructure", "BlockSpec", "BlocksStructure", "DetectionSpec", "LawSpec",
-           "Loads", "OutputSpec", "Scenario", "SolverSpec", "WallStructure", "load_scenario",
-           "parse_scenario"]
+           "Loads", "OutputSpec", "PointLoad", "Scenario", "Settlement", "SolverSpec",
+           "WallStructure", "load_scenario", "parse_scenario"]
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -125,13 +127,59 @@ class LawSpec(_Strict):
                           restitution=self.restitution)
 
 
+class PointLoad(_Strict):
+    """A constant force of `magnitude` [N/m] along `direction` (normalized) at the centre of
+    mass of the block called `block`."""
+
+    block: str
+    magnitude: Finite
+    direction: tuple[Finite, Finite] = (0.0, -1.0)
+
+
+class Settlement(_Strict):
+    """The fixed block called `block` (a support) moves by `magnitude` [m] along `direction`
+    (normalized) and turns by `rotation` [rad] about its centre of mass, at a constant rate
+    over `time` [s] from the start, then stays."""
+
+    block: str
+    magnitude: Finite
+    direction: tuple[Finite, Finite] = (0.0, -1.0)
+    rotation: Finite = 0.0
+    time: Positive = 1.0
+
+
 class Loads(_Strict):
-    """Gravity [m/s^2] and a horizontal inertial load a_x(t) = (horizontal_acceleration +
-    load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table)."""
+    """Gravity [m/s^2]; a horizontal inertial load a_x(t) = (horizontal_acceleration +
+    load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table);
+    point loads; settlements of supports."""
 
     gravity: tuple[Finite, Finite] = (0.0, -9.81)
     horizontal_acceleration: Finite = 0.0
     load_factor_rate: Finite = 0.0
+    point_loads: list[PointLoad] = []
+    settlements: list[Settlement] = []
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        """Apply these loads to the blocks in `builder`."""
+        ax0, rate = self.horizontal_acceleration, self.load_factor_rate
+        if ax0 != 0.0 or rate != 0.0:
+            g = math.hypot(*self.gravity)
+            builder.add_acceleration(lambda t: (ax0 + rate * g * t, 0.0))
+        for load in self.point_loads:
+            fx, fy = load.magnitude * _unit(load.direction, "point_loads.direction")
+            builder.add_force([builder.index(load.block)], lambda t, f=(fx, fy): (*f, 0.0))
+        for s in self.settlements:
+            vx, vy = s.magnitude / s.time * _unit(s.direction, "settlements.direction")
+            omega = s.rotation / s.time
+            builder.drive(s.block, lambda t, v=(vx, vy, omega), end=s.time:
+                          v if t < end else (0.0, 0.0, 0.0))
+
+
+def _unit(direction: tuple[float, float], key: str):
+    norm = math.hypot(*direction)
+    if norm == 0.0:
+        raise InputError(f"loads.{key} must not be (0, 0)")
+    return np.array(direction) / norm
 
 
 class SolverSpec(_Strict):
@@ -191,10 +239,7 @@ class Scenario(_Strict):
         self.structure.add_to(builder)
         for spec in self.laws:
             builder.set_law(*spec.groups, spec.law())
-        ax0, rate = self.loads.horizontal_acceleration, self.loads.load_factor_rate
-        if ax0 != 0.0 or rate != 0.0:
-            g = math.hypot(*self.loads.gravity)
-            builder.add_acceleration(lambda t: (ax0 + rate * g * t, 0.0))
+        self.loads.add_to(builder)
         return builder.finalize()
 
     def build_simulation(self, model: Model | None = None) -> Simulation:
@@ -243,6 +288,7 @@ def parse_scenario(text: str, *, base_dir: str | Path = ".",
 
 
 def _apply_override(data: dict, item: str) -> None:
+    """Set data[key] from "dotted.key[index].key=value" (value in TOML syntax, else a string)."""
     key, sep, raw = item.partition("=")
     if not sep or not key.strip():
         raise InputError(f"--set {item!r}: expected KEY=VALUE, e.g. solver.dt=5e-4")
@@ -250,13 +296,24 @@ def _apply_override(data: dict, item: str) -> None:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw.strip()  # a bare word: take it as a string
-    *parents, last = key.strip().split(".")
+    path: list[str | int] = []
+    for part in key.strip().split("."):
+        name, _, rest = part.partition("[")
+        path.append(name)
+        path.extend(int(i) for i in re.findall(r"(\d+)\]", "[" + rest) if rest)
     node = data
-    for p in parents:
-        node = node.setdefault(p, {})
-        if not isinstance(node, dict):
-            raise InputError(f"--set {item!r}: {p} is not a table")
-    node[last] = value
+    for here, nxt in zip(path[:-1], path[1:], strict=True):
+        try:
+            if isinstance(here, int):
+                node = node[here]
+            else:
+                node = node.setdefault(here, [] if isinstance(nxt, int) else {})
+        except (IndexError, TypeError, AttributeError):
+            raise InputError(f"--set {item!r}: no {here!r} in the scenario") from None
+    try:
+        node[path[-1]] = value
+    except (IndexError, TypeError):
+        raise InputError(f"--set {item!r}: no {path[-1]!r} in the scenario") from None
 
 
 def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
@@ -286,6 +343,9 @@ def _allowed(loc: list) -> list[str]:
     names = [p for p in loc if isinstance(p, str)]
     if not names:
         return list(Scenario.model_fields)
+    nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement}
+    if tuple(names[:2]) in nested:
+        return list(nested[tuple(names[:2])].model_fields)
     if names[0] == "structure":
         return sorted({k for m in (ArchStructure, WallStructure, BlocksStructure)
                        for k in m.model_fields})

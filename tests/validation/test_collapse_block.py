@@ -43,3 +43,23 @@ def test_block_collapse_load_factor(mu, expected, mode):
     else:
         assert [j.bodies for j in mech.sliding] == [("ground", "block")]
         assert not mech.hinges
+
+
+def test_point_load_that_overturns_the_block():
+    """A horizontal force F at the centre of mass overturns the block (mu = 1) at
+    F = m g b/h: the same moment balance about the toe, within 1 %."""
+    mass = 2000.0 * B * H  # [kg/m]
+
+    def make(force):
+        b = sx.ModelBuilder(gravity=(0.0, -G))
+        b.add_block([(-2.0, -0.2), (2.0, -0.2), (2.0, 0.0), (-2.0, 0.0)],
+                    kind=sx.BodyKind.FIXED, group="ground", name="ground")
+        block = b.add_block([(0.0, 0.0), (B, 0.0), (B, H), (0.0, H)], density=2000.0)
+        b.set_law("block", "ground", sx.ContactLaw(friction=1.0))
+        b.set_law("block", "block", sx.ContactLaw(friction=1.0))
+        b.add_force([block], lambda t: (force, 0.0, 0.0))
+        return sx.Simulation(b.finalize(), dt=1e-3)
+
+    expected = mass * G * B / H
+    result = critical_value(make, 0.2 * expected, 2.0 * expected, tolerance=0.002)
+    assert result.value == pytest.approx(expected, rel=0.01)
