@@ -57,7 +57,6 @@ class Simulation:
         self._check_step()
         n, dof = model.body_count, model.dof
         self._force = np.zeros((n, dof))
-        self._force_end = np.zeros((n, dof))
         self._v = np.zeros((n, dof))
         self._v_free = np.zeros((n, dof))
         self._q_pred = np.zeros((n, dof))
@@ -99,13 +98,27 @@ class Simulation:
 
     def external_force(self, t: float, out: np.ndarray) -> None:
         """out = F(t) [N, N, N m] per body: weight, uniform accelerations, applied forces."""
+        self._step_force(t, t, out)
+
+    def _step_force(self, t0: float, t1: float, out: np.ndarray) -> None:
+        """out = the force of the step [t0, t1]: (1 - theta) F(t0) + theta F(t1), except for
+        loads that know their exact mean over an interval (`mean_over(t0, t1)`, e.g. ground
+        motion as inertial forces), which use it; t0 == t1 gives F(t0)."""
+        theta = self.integrator.theta
         out[:] = self._weight
         for acc in self.model.accelerations:
-            ax, ay = acc(t)
+            if t1 > t0 and hasattr(acc, "mean_over"):
+                ax, ay = acc.mean_over(t0, t1)
+            else:
+                a0, a1 = acc(t0), acc(t1)
+                ax = (1.0 - theta) * a0[0] + theta * a1[0]
+                ay = (1.0 - theta) * a0[1] + theta * a1[1]
             out[:, 0] += self._free_mass * ax
             out[:, 1] += self._free_mass * ay
         for bodies, force in self.model.forces:
-            np.add.at(out, bodies, np.asarray(force(t), dtype=np.float64))
+            f0 = np.asarray(force(t0), dtype=np.float64)
+            f1 = np.asarray(force(t1), dtype=np.float64)
+            np.add.at(out, bodies, (1.0 - theta) * f0 + theta * f1)
 
     def step(self, state: State) -> StepReport:
         """Advance `state` in place by one time step; returns the step's report."""
@@ -115,10 +128,7 @@ class Simulation:
         t1 = state.time + h
 
         if self.model.accelerations or self.model.forces:
-            self.external_force(state.time, self._force)
-            self.external_force(t1, self._force_end)
-            self._force *= 1.0 - theta
-            self._force += theta * self._force_end
+            self._step_force(state.time, t1, self._force)
         else:
             self._force[:] = self._weight
         free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v_free)

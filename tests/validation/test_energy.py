@@ -40,7 +40,7 @@ def _polygon(sides, radius, aspect, angle, centre):
 
 block_spec = st.tuples(
     st.integers(3, 7),                      # sides
-    st.floats(0.12, 0.3),                   # circumradius [m]
+    st.floats(0.12, 0.25),                  # circumradius [m]: 1.5 x 0.25 + 0.1 < CELL / 2
     st.floats(0.5, 1.5),                    # aspect (stretch along x)
     st.floats(0.0, 2.0 * math.pi),          # orientation [rad]
     st.floats(-0.1, 0.1),                   # offset of the centre in its cell [m]

@@ -1,0 +1,289 @@
+"""Ground motion: recorded accelerograms (PEER NGA .AT2, two-column CSV), analytic pulses, and
+the two ways of applying them to a structure.
+
+Units: time [s], acceleration [m/s^2] (records in g are converted with g = 9.80665 m/s^2).
+
+Application (documented in docs/ground-motion.md):
+- **inertial forces** (`apply_as_inertial_forces`): the structure is described in the frame
+  of the ground, which does not move; every free block gets the force -m a_g(t). Positions are
+  relative to the ground.
+- **driven supports** (`apply_as_driven_supports`): the supports move with the ground velocity
+  v_g(t) = int a_g dt (trapezoidal), held at its last value after the record. Positions are
+  absolute. A recorded accelerogram integrates to a velocity that does not end at zero
+  (baseline error), so the ground would drift away: `baseline_corrected()` removes the
+  constant acceleration v_g(end)/duration, after which the ground ends at rest.
+The two give the same motion of the blocks relative to the ground for the same GroundMotion
+(a uniform translation of the frame adds no force; tests/test_ground.py).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["G_STANDARD", "GroundMotion", "mavroeidis_papageorgiou", "one_sine", "read_at2",
+           "read_csv", "rectangular", "ricker"]
+
+G_STANDARD = 9.80665  # [m/s^2]
+_UNITS = {"g": G_STANDARD, "m/s^2": 1.0, "m/s2": 1.0, "cm/s^2": 0.01, "cm/s2": 0.01,
+          "gal": 0.01}
+
+
+@dataclass(frozen=True)
+class GroundMotion:
+    """A ground acceleration history: times [s] (increasing) and acceleration [m/s^2], shape
+    (n, 2) (horizontal, vertical); between samples it is linear, outside it is zero."""
+
+    time: np.ndarray
+    acceleration: np.ndarray
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.time, dtype=float)
+        a = np.asarray(self.acceleration, dtype=float)
+        if a.ndim == 2 and a.shape[1] == 1:
+            a = a[:, 0]
+        if a.ndim == 1:  # horizontal only
+            a = np.column_stack((a, np.zeros_like(a)))
+        if t.ndim != 1 or len(t) < 2 or a.shape != (len(t), 2):
+            raise InputError(f"ground motion {self.name!r}: need >= 2 samples of time and "
+                             f"acceleration of the same length, got {t.shape} and {a.shape}")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
+            raise InputError(f"ground motion {self.name!r}: NaN or infinite values")
+        if np.any(np.diff(t) <= 0.0):
+            k = int(np.flatnonzero(np.diff(t) <= 0.0)[0])
+            raise InputError(f"ground motion {self.name!r}: time must increase (sample {k + 1}"
+                             f" at {t[k + 1]:g} s follows {t[k]:g} s)")
+        object.__setattr__(self, "time", t)
+        object.__setattr__(self, "acceleration", a)
+
+    @property
+    def duration(self) -> float:
+        return float(self.time[-1] - self.time[0])
+
+    def scaled(self, factor: float) -> GroundMotion:
+        """The record times `factor` (both components)."""
+        return GroundMotion(self.time, factor * self.acceleration, self.name)
+
+    def trimmed(self, start: float, end: float) -> GroundMotion:
+        """The part between start and end [s], shifted to begin at t = 0."""
+        keep = (self.time >= start) & (self.time <= end)
+        if keep.sum() < 2:
+            raise InputError(f"ground motion {self.name!r}: nothing between {start:g} and "
+                             f"{end:g} s (record spans {self.time[0]:g} .. {self.time[-1]:g} s)")
+        return GroundMotion(self.time[keep] - start, self.acceleration[keep], self.name)
+
+    def acceleration_at(self, t: float) -> tuple[float, float]:
+        """a_g(t) [m/s^2], linear between samples, 0 outside the record."""
+        if t < self.time[0] or t > self.time[-1]:
+            return 0.0, 0.0
+        return (float(np.interp(t, self.time, self.acceleration[:, 0])),
+                float(np.interp(t, self.time, self.acceleration[:, 1])))
+
+    def velocity(self) -> np.ndarray:
+        """Ground velocity [m/s] at the samples: trapezoidal integral of the acceleration."""
+        dt = np.diff(self.time)[:, None]
+        return np.vstack((np.zeros((1, 2)),
+                          np.cumsum(0.5 * dt * (self.acceleration[1:] + self.acceleration[:-1]),
+                                    axis=0)))
+
+    def baseline_corrected(self) -> GroundMotion:
+        """The record minus the constant acceleration v_g(end)/duration [m/s^2], so that the
+        ground velocity ends at zero (the trapezoidal integral of a constant is exact)."""
+        drift = self.velocity()[-1] / self.duration
+        return GroundMotion(self.time, self.acceleration - drift[None, :], self.name)
+
+    def velocity_at(self, t: float) -> np.ndarray:
+        """Ground velocity [m/s] at any time: the exact integral of the piecewise-linear
+        acceleration (0 before the record, its final value after)."""
+        v = self.velocity()
+        if t <= self.time[0]:
+            return np.zeros(2)
+        if t >= self.time[-1]:
+            return v[-1]
+        k = int(np.searchsorted(self.time, t, side="right")) - 1
+        tau = t - self.time[k]
+        a0, a1 = self.acceleration[k], self.acceleration[k + 1]
+        slope = (a1 - a0) / (self.time[k + 1] - self.time[k])
+        return v[k] + a0 * tau + 0.5 * slope * tau * tau
+
+    def apply_as_inertial_forces(self, builder) -> None:
+        """Add -m a_g(t) to every free block of a saxum.ModelBuilder (ground frame). Over a
+        time step the load is the exact mean of the acceleration over the step,
+        (v_g(t1) - v_g(t0)) / h, so pulses with jumps are applied with their exact impulse."""
+        builder.add_acceleration(_InertialLoad(self))
+
+    def apply_as_driven_supports(self, builder, names: Sequence[str]) -> None:
+        """Drive the fixed blocks `names` with the ground velocity (absolute frame)."""
+        velocity = self.velocity()
+
+        def motion(t: float):
+            # np.interp holds the end values outside the record: 0 before, v_g(end) after
+            return (float(np.interp(t, self.time, velocity[:, 0])),
+                    float(np.interp(t, self.time, velocity[:, 1])), 0.0)
+
+        for name in names:
+            builder.drive(name, motion)
+
+
+class _InertialLoad:
+    """-a_g(t) [m/s^2], with its exact mean over a step (saxum.simulation uses `mean_over`)."""
+
+    def __init__(self, motion: GroundMotion) -> None:
+        self.motion = motion
+
+    def __call__(self, t: float) -> tuple[float, float]:
+        ax, ay = self.motion.acceleration_at(t)
+        return -ax, -ay
+
+    def mean_over(self, t0: float, t1: float) -> tuple[float, float]:
+        dv = self.motion.velocity_at(t1) - self.motion.velocity_at(t0)
+        return -float(dv[0]) / (t1 - t0), -float(dv[1]) / (t1 - t0)
+
+
+def _pulse(name: str, duration: float, shape: Callable[[np.ndarray], np.ndarray],
+           samples: int, direction: tuple[float, float]) -> GroundMotion:
+    if not (math.isfinite(duration) and duration > 0.0):
+        raise InputError(f"{name}: duration must be > 0 [s], got {duration}")
+    t = np.linspace(0.0, duration, samples)
+    d = np.asarray(direction, dtype=float)
+    return GroundMotion(t, shape(t)[:, None] * d[None, :] / np.hypot(*d), name)
+
+
+def one_sine(amplitude: float, period: float, *, symmetric: bool = False,
+             direction=(1.0, 0.0), samples: int = 2001) -> GroundMotion:
+    """One-sine acceleration pulse of peak `amplitude` [m/s^2] and period T_p [s]:
+    antisymmetric a(t) = A sin(2 pi t/T_p) on [0, T_p] (a full cycle, zero net velocity;
+    the "type-B" pulse of Zhang & Makris 2001), symmetric a(t) = A sin(pi t/T_p) on [0, T_p]
+    (a half cycle)."""
+    w = (1.0 if symmetric else 2.0) * math.pi / period
+    return _pulse("one-sine pulse", period, lambda t: amplitude * np.sin(w * t), samples,
+                  direction)
+
+
+def ricker(amplitude: float, period: float, *, direction=(1.0, 0.0),
+           samples: int = 2001) -> GroundMotion:
+    """Ricker wavelet of peak `amplitude` [m/s^2] and period T_p = 1/f_p [s], centred at
+    t0 = 1.5 T_p: a(t) = A (1 - 2 pi^2 f_p^2 (t - t0)^2) exp(-pi^2 f_p^2 (t - t0)^2)."""
+    f = 1.0 / period
+    t0 = 1.5 * period
+
+    def shape(t):
+        x = (math.pi * f * (t - t0)) ** 2
+        return amplitude * (1.0 - 2.0 * x) * np.exp(-x)
+
+    return _pulse("Ricker pulse", 3.0 * period, shape, samples, direction)
+
+
+def mavroeidis_papageorgiou(velocity: float, period: float, gamma: float = 2.0,
+                            nu: float = 0.0, *, direction=(1.0, 0.0),
+                            samples: int = 4001) -> GroundMotion:
+    """Mavroeidis & Papageorgiou (BSSA 93, 2003) near-fault pulse: ground velocity
+    v(t) = (V/2) [1 + cos(2 pi f_p (t - t0)/gamma)] cos(2 pi f_p (t - t0) + nu) for
+    |t - t0| <= gamma/(2 f_p), f_p = 1/T_p, t0 = gamma/(2 f_p); the acceleration returned is
+    its exact derivative [m/s^2]. V [m/s], gamma > 1 [-] (oscillation), nu [rad] (phase)."""
+    if not gamma > 1.0:
+        raise InputError(f"Mavroeidis-Papageorgiou gamma must be > 1, got {gamma}")
+    f = 1.0 / period
+    t0 = gamma / (2.0 * f)
+
+    def shape(t):
+        x = 2.0 * math.pi * f * (t - t0)
+        envelope, carrier = 0.5 * (1.0 + np.cos(x / gamma)), np.cos(x + nu)
+        d_envelope = -0.5 * np.sin(x / gamma) / gamma
+        return velocity * 2.0 * math.pi * f * (d_envelope * carrier - envelope * np.sin(x + nu))
+
+    return _pulse("Mavroeidis-Papageorgiou pulse", 2.0 * t0, shape, samples, direction)
+
+
+def rectangular(amplitude: float, duration: float, *, direction=(1.0, 0.0)) -> GroundMotion:
+    """A rectangular acceleration pulse: A [m/s^2] for `duration` [s] (Newmark 1965)."""
+    eps = 1e-9 * duration
+    t = np.array([0.0, eps, duration - eps, duration])
+    d = np.asarray(direction, dtype=float) / np.hypot(*direction)
+    return GroundMotion(t, np.outer([0.0, amplitude, amplitude, 0.0], d), "rectangular pulse")
+
+
+def read_at2(path: str | Path) -> GroundMotion:
+    """A PEER NGA record (.AT2): four header lines (the third names the units, the fourth
+    NPTS and DT), then the accelerations, several per line."""
+    path = Path(path)
+    lines = _read_lines(path)
+    if len(lines) < 5:
+        raise InputError(f"{path}: an .AT2 file has 4 header lines and data; this has "
+                         f"{len(lines)} lines")
+    units = lines[2].upper()
+    factor = G_STANDARD if " G" in f" {units}" and "CM" not in units else (
+        0.01 if "CM/S" in units else None)
+    if factor is None:
+        raise InputError(f"{path} line 3: units not recognized in {lines[2]!r} "
+                         "(expected '... UNITS OF G' or 'CM/S/S')")
+    header = lines[3].upper().replace(",", " ").replace("=", " ")
+    words = header.split()
+    try:
+        npts = int(float(words[words.index("NPTS") + 1]))
+        dt = float(words[words.index("DT") + 1])
+    except (ValueError, IndexError):
+        raise InputError(f"{path} line 4: expected 'NPTS= n, DT= dt SEC', got "
+                         f"{lines[3]!r}") from None
+    values = []
+    for n, line in enumerate(lines[4:], start=5):
+        try:
+            values.extend(float(x) for x in line.split())
+        except ValueError:
+            raise InputError(f"{path} line {n}: not numbers: {line!r}") from None
+    if len(values) != npts:
+        raise InputError(f"{path}: header says NPTS = {npts} but the file has {len(values)} "
+                         "values")
+    acc = factor * np.array(values)
+    return GroundMotion(dt * np.arange(npts), acc, path.stem)
+
+
+def read_csv(path: str | Path, *, units: str | None = None) -> GroundMotion:
+    """Two columns, time [s] and acceleration (three with a vertical component), comma or
+    whitespace separated; lines starting with # are comments, and a comment
+    "# units: g" (or m/s^2, cm/s^2) gives the units unless `units` does."""
+    path = Path(path)
+    rows, found_units = [], None
+    for n, line in enumerate(_read_lines(path, keep_comments=True), start=1):
+        text = line.strip()
+        if not text:
+            continue
+        if text.startswith("#"):
+            key, _, value = text.lstrip("#").partition(":")
+            if key.strip().lower() == "units":
+                found_units = value.strip()
+            continue
+        parts = text.replace(",", " ").split()
+        try:
+            rows.append([float(x) for x in parts])
+        except ValueError:
+            if rows:
+                raise InputError(f"{path} line {n}: not numbers: {line!r}") from None
+            continue  # a header line of column names
+        if len(rows[-1]) not in (2, 3) or len(rows[-1]) != len(rows[0]):
+            raise InputError(f"{path} line {n}: expected 2 or 3 columns like the first data "
+                             f"line, got {len(rows[-1])}")
+    chosen = units or found_units
+    if chosen is None:
+        raise InputError(f"{path}: units unknown; add a line '# units: g' (or m/s^2) or pass "
+                         "units=")
+    if chosen.lower() not in _UNITS:
+        raise InputError(f"{path}: units {chosen!r} not one of {', '.join(_UNITS)}")
+    data = np.array(rows)
+    if data.shape[0] < 2:
+        raise InputError(f"{path}: fewer than 2 data lines")
+    return GroundMotion(data[:, 0], _UNITS[chosen.lower()] * data[:, 1:], path.stem)
+
+
+def _read_lines(path: Path, keep_comments: bool = False) -> list[str]:
+    if not path.is_file():
+        raise InputError(f"no ground-motion file at {path}")
+    lines = [line.rstrip("\n") for line in path.read_text(errors="replace").splitlines()]
+    return [line for line in lines if line.strip() or keep_comments]
