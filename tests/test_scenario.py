@@ -12,6 +12,7 @@ from saxum.scenario import (
     ArchStructure,
     BlocksStructure,
     DetectionSpec,
+    GroundMotionSpec,
     LawSpec,
     Loads,
     OutputSpec,
@@ -63,6 +64,19 @@ FULL = textwrap.dedent("""\
     rotation = 0.001
     time = 0.5
 
+    [loads.ground_motion]
+    pulse = "mavroeidis_papageorgiou"
+    amplitude = 0.5
+    velocity = 0.3
+    period = 0.4
+    gamma = 2.5
+    nu = 0.2
+    direction = [1.0, 0.5]
+    scale = 1.5
+    start = 0.01
+    end = 0.9
+    baseline_correction = true
+
     [solver]
     dt = 5e-4
     theta = 0.6
@@ -92,7 +106,11 @@ PYTHON = Scenario(
     loads=Loads(gravity=(0.0, -9.8), horizontal_acceleration=0.5, load_factor_rate=0.01,
                 point_loads=[PointLoad(block="brick c3b2", magnitude=10.0, direction=(1.0, 0.0))],
                 settlements=[Settlement(block="ground", magnitude=0.001, direction=(0.0, -1.0),
-                                        rotation=0.001, time=0.5)]),
+                                        rotation=0.001, time=0.5)],
+                ground_motion=GroundMotionSpec(
+                    pulse="mavroeidis_papageorgiou", amplitude=0.5, velocity=0.3, period=0.4,
+                    gamma=2.5, nu=0.2, direction=(1.0, 0.5), scale=1.5, start=0.01, end=0.9,
+                    baseline_correction=True)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05),
@@ -131,8 +149,12 @@ def test_scenario_builds_the_model_and_simulation_it_describes():
         1e-7, 300, 0.9)
     assert (sim.detector.alert, sim.detector.margin, sim.detector.interpenetration,
             sim.detector.refresh_every) == (0.002, 0.003, 1e-6, 5)
-    (acc,) = m.accelerations
-    assert acc(2.0) == pytest.approx((0.5 + 0.01 * 9.8 * 2.0, 0.0))
+    ramp, ground = m.accelerations
+    assert ramp(2.0) == pytest.approx((0.5 + 0.01 * 9.8 * 2.0, 0.0))
+    motion = sc.loads.ground_motion.motion()  # the pulse, trimmed, scaled, corrected
+    assert motion.time[0] == 0.0 and motion.time[-1] == pytest.approx(0.89)
+    assert motion.velocity()[-1] == pytest.approx([0.0, 0.0], abs=1e-12)
+    assert ground(0.2) == pytest.approx(tuple(-a for a in motion.acceleration_at(0.2)))
 
 
 def test_override_sets_nested_keys():
@@ -266,7 +288,8 @@ def test_docs_describe_every_key():
 
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, LawSpec, Loads,
-                  PointLoad, Settlement, SolverSpec, DetectionSpec, OutputSpec):
+                  PointLoad, Settlement, GroundMotionSpec, SolverSpec, DetectionSpec,
+                  OutputSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
@@ -309,3 +332,26 @@ def test_bad_loads_are_named():
     assert "line 20" in message
     assert "--set 'laws[5].friction=1': no 5 in the scenario" in _error(
         ARCH, overrides=["laws[5].friction=1"])
+
+
+def test_ground_motion_driving_the_supports(tmp_path):
+    (tmp_path / "rec.csv").write_text("# units: g\n0 0\n0.01 0.1\n0.02 0\n")
+    text = ARCH + textwrap.dedent("""\
+        [loads.ground_motion]
+        file = "rec.csv"
+        units = "m/s^2"
+        apply = "driven"
+        supports = ["support"]
+    """)
+    sc = parse_scenario(text, base_dir=tmp_path)
+    assert sc.loads.ground_motion == GroundMotionSpec(
+        file=tmp_path / "rec.csv", units="m/s^2", apply="driven", supports=["support"])
+    m = sc.build_model()
+    support = m.body("support")
+    assert m.body_kind[support] == sx.BodyKind.DRIVEN
+    motion = m.motions[m.body_motion[support]]
+    assert motion(0.01)[0] == pytest.approx(0.5 * 0.01 * 0.1)  # m/s^2 units given
+    assert "give either file (a record) or pulse" in _error(
+        ARCH + '[loads.ground_motion]\npulse = "ricker"\nfile = "x.csv"\n')
+    assert "needs the names of the supports" in _error(
+        ARCH + '[loads.ground_motion]\npulse = "ricker"\napply = "driven"\n')

@@ -19,7 +19,14 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from .detection import DetectionSettings
 from .errors import InputError
@@ -29,7 +36,8 @@ from .simulation import Simulation
 from .solver import NLGS
 from .structures import add_grounded_running_bond_wall, add_supported_semicircular_arch
 
-__all__ = ["ArchStructure", "BlockSpec", "BlocksStructure", "DetectionSpec", "LawSpec",
+__all__ = ["ArchStructure", "BlockSpec", "BlocksStructure", "DetectionSpec", "GroundMotionSpec",
+           "LawSpec",
            "Loads", "OutputSpec", "PointLoad", "Scenario", "Settlement", "SolverSpec",
            "WallStructure", "load_scenario", "parse_scenario"]
 
@@ -148,6 +156,63 @@ class Settlement(_Strict):
     time: Positive = 1.0
 
 
+class GroundMotionSpec(_Strict):
+    """Base motion: a recorded accelerogram (`file`, PEER .AT2 or two/three-column CSV) or an
+    analytic `pulse`, scaled, trimmed, applied as inertial forces in the ground frame or by
+    driving the named fixed `supports` (saxum.ground, docs/ground-motion.md)."""
+
+    file: Path | None = None
+    units: str | None = None
+    pulse: Literal["one_sine", "one_sine_symmetric", "ricker", "mavroeidis_papageorgiou",
+                   "rectangular"] | None = None
+    amplitude: Finite = 0.0
+    velocity: Finite = 0.0
+    period: Positive = 1.0
+    gamma: Annotated[float, Field(gt=1.0)] = 2.0
+    nu: Finite = 0.0
+    direction: tuple[Finite, Finite] = (1.0, 0.0)
+    scale: Finite = 1.0
+    start: Annotated[float, Field(ge=0.0)] = 0.0
+    end: Positive | None = None
+    baseline_correction: bool = False
+    apply: Literal["inertial", "driven"] = "inertial"
+    supports: list[str] = []
+
+    @model_validator(mode="after")
+    def _one_source(self) -> GroundMotionSpec:
+        if (self.file is None) == (self.pulse is None):
+            raise ValueError("give either file (a record) or pulse, not both or neither")
+        if self.apply == "driven" and not self.supports:
+            raise ValueError('apply = "driven" needs the names of the supports to drive')
+        return self
+
+    def motion(self):
+        """The saxum.ground.GroundMotion described."""
+        from . import ground
+
+        d = _unit(self.direction, "ground_motion.direction")
+        if self.file is not None:
+            if self.file.suffix.lower() == ".at2":
+                record = ground.read_at2(self.file)
+            else:
+                record = ground.read_csv(self.file, units=self.units)
+        elif self.pulse == "mavroeidis_papageorgiou":
+            record = ground.mavroeidis_papageorgiou(self.velocity, self.period, self.gamma,
+                                                    self.nu, direction=d)
+        elif self.pulse == "ricker":
+            record = ground.ricker(self.amplitude, self.period, direction=d)
+        elif self.pulse == "rectangular":
+            record = ground.rectangular(self.amplitude, self.period, direction=d)
+        else:
+            record = ground.one_sine(self.amplitude, self.period, direction=d,
+                                     symmetric=self.pulse == "one_sine_symmetric")
+        if self.start > 0.0 or self.end is not None:
+            record = record.trimmed(self.start, self.end if self.end is not None
+                                    else float(record.time[-1]))
+        record = record.scaled(self.scale)
+        return record.baseline_corrected() if self.baseline_correction else record
+
+
 class Loads(_Strict):
     """Gravity [m/s^2]; a horizontal inertial load a_x(t) = (horizontal_acceleration +
     load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table);
@@ -158,6 +223,7 @@ class Loads(_Strict):
     load_factor_rate: Finite = 0.0
     point_loads: list[PointLoad] = []
     settlements: list[Settlement] = []
+    ground_motion: GroundMotionSpec | None = None
 
     def add_to(self, builder: ModelBuilder) -> None:
         """Apply these loads to the blocks in `builder`."""
@@ -173,6 +239,12 @@ class Loads(_Strict):
             omega = s.rotation / s.time
             builder.drive(s.block, lambda t, v=(vx, vy, omega), end=s.time:
                           v if t < end else (0.0, 0.0, 0.0))
+        if self.ground_motion is not None:
+            motion = self.ground_motion.motion()
+            if self.ground_motion.apply == "inertial":
+                motion.apply_as_inertial_forces(builder)
+            else:
+                motion.apply_as_driven_supports(builder, self.ground_motion.supports)
 
 
 def _unit(direction: tuple[float, float], key: str):
@@ -275,10 +347,12 @@ def parse_scenario(text: str, *, base_dir: str | Path = ".",
         raise InputError(f"{source}: not valid TOML: {err}") from None
     for item in overrides:
         _apply_override(data, item)
-    structure = data.get("structure")
-    if isinstance(structure, dict) and isinstance(structure.get("file"), str):
-        file = Path(structure["file"])
-        structure["file"] = str(file if file.is_absolute() else Path(base_dir) / file)
+    ground = data.get("loads", {}).get("ground_motion") if isinstance(data.get("loads"),
+                                                                         dict) else None
+    for table in (data.get("structure"), ground):
+        if isinstance(table, dict) and isinstance(table.get("file"), str):
+            file = Path(table["file"])
+            table["file"] = str(file if file.is_absolute() else Path(base_dir) / file)
     try:
         return Scenario.model_validate(data)
     except ValidationError as err:
@@ -343,7 +417,8 @@ def _allowed(loc: list) -> list[str]:
     names = [p for p in loc if isinstance(p, str)]
     if not names:
         return list(Scenario.model_fields)
-    nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement}
+    nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement,
+              ("loads", "ground_motion"): GroundMotionSpec}
     if tuple(names[:2]) in nested:
         return list(nested[tuple(names[:2])].model_fields)
     if names[0] == "structure":
