@@ -24,6 +24,8 @@ the bracket.
 
 from __future__ import annotations
 
+import concurrent.futures
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -35,20 +37,23 @@ from .model import BodyKind
 from .simulation import Simulation
 from .state import State
 
-__all__ = ["CollapseCriterion", "CriticalValue", "Trial", "critical_value", "run_trial",
-           "scenario_critical_value", "unbalanced_force_ratio"]
+__all__ = ["CollapseCriterion", "CriticalValue", "Trial", "collapse_curve", "critical_value",
+           "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
 
 
 @dataclass(frozen=True)
 class CollapseCriterion:
     """Thresholds of a trial (see the module doc): displacement [m] (default: 1 % of the
-    smallest free block's size), duration [s], settle [s], force_ratio [-], energy [-]."""
+    smallest free block's size), duration [s], settle [s], force_ratio [-], energy [-];
+    not_before [s]: no "at rest" verdict before this time (the end of a pulse or record: a
+    structure is at rest before a pulse has risen)."""
 
     displacement: float | None = None
     duration: float = 1.0
     settle: float = 0.05
     force_ratio: float = 1e-4
     energy: float = 1e-9
+    not_before: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("duration", "settle", "force_ratio", "energy"):
@@ -108,7 +113,7 @@ def run_trial(sim: Simulation, value: float = math.nan,
     g = float(np.hypot(*m.gravity)) or 1.0
     energy_scale = float(m.body_mass[free].sum()) * g * height
     state = sim.initial_state()
-    steps = round(crit.duration / h)
+    steps = round(max(crit.duration, crit.not_before + crit.settle) / h)
     settle = max(1, round(crit.settle / h))
     quiet = 0
     energies = np.zeros(steps)
@@ -125,7 +130,7 @@ def run_trial(sim: Simulation, value: float = math.nan,
         ratio = unbalanced_force_ratio(sim, state, v_before)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
-        if quiet >= settle:
+        if quiet >= settle and state.time >= crit.not_before:
             return Trial(value, False, state.time, moved, ratio, report.kinetic_energy, sim,
                          state)
     half = steps // 2
@@ -187,12 +192,43 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
 def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
                             overrides: tuple[str, ...] = (), tolerance: float = 0.005,
                             criterion: CollapseCriterion | None = None) -> CriticalValue:
-    """critical_value over the scenario key `key` (dotted, e.g. loads.horizontal_acceleration
-    or structure.thickness) of the scenario file at `path`, other keys overridden by
-    `overrides` ("key=value")."""
+    """critical_value over the scenario key `key` (dotted, e.g. loads.horizontal_acceleration,
+    structure.thickness or loads.ground_motion.amplitude) of the scenario file at `path`, other
+    keys overridden by `overrides` ("key=value"). With a ground motion, no trial is judged at
+    rest before the motion has ended."""
     from .scenario import load_scenario
 
     def make(x: float) -> Simulation:
         return load_scenario(path, [*overrides, f"{key}={x!r}"]).build_simulation()
 
-    return critical_value(make, stands, collapses, tolerance=tolerance, criterion=criterion)
+    crit = criterion or CollapseCriterion()
+    ground = load_scenario(path, list(overrides)).loads.ground_motion
+    if ground is not None:
+        crit = dataclasses.replace(crit, not_before=max(crit.not_before,
+                                                        float(ground.motion().time[-1])))
+    return critical_value(make, stands, collapses, tolerance=tolerance, criterion=crit)
+
+
+def _curve_point(args) -> tuple[float, float, float, int]:
+    path, period, stands, collapses, overrides, tolerance, criterion = args
+    result = scenario_critical_value(
+        path, "loads.ground_motion.amplitude", stands, collapses,
+        overrides=(*overrides, f"loads.ground_motion.period={period!r}"), tolerance=tolerance,
+        criterion=criterion)
+    return period, result.stands, result.collapses, len(result.trials)
+
+
+def collapse_curve(path, periods, stands: float, collapses: float, *,
+                   overrides: tuple[str, ...] = (), tolerance: float = 0.01,
+                   criterion: CollapseCriterion | None = None,
+                   processes: int | None = None) -> list[tuple[float, float, float, int]]:
+    """For a scenario with a pulse (`[loads.ground_motion]` with `pulse`): for each period
+    T_p [s], the smallest pulse amplitude [m/s^2] that collapses the structure, bracketed by
+    bisection between `stands` and `collapses`; the periods run in parallel processes.
+    Returns (period, stands at, collapses at, trials) per period, in the order given."""
+    jobs = [(str(path), float(p), stands, collapses, tuple(overrides), tolerance, criterion)
+            for p in periods]
+    if processes == 1 or len(jobs) == 1:
+        return [_curve_point(job) for job in jobs]
+    with concurrent.futures.ProcessPoolExecutor(max_workers=processes) as pool:
+        return list(pool.map(_curve_point, jobs))

@@ -113,11 +113,16 @@ class GroundMotion:
         slope = (a1 - a0) / (self.time[k + 1] - self.time[k])
         return v[k] + a0 * tau + 0.5 * slope * tau * tau
 
+    def inertial_load(self):
+        """The uniform acceleration -a_g(t) [m/s^2] that the ground frame adds to every free
+        block (for ModelBuilder.add_acceleration or Model.accelerations). Over a time step
+        it acts with its exact mean over the step, (v_g(t1) - v_g(t0)) / h, so that pulses
+        with jumps are applied with their exact impulse."""
+        return _InertialLoad(self)
+
     def apply_as_inertial_forces(self, builder) -> None:
-        """Add -m a_g(t) to every free block of a saxum.ModelBuilder (ground frame). Over a
-        time step the load is the exact mean of the acceleration over the step,
-        (v_g(t1) - v_g(t0)) / h, so pulses with jumps are applied with their exact impulse."""
-        builder.add_acceleration(_InertialLoad(self))
+        """Add -m a_g(t) to every free block of a saxum.ModelBuilder (ground frame)."""
+        builder.add_acceleration(self.inertial_load())
 
     def apply_as_driven_supports(self, builder, names: Sequence[str]) -> None:
         """Drive the fixed blocks `names` with the ground velocity (absolute frame)."""
