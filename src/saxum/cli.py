@@ -4,6 +4,7 @@
     saxum resume RESULTS [--quiet]
     saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
     saxum collapse SCENARIO --vary KEY --stands A --collapses B
+    saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B
     saxum info RESULTS
     saxum plot RESULTS [--frame K] [--histories] [-o PNG]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
@@ -77,6 +78,22 @@ def _collapse(args) -> None:
         picture = output.with_suffix(".png")
         plot_frame(r, -1, picture, thrust_line=True)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
+
+
+def _collapse_curve(args) -> None:
+    from .collapse import CollapseCriterion, collapse_curve
+
+    periods = [float(p) for p in args.periods.split(",")]
+    rows = collapse_curve(args.scenario, periods, args.stands, args.collapses,
+                          overrides=tuple(args.set), tolerance=args.tolerance,
+                          criterion=CollapseCriterion(duration=args.duration,
+                                                      fraction=args.fraction),
+                          processes=args.processes)
+    g = 9.81
+    print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials")
+    for period, lo, hi, trials in rows:
+        print(f"{period:10.4g}  {0.5 * (lo + hi):26.4g}  ({lo:.4g} .. {hi:.4g})  "
+              f"{0.5 * (lo + hi) / g:7.4f}  {trials:6d}")
 
 
 def _info(args) -> None:
@@ -202,6 +219,27 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", type=Path,
                    help="results of the collapsing case (default: SCENARIO-collapse.h5)")
     p.set_defaults(func=_collapse)
+
+    p = sub.add_parser("collapse-curve", help="smallest pulse amplitude that collapses the "
+                                              "structure, per pulse period (in parallel)")
+    p.add_argument("scenario", type=Path, help="a scenario with [loads.ground_motion] pulse")
+    p.add_argument("--periods", required=True, help="pulse periods [s], comma separated")
+    p.add_argument("--stands", type=float, required=True,
+                   help="an amplitude [m/s^2] at which it stands for every period")
+    p.add_argument("--collapses", type=float, required=True,
+                   help="an amplitude [m/s^2] at which it collapses for every period")
+    p.add_argument("--tolerance", type=float, default=0.01, help="relative bracket width")
+    p.add_argument("--duration", type=float, default=2.0,
+                   help="longest trial after the pulse has ended [s]")
+    p.add_argument("--fraction", type=float, default=0.5,
+                   help="collapse: a block moved by this fraction of the smallest block's "
+                        "size once the pulse is over (default 0.5; a block that is still "
+                        "rocking, with decaying energy, is not collapsed)")
+    p.add_argument("--processes", type=int, default=None,
+                   help="worker processes (default: one per CPU)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override another scenario key (repeatable)")
+    p.set_defaults(func=_collapse_curve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
     p.add_argument("results", type=Path)

@@ -12,8 +12,10 @@ load factor, a point load, a settlement, a thickness...) from rest, and decides:
   has a net force m a on its blocks, so UFR = a/g-ish stays above the threshold;
 - **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
   initial position;
-- after `duration` seconds with neither, collapsed if the kinetic energy grew over the second
-  half of the trial (the motion keeps growing), at rest otherwise.
+- after `duration` seconds with neither (counted from `not_before`, the end of a pulse),
+  collapsed if over the second half of that time both the kinetic energy and the largest
+  displacement grew (a mechanism that keeps going), standing otherwise (e.g. a block still
+  rocking after a pulse, back and forth about its initial position).
 
 For rigid blocks with unilateral frictional contacts a load below the collapse load is carried
 with no motion at all (a statically admissible set of contact forces exists and v = 0 solves
@@ -43,12 +45,16 @@ __all__ = ["CollapseCriterion", "CriticalValue", "Trial", "collapse_curve", "cri
 
 @dataclass(frozen=True)
 class CollapseCriterion:
-    """Thresholds of a trial (see the module doc): displacement [m] (default: 1 % of the
-    smallest free block's size), duration [s], settle [s], force_ratio [-], energy [-];
-    not_before [s]: no "at rest" verdict before this time (the end of a pulse or record: a
-    structure is at rest before a pulse has risen)."""
+    """Thresholds of a trial (see the module doc): displacement [m] (default: `fraction` of
+    the smallest free block's size, 1 %: the start of a mechanism under a static load; under
+    a pulse a block may rock far and come back, so collapse curves use 50 %), duration [s]
+    (after not_before), settle [s], force_ratio [-], energy [-];
+    not_before [s]: no verdict before this time (the end of a pulse or record: a structure
+    is at rest before a pulse has risen, and a block that rocks far during a pulse may be
+    brought back by it; what counts is where it is once the ground is still)."""
 
     displacement: float | None = None
+    fraction: float = 0.01
     duration: float = 1.0
     settle: float = 0.05
     force_ratio: float = 1e-4
@@ -56,7 +62,7 @@ class CollapseCriterion:
     not_before: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("duration", "settle", "force_ratio", "energy"):
+        for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise InputError(f"collapse criterion {name} must be > 0, got {value}")
@@ -107,16 +113,18 @@ def run_trial(sim: Simulation, value: float = math.nan,
     free = m.body_kind == BodyKind.FREE
     if not free.any():
         raise InputError("a collapse trial needs at least one free block")
-    limit = crit.displacement or 0.01 * float(m.body_size[free].min())
+    limit = crit.displacement or crit.fraction * float(m.body_size[free].min())
     h = sim.integrator.dt
     height = float(np.ptp(m.vertex_local[:, 1]) + np.ptp(m.body_q0[:, 1]))
     g = float(np.hypot(*m.gravity)) or 1.0
     energy_scale = float(m.body_mass[free].sum()) * g * height
     state = sim.initial_state()
-    steps = round(max(crit.duration, crit.not_before + crit.settle) / h)
+    steps = round((crit.not_before + crit.duration) / h)
+    first = min(round(crit.not_before / h), steps - 1)  # the window the verdicts look at
     settle = max(1, round(crit.settle / h))
     quiet = 0
     energies = np.zeros(steps)
+    displacements = np.zeros(steps)
     moved = ratio = 0.0
     v_before = np.empty_like(state.body_v)
     for k in range(steps):
@@ -124,7 +132,8 @@ def run_trial(sim: Simulation, value: float = math.nan,
         report = sim.step(state)
         energies[k] = report.kinetic_energy
         moved = float(np.hypot(*(state.body_q[free, :2] - m.body_q0[free, :2]).T).max())
-        if moved > limit:
+        displacements[k] = moved
+        if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
                          state)
         ratio = unbalanced_force_ratio(sim, state, v_before)
@@ -133,8 +142,9 @@ def run_trial(sim: Simulation, value: float = math.nan,
         if quiet >= settle and state.time >= crit.not_before:
             return Trial(value, False, state.time, moved, ratio, report.kinetic_energy, sim,
                          state)
-    half = steps // 2
-    growing = energies[half:].mean() > energies[:half].mean()
+    half = (first + steps) // 2
+    growing = (energies[half:].mean() > energies[first:half].mean()
+               and displacements[half:].max() > displacements[first:half].max())
     return Trial(value, bool(growing), state.time, moved, ratio, float(energies[-1]), sim,
                  state)
 
