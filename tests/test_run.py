@@ -216,3 +216,16 @@ def test_cli_collapse_finds_the_overturning_load_of_a_block(tmp_path, capsys):
     assert factor == pytest.approx(0.5, rel=0.01)
     assert "hinge between ground and pier at (0.5" in out
     assert Image.open(tmp_path / "block-collapse.png").format == "PNG"
+
+
+def test_cli_fclib_solve(capsys):
+    from pathlib import Path
+
+    shared = Path(__file__).resolve().parents[2] / "shared" / "fclib"
+    problem = shared / "siconosdat_FrictionContactProblem00071.hdf5"
+    if not problem.is_file():
+        pytest.skip("the shared FCLIB problems are not next to this checkout")
+    assert main(["fclib", "solve", str(problem)]) == 0
+    row = capsys.readouterr().out.splitlines()[-1]
+    assert "| 89 | 2 |" in row and row.endswith("yes (<= 1e-08) |")
+    assert main(["fclib", "solve", str(shared / "README.md")]) == 2

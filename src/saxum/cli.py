@@ -5,6 +5,7 @@
     saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
     saxum collapse SCENARIO --vary KEY --stands A --collapses B
     saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B
+    saxum fclib solve FILE...
     saxum info RESULTS
     saxum plot RESULTS [--frame K] [--histories] [-o PNG]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
@@ -94,6 +95,17 @@ def _collapse_curve(args) -> None:
     for period, lo, hi, trials in rows:
         print(f"{period:10.4g}  {0.5 * (lo + hi):26.4g}  ({lo:.4g} .. {hi:.4g})  "
               f"{0.5 * (lo + hi) / g:7.4f}  {trials:6d}")
+
+
+def _fclib_solve(args) -> None:
+    from .fclib import format_table, solve_fclib_files
+
+    rows = solve_fclib_files(args.files, tolerance=args.tolerance,
+                             max_iterations=args.max_iterations, relaxation=args.relaxation)
+    print(format_table(rows))
+    unsolved = [r.name for r in rows if not r.solved]
+    if unsolved:
+        raise RuntimeError(f"not solved to {args.tolerance:g}: {', '.join(unsolved)}")
 
 
 def _info(args) -> None:
@@ -240,6 +252,17 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
     p.set_defaults(func=_collapse_curve)
+
+    p = sub.add_parser("fclib", help="FCLIB frictional-contact problems")
+    fc = p.add_subparsers(dest="fclib_command", required=True, metavar="ACTION")
+    q = fc.add_parser("solve", help="solve FCLIB problems with saxum's NLGS and print, per "
+                                    "problem: contacts, spacedim, iterations, time, error")
+    q.add_argument("files", type=Path, nargs="+", help="FCLIB .hdf5 files")
+    q.add_argument("--tolerance", type=float, default=1e-8,
+                   help="target natural-map error ||F_nat(r)||/||q|| (default 1e-8)")
+    q.add_argument("--max-iterations", type=int, default=100_000, help="NLGS sweeps at most")
+    q.add_argument("--relaxation", type=float, default=1.0, help="NLGS relaxation omega")
+    q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
     p.add_argument("results", type=Path)

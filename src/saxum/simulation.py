@@ -84,6 +84,19 @@ class Simulation:
             self.detector.check_overlaps(state.body_q)
         return state
 
+    @property
+    def free_velocity(self) -> np.ndarray:
+        """v_free of the last step [m/s, rad/s] (bodies, dof); read-only view."""
+        view = self._v_free.view()
+        view.flags.writeable = False
+        return view
+
+    @property
+    def previous_contacts(self) -> Contacts:
+        """The contacts of the step before the last, with their impulses: what the last
+        step's solve was warm-started from (do not modify)."""
+        return self._spare
+
     def restore(self, saved: dict) -> State:
         """The state of a checkpoint (saxum.results.Results.checkpoint), with the detector put
         back as it was, so that stepping on gives bit for bit what the original run gave."""

@@ -1,0 +1,125 @@
+"""Benchmark: saxum's NLGS on the shared FCLIB frictional contact problems.
+
+Every problem in the folder (default ../shared/fclib next to the repository) is solved from zero
+impulses with saxum.fclib (global problems through their Delassus form W = H^T M^-1 H), to the
+natural-map error ||F_nat(r)|| / ||q|| <= --tolerance (Acary, Bremond & Huber 2018) or
+--max-iterations NLGS sweeps. A problem that NLGS does not solve without relaxation is solved
+again with --relaxation, and both rows are shown. Times are wall-clock (time.perf_counter) on
+one thread, the median of --repeats solves, kernels compiled beforehand; they cover the Delassus
+reduction, the sweeps and the error.
+
+The table is printed and written into the "## FCLIB" section of BENCHMARKS.md (appended at the
+end, or replaced there if it exists), with the command and the machine.
+
+    python benchmarks/fclib.py
+    python benchmarks/fclib.py --tolerance 1e-10 --no-write
+"""
+
+import argparse
+import dataclasses
+import datetime
+import statistics
+import sys
+from pathlib import Path
+
+from wall import machine_info
+
+from saxum.fclib import LocalProblem, format_table, read_fclib, solve_global, solve_local
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
+DEFAULT_FOLDER = REPO.parent / "shared" / "fclib"
+SECTION = "## FCLIB"
+
+
+def solve_timed(path: Path, tolerance: float, max_iterations: int, relaxation: float,
+                repeats: int):
+    """The row of one solve, with the median time of `repeats` identical solves (after one
+    untimed solve, which loads or compiles the kernels)."""
+    problem = read_fclib(path)
+    solve = solve_local if isinstance(problem, LocalProblem) else solve_global
+    rows = [solve(problem, tolerance=tolerance, max_iterations=max_iterations,
+                  relaxation=relaxation, name=path.name) for _ in range(repeats + 1)]
+    return dataclasses.replace(rows[1], time=statistics.median(r.time for r in rows[1:]))
+
+
+def section(rows, command: str, machine: dict, tolerance: float, max_iterations: int) -> str:
+    date = datetime.date.today().isoformat()
+    commit = (machine["git_commit"] or "unknown")[:10]
+    dirty = ", src modified since" if machine["src_modified_since_commit"] else ""
+    stalls = [r for r in rows if not r.solved]
+    if stalls:
+        stalled = "; ".join(f"{r.name} with relaxation {r.relaxation:g} (error {r.error:.1e} "
+                            f"after {r.iterations} sweeps)" for r in stalls)
+        verdict = f"NLGS stalls on: {stalled}."
+    else:
+        verdict = "NLGS reaches the target on every problem."
+    return f"""{SECTION}
+
+- Command: `{command}` ({date}, commit {commit}{dirty}).
+- Machine: {machine['cpu_model']}, {machine['cpu_count']} CPUs, {machine['platform']};
+  Python {machine['python']}, numpy {machine['numpy']}, numba {machine['numba']}.
+
+The shared FCLIB problems (`../shared/fclib`, see its README), solved by `saxum.fclib` from
+zero impulses with the Delassus NLGS (`saxum.solver.delassus_nlgs`: the time stepper's
+single-contact solvers, 2D `local2d` and 3D `local3d`, over W in CSR; global problems through
+W = H^T M^-1 H, q = H^T M^-1 f + w). **error** is the natural-map residual with De Saxce's
+modified velocity, ||F_nat(r)|| / ||q|| (Acary, Bremond & Huber 2018), recomputed from r alone.
+NLGS stops on its own relative change of r, tightened until the error is <= {tolerance:g} or
+{max_iterations} sweeps. Time: median of the timed solves, compiled kernels, one thread,
+including the Delassus reduction of global problems. A problem that NLGS does not solve without
+relaxation (omega = 1) is shown again with a relaxation. {verdict}
+
+{format_table(rows)}
+"""
+
+
+def write_section(path: Path, text: str) -> None:
+    """Replace the FCLIB section of `path` (up to the next '## ' heading) or append it."""
+    old = path.read_text() if path.exists() else ""
+    start = old.find(f"\n{SECTION}\n")
+    if start < 0:
+        new = old.rstrip("\n") + "\n\n" + text
+    else:
+        end = old.find("\n## ", start + 1)
+        new = old[: start + 1] + text + ("" if end < 0 else old[end:])
+    path.write_text(new)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--folder", type=Path, default=DEFAULT_FOLDER,
+                        help="folder of FCLIB .hdf5 files (default: %(default)s)")
+    parser.add_argument("--tolerance", type=float, default=1e-8,
+                        help="natural-map error to reach (default: %(default)g)")
+    parser.add_argument("--max-iterations", type=int, default=100_000,
+                        help="NLGS sweeps at most (default: %(default)d)")
+    parser.add_argument("--relaxation", type=float, default=0.7,
+                        help="relaxation of the second try (default: %(default)g)")
+    parser.add_argument("--repeats", type=int, default=3, help="solves per problem, timed")
+    parser.add_argument("--markdown", type=Path, default=REPO / "BENCHMARKS.md",
+                        help="file whose FCLIB section is written (default: %(default)s)")
+    parser.add_argument("--no-write", action="store_true", help="print only")
+    args = parser.parse_args(argv)
+    paths = sorted(args.folder.glob("*.hdf5"))
+    if not paths:
+        print(f"no .hdf5 files in {args.folder}", file=sys.stderr)
+        return 1
+    rows = []
+    for path in paths:
+        row = solve_timed(path, args.tolerance, args.max_iterations, 1.0, args.repeats)
+        rows.append(row)
+        if not row.solved:
+            rows.append(solve_timed(path, args.tolerance, args.max_iterations,
+                                    args.relaxation, args.repeats))
+    print(format_table(rows))
+    if not args.no_write:
+        command = "python benchmarks/fclib.py" + "".join(f" {a}" for a in (argv or sys.argv[1:]))
+        write_section(args.markdown, section(rows, command, machine_info(), args.tolerance,
+                                             args.max_iterations))
+        print(f"written to {args.markdown}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
