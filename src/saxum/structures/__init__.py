@@ -1,7 +1,69 @@
-"""Parametric masonry structures. Every dimension in metres, density in kg/m^3."""
+"""Parametric masonry structures, each ready to simulate. Every dimension in metres, density in
+kg/m^3.
 
-from .arch import add_semicircular_arch, add_supported_semicircular_arch, semicircular_arch
-from .wall import add_grounded_running_bond_wall, add_running_bond_wall, running_bond_wall
+Each generator has an add_...(builder, ...) form that adds its blocks to a ModelBuilder and
+returns an Assembly (body indices by part, groups used, loads applied), and a form that returns
+a finalized Model with one Coulomb law (friction=...) between every pair of its groups:
 
-__all__ = ["add_grounded_running_bond_wall", "add_running_bond_wall", "add_semicircular_arch",
-           "add_supported_semicircular_arch", "running_bond_wall", "semicircular_arch"]
+- arches (ArchShape: semicircular, circular of any embrace, segmental, pointed, elliptical,
+  basket-handle, flat; radial or vertical joints): add_arch, add_supported_arch, arch;
+- walls in running or stack bond with openings (Opening): add_wall, wall;
+- piers and buttressed walls: add_pier, pier, add_buttressed_wall, buttressed_wall;
+- multi-span arch bridges: add_arch_bridge, arch_bridge;
+- blocks from JSON, CSV or DXF files: read_blocks, add_blocks_from_file, blocks_model,
+  write_blocks.
+"""
+
+from ._common import Assembly
+from .arch import (
+    ArchShape,
+    Ring,
+    add_arch,
+    add_semicircular_arch,
+    add_supported_arch,
+    add_supported_semicircular_arch,
+    arch,
+    arch_ring,
+    semicircular_arch,
+)
+from .blockfile import BlockSpec, add_blocks_from_file, blocks_model, read_blocks, write_blocks
+from .bridge import add_arch_bridge, arch_bridge
+from .piers import add_buttressed_wall, add_pier, buttressed_wall, pier
+from .wall import (
+    Opening,
+    add_grounded_running_bond_wall,
+    add_running_bond_wall,
+    add_wall,
+    running_bond_wall,
+    wall,
+)
+
+__all__ = [
+    "ArchShape",
+    "Assembly",
+    "BlockSpec",
+    "Opening",
+    "Ring",
+    "add_arch",
+    "add_arch_bridge",
+    "add_blocks_from_file",
+    "add_buttressed_wall",
+    "add_grounded_running_bond_wall",
+    "add_pier",
+    "add_running_bond_wall",
+    "add_semicircular_arch",
+    "add_supported_arch",
+    "add_supported_semicircular_arch",
+    "add_wall",
+    "arch",
+    "arch_bridge",
+    "arch_ring",
+    "blocks_model",
+    "buttressed_wall",
+    "pier",
+    "read_blocks",
+    "running_bond_wall",
+    "semicircular_arch",
+    "wall",
+    "write_blocks",
+]

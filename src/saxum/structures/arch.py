@@ -1,14 +1,37 @@
-"""Semicircular arches of equal voussoirs with radial joints, on a fixed support."""
+"""Arches of equal voussoirs: any ring between an intrados and an extrados curve (ArchShape:
+semicircular, circular of any embrace, segmental, pointed, elliptical, basket-handle, flat),
+cut along radial or vertical joints, alone, on fixed supports or on piers.
+
+The older semicircular_arch family (mean radius, voussoirs numbered from the right springing)
+is kept as it is: scenarios and validation tests name its voussoirs.
+"""
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+from scipy.special import ellipeinc
 
 from ..errors import InputError
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
+from ._common import (
+    Assembly,
+    add_ground,
+    check_convex,
+    check_count,
+    check_positive,
+    clean,
+    finalize,
+)
+from .piers import pier_polygons
 
-__all__ = ["add_semicircular_arch", "add_supported_semicircular_arch", "semicircular_arch"]
+__all__ = ["ArchShape", "Ring", "add_arch", "add_semicircular_arch", "add_supported_arch",
+           "add_supported_semicircular_arch", "arch", "arch_ring", "semicircular_arch"]
+
+Curve = Callable[[np.ndarray], np.ndarray]
 
 
 def add_semicircular_arch(
@@ -90,3 +113,384 @@ def semicircular_arch(
     builder.set_law("voussoir", "voussoir", contact)
     builder.set_law("voussoir", "support", contact)
     return builder.finalize()
+
+
+def _bracket(f: Callable[[np.ndarray], np.ndarray], targets: np.ndarray, lo: float,
+             hi: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bisection to round-off for f(x) = targets, f increasing (vectorised): the final
+    brackets (a, b), f(a) < target <= f(b) where f jumps."""
+    a = np.full(len(targets), lo)
+    b = np.full(len(targets), hi)
+    for _ in range(64):
+        mid = 0.5 * (a + b)
+        below = f(mid) < targets
+        a = np.where(below, mid, a)
+        b = np.where(below, b, mid)
+    return a, b
+
+
+def _meet(c1: np.ndarray, r1: float, c2: np.ndarray, r2: float, towards: np.ndarray,
+          ) -> np.ndarray:
+    """The intersection of two circles (centre, radius) [m] farther along `towards`."""
+    d = c2 - c1
+    dist = math.hypot(*d)
+    a = (r1 * r1 - r2 * r2 + dist * dist) / (2.0 * dist)
+    h = math.sqrt(max(r1 * r1 - a * a, 0.0))
+    base = c1 + a * d / dist
+    perp = np.array([-d[1], d[0]]) / dist
+    return max((base + h * perp, base - h * perp), key=lambda p: float(p @ towards))
+
+
+@dataclass(frozen=True)
+class ArchShape:
+    """The ring of an arch, between its intrados and its extrados, in the arch's own frame.
+
+    intrados(s), extrados(s): s (array, in [0, 1]) -> points (n, 2) [m], from the left springing
+    (s = 0) to the right one (s = 1). Equal steps of s are voussoirs of equal intrados length,
+    and the segment from intrados(s) to extrados(s) is the radial joint at s (normal to the
+    intrados). corners: values of s where the extrados has a corner (the crown of a pointed
+    arch), extrados(corner) being the corner; a voussoir that spans one gets it as a vertex.
+    symmetric: the ring is its own mirror image about x = 0; the left half is then mirrored
+    so that the voussoirs are exactly symmetric. Both curves must be convex (bulging away from
+    the opening) and the extrados's x must increase with s.
+
+    The named shapes below put the intrados springings at (-span/2, 0) and (span/2, 0); span
+    and rise are those of the intrados (the clear opening), thickness [m] is that of the ring,
+    measured along the joints.
+    """
+
+    intrados: Curve
+    extrados: Curve
+    corners: tuple[float, ...] = ()
+    symmetric: bool = False
+
+    @classmethod
+    def _arcs(cls, arcs: list[tuple[np.ndarray, float, float, float]],
+              thickness: float) -> "ArchShape":
+        """A symmetric ring whose intrados is a chain of circular arcs (centre [m], radius [m],
+        start and end angle [rad]) and whose extrados is the chain of concentric arcs of radius
+        r + thickness; where two arcs meet at an angle, their extrados arcs meet at a corner."""
+        centre = np.array([a[0] for a in arcs], dtype=np.float64)
+        radius = np.array([a[1] for a in arcs])
+        phi0, phi1 = np.array([a[2] for a in arcs]), np.array([a[3] for a in arcs])
+        length = radius * np.abs(phi1 - phi0)
+        cum = np.concatenate(([0.0], np.cumsum(length)))
+        corners = {}
+        for j in range(1, len(arcs)):
+            if abs(phi1[j - 1] - phi0[j]) > 1e-12:
+                towards = np.array([math.cos(phi1[j - 1]) + math.cos(phi0[j]),
+                                    math.sin(phi1[j - 1]) + math.sin(phi0[j])])
+                corners[float(cum[j] / cum[-1])] = _meet(
+                    centre[j - 1], radius[j - 1] + thickness, centre[j], radius[j] + thickness,
+                    towards)
+
+        def curve_at(offset: float) -> Curve:
+            def curve(s):
+                s = np.atleast_1d(np.asarray(s, dtype=np.float64))
+                at = s * cum[-1]
+                i = np.clip(np.searchsorted(cum, at, side="right") - 1, 0, len(arcs) - 1)
+                phi = phi0[i] + (phi1[i] - phi0[i]) * ((at - cum[i]) / length[i])
+                pts = centre[i] + (radius[i] + offset)[:, None] * np.column_stack(
+                    (np.cos(phi), np.sin(phi)))
+                if offset:
+                    for sc, point in corners.items():
+                        pts[s == sc] = point
+                return pts
+            return curve
+
+        return cls(curve_at(0.0), curve_at(thickness), tuple(corners), symmetric=True)
+
+    @classmethod
+    def circular(cls, *, span: float, thickness: float,
+                 embrace: float = math.pi) -> "ArchShape":
+        """A circular arch whose intrados spans `span` [m] and subtends the embrace angle
+        [rad], 0 < embrace <= pi (pi: semicircular; less: segmental); radial joints."""
+        check_positive(span=span, thickness=thickness)
+        if not (isinstance(embrace, int | float) and 0.0 < embrace <= math.pi):
+            raise InputError(f"embrace must be an angle in (0, pi] [rad], got {embrace!r}")
+        half = 0.5 * embrace
+        r = 0.5 * span / math.sin(half)
+        centre = np.array([0.0, 0.0 if embrace == math.pi else -r * math.cos(half)])
+        return cls._arcs([(centre, r, 0.5 * math.pi + half, 0.5 * math.pi - half)], thickness)
+
+    @classmethod
+    def semicircular(cls, *, span: float, thickness: float) -> "ArchShape":
+        """A semicircular arch: intrados radius span / 2 [m]."""
+        return cls.circular(span=span, thickness=thickness)
+
+    @classmethod
+    def segmental(cls, *, span: float, rise: float, thickness: float) -> "ArchShape":
+        """A segmental arch of intrados span and rise [m], 0 < rise <= span / 2: a circular
+        arch of embrace 4 atan(2 rise / span), radius (span^2 / 4 + rise^2) / (2 rise)."""
+        check_positive(span=span, rise=rise, thickness=thickness)
+        if rise > 0.5 * span:
+            raise InputError(f"rise must be in (0, span/2 = {0.5 * span:g}] [m], got {rise:g}")
+        return cls.circular(span=span, thickness=thickness,
+                            embrace=4.0 * math.atan(2.0 * rise / span))
+
+    @classmethod
+    def pointed(cls, *, span: float, thickness: float, eccentricity: float) -> "ArchShape":
+        """A pointed (two-centred) arch: each half of the intrados is an arc whose centre lies
+        on the springing line at eccentricity * span / 2 [m] from the axis, on the other side;
+        radius (1 + eccentricity) span / 2, crown height span / 2 sqrt(1 + 2 eccentricity).
+        eccentricity >= 0: 0 semicircular, 1 equilateral (centres at the springings), > 1
+        lancet. The extrados arcs are concentric and meet at the extrados crown."""
+        check_positive(span=span, thickness=thickness)
+        if not (isinstance(eccentricity, int | float) and 0.0 <= eccentricity < math.inf):
+            raise InputError(f"eccentricity must be a finite number >= 0, got {eccentricity!r}")
+        c = 0.5 * eccentricity * span
+        r = 0.5 * (1.0 + eccentricity) * span
+        gamma = math.acos(eccentricity / (1.0 + eccentricity))
+        return cls._arcs([(np.array([c, 0.0]), r, math.pi, math.pi - gamma),
+                          (np.array([-c, 0.0]), r, gamma, 0.0)], thickness)
+
+    @classmethod
+    def basket_handle(cls, *, span: float, rise: float, thickness: float) -> "ArchShape":
+        """A three-centred (basket-handle) arch of intrados span and rise [m],
+        0 < rise < span / 2, by the classical construction that approximates the ellipse: the
+        perpendicular bisector of the part of the chord from springing to crown that remains
+        after taking off (span/2 - rise) at the crown gives the side centres on the springing
+        line; the crown arc is tangent to both side arcs."""
+        check_positive(span=span, rise=rise, thickness=thickness)
+        a, f = 0.5 * span, rise
+        if f >= a:
+            raise InputError(f"rise must be in (0, span/2 = {a:g}) [m] for a basket-handle "
+                             f"arch, got {rise:g}; use a semicircular or elliptical arch")
+        chord = math.hypot(a, f)
+        k = 0.5 * (chord + a - f)
+        mx, my = -k * a / chord, f - k * f / chord
+        r1 = a + mx + my * f / a
+        r2 = ((a - r1) ** 2 + f * f - r1 * r1) / (2.0 * (f - r1))
+        alpha = math.atan2(r2 - f, a - r1)
+        return cls._arcs([(np.array([r1 - a, 0.0]), r1, math.pi, math.pi - alpha),
+                          (np.array([0.0, f - r2]), r2, math.pi - alpha, alpha),
+                          (np.array([a - r1, 0.0]), r1, alpha, 0.0)], thickness)
+
+    @classmethod
+    def elliptical(cls, *, span: float, rise: float, thickness: float) -> "ArchShape":
+        """A semi-elliptical arch: intrados semi-axes span / 2 and rise [m] (any ratio);
+        extrados the parallel curve at `thickness` [m] along the normals, which are the joints.
+        The intrados length is b E(theta | 1 - a^2 / b^2) (incomplete elliptic integral of the
+        second kind, scipy.special.ellipeinc) for the point (-a cos theta, b sin theta)."""
+        check_positive(span=span, rise=rise, thickness=thickness)
+        a, b = 0.5 * span, rise
+        m = 1.0 - (a / b) ** 2
+        total = b * float(ellipeinc(math.pi, m))
+
+        def theta(s):
+            s = np.atleast_1d(np.asarray(s, dtype=np.float64))
+            lo, hi = _bracket(lambda t: b * ellipeinc(t, m), s * total, 0.0, math.pi)
+            return np.where(s <= 0.0, 0.0, np.where(s >= 1.0, math.pi, 0.5 * (lo + hi)))
+
+        def intrados(s):
+            th = theta(s)
+            return np.column_stack((-a * np.cos(th), b * np.sin(th)))
+
+        def extrados(s):
+            th = theta(s)
+            n = np.column_stack((-b * np.cos(th), a * np.sin(th)))
+            n /= np.hypot(n[:, 0], n[:, 1])[:, None]
+            return np.column_stack((-a * np.cos(th), b * np.sin(th))) + thickness * n
+
+        return cls(intrados, extrados, symmetric=True)
+
+    @classmethod
+    def flat(cls, *, span: float, depth: float, skewback: float = math.radians(20.0),
+             ) -> "ArchShape":
+        """A flat (jack) arch: straight intrados and extrados `depth` [m] apart, joints that
+        converge to one point below the crown, the springing joints leaning out by `skewback`
+        [rad] from the vertical, 0 < skewback < pi/2."""
+        check_positive(span=span, depth=depth)
+        if not (isinstance(skewback, int | float) and 0.0 < skewback < 0.5 * math.pi):
+            raise InputError(f"skewback must be an angle in (0, pi/2) [rad], got {skewback!r}")
+        focus = 0.5 * span / math.tan(skewback)
+
+        def intrados(s):
+            x = span * (np.atleast_1d(np.asarray(s, dtype=np.float64)) - 0.5)
+            return np.column_stack((x, np.zeros_like(x)))
+
+        def extrados(s):
+            x = span * (np.atleast_1d(np.asarray(s, dtype=np.float64)) - 0.5)
+            return np.column_stack((x * (focus + depth) / focus, np.full_like(x, depth)))
+
+        return cls(intrados, extrados, symmetric=True)
+
+
+class Ring(NamedTuple):
+    """Voussoirs [m] from the left, the outline of ring and opening together (a convex
+    polygon: springing points, extrados), and the springing faces (intrados point, extrados
+    point) at the left and the right."""
+
+    voussoirs: list[np.ndarray]
+    outline: np.ndarray
+    left: tuple[np.ndarray, np.ndarray]
+    right: tuple[np.ndarray, np.ndarray]
+
+
+def arch_ring(shape: ArchShape, voussoirs: int, joints: str = "radial",
+         origin: tuple[float, float] = (0.0, 0.0)) -> Ring:
+    """Cut `shape` into `voussoirs` voussoirs of equal intrados length along radial joints
+    (intrados(s) to extrados(s)) or vertical ones (the springing faces stay as the shape has
+    them), and move it by `origin` [m]. Neighbouring voussoirs share the same joint points."""
+    check_count("voussoirs", voussoirs)
+    if joints not in ("radial", "vertical"):
+        raise InputError(f"joints must be 'radial' or 'vertical', got {joints!r}")
+    n = int(voussoirs)
+    s = np.arange(n + 1) / n
+    for c in shape.corners:
+        s[np.abs(s - c) < 1e-9] = c
+    corners = {}
+    for c in shape.corners:
+        corners[c] = np.array(shape.extrados(np.array([c]))[0], dtype=np.float64)
+        if shape.symmetric and c == 0.5:
+            corners[c][0] = 0.0
+    m = n // 2 + 1 if shape.symmetric else n + 1
+    inner = np.array(shape.intrados(s[:m]), dtype=np.float64)
+    outer = np.array(shape.extrados(s[:m]), dtype=np.float64)
+    if shape.symmetric and n % 2 == 0:
+        inner[n // 2, 0] = outer[n // 2, 0] = 0.0
+    u = s[:m].copy()
+    cut = np.arange(1, min(m, n))
+    if joints == "vertical" and cut.size:
+        x = inner[cut, 0]
+        lo, hi = _bracket(lambda v: shape.extrados(v)[:, 0], x, 0.0, 1.0)
+        u[cut] = 0.5 * (lo + hi)
+        outer[cut] = shape.extrados(u[cut])
+        outer[cut, 0] = x
+        for j, k in enumerate(cut):
+            for c, point in corners.items():
+                if lo[j] - 1e-9 <= c <= hi[j] + 1e-9:
+                    # The line passes where the extrados turns its corner, between the ends of
+                    # the arcs and the corner: take the chord to the corner there, as the
+                    # voussoirs do, and put the corner in the voussoir on its side.
+                    side = -1.0 if x[j] < point[0] else 1.0
+                    end = shape.extrados(np.array([lo[j] if side < 0 else hi[j]]))[0]
+                    if abs(x[j] - point[0]) <= 1e-9 * abs(end[0] - point[0]):
+                        outer[k], u[k] = point, c
+                    else:
+                        t = (x[j] - point[0]) / (end[0] - point[0])
+                        outer[k] = (x[j], point[1] + t * (end[1] - point[1]))
+                        u[k] = c + side * 1e-10
+    if shape.symmetric:
+        back = np.arange(n - m, -1, -1)
+        inner = np.vstack((inner, inner[back] * [-1.0, 1.0]))
+        outer = np.vstack((outer, outer[back] * [-1.0, 1.0]))
+        u = np.concatenate((u, 1.0 - u[back]))
+    shift = np.asarray(origin, dtype=np.float64)
+    inner, outer = inner + shift, outer + shift
+    polys, top = [], [inner[0], outer[0]]
+    for k in range(n):
+        between = [corners[c] + shift for c in sorted(corners)
+                   if u[k] + 1e-12 < c < u[k + 1] - 1e-12]
+        polys.append(np.array([inner[k], outer[k], *between, outer[k + 1], inner[k + 1]]))
+        top += [*between, outer[k + 1]]
+    check_convex(polys, [f"voussoir {k + 1}" for k in range(n)],
+                 f"voussoirs={n} with joints={joints!r} gives it that shape; use more voussoirs")
+    outline = clean(np.array([*top, inner[n]]), float(np.ptp(top, axis=0).max()))
+    return Ring(polys, outline, (inner[0], outer[0]), (inner[n], outer[n]))
+
+
+def add_arch(
+    builder: ModelBuilder,
+    shape: ArchShape,
+    *,
+    voussoirs: int,
+    joints: str = "radial",
+    density: float = 2000.0,
+    origin: tuple[float, float] = (0.0, 0.0),
+    group: str = "voussoir",
+    name: str = "voussoir",
+) -> Assembly:
+    """Add the voussoirs of an arch of `shape` (see arch_ring()), its frame's origin at `origin`
+    [m]; part "voussoirs", from the left springing, named "<name> 1", "<name> 2", ...."""
+    cut = arch_ring(shape, voussoirs, joints, origin)
+    asm = Assembly()
+    for k, poly in enumerate(cut.voussoirs):
+        asm.add_block(builder, "voussoirs", poly, group=group, density=density,
+                      name=f"{name} {k + 1}")
+    return asm
+
+
+def add_supported_arch(
+    builder: ModelBuilder,
+    shape: ArchShape,
+    *,
+    voussoirs: int,
+    joints: str = "radial",
+    density: float = 2000.0,
+    pier_width: float | None = None,
+    pier_height: float | None = None,
+    pier_courses: int = 1,
+    pier_kind: BodyKind = BodyKind.FIXED,
+    origin: tuple[float, float] = (0.0, 0.0),
+    group: str = "voussoir",
+) -> Assembly:
+    """An arch (add_arch) on two piers or abutments, on a fixed ground.
+
+    Each pier is pier_width [m] wide (default: the springing face's width plus the ring
+    thickness), flush with the intrados below its springing, and pier_height [m] high from
+    the ground to the springing (default: pier_width), in `pier_courses` equal blocks of
+    kind pier_kind (FIXED: fixed supports; FREE: piers that can rock and slide); the top block
+    carries the springing face (a skewback for a segmental arch). The ground (fixed) reaches
+    span / 2 beyond the piers so that a collapsing arch falls onto it.
+    Parts "ground", "piers" (left pier, then right, bottom up; named "left pier c1", ...),
+    "voussoirs"; groups "ground", "pier", `group`.
+    """
+    cut = arch_ring(shape, voussoirs, joints, origin)
+    (li, lo), (ri, ro) = cut.left, cut.right
+    thickness = max(math.hypot(*(lo - li)), math.hypot(*(ro - ri)))
+    if pier_width is None:
+        pier_width = max(li[0] - lo[0], ro[0] - ri[0]) + thickness
+    pier_height = pier_width if pier_height is None else pier_height
+    check_positive(pier_width=pier_width, pier_height=pier_height)
+    check_count("pier_courses", pier_courses)
+    base = min(li[1], ri[1]) - pier_height
+    piers = {
+        "left pier": pier_polygons(li[0] - pier_width, li[0], base, li[1], pier_courses,
+                                   right_face=(li, lo)),
+        "right pier": pier_polygons(ri[0], ri[0] + pier_width, base, ri[1], pier_courses,
+                                    left_face=(ri, ro)),
+    }
+    names = [f"{side} c{c + 1}" for side, polys in piers.items() for c in range(len(polys))]
+    check_convex([p for polys in piers.values() for p in polys], names,
+                 "check pier_width and pier_height")
+    asm = Assembly()
+    half = 0.5 * (ri[0] - li[0])
+    add_ground(builder, asm, li[0] - pier_width - half, ri[0] + pier_width + half, base,
+               pier_width)
+    polys = [p for side in piers.values() for p in side]
+    for poly, name in zip(polys, names, strict=True):
+        asm.add_block(builder, "piers", poly, group="pier", density=density, kind=pier_kind,
+                      name=name)
+    for k, poly in enumerate(cut.voussoirs):
+        asm.add_block(builder, "voussoirs", poly, group=group, density=density,
+                      name=f"voussoir {k + 1}")
+    return asm
+
+
+def arch(
+    shape: ArchShape,
+    *,
+    voussoirs: int,
+    joints: str = "radial",
+    density: float = 2000.0,
+    pier_width: float | None = None,
+    pier_height: float | None = None,
+    pier_courses: int = 1,
+    pier_kind: BodyKind = BodyKind.FIXED,
+    friction: float = 0.6,
+    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+    gravity: tuple[float, float] = (0.0, -9.81),
+) -> Model:
+    """An arch on its piers and the ground (add_supported_arch; body 0 is the ground, then
+    the piers, then the voussoirs from the left), friction mu [-] on every joint.
+
+    >>> model = arch(ArchShape.segmental(span=4.0, rise=1.0, thickness=0.3), voussoirs=9)
+    >>> model.body_count
+    12
+    """
+    builder = ModelBuilder(gravity=gravity)
+    asm = add_supported_arch(builder, shape, voussoirs=voussoirs, joints=joints, density=density,
+                             pier_width=pier_width, pier_height=pier_height,
+                             pier_courses=pier_courses, pier_kind=pier_kind)
+    return finalize(builder, asm.groups, friction, law)

@@ -1,10 +1,192 @@
-"""Brick walls in running bond on a fixed ground."""
+"""Brick walls in running or stack bond, with half bricks at the ends and openings (doors,
+windows) spanned by a lintel or an arch."""
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
 
 from ..errors import InputError
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
+from ._common import (
+    Assembly,
+    add_ground,
+    check_count,
+    check_positive,
+    finalize,
+    lay_courses,
+    rectangle,
+    separated,
+)
+from .arch import ArchShape, arch_ring
 
-__all__ = ["add_grounded_running_bond_wall", "add_running_bond_wall", "running_bond_wall"]
+__all__ = ["Opening", "add_grounded_running_bond_wall", "add_running_bond_wall", "add_wall",
+           "running_bond_wall", "wall"]
+
+HEADS = ("lintel", "flat_arch", "segmental_arch", "none")
+
+
+@dataclass(frozen=True)
+class Opening:
+    """A door or window: lower-left corner (x, y) [m] from the wall's lower-left corner,
+    width and height [m] (a door has y = 0).
+
+    head: what spans it: "lintel" (one block head_depth [m] high, default two courses,
+    resting `bearing` [m] on the wall at each side, default half a brick), "flat_arch" (a flat
+    arch, ArchShape.flat, head_depth deep, default one brick length, its springing joints
+    leaning out by `skewback` [rad]), "segmental_arch" (ArchShape.segmental of the opening's
+    width and `rise` [m], default width / 4, ring head_depth thick) or "none". Arches have
+    `voussoirs` voussoirs and spring from the top corners of the opening.
+    """
+
+    x: float
+    y: float
+    width: float
+    height: float
+    head: str = "lintel"
+    head_depth: float | None = None
+    bearing: float | None = None
+    rise: float | None = None
+    voussoirs: int = 7
+    skewback: float = math.radians(20.0)
+
+
+def _opening_blocks(op: Opening, i: int, origin: np.ndarray, brick_length: float,
+                    brick_height: float) -> tuple[list[np.ndarray], list[tuple[str, np.ndarray,
+                                                                                str, str]]]:
+    """The convex holes that opening i leaves in the brickwork [m] and the blocks that span it:
+    (part, vertices, group, name)."""
+    where = f"openings[{i}]"
+    if op.head not in HEADS:
+        raise InputError(f"{where}.head must be one of {HEADS}, got {op.head!r}")
+    check_positive(**{f"{where}.width": op.width, f"{where}.height": op.height})
+    x0, y0 = origin[0] + op.x, origin[1] + op.y
+    top = y0 + op.height
+    holes = [rectangle(x0, y0, x0 + op.width, top)]
+    heads = []
+    if op.head == "lintel":
+        depth = 2.0 * brick_height if op.head_depth is None else op.head_depth
+        bearing = 0.5 * brick_length if op.bearing is None else op.bearing
+        check_positive(**{f"{where}.head_depth": depth, f"{where}.bearing": bearing})
+        lintel = rectangle(x0 - bearing, top, x0 + op.width + bearing, top + depth)
+        holes.append(lintel)
+        heads.append(("lintels", lintel, "lintel", f"opening {i + 1} lintel"))
+    elif op.head != "none":
+        depth = brick_length if op.head_depth is None else op.head_depth
+        check_positive(**{f"{where}.head_depth": depth})
+        if op.head == "flat_arch":
+            shape = ArchShape.flat(span=op.width, depth=depth, skewback=op.skewback)
+        else:
+            rise = 0.25 * op.width if op.rise is None else op.rise
+            shape = ArchShape.segmental(span=op.width, rise=rise, thickness=depth)
+        cut = arch_ring(shape, op.voussoirs, origin=(x0 + 0.5 * op.width, top))
+        holes.append(cut.outline)
+        heads += [("voussoirs", v, "voussoir", f"opening {i + 1} voussoir {k + 1}")
+                  for k, v in enumerate(cut.voussoirs)]
+    return holes, heads
+
+
+def add_wall(
+    builder: ModelBuilder,
+    *,
+    courses: int,
+    bricks: int,
+    bond: str = "running",
+    brick_length: float = 0.25,
+    brick_height: float = 0.065,
+    half_bricks: bool = True,
+    openings: tuple[Opening, ...] | list[Opening] = (),
+    min_piece: float = 0.1,
+    density: float = 1800.0,
+    origin: tuple[float, float] = (0.0, 0.0),
+    group: str = "brick",
+) -> Assembly:
+    """A wall of `courses` courses of `bricks` bricks, brick_length x brick_height [m], its
+    lower-left corner at `origin` [m]; head and bed joints are exact (bricks touch).
+
+    bond: "stack" (every course alike) or "running" (every other course shifted by half a
+    brick, with a half brick at both ends if half_bricks, so that the ends are flush; without
+    them the shifted courses hold bricks - 1 bricks and the ends are toothed).
+    openings: doors and windows (Opening); the bricks are cut around each opening and what
+    spans it, and a piece smaller than min_piece [-] of a brick is left out.
+    Parts "bricks" (course by course from the left, named "brick c<course>b<brick>", a cut
+    brick's pieces ".1", ".2"), "lintels" and "voussoirs" (group "lintel", "voussoir"); all of
+    density [kg/m^3].
+    """
+    check_count("courses", courses)
+    check_count("bricks", bricks)
+    check_positive(brick_length=brick_length, brick_height=brick_height)
+    if bond not in ("running", "stack"):
+        raise InputError(f"bond must be 'running' or 'stack', got {bond!r}")
+    if not 0.0 <= min_piece < 1.0:
+        raise InputError(f"min_piece must be in [0, 1), got {min_piece!r}")
+    x0, y0 = origin
+    length, height = bricks * brick_length, courses * brick_height
+    holes, heads, owner = [], [], []
+    for i, op in enumerate(openings):
+        more, spans = _opening_blocks(op, i, np.array(origin, dtype=np.float64), brick_length,
+                                      brick_height)
+        lo = np.min([h.min(axis=0) for h in more], axis=0)
+        hi = np.max([h.max(axis=0) for h in more], axis=0)
+        tol = 1e-9 * max(length, height)
+        if (lo[0] < x0 - tol or lo[1] < y0 - tol or hi[0] > x0 + length + tol
+                or hi[1] > y0 + height + tol):
+            raise InputError(
+                f"openings[{i}] and its head reach from ({lo[0] - x0:g}, {lo[1] - y0:g}) to "
+                f"({hi[0] - x0:g}, {hi[1] - y0:g}) m, outside the wall (0..{length:g}, "
+                f"0..{height:g}) m; move or shrink it, or add courses or bricks"
+            )
+        holes += more
+        heads += spans
+        owner += [i] * len(more)
+    for (a, ha), (b, hb) in itertools.combinations(zip(owner, holes, strict=True), 2):
+        if a != b and not separated(ha, hb, 1e-9 * max(length, height)):
+            raise InputError(f"openings[{a}] and openings[{b}] (with their heads) overlap; "
+                             "move them apart")
+
+    def edges(c: int) -> list[float]:
+        if bond == "stack" or c % 2 == 0:
+            return [x0 + k * brick_length for k in range(bricks + 1)]
+        inner = [x0 + (k + 0.5) * brick_length for k in range(bricks)]
+        return [x0] + inner + [x0 + bricks * brick_length] if half_bricks else inner
+
+    asm = Assembly()
+    lay_courses(builder, asm, part="bricks", group=group, density=density,
+                levels=[y0 + c * brick_height for c in range(courses + 1)], edges=edges,
+                holes=holes, min_piece=min_piece)
+    for part, poly, head_group, name in heads:
+        asm.add_block(builder, part, poly, group=head_group, density=density, name=name)
+    return asm
+
+
+def wall(
+    *,
+    courses: int,
+    bricks: int,
+    bond: str = "running",
+    brick_length: float = 0.25,
+    brick_height: float = 0.065,
+    half_bricks: bool = True,
+    openings: tuple[Opening, ...] | list[Opening] = (),
+    min_piece: float = 0.1,
+    density: float = 1800.0,
+    friction: float = 0.6,
+    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+    gravity: tuple[float, float] = (0.0, -9.81),
+) -> Model:
+    """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep
+    (body 0, group "ground"), friction mu [-] on every joint."""
+    builder = ModelBuilder(gravity=gravity)
+    asm = Assembly()
+    length = bricks * brick_length
+    add_ground(builder, asm, -length, 2.0 * length, 0.0, brick_height)
+    asm.merge(add_wall(builder, courses=courses, bricks=bricks, bond=bond,
+                       brick_length=brick_length, brick_height=brick_height,
+                       half_bricks=half_bricks, openings=openings, min_piece=min_piece,
+                       density=density))
+    return finalize(builder, asm.groups, friction, law)
 
 
 def add_running_bond_wall(
@@ -21,27 +203,9 @@ def add_running_bond_wall(
     """Add a running-bond wall: `courses` courses of `bricks` bricks [m], every other course
     shifted by half a brick with half bricks at both ends so that the wall ends are flush.
     The wall's lower-left corner is at `origin`. Returns the body indices, course by course."""
-    if courses < 1 or bricks < 1:
-        raise InputError(f"wall needs courses >= 1 and bricks >= 1, got {courses}, {bricks}")
-    if not (brick_length > 0.0 and brick_height > 0.0):
-        raise InputError(f"brick size must be > 0, got {brick_length} x {brick_height}")
-    x0, y0 = origin
-    bodies = []
-    for c in range(courses):
-        y = y0 + c * brick_height
-        if c % 2 == 0:
-            edges = [x0 + k * brick_length for k in range(bricks + 1)]
-        else:
-            edges = ([x0] + [x0 + (k + 0.5) * brick_length for k in range(bricks)]
-                     + [x0 + bricks * brick_length])
-        for k, (a, b) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
-            bodies.append(builder.add_block(
-                [(a, y), (b, y), (b, y + brick_height), (a, y + brick_height)],
-                density=density, group=group, name=f"brick c{c + 1}b{k + 1}",
-            ))
-    return bodies
-
-
+    return add_wall(builder, courses=courses, bricks=bricks, brick_length=brick_length,
+                    brick_height=brick_height, density=density, origin=origin,
+                    group=group)["bricks"]
 def add_grounded_running_bond_wall(
     builder: ModelBuilder, *, courses: int, bricks: int, brick_length: float = 0.25,
     brick_height: float = 0.065, density: float = 1800.0,

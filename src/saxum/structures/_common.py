@@ -1,0 +1,253 @@
+"""What the generators share: the Assembly they return, convex polygon clipping (bricks cut
+around openings and arches), courses of blocks, and default contact laws.
+
+Polygons are float arrays (n, 2) [m], counter-clockwise.
+"""
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry2d import normalize_polygon
+from ..laws import ContactLaw, LawKind
+from ..model import BodyKind, Model, ModelBuilder
+
+__all__ = ["Assembly"]
+
+Force = tuple[float, float, float]
+
+
+@dataclass
+class Assembly:
+    """What a generator added to a ModelBuilder.
+
+    parts: body indices by part ("voussoirs", "piers", "bricks", ...), in the order added;
+    groups: the contact groups used, in order of first use; outlines: the world vertices [m]
+    of each added block, by body index; loads: the constant forces the generator applied with
+    ModelBuilder.add_force, as (body, (fx [N], fy [N], torque [N m])) at the centre of mass.
+    """
+
+    parts: dict[str, list[int]] = field(default_factory=dict)
+    groups: list[str] = field(default_factory=list)
+    outlines: dict[int, np.ndarray] = field(default_factory=dict, repr=False)
+    loads: list[tuple[int, Force]] = field(default_factory=list)
+
+    def __getitem__(self, part: str) -> list[int]:
+        return self.parts.get(part, [])
+
+    @property
+    def bodies(self) -> list[int]:
+        """Every body index added, in increasing order."""
+        return sorted(self.outlines)
+
+    def add_block(self, builder: ModelBuilder, part: str, vertices, *, group: str,
+                  name: str, density: float = 0.0, kind: BodyKind = BodyKind.FREE) -> int:
+        """Add one block to `builder` and record it under `part`."""
+        index = builder.add_block(vertices, density=density, group=group, kind=kind, name=name)
+        self.parts.setdefault(part, []).append(index)
+        if group not in self.groups:
+            self.groups.append(group)
+        self.outlines[index] = np.asarray(vertices, dtype=np.float64)
+        return index
+
+    def merge(self, other: "Assembly") -> None:
+        """Take in the parts, groups, outlines and loads of `other`."""
+        for part, bodies in other.parts.items():
+            self.parts.setdefault(part, []).extend(bodies)
+        self.groups.extend(g for g in other.groups if g not in self.groups)
+        self.outlines.update(other.outlines)
+        self.loads.extend(other.loads)
+
+
+def finalize(builder: ModelBuilder, groups: Sequence[str], friction: float,
+             law: LawKind) -> Model:
+    """Set one Coulomb law (mu = friction [-]) between every pair of `groups`, and finalize."""
+    contact = ContactLaw(friction=friction, kind=law)
+    for a, b in itertools.combinations_with_replacement(groups, 2):
+        builder.set_law(a, b, contact)
+    return builder.finalize()
+
+
+def check_positive(**values: float) -> None:
+    """InputError naming the first value that is not a finite number > 0 [m]."""
+    for name, value in values.items():
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
+            raise InputError(f"{name} must be a finite length > 0 [m], got {value!r}")
+
+
+def check_count(name: str, value, least: int = 1) -> None:
+    """InputError unless value is a whole number >= least."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < least:
+        raise InputError(f"{name} must be a whole number >= {least}, got {value!r}")
+
+
+def rectangle(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    return np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], dtype=np.float64)
+
+
+def area(poly: np.ndarray) -> float:
+    """Signed area [m^2] (shoelace), > 0 for counter-clockwise."""
+    x, y = poly[:, 0], poly[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def clean(poly: np.ndarray, scale: float) -> np.ndarray | None:
+    """Drop repeated and collinear vertices (those that normalize_polygon refuses, within
+    1e-8 of `scale` [m]); None when less than a polygon is left."""
+    pts = [np.asarray(p, dtype=np.float64) for p in poly]
+    changed = True
+    while changed and len(pts) >= 3:
+        changed = False
+        for k in range(len(pts)):
+            prev, cur, nxt = pts[k - 1], pts[k], pts[(k + 1) % len(pts)]
+            a, b = cur - prev, nxt - cur
+            la, lb = math.hypot(*a), math.hypot(*b)
+            if la <= 1e-8 * scale or lb <= 1e-8 * scale or abs(a[0] * b[1] - a[1] * b[0]) <= (
+                    1e-8 * la * lb):
+                del pts[k]
+                changed = True
+                break
+    if len(pts) < 3:
+        return None
+    out = np.array(pts)
+    if abs(area(out)) <= 1e-12 * scale * scale:
+        return None
+    return out if area(out) > 0 else out[::-1].copy()
+
+
+def clip(poly: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The part of the convex polygon on the left of the line a -> b (Sutherland-Hodgman)."""
+    d = (b[0] - a[0]) * (poly[:, 1] - a[1]) - (b[1] - a[1]) * (poly[:, 0] - a[0])
+    out = []
+    n = len(poly)
+    for k in range(n):
+        j = (k + 1) % n
+        if d[k] >= 0.0:
+            out.append(poly[k])
+        if (d[k] > 0.0 > d[j]) or (d[k] < 0.0 < d[j]):
+            out.append(poly[k] + (poly[j] - poly[k]) * (d[k] / (d[k] - d[j])))
+    return np.array(out).reshape(-1, 2)
+
+
+def hull(points: np.ndarray) -> np.ndarray:
+    """Convex hull, counter-clockwise (Andrew's monotone chain, 1979)."""
+    pts = sorted({(float(x), float(y)) for x, y in points})
+
+    def half(seq):
+        chain: list[tuple[float, float]] = []
+        for p in seq:
+            while len(chain) >= 2 and ((chain[-1][0] - chain[-2][0]) * (p[1] - chain[-2][1])
+                                       - (chain[-1][1] - chain[-2][1]) * (p[0] - chain[-2][0])
+                                       ) <= 0.0:
+                chain.pop()
+            chain.append(p)
+        return chain[:-1]
+
+    return np.array(half(pts) + half(pts[::-1]))
+
+
+def separated(p: np.ndarray, q: np.ndarray, tol: float) -> bool:
+    """True if the convex polygons p and q overlap by no more than tol [m] (separating axis
+    theorem: some edge normal of either polygon separates them)."""
+    for poly in (p, q):
+        e = np.roll(poly, -1, axis=0) - poly
+        normals = np.column_stack((e[:, 1], -e[:, 0]))
+        normals /= np.hypot(normals[:, 0], normals[:, 1])[:, None]
+        pp, qq = p @ normals.T, q @ normals.T
+        if np.any((pp.max(axis=0) <= qq.min(axis=0) + tol)
+                  | (qq.max(axis=0) <= pp.min(axis=0) + tol)):
+            return True
+    return False
+
+
+def subtract(piece: np.ndarray, hole: np.ndarray, scale: float) -> list[np.ndarray]:
+    """Convex pieces of piece minus hole (both convex, CCW).
+
+    The piece is first cut by vertical lines through the hole's vertices, so that within each
+    strip one edge of the hole bounds it from above (a piece resting on an extrados rests on
+    one voussoir along its whole underside); then each strip gives its part outside the first
+    edge of the hole, its part inside that edge but outside the second, and so on. Pieces
+    whose union is convex are merged again, so that a block is cut no more than it must be."""
+    if separated(piece, hole, 1e-9 * scale):
+        return [piece]
+    strips, rest = [], piece
+    lo, hi = piece[:, 0].min(), piece[:, 0].max()
+    for x in sorted(x for x in hole[:, 0] if lo + 1e-9 * scale < x < hi - 1e-9 * scale):
+        strips.append(clip(rest, np.array([x, 0.0]), np.array([x, 1.0])))
+        rest = clip(rest, np.array([x, 1.0]), np.array([x, 0.0]))
+    pieces = []
+    for strip in [*strips, rest]:
+        for a, b in zip(hole, np.roll(hole, -1, axis=0), strict=True):
+            if len(strip) < 3:
+                break
+            outside = clean(clip(strip, b, a), scale)
+            if outside is not None:
+                pieces.append(outside)
+            strip = clip(strip, a, b)
+    merged = True
+    while merged:
+        merged = False
+        for i, j in itertools.combinations(range(len(pieces)), 2):
+            union = hull(np.vstack((pieces[i], pieces[j])))
+            if abs(area(union) - area(pieces[i]) - area(pieces[j])) <= 1e-9 * area(union):
+                joined = clean(union, scale)
+                pieces = [p for k, p in enumerate(pieces) if k not in (i, j)] + [joined]
+                merged = True
+                break
+    return pieces
+
+
+def fit_edges(x0: float, x1: float, length: float, shifted: bool) -> list[float]:
+    """Head joints [m] of a course from x0 to x1 of blocks `length` long, starting with a half
+    block if `shifted`; the last block takes what is left (between 1/4 and 5/4 of a block)."""
+    edges = [x0]
+    k = 0.5 if shifted else 1.0
+    while x0 + k * length < x1 - 0.25 * length:
+        edges.append(x0 + k * length)
+        k += 1.0
+    return edges + [x1]
+
+
+def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, density: float,
+                levels: Sequence[float], edges: Callable[[int], Sequence[float]],
+                holes: Sequence[np.ndarray] = (), min_piece: float = 0.0,
+                name: str = "brick") -> None:
+    """Lay courses of rectangular blocks: course c from levels[c] to levels[c + 1] [m] with head
+    joints edges(c) [m]. Blocks are cut around the convex `holes`; a piece smaller than
+    min_piece times the area of a whole block of its course is left out (a mason would fill it
+    with mortar), so that no sliver makes the time step or the contact detection fragile."""
+    for c in range(len(levels) - 1):
+        y0, y1 = levels[c], levels[c + 1]
+        xs = list(edges(c))
+        whole = max(b - a for a, b in itertools.pairwise(xs)) * (y1 - y0)
+        for k, (a, b) in enumerate(itertools.pairwise(xs)):
+            pieces = [rectangle(a, y0, b, y1)]
+            scale = max(b - a, y1 - y0)
+            for hole in holes:
+                pieces = [q for p in pieces for q in subtract(p, hole, scale)]
+            pieces = [p for p in pieces if area(p) >= min_piece * whole]
+            for j, p in enumerate(pieces):
+                suffix = f".{j + 1}" if len(pieces) > 1 else ""
+                asm.add_block(builder, part, p, group=group, density=density,
+                              name=f"{name} c{c + 1}b{k + 1}{suffix}")
+
+
+def add_ground(builder: ModelBuilder, asm: Assembly, x0: float, x1: float, top: float,
+               depth: float) -> int:
+    """A fixed "ground" block from x0 to x1 [m], its top at `top` [m], `depth` [m] deep."""
+    return asm.add_block(builder, "ground", rectangle(x0, top - depth, x1, top), group="ground",
+                         kind=BodyKind.FIXED, name="ground")
+
+
+def check_convex(polygons: Sequence[np.ndarray], names: Sequence[str], hint: str) -> None:
+    """InputError naming the first polygon that is not a convex block, with `hint`; called
+    before anything is added so that a refused structure leaves the builder unchanged."""
+    for poly, name in zip(polygons, names, strict=True):
+        try:
+            normalize_polygon(poly, name=name)
+        except InputError as err:
+            raise InputError(f"{err}; {hint}") from None

@@ -1,0 +1,290 @@
+"""Blocks from files: a JSON or CSV list of polygons, or the closed polylines of a DXF drawing.
+
+JSON: {"blocks": [{"vertices": [[x, y], ...], "density": 2000.0, "group": "stone",
+"kind": "free", "name": "keystone"}, ...]}; only "vertices" is required.
+
+CSV: a header row naming the columns, then one row per vertex: `block` (the block's name),
+`x`, `y` [m] (required) and `density` [kg/m^3], `group`, `kind` (optional: given on any row
+of the block, on several rows they must agree, an empty cell gives nothing). A block's rows
+are consecutive, in order around the polygon.
+
+DXF (read with ezdxf, an optional dependency: pip install ezdxf): every closed LWPOLYLINE or
+2D/3D POLYLINE of the model space is a block (an open one whose last point repeats its first
+counts as closed; other open ones are ignored); its layer is its group, and layers named in
+`fixed_layers` hold fixed blocks. Arc segments (bulges) are refused.
+
+In all formats kind is "free" or "fixed" (any case), the group defaults to `group`, and a
+free block without a density takes `density` (a number, or a mapping from group to number).
+Coordinates are multiplied by `scale` (e.g. 0.001 for a drawing in mm). Errors name the file
+and the block, with its line (CSV), index (JSON) or handle and layer (DXF).
+"""
+
+import csv
+import json
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry2d import normalize_polygon
+from ..laws import LawKind
+from ..model import BodyKind, Model, ModelBuilder
+from ._common import Assembly, finalize
+
+__all__ = ["BlockSpec", "add_blocks_from_file", "blocks_model", "read_blocks", "write_blocks"]
+
+FORMATS = ("json", "csv", "dxf")
+KINDS = {"free": BodyKind.FREE, "fixed": BodyKind.FIXED}
+CSV_COLUMNS = ("block", "x", "y", "density", "group", "kind")
+JSON_KEYS = ("vertices", "density", "group", "kind", "name")
+
+
+@dataclass(frozen=True)
+class BlockSpec:
+    """A block read from a file: vertices [m] (n, 2) counter-clockwise, density [kg/m^3]
+    (0 for fixed blocks), group, kind, name, and where it is in the file (for messages)."""
+
+    vertices: np.ndarray
+    density: float
+    group: str
+    kind: BodyKind
+    name: str
+    where: str
+
+
+def _format(path: Path, format: str | None) -> str:
+    fmt = (format or path.suffix.lstrip(".")).lower()
+    if fmt not in FORMATS:
+        raise InputError(f"{path}: unknown block file format {fmt!r}; use one of {FORMATS} "
+                         "(from the file's extension or format=...)")
+    return fmt
+
+
+def _kind(value, where: str) -> BodyKind:
+    if not isinstance(value, str) or value.lower() not in KINDS:
+        raise InputError(f"{where}: kind must be one of {tuple(KINDS)}, got {value!r}")
+    return KINDS[value.lower()]
+
+
+def _number(value, what: str, where: str) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not math.isfinite(number):
+        raise InputError(f"{where}: {what} must be a finite number, got {value!r}")
+    return number
+
+
+class _Defaults:
+    """Turns raw values into a BlockSpec: default group and density, checks, scale."""
+
+    def __init__(self, density, group: str, scale: float) -> None:
+        self.density, self.group = density, group
+        self.scale = _number(scale, "scale", "read_blocks")
+
+    def spec(self, vertices, density, group, kind: BodyKind, name: str,
+             where: str) -> BlockSpec:
+        group = self.group if group in (None, "") else str(group)
+        verts = normalize_polygon(np.asarray(vertices, dtype=np.float64) * self.scale,
+                                  name=where)
+        if kind != BodyKind.FREE:
+            density = 0.0
+        elif density in (None, ""):
+            default = (self.density.get(group) if isinstance(self.density, Mapping)
+                       else self.density)
+            if default is None:
+                raise InputError(f"{where}: no density for this free block; give one in the "
+                                 "file or read it with density=... [kg/m^3]")
+            density = default
+        density = _number(density, "density [kg/m^3]", where)
+        if kind == BodyKind.FREE and density <= 0.0:
+            raise InputError(f"{where}: density must be > 0 [kg/m^3], got {density:g}")
+        return BlockSpec(verts, density, group, kind, name, where)
+
+
+def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as err:
+        raise InputError(f"{path}: not valid JSON: {err}") from None
+    if not isinstance(data, dict) or not isinstance(data.get("blocks"), list):
+        raise InputError(f'{path}: expected an object {{"blocks": [...]}}')
+    specs = []
+    for i, block in enumerate(data["blocks"]):
+        where = f"{path}: blocks[{i}]"
+        if not isinstance(block, dict) or "vertices" not in block:
+            raise InputError(f'{where}: expected an object with "vertices": [[x, y], ...]')
+        if isinstance(block.get("name"), str):
+            where += f" ({block['name']!r})"
+        unknown = sorted(set(block) - set(JSON_KEYS))
+        if unknown:
+            raise InputError(f"{where}: unknown key {unknown[0]!r}; keys are {JSON_KEYS}")
+        kind = _kind(block.get("kind", "free"), where)
+        try:
+            vertices = np.array(block["vertices"], dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"{where}: vertices must be a list of [x, y] numbers") from None
+        specs.append(defaults.spec(vertices, block.get("density"), block.get("group"), kind,
+                                   str(block.get("name", f"block {i + 1}")), where))
+    return specs
+
+
+def _read_csv(path: Path, defaults: _Defaults) -> list[BlockSpec]:
+    with path.open(newline="", encoding="utf-8") as stream:
+        reader = csv.DictReader(stream)
+        columns = [c.strip() for c in reader.fieldnames or ()]
+        missing = [c for c in CSV_COLUMNS[:3] if c not in columns]
+        unknown = [c for c in columns if c not in CSV_COLUMNS]
+        if missing or unknown:
+            raise InputError(f"{path}, line 1: the header must name the columns block, x, y "
+                             f"and optionally density, group, kind; "
+                             + (f"missing {missing}" if missing else f"unknown {unknown}"))
+        reader.fieldnames = columns
+        rows: list[tuple[int, dict]] = []
+        for row in reader:
+            rows.append((reader.line_num, {k: (v or "").strip() for k, v in row.items()
+                                           if k is not None}))
+    blocks: dict[str, list[tuple[int, dict]]] = {}
+    last = None
+    for line, row in rows:
+        name = row["block"]
+        if not name:
+            raise InputError(f"{path}, line {line}: empty block name")
+        if name in blocks and name != last:
+            raise InputError(f"{path}, line {line}: block {name!r} appears again after other "
+                             "blocks; keep a block's vertices on consecutive lines")
+        blocks.setdefault(name, []).append((line, row))
+        last = name
+    specs = []
+    for name, block in blocks.items():
+        where = f"{path}, block {name!r} (lines {block[0][0]}-{block[-1][0]})"
+        attrs = {}
+        for line, row in block:
+            for key in ("density", "group", "kind"):
+                value = row.get(key, "")
+                if value and attrs.setdefault(key, value) != value:
+                    raise InputError(f"{path}, line {line}: block {name!r} has {key} "
+                                     f"{value!r} here and {attrs[key]!r} above")
+        vertices = [[_number(row["x"], "x [m]", f"{path}, line {line}"),
+                     _number(row["y"], "y [m]", f"{path}, line {line}")] for line, row in block]
+        specs.append(defaults.spec(vertices, attrs.get("density"), attrs.get("group"),
+                                   _kind(attrs.get("kind", "free"), where), name, where))
+    return specs
+
+
+def _read_dxf(path: Path, defaults: _Defaults, fixed_layers: Iterable[str]) -> list[BlockSpec]:
+    try:
+        import ezdxf
+    except ImportError:
+        raise InputError("reading DXF drawings needs the ezdxf package: pip install ezdxf"
+                         ) from None
+    try:
+        doc = ezdxf.readfile(path)
+    except (OSError, ezdxf.DXFError) as err:
+        raise InputError(f"{path}: cannot read the DXF drawing: {err}") from None
+    fixed = {layer.upper() for layer in fixed_layers}
+    specs = []
+    for entity in doc.modelspace().query("LWPOLYLINE POLYLINE"):
+        layer, kind = entity.dxf.layer, entity.dxftype()
+        where = f"{path}: {kind} handle {entity.dxf.handle} on layer {layer!r}"
+        if kind == "LWPOLYLINE":
+            bulges = [b for *_, b in entity.get_points("xyb")]
+            points = [(v.x, v.y) for v in entity.vertices_in_wcs()]
+            closed = entity.closed
+        else:
+            if not (entity.is_2d_polyline or entity.is_3d_polyline):
+                continue
+            bulges = [v.dxf.bulge for v in entity.vertices]
+            points = [(v.x, v.y) for v in entity.points_in_wcs()]
+            closed = entity.is_closed
+        if len(points) > 3 and points[0] == points[-1]:
+            points, bulges, closed = points[:-1], bulges[:-1], True
+        if not closed:
+            continue
+        if any(bulges):
+            raise InputError(f"{where}: has arc segments (bulges); a block is a polygon of "
+                             "straight edges, so replace the arcs by chords")
+        specs.append(defaults.spec(points, None, layer,
+                                   BodyKind.FIXED if layer.upper() in fixed else BodyKind.FREE,
+                                   f"{layer} {entity.dxf.handle}", where))
+    if not specs:
+        raise InputError(f"{path}: no closed polyline in the drawing's model space")
+    return specs
+
+
+def read_blocks(
+    path: str | Path,
+    *,
+    format: str | None = None,
+    density: float | Mapping[str, float] | None = None,
+    group: str = "block",
+    fixed_layers: Iterable[str] = ("FIXED",),
+    scale: float = 1.0,
+) -> list[BlockSpec]:
+    """The blocks of a JSON, CSV or DXF file (format from the extension unless given); see
+    the module's description for the formats, defaults and `scale`."""
+    path = Path(path)
+    fmt = _format(path, format)
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    defaults = _Defaults(density, group, scale)
+    if fmt == "json":
+        return _read_json(path, defaults)
+    if fmt == "csv":
+        return _read_csv(path, defaults)
+    return _read_dxf(path, defaults, fixed_layers)
+
+
+def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -> None:
+    """Write the blocks of `model` at their initial positions to a JSON or CSV file that
+    read_blocks reads back (coordinates [m] written exactly)."""
+    path = Path(path)
+    fmt = _format(path, format)
+    if fmt == "dxf":
+        raise InputError(f"{path}: write_blocks writes JSON or CSV, not DXF")
+    blocks = []
+    for b in range(model.body_count):
+        kind = BodyKind(int(model.body_kind[b]))
+        if kind == BodyKind.DRIVEN:
+            raise InputError(f"block {model.body_name[b]!r} is DRIVEN; block files hold free "
+                             "and fixed blocks only")
+        blocks.append({"name": model.body_name[b],
+                       "group": model.group_names[model.body_group[b]],
+                       "kind": kind.name.lower(),
+                       "density": float(model.body_density[b]),
+                       "vertices": model.vertices(b).tolist()})
+    if fmt == "json":
+        path.write_text(json.dumps({"blocks": blocks}, indent=1), encoding="utf-8")
+        return
+    with path.open("w", newline="", encoding="utf-8") as stream:
+        out = csv.writer(stream)
+        out.writerow(CSV_COLUMNS)
+        for block in blocks:
+            for k, (x, y) in enumerate(block["vertices"]):
+                attrs = ([repr(block["density"]), block["group"], block["kind"]] if k == 0
+                         else ["", "", ""])
+                out.writerow([block["name"], repr(x), repr(y), *attrs])
+
+
+def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> Assembly:
+    """Add the blocks of a file (read_blocks(path, **options)); part "blocks", in file order."""
+    asm = Assembly()
+    for spec in read_blocks(path, **options):
+        asm.add_block(builder, "blocks", spec.vertices, group=spec.group, density=spec.density,
+                      kind=spec.kind, name=spec.name)
+    return asm
+
+
+def blocks_model(
+    path: str | Path, *, friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+    gravity: tuple[float, float] = (0.0, -9.81), **options,
+) -> Model:
+    """A model of the blocks of a file (add_blocks_from_file), friction mu [-] between every
+    pair of groups."""
+    builder = ModelBuilder(gravity=gravity)
+    asm = add_blocks_from_file(builder, path, **options)
+    return finalize(builder, asm.groups, friction, law)
