@@ -355,3 +355,19 @@ def test_ground_motion_driving_the_supports(tmp_path):
         ARCH + '[loads.ground_motion]\npulse = "ricker"\nfile = "x.csv"\n')
     assert "needs the names of the supports" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\napply = "driven"\n')
+
+
+def test_harmonic_ground_motion_in_a_scenario():
+    text = ARCH + textwrap.dedent("""\
+        [loads.ground_motion]
+        pulse = "harmonic"
+        amplitude = 3.0
+        period = 0.5
+        cycles = 4
+        ramp = 2.0
+    """)
+    motion = parse_scenario(text).loads.ground_motion.motion()
+    assert motion.duration == pytest.approx(2.0)
+    assert motion.acceleration_at(1.625)[0] == pytest.approx(3.0 * 1.625 / 2.0, rel=1e-3)
+    assert "ramp: Input should be greater than or equal to 0" in _error(
+        text.replace("ramp = 2.0", "ramp = -1.0"))

@@ -164,12 +164,14 @@ class GroundMotionSpec(_Strict):
     file: Path | None = None
     units: str | None = None
     pulse: Literal["one_sine", "one_sine_symmetric", "ricker", "mavroeidis_papageorgiou",
-                   "rectangular"] | None = None
+                   "rectangular", "harmonic"] | None = None
     amplitude: Finite = 0.0
     velocity: Finite = 0.0
     period: Positive = 1.0
     gamma: Annotated[float, Field(gt=1.0)] = 2.0
     nu: Finite = 0.0
+    cycles: Positive = 5.0
+    ramp: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
     direction: tuple[Finite, Finite] = (1.0, 0.0)
     scale: Finite = 1.0
     start: Annotated[float, Field(ge=0.0)] = 0.0
@@ -203,6 +205,9 @@ class GroundMotionSpec(_Strict):
             record = ground.ricker(self.amplitude, self.period, direction=d)
         elif self.pulse == "rectangular":
             record = ground.rectangular(self.amplitude, self.period, direction=d)
+        elif self.pulse == "harmonic":
+            record = ground.harmonic(self.amplitude, self.period, self.cycles, ramp=self.ramp,
+                                     direction=d)
         else:
             record = ground.one_sine(self.amplitude, self.period, direction=d,
                                      symmetric=self.pulse == "one_sine_symmetric")
