@@ -12,6 +12,7 @@ from saxum.scenario import (
     ArchStructure,
     BlocksStructure,
     DetectionSpec,
+    FemaP695Spec,
     GroundMotionSpec,
     LawSpec,
     Loads,
@@ -288,7 +289,8 @@ def test_docs_describe_every_key():
 
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, LawSpec, Loads,
-                  PointLoad, Settlement, GroundMotionSpec, SolverSpec, DetectionSpec,
+                  PointLoad, Settlement, GroundMotionSpec, FemaP695Spec, SolverSpec,
+                  DetectionSpec,
                   OutputSpec):
         for key in model.model_fields:
             if key != "type":
@@ -351,7 +353,7 @@ def test_ground_motion_driving_the_supports(tmp_path):
     assert m.body_kind[support] == sx.BodyKind.DRIVEN
     motion = m.motions[m.body_motion[support]]
     assert motion(0.01)[0] == pytest.approx(0.5 * 0.01 * 0.1)  # m/s^2 units given
-    assert "give either file (a record) or pulse" in _error(
+    assert "give one of file (a record), fema_p695 or pulse" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\nfile = "x.csv"\n')
     assert "needs the names of the supports" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\napply = "driven"\n')
