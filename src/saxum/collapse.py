@@ -31,6 +31,7 @@ import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,8 +40,13 @@ from .model import BodyKind
 from .simulation import Simulation
 from .state import State
 
-__all__ = ["CollapseCriterion", "CriticalValue", "Trial", "collapse_curve", "critical_value",
+__all__ = ["DYNAMIC_FRACTION", "CollapseCriterion", "CollapseEvent", "CriticalValue",
+           "CurvePoint", "Trial", "collapse_curve", "critical_value", "find_collapse",
            "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
+
+DYNAMIC_FRACTION = 0.5
+"""Under ground motion a block may rock far and come back: a structure has collapsed when a
+free block has moved by this fraction of the smallest free block's size [-] and stays so."""
 
 
 @dataclass(frozen=True)
@@ -75,7 +81,11 @@ class CollapseCriterion:
 class Trial:
     """Outcome of one trial: the parameter value, collapsed or at rest, the time it was
     decided [s], the largest displacement of a free block [m], the last unbalanced force ratio,
-    the kinetic energy at the end [J/m], and the simulation and state at the end."""
+    the kinetic energy at the end [J/m], and the simulation and state at the end. For a
+    collapse: the time of collapse [s], when a free block last moved past the displacement
+    limit (under a pulse this may be before the verdict, which waits for the pulse to end),
+    and the state then, from which saxum.mechanism.mechanism gives the mechanism at
+    collapse (nan and None when it stood)."""
 
     value: float
     collapsed: bool
@@ -85,6 +95,16 @@ class Trial:
     kinetic_energy: float
     simulation: Simulation = field(repr=False)
     state: State = field(repr=False)
+    collapse_time: float = math.nan
+    at_collapse: State | None = field(default=None, repr=False)
+
+    def mechanism(self):
+        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood)."""
+        from .mechanism import mechanism
+
+        if self.at_collapse is None:
+            return None
+        return mechanism(self.simulation.model, self.at_collapse, self.simulation.integrator.dt)
 
 
 def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) -> float:
@@ -126,6 +146,7 @@ def run_trial(sim: Simulation, value: float = math.nan,
     energies = np.zeros(steps)
     displacements = np.zeros(steps)
     moved = ratio = 0.0
+    crossing: State | None = None  # the state when a block last moved past the limit
     v_before = np.empty_like(state.body_v)
     for k in range(steps):
         v_before[:] = state.body_v
@@ -133,9 +154,11 @@ def run_trial(sim: Simulation, value: float = math.nan,
         energies[k] = report.kinetic_energy
         moved = float(np.hypot(*(state.body_q[free, :2] - m.body_q0[free, :2]).T).max())
         displacements[k] = moved
+        if moved > limit and (k == 0 or displacements[k - 1] <= limit):
+            crossing = state.copy()
         if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
-                         state)
+                         state, crossing.time, crossing)
         ratio = unbalanced_force_ratio(sim, state, v_before)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
@@ -145,8 +168,11 @@ def run_trial(sim: Simulation, value: float = math.nan,
     half = (first + steps) // 2
     growing = (energies[half:].mean() > energies[first:half].mean()
                and displacements[half:].max() > displacements[first:half].max())
-    return Trial(value, bool(growing), state.time, moved, ratio, float(energies[-1]), sim,
-                 state)
+    if not growing:
+        return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state)
+    at = crossing if moved > limit else state
+    return Trial(value, True, state.time, moved, ratio, float(energies[-1]), sim, state,
+                 at.time, at)
 
 
 @dataclass
@@ -219,26 +245,80 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
     return critical_value(make, stands, collapses, tolerance=tolerance, criterion=crit)
 
 
-def _curve_point(args) -> tuple[float, float, float, int]:
+class CurvePoint(NamedTuple):
+    """One period of a collapse curve: the period [s], the amplitudes [m/s^2] at which the
+    structure stood and collapsed (the bracket of the critical amplitude), the number of
+    trials, and for the collapsing amplitude the time of collapse [s] and the mechanism then
+    (saxum.mechanism.Mechanism)."""
+
+    period: float
+    stands: float
+    collapses: float
+    trials: int
+    collapse_time: float
+    mechanism: object
+
+    @property
+    def amplitude(self) -> float:
+        """Midpoint of the bracket [m/s^2]."""
+        return 0.5 * (self.stands + self.collapses)
+
+
+def _curve_point(args) -> CurvePoint:
     path, period, stands, collapses, overrides, tolerance, criterion = args
     result = scenario_critical_value(
         path, "loads.ground_motion.amplitude", stands, collapses,
         overrides=(*overrides, f"loads.ground_motion.period={period!r}"), tolerance=tolerance,
         criterion=criterion)
-    return period, result.stands, result.collapses, len(result.trials)
+    trial = result.collapse()
+    return CurvePoint(period, result.stands, result.collapses, len(result.trials),
+                      trial.collapse_time, trial.mechanism())
 
 
 def collapse_curve(path, periods, stands: float, collapses: float, *,
                    overrides: tuple[str, ...] = (), tolerance: float = 0.01,
                    criterion: CollapseCriterion | None = None,
-                   processes: int | None = None) -> list[tuple[float, float, float, int]]:
+                   processes: int | None = None) -> list[CurvePoint]:
     """For a scenario with a pulse (`[loads.ground_motion]` with `pulse`): for each period
     T_p [s], the smallest pulse amplitude [m/s^2] that collapses the structure, bracketed by
     bisection between `stands` and `collapses`; the periods run in parallel processes.
-    Returns (period, stands at, collapses at, trials) per period, in the order given."""
+    Returns a CurvePoint per period (with the mechanism at collapse), in the order given."""
     jobs = [(str(path), float(p), stands, collapses, tuple(overrides), tolerance, criterion)
             for p in periods]
     if processes == 1 or len(jobs) == 1:
         return [_curve_point(job) for job in jobs]
     with concurrent.futures.ProcessPoolExecutor(max_workers=processes) as pool:
         return list(pool.map(_curve_point, jobs))
+
+
+@dataclass(frozen=True)
+class CollapseEvent:
+    """A run's collapse: the time [s] and output frame from which a free block stayed moved
+    by more than `limit` [m] to the end of the run, that block, and the largest displacement
+    of a free block at the end [m]."""
+
+    time: float
+    frame: int
+    block: str
+    limit: float
+    displacement: float
+
+
+def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent | None:
+    """When the run of saxum.results.Results collapsed, judged on its output frames: a free
+    block moved by more than `fraction` of the smallest free block's size (DYNAMIC_FRACTION:
+    a rocking block that comes back has not collapsed) and did not come back by the end.
+    None when no block is that far at the end."""
+    free = results.model["body_kind"] == BodyKind.FREE
+    if not free.any() or results.frame_count == 0:
+        return None
+    limit = fraction * float(results.body_size[free].min())
+    moved = np.hypot(*np.moveaxis(results.body_q[:, free, :2]
+                                  - results.model["body_q0"][free, :2], -1, 0))
+    largest = moved.max(axis=1)
+    if largest[-1] <= limit:
+        return None
+    below = np.flatnonzero(largest <= limit)
+    k = int(below[-1]) + 1 if below.size else 0
+    block = results.body_name[int(np.flatnonzero(free)[np.argmax(moved[k])])]
+    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]))
