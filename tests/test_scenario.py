@@ -9,17 +9,23 @@ import pytest
 
 import saxum as sx
 from saxum.scenario import (
+    ArchBridgeStructure,
     ArchStructure,
     BlocksStructure,
+    BondedWallStructure,
+    ButtressedWallStructure,
     DetectionSpec,
     FemaP695Spec,
     GroundMotionSpec,
     LawSpec,
     Loads,
+    OpeningSpec,
     OutputSpec,
+    PierStructure,
     PointLoad,
     Scenario,
     Settlement,
+    ShapedArchStructure,
     SolverSpec,
     WallStructure,
     load_scenario,
@@ -187,7 +193,7 @@ def test_blocks_file_relative_to_the_scenario(tmp_path):
     sc = load_scenario(tmp_path / "s.toml")
     assert isinstance(sc.structure, BlocksStructure)
     m = sc.build_model()
-    assert m.body_name == ("ground", "block 1")
+    assert m.body_name == ("ground", "block 2")  # unnamed blocks: "block K", K from 1
     assert m.body_mass[1] == pytest.approx(0.1 * 2500.0)
 
 
@@ -268,7 +274,7 @@ def test_bad_block_in_a_blocks_file_is_named(tmp_path):
     sc = Scenario(structure=BlocksStructure(file=path),
                   laws=[LawSpec(groups=("block", "block"), friction=0.5)],
                   output=OutputSpec(duration=0.1))
-    with pytest.raises(sx.InputError, match="block 1 .*vertices"):
+    with pytest.raises(sx.InputError, match=r"blocks\[1\]: .*at least 3 vertices"):
         sc.build_model()
 
 
@@ -290,14 +296,15 @@ def test_docs_describe_every_key():
     from pathlib import Path
 
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
-    for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, LawSpec, Loads,
-                  PointLoad, Settlement, GroundMotionSpec, FemaP695Spec, SolverSpec,
-                  DetectionSpec,
-                  OutputSpec):
+    for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, ShapedArchStructure,
+                  BondedWallStructure, OpeningSpec, PierStructure, ButtressedWallStructure,
+                  ArchBridgeStructure, LawSpec, Loads, PointLoad, Settlement,
+                  GroundMotionSpec, FemaP695Spec, SolverSpec, DetectionSpec, OutputSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
-    for tag in ("semicircular_arch", "running_bond_wall", "blocks"):
+    for tag in ("semicircular_arch", "running_bond_wall", "blocks", "arch", "wall", "pier",
+                "buttressed_wall", "arch_bridge"):
         assert f'`type = "{tag}"`' in doc
 
 

@@ -102,6 +102,7 @@ def add_wall(
     density: float = 1800.0,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "brick",
+    ground: bool = False,
 ) -> Assembly:
     """A wall of `courses` courses of `bricks` bricks, brick_length x brick_height [m], its
     lower-left corner at `origin` [m]; head and bed joints are exact (bricks touch).
@@ -113,7 +114,8 @@ def add_wall(
     spans it, and a piece smaller than min_piece [-] of a brick is left out.
     Parts "bricks" (course by course from the left, named "brick c<course>b<brick>", a cut
     brick's pieces ".1", ".2"), "lintels" and "voussoirs" (group "lintel", "voussoir"); all of
-    density [kg/m^3].
+    density [kg/m^3]. ground: first add a fixed "ground" block (part and group "ground") three
+    wall lengths wide and one course deep, under the wall's middle.
     """
     check_count("courses", courses)
     check_count("bricks", bricks)
@@ -153,6 +155,8 @@ def add_wall(
         return [x0] + inner + [x0 + bricks * brick_length] if half_bricks else inner
 
     asm = Assembly()
+    if ground:
+        add_ground(builder, asm, x0 - length, x0 + 2.0 * length, y0, brick_height)
     lay_courses(builder, asm, part="bricks", group=group, density=density,
                 levels=[y0 + c * brick_height for c in range(courses + 1)], edges=edges,
                 holes=holes, min_piece=min_piece)
@@ -179,13 +183,10 @@ def wall(
     """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep
     (body 0, group "ground"), friction mu [-] on every joint."""
     builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    length = bricks * brick_length
-    add_ground(builder, asm, -length, 2.0 * length, 0.0, brick_height)
-    asm.merge(add_wall(builder, courses=courses, bricks=bricks, bond=bond,
-                       brick_length=brick_length, brick_height=brick_height,
-                       half_bricks=half_bricks, openings=openings, min_piece=min_piece,
-                       density=density))
+    asm = add_wall(builder, courses=courses, bricks=bricks, bond=bond,
+                   brick_length=brick_length, brick_height=brick_height,
+                   half_bricks=half_bricks, openings=openings, min_piece=min_piece,
+                   density=density, ground=True)
     return finalize(builder, asm.groups, friction, law)
 
 
