@@ -5,6 +5,7 @@ period with its picture and table. The structure is a 0.2 x 1 m block on a fixed
 (overturns about a corner: one hinge between ground and block)."""
 
 import csv
+import re
 import textwrap
 
 import numpy as np
@@ -114,3 +115,19 @@ def test_collapse_curve_mechanism_per_period_picture_and_table(block, capsys):
         assert float(r["collapse_time_s"]) > 0.0
     # a longer pulse overturns the block with a smaller amplitude (Housner 1963)
     assert float(rows[1]["amplitude_g"]) < float(rows[0]["amplitude_g"])
+
+
+def test_harmonic_motion_of_growing_amplitude_reports_the_amplitude_at_collapse(block, capsys):
+    """The amplitude grows as A t / ramp (1 Hz, 6 m/s^2 after 4 s); the block cannot start to
+    rock before it exceeds the static uplift threshold g b/h = 1.962 m/s^2 (Housner 1963)."""
+    results = block.with_name("harmonic.h5")
+    assert main(["run", str(block), "--quiet", "-o", str(results),
+                 "--set", 'loads.ground_motion.pulse="harmonic"',
+                 "--set", "loads.ground_motion.period=1.0", "--set", "loads.ground_motion.cycles=4",
+                 "--set", "loads.ground_motion.ramp=4.0", "--set", "output.duration=3.0",
+                 "--set", "output.histories=[]"]) == 0
+    assert main(["info", str(results)]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.startswith("harmonic amplitude"))
+    began, at = (float(x) for x in re.findall(r"([0-9.]+) m/s\^2", line))
+    assert 9.81 * 0.2 < began <= at <= 6.0

@@ -82,7 +82,8 @@ def _collapse(args) -> None:
         at = trial.state
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size)")
-    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s:")
+    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s (when the "
+          "collapsing motion began):")
     print(mechanism(trial.simulation.model, at, trial.simulation.integrator.dt).text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
@@ -113,7 +114,7 @@ def _collapse_curve(args) -> None:
               f"  {p.amplitude / g:7.4f}  {p.trials:6d}  {p.collapse_time:15.4g}")
     for p in rows:
         print(f"\nmechanism at T_p = {p.period:g} s, amplitude {p.collapses:.4g} m/s^2, "
-              f"t = {p.collapse_time:.4g} s:")
+              f"collapsing from t = {p.mechanism_time:.4g} s:")
         print("  " + p.mechanism.text().replace("\n", "\n  "))
     picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                            + "-curve.png")
@@ -183,27 +184,47 @@ def info_text(r) -> str:
             f"largest interpenetration {s['max_interpenetration'].max():.3g} m; "
             f"projection used at {int(np.count_nonzero(s['projection_iterations']))} step(s); "
             f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} J/m")
-    lines += _collapse_lines(r)
+    lines += _collapse_lines(r, sc.loads.ground_motion if r.scenario_json else None)
     return "\n".join(lines)
 
 
-def _collapse_lines(r) -> list[str]:
-    """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then."""
+def _collapse_lines(r, ground) -> list[str]:
+    """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
+    harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
     from .collapse import DYNAMIC_FRACTION, find_collapse
     from .mechanism import frame_mechanism
 
-    if r.frame_count == 0 or not np.any(r.model["body_kind"] == 0):
+    free = r.model["body_kind"] == 0
+    if r.frame_count == 0 or not free.any():
         return []
+    moved = np.hypot(*np.moveaxis(r.body_q[:, free, :2] - r.model["body_q0"][free, :2], -1,
+                                  0)).max(axis=1)
+    peak = int(np.argmax(moved))
     event = find_collapse(r)
     if event is None:
         return [f"collapse: none (at the end no free block has moved by more than "
-                f"{DYNAMIC_FRACTION:g} x the smallest block's size)"]
-    text = frame_mechanism(r, event.frame).text().replace("\n", "\n  ")
-    return [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
-            f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
-            f"size) and did not come back ({event.displacement:.3g} m at the end)",
-            "mechanism at collapse:\n  " + text,
-            f"picture: saxum plot {r.path} --collapse"]
+                f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
+                f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
+                f"{moved[-1]:.3g} m at the end"]
+    text = frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ")
+    began = float(r.time[event.onset_frame])
+    lines = [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
+             f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
+             f"size) and did not come back ({event.displacement:.3g} m at the end)",
+             f"mechanism at collapse (when the collapsing motion began, t = {began:.4g} s, "
+             f"frame {event.onset_frame}):\n  " + text]
+    if ground is not None and ground.pulse == "harmonic" and ground.ramp > 0.0:
+        g = float(np.hypot(*r.model["gravity"]))
+
+        def amplitude(t):
+            return ground.scale * ground.amplitude * min(1.0, (t + ground.start) / ground.ramp)
+
+        lines.append(f"harmonic amplitude A min(1, t/ramp): {amplitude(began):.4g} m/s^2 "
+                     f"({amplitude(began) / g:.3g} g) when the collapsing motion began, "
+                     f"{amplitude(event.time):.4g} m/s^2 ({amplitude(event.time) / g:.3g} g) "
+                     "at collapse")
+    lines.append(f"picture: saxum plot {r.path} --collapse")
+    return lines
 
 
 def _plot(args) -> None:
@@ -221,9 +242,8 @@ def _plot(args) -> None:
             if event is None:
                 raise InputError(f"{args.results}: no collapse (saxum info says why)")
             out = args.output or Path(args.results).with_suffix(".collapse.png")
-            plot_frame(r, event.frame, out, thrust_line=args.thrust_line,
-                       title=f"{Path(args.results).stem}: collapse ({event.block!r} moved "
-                             f"> {event.limit:.3g} m)")
+            plot_frame(r, event.onset_frame, out, thrust_line=args.thrust_line,
+                       title=f"{Path(args.results).stem}: mechanism at collapse")
         else:
             out = args.output or Path(args.results).with_suffix(".png")
             plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
@@ -345,7 +365,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("results", type=Path)
     p.add_argument("--frame", type=int, default=-1, help="output frame (default: the last)")
     p.add_argument("--collapse", action="store_true",
-                   help="the frame at the time of collapse, with its hinges (saxum info)")
+                   help="the frame at which the collapse began, with its hinges (saxum info)")
     p.add_argument("--histories", action="store_true",
                    help="time histories (the output.histories blocks at every step, energy, "
                         "solver) instead of a frame")

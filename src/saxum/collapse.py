@@ -40,13 +40,17 @@ from .model import BodyKind
 from .simulation import Simulation
 from .state import State
 
-__all__ = ["DYNAMIC_FRACTION", "CollapseCriterion", "CollapseEvent", "CriticalValue",
+__all__ = ["DYNAMIC_FRACTION", "ONSET", "CollapseCriterion", "CollapseEvent", "CriticalValue",
            "CurvePoint", "Trial", "collapse_curve", "critical_value", "find_collapse",
            "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
 
 DYNAMIC_FRACTION = 0.5
 """Under ground motion a block may rock far and come back: a structure has collapsed when a
 free block has moved by this fraction of the smallest free block's size [-] and stays so."""
+ONSET = 0.2
+"""The mechanism at collapse is taken when the collapsing motion began: when a block last
+moved past this fraction of the collapse displacement [-] before the collapse (by the time a
+block has moved half its size, extra hinges open as the blocks fall apart)."""
 
 
 @dataclass(frozen=True)
@@ -84,8 +88,9 @@ class Trial:
     the kinetic energy at the end [J/m], and the simulation and state at the end. For a
     collapse: the time of collapse [s], when a free block last moved past the displacement
     limit (under a pulse this may be before the verdict, which waits for the pulse to end),
-    and the state then, from which saxum.mechanism.mechanism gives the mechanism at
-    collapse (nan and None when it stood)."""
+    and the state when that collapsing motion began (`at_collapse`: when a block last moved
+    past ONSET times the limit before it), whose mechanism (`mechanism()`) shows the hinges
+    that formed before the blocks fell apart (nan and None when it stood)."""
 
     value: float
     collapsed: bool
@@ -146,7 +151,8 @@ def run_trial(sim: Simulation, value: float = math.nan,
     energies = np.zeros(steps)
     displacements = np.zeros(steps)
     moved = ratio = 0.0
-    crossing: State | None = None  # the state when a block last moved past the limit
+    crossed = math.nan  # when a block last moved past the limit
+    onset: State | None = None  # the state when a block last moved past ONSET * limit
     v_before = np.empty_like(state.body_v)
     for k in range(steps):
         v_before[:] = state.body_v
@@ -154,11 +160,14 @@ def run_trial(sim: Simulation, value: float = math.nan,
         energies[k] = report.kinetic_energy
         moved = float(np.hypot(*(state.body_q[free, :2] - m.body_q0[free, :2]).T).max())
         displacements[k] = moved
-        if moved > limit and (k == 0 or displacements[k - 1] <= limit):
-            crossing = state.copy()
+        before = displacements[k - 1] if k else 0.0
+        if moved > ONSET * limit >= before:
+            onset = state.copy()
+        if moved > limit >= before:
+            crossed = state.time
         if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
-                         state, crossing.time, crossing)
+                         state, crossed, onset)
         ratio = unbalanced_force_ratio(sim, state, v_before)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
@@ -170,9 +179,10 @@ def run_trial(sim: Simulation, value: float = math.nan,
                and displacements[half:].max() > displacements[first:half].max())
     if not growing:
         return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state)
-    at = crossing if moved > limit else state
+    over = moved > limit
     return Trial(value, True, state.time, moved, ratio, float(energies[-1]), sim, state,
-                 at.time, at)
+                 crossed if over else state.time,
+                 onset if onset is not None and moved > ONSET * limit else state)
 
 
 @dataclass
@@ -248,14 +258,15 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
 class CurvePoint(NamedTuple):
     """One period of a collapse curve: the period [s], the amplitudes [m/s^2] at which the
     structure stood and collapsed (the bracket of the critical amplitude), the number of
-    trials, and for the collapsing amplitude the time of collapse [s] and the mechanism then
-    (saxum.mechanism.Mechanism)."""
+    trials, and for the collapsing amplitude the time of collapse [s], the time the
+    collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism)."""
 
     period: float
     stands: float
     collapses: float
     trials: int
     collapse_time: float
+    mechanism_time: float
     mechanism: object
 
     @property
@@ -272,7 +283,7 @@ def _curve_point(args) -> CurvePoint:
         criterion=criterion)
     trial = result.collapse()
     return CurvePoint(period, result.stands, result.collapses, len(result.trials),
-                      trial.collapse_time, trial.mechanism())
+                      trial.collapse_time, trial.at_collapse.time, trial.mechanism())
 
 
 def collapse_curve(path, periods, stands: float, collapses: float, *,
@@ -294,14 +305,16 @@ def collapse_curve(path, periods, stands: float, collapses: float, *,
 @dataclass(frozen=True)
 class CollapseEvent:
     """A run's collapse: the time [s] and output frame from which a free block stayed moved
-    by more than `limit` [m] to the end of the run, that block, and the largest displacement
-    of a free block at the end [m]."""
+    by more than `limit` [m] to the end of the run, that block, the largest displacement of a
+    free block at the end [m], and the output frame at which that collapsing motion began
+    (a block last moved past ONSET * limit), whose mechanism is the mechanism at collapse."""
 
     time: float
     frame: int
     block: str
     limit: float
     displacement: float
+    onset_frame: int
 
 
 def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent | None:
@@ -321,4 +334,6 @@ def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent 
     below = np.flatnonzero(largest <= limit)
     k = int(below[-1]) + 1 if below.size else 0
     block = results.body_name[int(np.flatnonzero(free)[np.argmax(moved[k])])]
-    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]))
+    still = np.flatnonzero(largest[:k] <= ONSET * limit)
+    onset = int(still[-1]) + 1 if still.size else 0
+    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]), onset)
