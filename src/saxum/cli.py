@@ -110,9 +110,14 @@ def _collapse_curve(args) -> None:
     print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
           "  collapse at [s]")
     for p in rows:
+        if p.note:
+            print(f"{p.period:10.4g}  not found: {p.note}")
+            continue
         print(f"{p.period:10.4g}  {p.amplitude:26.4g}  ({p.stands:.4g} .. {p.collapses:.4g})"
               f"  {p.amplitude / g:7.4f}  {p.trials:6d}  {p.collapse_time:15.4g}")
     for p in rows:
+        if p.note:
+            continue
         print(f"\nmechanism at T_p = {p.period:g} s, amplitude {p.collapses:.4g} m/s^2, "
               f"collapsing from t = {p.mechanism_time:.4g} s:")
         print("  " + p.mechanism.text().replace("\n", "\n  "))
@@ -123,14 +128,15 @@ def _collapse_curve(args) -> None:
     table = picture.with_suffix(".csv")
     with open(table, "w") as f:
         f.write("period_s,stands_m_s2,collapses_m_s2,amplitude_g,trials,collapse_time_s,"
-                "hinges,sliding_joints,moving_blocks\n")
+                "hinges,sliding_joints,moving_blocks,note\n")
         for p in rows:
             m = p.mechanism
-            joints = [" | ".join(j.bodies) for j in m.hinges]
-            slides = [" | ".join(j.bodies) for j in m.sliding]
+            joints = [" | ".join(j.bodies) for j in m.hinges] if m else []
+            slides = [" | ".join(j.bodies) for j in m.sliding] if m else []
             f.write(f"{p.period!r},{p.stands!r},{p.collapses!r},{p.amplitude / g:.6g},"
                     f"{p.trials},{p.collapse_time!r},\"{'; '.join(joints)}\","
-                    f"\"{'; '.join(slides)}\",\"{'; '.join(m.moving)}\"\n")
+                    f"\"{'; '.join(slides)}\",\"{'; '.join(m.moving if m else [])}\","
+                    f"\"{p.note}\"\n")
     print(f"\npicture: {picture.resolve()}\ntable: {table.resolve()}")
 
 

@@ -40,9 +40,9 @@ from .model import BodyKind
 from .simulation import Simulation
 from .state import State
 
-__all__ = ["DYNAMIC_FRACTION", "ONSET", "CollapseCriterion", "CollapseEvent", "CriticalValue",
-           "CurvePoint", "Trial", "collapse_curve", "critical_value", "find_collapse",
-           "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
+__all__ = ["DYNAMIC_FRACTION", "ONSET", "BracketError", "CollapseCriterion", "CollapseEvent",
+           "CriticalValue", "CurvePoint", "Trial", "collapse_curve", "critical_value",
+           "find_collapse", "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
 
 DYNAMIC_FRACTION = 0.5
 """Under ground motion a block may rock far and come back: a structure has collapsed when a
@@ -185,6 +185,11 @@ def run_trial(sim: Simulation, value: float = math.nan,
                  onset if onset is not None and moved > ONSET * limit else state)
 
 
+class BracketError(InputError):
+    """The bracket of a bisection does not hold the critical value: the structure collapses
+    at the value where it should stand, or stands where it should collapse."""
+
+
 @dataclass
 class CriticalValue:
     """The critical value of a parameter, bracketed: the value closest to it at which the
@@ -222,10 +227,10 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
         return trial.collapsed
 
     if collapsed(stands):
-        raise InputError(f"the structure already collapses at {stands:g}; start the bracket "
+        raise BracketError(f"the structure already collapses at {stands:g}; start the bracket "
                          "at a value where it stands")
     if not collapsed(collapses):
-        raise InputError(f"the structure still stands at {collapses:g}; widen the bracket")
+        raise BracketError(f"the structure still stands at {collapses:g}; widen the bracket")
     while abs(collapses - stands) > tolerance * max(abs(stands), abs(collapses)):
         mid = 0.5 * (stands + collapses)
         if collapsed(mid):
@@ -259,7 +264,9 @@ class CurvePoint(NamedTuple):
     """One period of a collapse curve: the period [s], the amplitudes [m/s^2] at which the
     structure stood and collapsed (the bracket of the critical amplitude), the number of
     trials, and for the collapsing amplitude the time of collapse [s], the time the
-    collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism)."""
+    collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism). When the
+    bracket did not hold the critical amplitude at this period, the amplitudes and times are
+    nan, the mechanism None and `note` says why (the other periods are kept)."""
 
     period: float
     stands: float
@@ -268,6 +275,7 @@ class CurvePoint(NamedTuple):
     collapse_time: float
     mechanism_time: float
     mechanism: object
+    note: str = ""
 
     @property
     def amplitude(self) -> float:
@@ -277,10 +285,14 @@ class CurvePoint(NamedTuple):
 
 def _curve_point(args) -> CurvePoint:
     path, period, stands, collapses, overrides, tolerance, criterion = args
-    result = scenario_critical_value(
-        path, "loads.ground_motion.amplitude", stands, collapses,
-        overrides=(*overrides, f"loads.ground_motion.period={period!r}"), tolerance=tolerance,
-        criterion=criterion)
+    try:
+        result = scenario_critical_value(
+            path, "loads.ground_motion.amplitude", stands, collapses,
+            overrides=(*overrides, f"loads.ground_motion.period={period!r}"),
+            tolerance=tolerance, criterion=criterion)
+    except BracketError as err:
+        nan = math.nan
+        return CurvePoint(period, nan, nan, 0, nan, nan, None, str(err))
     trial = result.collapse()
     return CurvePoint(period, result.stands, result.collapses, len(result.trials),
                       trial.collapse_time, trial.at_collapse.time, trial.mechanism())

@@ -401,9 +401,12 @@ def plot_collapse_curve(points, path: str | PathLike | None = None, *, g: float 
                         figsize: tuple[float, float] = (7.0, 4.5), dpi: int = 150) -> Figure:
     """The collapse curve of saxum.collapse.collapse_curve: the critical pulse amplitude
     [g] against the pulse period [s], each point with its bisection bracket (stood at the
-    lower end, collapsed at the upper); the region above the curve collapses. `static`: the
-    static horizontal load factor [-], drawn as the long-period limit."""
-    pts = sorted(points, key=lambda p: p.period)
+    lower end, collapsed at the upper; periods whose bracket failed are left out); the region
+    above the curve collapses. `static`: the static horizontal load factor [-], drawn as the
+    long-period limit."""
+    pts = sorted((p for p in points if np.isfinite(p.collapses)), key=lambda p: p.period)
+    if not pts:
+        raise InputError("no period of the collapse curve has a critical amplitude to draw")
     t = np.array([p.period for p in pts])
     lo = np.array([p.stands for p in pts]) / g
     hi = np.array([p.collapses for p in pts]) / g
