@@ -16,6 +16,7 @@ from saxum.scenario import (
     BondedWallStructure,
     ButtressedWallStructure,
     DetectionSpec,
+    FemaP695Spec,
     GroundMotionSpec,
     LawSpec,
     Loads,
@@ -298,7 +299,7 @@ def test_docs_describe_every_key():
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, ShapedArchStructure,
                   BondedWallStructure, OpeningSpec, PierStructure, ButtressedWallStructure,
                   ArchBridgeStructure, LawSpec, Loads, PointLoad, Settlement,
-                  GroundMotionSpec, SolverSpec, DetectionSpec, OutputSpec):
+                  GroundMotionSpec, FemaP695Spec, SolverSpec, DetectionSpec, OutputSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
@@ -367,7 +368,23 @@ def test_ground_motion_driving_the_supports(tmp_path):
     assert m.body_kind[support] == sx.BodyKind.DRIVEN
     motion = m.motions[m.body_motion[support]]
     assert motion(0.01)[0] == pytest.approx(0.5 * 0.01 * 0.1)  # m/s^2 units given
-    assert "give either file (a record) or pulse" in _error(
+    assert "give one of file (a record), fema_p695 or pulse" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\nfile = "x.csv"\n')
     assert "needs the names of the supports" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\napply = "driven"\n')
+
+
+def test_harmonic_ground_motion_in_a_scenario():
+    text = ARCH + textwrap.dedent("""\
+        [loads.ground_motion]
+        pulse = "harmonic"
+        amplitude = 3.0
+        period = 0.5
+        cycles = 4
+        ramp = 2.0
+    """)
+    motion = parse_scenario(text).loads.ground_motion.motion()
+    assert motion.duration == pytest.approx(2.0)
+    assert motion.acceleration_at(1.625)[0] == pytest.approx(3.0 * 1.625 / 2.0, rel=1e-3)
+    assert "ramp: Input should be greater than or equal to 0" in _error(
+        text.replace("ramp = 2.0", "ramp = -1.0"))

