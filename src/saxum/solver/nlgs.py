@@ -112,28 +112,34 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             wnn = delassus[a, 1, 1]
             rt0 = impulse[a, 0]
             rn0 = impulse[a, 1]
-            ut = (h_cand[a, 0, 0] * vc0 + h_cand[a, 0, 1] * vc1 + h_cand[a, 0, 2] * vc2
-                  + h_ant[a, 0, 0] * vb0 + h_ant[a, 0, 1] * vb1 + h_ant[a, 0, 2] * vb2
-                  - wtt * rt0 - wtn * rn0)
-            un = (h_cand[a, 1, 0] * vc0 + h_cand[a, 1, 1] * vc1 + h_cand[a, 1, 2] * vc2
-                  + h_ant[a, 1, 0] * vb0 + h_ant[a, 1, 1] * vb1 + h_ant[a, 1, 2] * vb2
-                  - wtn * rt0 - wnn * rn0)
+            # Sums as balanced trees and the impulse terms apart: the velocities of one
+            # contact depend on those the previous one wrote, so the latency of this chain
+            # (not the arithmetic) bounds the sweep.
+            ut = (((h_cand[a, 0, 0] * vc0 + h_cand[a, 0, 1] * vc1)
+                   + (h_cand[a, 0, 2] * vc2 + h_ant[a, 0, 0] * vb0))
+                  + ((h_ant[a, 0, 1] * vb1 + h_ant[a, 0, 2] * vb2) - (wtt * rt0 + wtn * rn0)))
+            # u_n + b_n, the law's shift with the impulse terms
+            un = (((h_cand[a, 1, 0] * vc0 + h_cand[a, 1, 1] * vc1)
+                   + (h_cand[a, 1, 2] * vc2 + h_ant[a, 1, 0] * vb0))
+                  + ((h_ant[a, 1, 1] * vb1 + h_ant[a, 1, 2] * vb2)
+                     + (bias[a] - (wtn * rt0 + wnn * rn0))))
             rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, factors[a, 0], factors[a, 1],
                                                factors[a, 2], factors[a, 3], factors[a, 4], ut,
-                                               un + bias[a], friction[a])
+                                               un, friction[a])
             if relaxation != 1.0:
                 rt = relaxation * rt + (1.0 - relaxation) * rt0
                 rn = relaxation * rn + (1.0 - relaxation) * rn0
             dt = rt - rt0
             dn = rn - rn0
-            if dt != 0.0 or dn != 0.0:
-                # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b
-                v[c, 0] = vc0 + inv_mass[c, 0] * (h_cand[a, 0, 0] * dt + h_cand[a, 1, 0] * dn)
-                v[c, 1] = vc1 + inv_mass[c, 1] * (h_cand[a, 0, 1] * dt + h_cand[a, 1, 1] * dn)
-                v[c, 2] = vc2 + inv_mass[c, 2] * (h_cand[a, 0, 2] * dt + h_cand[a, 1, 2] * dn)
-                v[b, 0] = vb0 + inv_mass[b, 0] * (h_ant[a, 0, 0] * dt + h_ant[a, 1, 0] * dn)
-                v[b, 1] = vb1 + inv_mass[b, 1] * (h_ant[a, 0, 1] * dt + h_ant[a, 1, 1] * dn)
-                v[b, 2] = vb2 + inv_mass[b, 2] * (h_ant[a, 0, 2] * dt + h_ant[a, 1, 2] * dn)
+            # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
+            # a branch on it is mispredicted more often than the stores cost)
+            mc, mb = inv_mass[c], inv_mass[b]
+            v[c, 0] = vc0 + (mc[0] * h_cand[a, 0, 0] * dt + mc[0] * h_cand[a, 1, 0] * dn)
+            v[c, 1] = vc1 + (mc[1] * h_cand[a, 0, 1] * dt + mc[1] * h_cand[a, 1, 1] * dn)
+            v[c, 2] = vc2 + (mc[2] * h_cand[a, 0, 2] * dt + mc[2] * h_cand[a, 1, 2] * dn)
+            v[b, 0] = vb0 + (mb[0] * h_ant[a, 0, 0] * dt + mb[0] * h_ant[a, 1, 0] * dn)
+            v[b, 1] = vb1 + (mb[1] * h_ant[a, 0, 1] * dt + mb[1] * h_ant[a, 1, 1] * dn)
+            v[b, 2] = vb2 + (mb[2] * h_ant[a, 0, 2] * dt + mb[2] * h_ant[a, 1, 2] * dn)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
         error = _relative_change(v, v_prev, v_free, mass)
