@@ -2,6 +2,7 @@
 of bad input gets a message naming the key, the line and the allowed values."""
 
 import json
+import math
 import textwrap
 
 import numpy as np
@@ -70,6 +71,7 @@ FULL = textwrap.dedent("""\
     direction = [0.0, -1.0]
     rotation = 0.001
     time = 0.5
+    profile = "smooth"
 
     [loads.ground_motion]
     pulse = "mavroeidis_papageorgiou"
@@ -114,7 +116,7 @@ PYTHON = Scenario(
     loads=Loads(gravity=(0.0, -9.8), horizontal_acceleration=0.5, load_factor_rate=0.01,
                 point_loads=[PointLoad(block="brick c3b2", magnitude=10.0, direction=(1.0, 0.0))],
                 settlements=[Settlement(block="ground", magnitude=0.001, direction=(0.0, -1.0),
-                                        rotation=0.001, time=0.5)],
+                                        rotation=0.001, time=0.5, profile="smooth")],
                 ground_motion=GroundMotionSpec(
                     pulse="mavroeidis_papageorgiou", amplitude=0.5, velocity=0.3, period=0.4,
                     gamma=2.5, nu=0.2, direction=(1.0, 0.5), scale=1.5, start=0.01, end=0.9,
@@ -331,6 +333,12 @@ def test_point_loads_and_settlements():
     assert m.body_kind[support] == sx.BodyKind.DRIVEN
     motion = m.motions[m.body_motion[support]]
     assert motion(0.1) == pytest.approx((0.0, -0.04, 0.02)) and motion(0.6) == (0.0, 0.0, 0.0)
+    smooth = parse_scenario(text, overrides=["loads.settlements[0].profile=smooth"]).build_model()
+    motion = smooth.motions[smooth.body_motion[support]]
+    # (pi/2) sin(pi t / T) times the mean rate: zero at both ends, pi/2 times it mid-way
+    assert motion(0.0) == pytest.approx((0.0, 0.0, 0.0))
+    assert motion(0.25) == pytest.approx((0.0, -0.04 * math.pi / 2, 0.02 * math.pi / 2))
+    assert motion(0.5) == (0.0, 0.0, 0.0)
 
 
 def test_bad_loads_are_named():

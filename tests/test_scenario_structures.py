@@ -61,6 +61,7 @@ WALL = textwrap.dedent("""\
     half_bricks = false
     min_piece = 0.2
     density = 1900.0
+    ground_splits = [1.0]
 
     [[structure.openings]]
     x = 0.3
@@ -149,7 +150,7 @@ CASES = {
                                 pier_kind=sx.BodyKind.FREE)),
     "wall": (WALL, BondedWallStructure(
         courses=8, bricks=8, brick_length=0.3, brick_height=0.1,
-        half_bricks=False, min_piece=0.2, density=1900.0, openings=[
+        half_bricks=False, min_piece=0.2, density=1900.0, ground_splits=[1.0], openings=[
             OpeningSpec(x=0.3, width=0.3, height=0.4, head_depth=0.15, bearing=0.1),
             OpeningSpec(x=1.0, y=0.2, width=0.4, height=0.3, head="segmental_arch",
                         head_depth=0.12, rise=0.1, voussoirs=5),
@@ -157,7 +158,7 @@ CASES = {
                         head_depth=0.15, skewback=0.3)]),
         lambda: structures.wall(
             courses=8, bricks=8, brick_length=0.3, brick_height=0.1,
-            half_bricks=False, min_piece=0.2, density=1900.0, openings=[
+            half_bricks=False, min_piece=0.2, density=1900.0, ground_splits=[1.0], openings=[
                 structures.Opening(0.3, 0.0, 0.3, 0.4, head="lintel", head_depth=0.15,
                                    bearing=0.1),
                 structures.Opening(1.0, 0.2, 0.4, 0.3, head="segmental_arch",
@@ -290,11 +291,13 @@ def _error(text, **kw):
     (WALL, "width = 0.3\nheight = 0.4", "width = 3.0\nheight = 0.4",
      ["structure: openings[0]", "outside the wall"]),
     (WALL, "bearing = 0.1", "bearing = 0.1\ncolour = 1",
-     ["line 17: structure.openings[0].colour: unknown key",
+     ["line 18: structure.openings[0].colour: unknown key",
       "allowed keys here: x, y, width, height, head"]),
     (WALL, "rise = 0.1", "rise = 0.1\nbearing = 0.1",
-     ["structure.openings[1]", 'bearing is not used with head = "segmental_arch"']),
+     ["line 19: structure.openings[1]", 'bearing is not used with head = "segmental_arch"']),
     (WALL, "x = 1.0", "x = 0.4", ["openings[0] and openings[1]", "overlap"]),
+    (WALL, "ground_splits = [1.0]", "ground_splits = [1.0, 0.5]",
+     ["structure: ground_splits must increase strictly"]),
     (WALL, "bricks = 8", 'bricks = 8\nbond = "english"',
      ["structure.bond", "'running' or 'stack'"]),
     (BUTTRESSED, "buttress_height = 2.0", "buttress_height = 2.2",

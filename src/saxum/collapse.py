@@ -17,6 +17,22 @@ load factor, a point load, a settlement, a thickness...) from rest, and decides:
   displacement grew (a mechanism that keeps going), standing otherwise (e.g. a block still
   rocking after a pulse, back and forth about its initial position).
 
+Under an imposed settlement (`after_motion`, with `not_before` the end of the settlement)
+the blocks carried by the moving support move with it without collapsing, so a trial is
+judged instead:
+
+- **collapsed during the settlement** as soon as a free block's kinetic energy exceeds
+  m_b |g| d, d the displacement threshold: the block moves as fast as after falling freely
+  by d, sqrt(2 |g| d) (0.3 m/s for d = 4.5 mm), while a structure that follows a slow
+  settlement quasi-statically moves at the support's speed times a lever ratio of order one;
+- then, with displacements measured from where the blocks are when the support stops:
+  **at rest** as above (the settlement is accommodated, usually with a mechanism: joints
+  opened, blocks moved with the support), **collapsed** if a block moves on by more than d
+  (a block falling, a mechanism that keeps going).
+
+The settlement must then be slow and start and stop smoothly (saxum.scenario Settlement
+with profile = "smooth"), so that no block is thrown by the support's own motion.
+
 For rigid blocks with unilateral frictional contacts a load below the collapse load is carried
 with no motion at all (a statically admissible set of contact forces exists and v = 0 solves
 every step), so loading from rest to a fixed value and bisecting on that value gives the
@@ -61,7 +77,10 @@ class CollapseCriterion:
     (after not_before), settle [s], force_ratio [-], energy [-];
     not_before [s]: no verdict before this time (the end of a pulse or record: a structure
     is at rest before a pulse has risen, and a block that rocks far during a pulse may be
-    brought back by it; what counts is where it is once the ground is still)."""
+    brought back by it; what counts is where it is once the ground is still);
+    after_motion: a settlement ends at not_before: before it, collapse when a block moves as
+    fast as after a free fall by the displacement threshold; after it, displacements count
+    from the configuration at not_before instead of the initial one (module doc)."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -70,6 +89,7 @@ class CollapseCriterion:
     force_ratio: float = 1e-4
     energy: float = 1e-9
     not_before: float = 0.0
+    after_motion: bool = False
 
     def __post_init__(self) -> None:
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
@@ -84,13 +104,14 @@ class CollapseCriterion:
 @dataclass
 class Trial:
     """Outcome of one trial: the parameter value, collapsed or at rest, the time it was
-    decided [s], the largest displacement of a free block [m], the last unbalanced force ratio,
-    the kinetic energy at the end [J/m], and the simulation and state at the end. For a
-    collapse: the time of collapse [s], when a free block last moved past the displacement
-    limit (under a pulse this may be before the verdict, which waits for the pulse to end),
-    and the state when that collapsing motion began (`at_collapse`: when a block last moved
-    past ONSET times the limit before it), whose mechanism (`mechanism()`) shows the hinges
-    that formed before the blocks fell apart (nan and None when it stood)."""
+    decided [s], the largest displacement of a free block [m] (from the initial position, or
+    from that at not_before with after_motion), the last unbalanced force ratio, the kinetic
+    energy at the end [J/m], and the simulation and state at the end. For a collapse: the time
+    of collapse [s], when a free block last moved past the displacement limit (under a pulse
+    this may be before the verdict, which waits for the pulse to end), and the state when that
+    collapsing motion began (`at_collapse`: when a block last moved past ONSET times the limit
+    before it), whose mechanism (`mechanism()`) shows the hinges that formed before the blocks
+    fell apart (nan and None when it stood)."""
 
     value: float
     collapsed: bool
@@ -154,20 +175,25 @@ def run_trial(sim: Simulation, value: float = math.nan,
     crossed = math.nan  # when a block last moved past the limit
     onset: State | None = None  # the state when a block last moved past ONSET * limit
     v_before = np.empty_like(state.body_v)
+    reference, anchored = m.body_q0[free, :2], not crit.after_motion
+    fall = m.body_mass[free] * g * limit  # [J/m] the energy of a free fall by `limit`
     for k in range(steps):
         v_before[:] = state.body_v
         report = sim.step(state)
         energies[k] = report.kinetic_energy
-        moved = float(np.hypot(*(state.body_q[free, :2] - m.body_q0[free, :2]).T).max())
+        if not anchored and state.time >= crit.not_before:
+            reference, anchored = state.body_q[free, :2].copy(), True
+        moved = float(np.hypot(*(state.body_q[free, :2] - reference).T).max())
         displacements[k] = moved
+        thrown = not anchored and bool(np.any(_block_energy(m, state.body_v)[free] > fall))
         before = displacements[k - 1] if k else 0.0
         if moved > ONSET * limit >= before:
             onset = state.copy()
-        if moved > limit >= before:
+        if moved > limit >= before or (thrown and math.isnan(crossed)):
             crossed = state.time
-        if moved > limit and state.time >= crit.not_before:
+        if thrown or (moved > limit and state.time >= crit.not_before):
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
-                         state, crossed, onset)
+                         state, crossed, onset if onset is not None else state.copy())
         ratio = unbalanced_force_ratio(sim, state, v_before)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
@@ -183,6 +209,12 @@ def run_trial(sim: Simulation, value: float = math.nan,
     return Trial(value, True, state.time, moved, ratio, float(energies[-1]), sim, state,
                  crossed if over else state.time,
                  onset if onset is not None and moved > ONSET * limit else state)
+
+
+def _block_energy(model, v: np.ndarray) -> np.ndarray:
+    """Kinetic energy of each body, 1/2 (m |v|^2 + I omega^2) [J/m]."""
+    return 0.5 * (model.body_mass * (v[:, 0] ** 2 + v[:, 1] ** 2)
+                  + model.body_inertia * v[:, 2] ** 2)
 
 
 class BracketError(InputError):
@@ -246,17 +278,21 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
     """critical_value over the scenario key `key` (dotted, e.g. loads.horizontal_acceleration,
     structure.thickness or loads.ground_motion.amplitude) of the scenario file at `path`, other
     keys overridden by `overrides` ("key=value"). With a ground motion, no trial is judged at
-    rest before the motion has ended."""
+    rest before the motion has ended; with settlements, none before they end, and
+    displacements count from there (CollapseCriterion.after_motion)."""
     from .scenario import load_scenario
 
     def make(x: float) -> Simulation:
         return load_scenario(path, [*overrides, f"{key}={x!r}"]).build_simulation()
 
     crit = criterion or CollapseCriterion()
-    ground = load_scenario(path, list(overrides)).loads.ground_motion
-    if ground is not None:
-        crit = dataclasses.replace(crit, not_before=max(crit.not_before,
-                                                        float(ground.motion().time[-1])))
+    loads = load_scenario(path, list(overrides)).loads
+    if loads.ground_motion is not None:
+        crit = dataclasses.replace(crit, not_before=max(
+            crit.not_before, float(loads.ground_motion.motion().time[-1])))
+    if loads.settlements:
+        crit = dataclasses.replace(crit, after_motion=True, not_before=max(
+            crit.not_before, *(s.time for s in loads.settlements)))
     return critical_value(make, stands, collapses, tolerance=tolerance, criterion=crit)
 
 

@@ -244,12 +244,14 @@ class BondedWallStructure(_Generated):
     min_piece: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.1
     density: Positive = 1800.0
     openings: list[OpeningSpec] = []
+    ground_splits: list[Finite] = []
 
     def _add(self, builder: ModelBuilder) -> None:
         add_wall(builder, courses=self.courses, bricks=self.bricks, bond=self.bond,
                  brick_length=self.brick_length, brick_height=self.brick_height,
                  half_bricks=self.half_bricks, min_piece=self.min_piece, density=self.density,
-                 openings=[o.opening() for o in self.openings], ground=True)
+                 openings=[o.opening() for o in self.openings], ground=True,
+                 ground_splits=self.ground_splits)
 
 
 class PierStructure(_Generated):
@@ -354,14 +356,32 @@ class PointLoad(_Strict):
 
 class Settlement(_Strict):
     """The fixed block called `block` (a support) moves by `magnitude` [m] along `direction`
-    (normalized) and turns by `rotation` [rad] about its centre of mass, at a constant rate
-    over `time` [s] from the start, then stays."""
+    (normalized) and turns by `rotation` [rad] about its centre of mass over `time` [s] from
+    the start, then stays: at a constant rate (profile "linear") or with the rate
+    (pi / 2) sin(pi t / time) times the mean one (profile "smooth": starts and stops with no
+    jerk, for quasi-static settlements)."""
 
     block: str
     magnitude: Finite
     direction: tuple[Finite, Finite] = (0.0, -1.0)
     rotation: Finite = 0.0
     time: Positive = 1.0
+    profile: Literal["linear", "smooth"] = "linear"
+
+    def motion(self, direction: np.ndarray):
+        """t [s] -> (vx [m/s], vy [m/s], omega [rad/s]) of the support."""
+        vx, vy = self.magnitude / self.time * direction
+        mean = (vx, vy, self.rotation / self.time)
+        end = self.time
+        if self.profile == "linear":
+            return lambda t: mean if t < end else (0.0, 0.0, 0.0)
+
+        def smooth(t: float) -> tuple[float, float, float]:
+            if t >= end:
+                return 0.0, 0.0, 0.0
+            rate = 0.5 * math.pi * math.sin(math.pi * t / end)
+            return mean[0] * rate, mean[1] * rate, mean[2] * rate
+        return smooth
 
 
 class FemaP695Spec(_Strict):
@@ -469,10 +489,7 @@ class Loads(_Strict):
             fx, fy = load.magnitude * _unit(load.direction, "point_loads.direction")
             builder.add_force([builder.index(load.block)], lambda t, f=(fx, fy): (*f, 0.0))
         for s in self.settlements:
-            vx, vy = s.magnitude / s.time * _unit(s.direction, "settlements.direction")
-            omega = s.rotation / s.time
-            builder.drive(s.block, lambda t, v=(vx, vy, omega), end=s.time:
-                          v if t < end else (0.0, 0.0, 0.0))
+            builder.drive(s.block, s.motion(_unit(s.direction, "settlements.direction")))
         if self.ground_motion is not None:
             motion = self.ground_motion.motion()
             if self.ground_motion.apply == "inertial":
@@ -748,7 +765,8 @@ def _line_of(text: str, loc: list) -> int | None:
             idx = next((int(p[1:]) for p in current if p.startswith("#")), None)
             if here == table and (index is None or idx == index):
                 return n
-    for n, raw in enumerate(text.splitlines(), start=1):
-        if raw.strip().strip("[]") == ".".join(names):
-            return n
-    return None
+    headers = [n for n, raw in enumerate(text.splitlines(), start=1)
+               if raw.strip().strip("[]") == ".".join(names)]
+    if index is not None and index < len(headers):
+        return headers[index]
+    return headers[0] if headers else None
