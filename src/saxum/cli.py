@@ -72,18 +72,17 @@ def _collapse(args) -> None:
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     trial = result.collapse()
     motion = scenario.loads.ground_motion
-    if motion is not None:  # the state when a block moved past the limit
-        at = trial.at_collapse
+    if motion is not None:  # the state when the collapsing motion began
+        at, when = trial.at_collapse, "when the collapsing motion began"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size; the ground motion ends at "
               f"{float(motion.motion().time[-1]):.4g} s)")
     else:
         trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
-        at = trial.state
+        at, when = trial.state, "0.05 s after the verdict"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size)")
-    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s (when the "
-          "collapsing motion began):")
+    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s ({when}):")
     print(mechanism(trial.simulation.model, at, trial.simulation.integrator.dt).text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
