@@ -19,6 +19,7 @@ import dataclasses
 import json
 import os
 import platform
+import resource
 import time
 from pathlib import Path
 
@@ -80,13 +81,24 @@ def pulse_curve(processes: int) -> dict:
     # compile (the workers then load the kernels from numba's cache)
     run_trial(load_scenario(SHAKE_TABLE_ARCH).build_simulation(),
               criterion=CollapseCriterion(duration=0.05))
+    cpu = _cpu_seconds()
     start = time.perf_counter()
     rows = collapse_curve(SHAKE_TABLE_ARCH, PERIODS, 0.5, 25.0, tolerance=0.02,
                           criterion=criterion, processes=processes)
     wall = time.perf_counter() - start
+    cpu = _cpu_seconds() - cpu
     return {"processes": processes, "cpus": os.cpu_count(), "periods_s": list(PERIODS),
             "amplitude_g": [p.amplitude / 9.81 for p in rows],
-            "trials": sum(p.trials for p in rows), "wall_s": wall}
+            "trials": sum(p.trials for p in rows), "wall_s": wall, "cpu_s": cpu,
+            "load_average_1min_after": os.getloadavg()[0]}
+
+
+def _cpu_seconds() -> float:
+    """User + system CPU time [s] of this process and of its finished children (the worker
+    processes of a collapse curve are counted once the pool has shut down)."""
+    own, children = (resource.getrusage(who) for who in (resource.RUSAGE_SELF,
+                                                          resource.RUSAGE_CHILDREN))
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def main() -> None:
@@ -94,25 +106,33 @@ def main() -> None:
     parser.add_argument("--json", type=Path, default=Path("benchmarks/results/collapse.json"))
     parser.add_argument("--processes", default="2,1",
                         help="worker counts for the pulse collapse curve, comma separated")
+    parser.add_argument("--parts", default="arch,wall,pulse",
+                        help="which benchmarks to run (arch, wall, pulse), comma separated")
     args = parser.parse_args()
+    parts = args.parts.split(",")
     out = {"machine": f"{platform.processor() or platform.machine()}, "
-                      f"{platform.platform()}, python {platform.python_version()}",
-           "arch_bisection": arch_bisection(), "wall_to_rest": wall_to_rest(),
-           "pulse_curve": [pulse_curve(int(n)) for n in args.processes.split(",")]}
-    a, w = out["arch_bisection"], out["wall_to_rest"]
-    print(f"arch 15 voussoirs t/R 0.15: lambda = {a['load_factor']:.4f} "
-          f"({a['bracket'][0]:.4f} .. {a['bracket'][1]:.4f}), {a['trials']} trials, "
-          f"{a['simulated_s']:.2f} s simulated in {a['wall_s']:.2f} s")
-    print(f"wall {w['bricks']} bricks, {w['contacts']} contacts: at rest {w['at_rest']} after "
-          f"{w['time_to_rest_s']:.3f} s simulated, {w['wall_s']:.2f} s wall ({w['steps']} steps,"
-          f" {w['ms_per_step']:.2f} ms/step); sweeps first {w['sweeps_first']}, mean "
-          f"{w['sweeps_mean']:.1f}, max after the first {w['sweeps_max_after_first']}; "
-          f"not converged {w['not_converged']}")
-    for c in out["pulse_curve"]:
-        print(f"pulse collapse curve, arch 15 voussoirs, {len(c['periods_s'])} periods: "
-              f"{c['trials']} trials in {c['wall_s']:.1f} s wall on {c['processes']} "
-              f"process(es) ({c['cpus']} CPUs); amplitudes [g] "
-              + ", ".join(f"{a:.3f}" for a in c["amplitude_g"]))
+                      f"{platform.platform()}, python {platform.python_version()}"}
+    if "arch" in parts:
+        a = out["arch_bisection"] = arch_bisection()
+        print(f"arch 15 voussoirs t/R 0.15: lambda = {a['load_factor']:.4f} "
+              f"({a['bracket'][0]:.4f} .. {a['bracket'][1]:.4f}), {a['trials']} trials, "
+              f"{a['simulated_s']:.2f} s simulated in {a['wall_s']:.2f} s")
+    if "wall" in parts:
+        w = out["wall_to_rest"] = wall_to_rest()
+        print(f"wall {w['bricks']} bricks, {w['contacts']} contacts: at rest {w['at_rest']} "
+              f"after {w['time_to_rest_s']:.3f} s simulated, {w['wall_s']:.2f} s wall "
+              f"({w['steps']} steps, {w['ms_per_step']:.2f} ms/step); sweeps first "
+              f"{w['sweeps_first']}, mean {w['sweeps_mean']:.1f}, max after the first "
+              f"{w['sweeps_max_after_first']}; not converged {w['not_converged']}")
+    if "pulse" in parts:
+        out["pulse_curve"] = [pulse_curve(int(n)) for n in args.processes.split(",")]
+        for c in out["pulse_curve"]:
+            print(f"pulse collapse curve, arch 15 voussoirs, {len(c['periods_s'])} periods: "
+                  f"{c['trials']} trials in {c['wall_s']:.1f} s wall on {c['processes']} "
+                  f"process(es), {c['cpu_s']:.1f} s CPU ({c['cpu_s'] / c['wall_s']:.2f} cores "
+                  f"busy on average; {c['cpus']} CPUs, load average "
+                  f"{c['load_average_1min_after']:.1f} after); amplitudes [g] "
+                  + ", ".join(f"{a:.3f}" for a in c["amplitude_g"]))
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(out, indent=2))
 

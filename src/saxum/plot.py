@@ -420,8 +420,8 @@ def plot_collapse_curve(points, path: str | PathLike | None = None, *, g: float 
     if static is not None:
         ax.axhline(static, color="#1f5fa8", ls="--", lw=1.0,
                    label=f"static load factor {static:.3g}")
-    ax.set_xlabel("pulse period $T_p$ [s]")
-    ax.set_ylabel("pulse amplitude [g]")
+    ax.set_xlabel("period of the ground motion $T_p$ [s]")
+    ax.set_ylabel("amplitude [g]")
     ax.set_ylim(0.0, max(hi.max(), 1e-9) * 1.15)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
