@@ -69,7 +69,8 @@ def _collapse(args) -> None:
     trial = result.collapse()
     trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
     print(f"mechanism at {args.vary} = {result.collapses:.6g}:")
-    print(mechanism(trial.simulation.model, trial.state, trial.simulation.integrator.dt).text())
+    mech = mechanism(trial.simulation.model, trial.state, trial.simulation.integrator.dt)
+    print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
@@ -77,7 +78,8 @@ def _collapse(args) -> None:
     run_scenario(scenario, output, quiet=True)
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        plot_frame(r, -1, picture, thrust_line=True)
+        wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
+        plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 

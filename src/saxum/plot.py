@@ -24,7 +24,7 @@ from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
-from .mechanism import joint_states, thrust_line
+from .mechanism import Mechanism, course_of, joint_states, thrust_line
 from .model import BodyKind, Model
 
 __all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
@@ -36,6 +36,8 @@ _MARKS = {  # joint_states label: marker style (white circle: the usual symbol o
                   markeredgewidth=1.1),
     "open": dict(marker="x", markersize=5, markeredgecolor="#e07b00", markeredgewidth=1.2),
 }
+_SLIDE = dict(marker="D", markersize=5.5, markerfacecolor="#7b2cbf", markeredgecolor="k",
+              markeredgewidth=0.6)
 _COLOUR_BY = ("displacement", "rotation", None)
 
 
@@ -186,8 +188,9 @@ def _draw_blocks(ax, look: _Look, blocks: _Blocks, q: np.ndarray) -> None:
     ax.add_collection(moving)
 
 
-def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
-    """Force segments, hinges and open points, with a legend giving the force scale."""
+def _draw_contacts(ax, look: _Look, contacts: dict, slides: np.ndarray | None = None) -> None:
+    """Force segments, hinges and open points (and sliding joints at `slides` [m], when
+    given), with a legend giving the force scale."""
     rn = contacts["force"][:, 1]
     on = rn > 0
     handles = []
@@ -212,6 +215,9 @@ def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
         pts = contacts["point"][state == label]
         handles += ax.plot(pts[:, 0], pts[:, 1], ls="none", zorder=4,
                            label=f"{label} ({len(pts)})", **style)
+    if slides is not None:
+        handles += ax.plot(slides[:, 0], slides[:, 1], ls="none", zorder=5,
+                           label=f"sliding ({len(slides)})", **_SLIDE)
     # Below the x axis label whatever the axes' height: anchored a fixed distance in points.
     below = offset_copy(ax.transAxes, ax.figure, y=-34, units="points")
     ax.legend(handles=handles, title="normal force |R_n|/dt", loc="upper center",
@@ -234,10 +240,10 @@ def _colourbar(ax, look: _Look) -> None:
 
 
 def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
-                title: str | None) -> None:
+                title: str | None, slides: np.ndarray | None = None) -> None:
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
-        _draw_contacts(ax, look, results.contacts(k))
+        _draw_contacts(ax, look, results.contacts(k), slides)
     heading = title if title is not None else results.path.stem
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
 
@@ -251,6 +257,23 @@ def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None
     line = thrust_line(results.contacts(k), look.gap_tolerance, centre)
     ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5, zorder=6,
             label="thrust line")
+
+
+def _draw_courses(ax, names: Sequence[str], blocks: _Blocks) -> None:
+    """Course numbers of a wall's coursed blocks (mechanism.course_of) in the left margin,
+    at the middle of each course's initial height, so that the report's courses can be
+    found on the picture."""
+    course = np.array([course_of(n) or 0 for n in names])
+    if not course.any():
+        return
+    owner = np.repeat(np.arange(len(names)), np.diff(blocks.vertex_start))
+    pts = blocks.world(blocks.q0[None])[0]
+    left = float(pts[course[owner] > 0, 0].min())
+    for c in np.unique(course[course > 0]):
+        y = pts[course[owner] == c, 1]
+        ax.annotate(f"c{c}", (left, 0.5 * (y.min() + y.max())), xytext=(-4, 0),
+                    textcoords="offset points", ha="right", va="center", fontsize=6,
+                    color="0.35", zorder=6)
 
 
 def _figsize(look: _Look) -> tuple[float, float]:
@@ -278,12 +301,15 @@ def _normal_forces(results, frames: Iterable[int]) -> list[np.ndarray]:
 def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, ax=None,
                forces: bool = True, colour_by: str | None = "displacement",
                title: str | None = None, figsize: tuple[float, float] | None = None,
-               dpi: int = 150, thrust_line: bool = False) -> Figure:
+               dpi: int = 150, thrust_line: bool = False,
+               mechanism: Mechanism | None = None) -> Figure:
     """The structure at output frame `frame` of saxum.results.Results: blocks coloured by
     displacement [mm or m] or rotation [deg] (colour_by "displacement", "rotation" or None),
     with the contact forces when `forces`, and for an arch the thrust line (the joints'
     centres of pressure, ordered about the arch's centre: mid-span on the springing line)
-    when `thrust_line`. Draws into `ax` if given, else a new figure of
+    when `thrust_line`; with a `mechanism` (saxum.mechanism, of this frame's state) its
+    sliding joints (at their centres of pressure) and, for a wall, the course numbers in the
+    left margin. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
     when given (figsize * dpi pixels)."""
     k = _frame_index(results, frame)
@@ -293,9 +319,13 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     if ax is None:
         ax = Figure(figsize=figsize or _figsize(look), layout="constrained").add_subplot()
     fig = ax.figure
-    _draw_frame(ax, results, k, look, blocks, forces, title)
+    slides = None if mechanism is None else np.array(
+        [j.centre_of_pressure for j in mechanism.sliding]).reshape(-1, 2)
+    _draw_frame(ax, results, k, look, blocks, forces, title, slides)
     if thrust_line:
         _draw_thrust_line(ax, results, k, look, blocks)
+    if mechanism is not None:
+        _draw_courses(ax, results.body_name, blocks)
     _colourbar(ax, look)
     if path is not None:
         fig.savefig(path, dpi=dpi)
