@@ -8,6 +8,7 @@ is proportional to the normal force |R_n|/dt [N/m], hinges (a joint loaded at on
 as white circles and open contact points as crosses.
 """
 
+import dataclasses
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -21,13 +22,15 @@ from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
 from .mechanism import Mechanism, course_of, joint_states, thrust_line
 from .model import BodyKind, Model
 
-__all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
+__all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "plot_model",
+           "save_states"]
 
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
 _FORCE_COLOUR = "#c0152f"
@@ -433,6 +436,51 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
             # and each frame is drawn once instead of twice (layout, then picture).
             fig.set_layout_engine(None)
     return path
+
+
+_GROUP_COLOURS = {"brick": "#d9b99b", "voussoir": "#9fb7c9", "pier": "#e3d5b8",
+                  "spandrel": "#c9a27e", "fill": "#b5c99f", "lintel": "#a07850",
+                  "wall": "#e3d5b8", "block": "#e3d5b8", "stone": "#cdbfa8"}
+_OTHER_COLOURS = ("#d9a5a5", "#c4b5d9", "#a5d9d0", "#d9cfa5")
+
+
+def plot_model(model: Model, path: str | PathLike | None = None, *, ax=None, title: str = "",
+               dpi: int = 150) -> Figure:
+    """The blocks of `model` at their initial positions, free blocks filled by group (named
+    in the legend), fixed and driven ones hatched grey, framed on the free blocks (a wide
+    ground is cut at the edges): what a generator or a scenario built, before any run.
+    Draws into `ax` if given; saved to `path` at dpi when given."""
+    blocks = _model_blocks(model)
+    look = _look(blocks, blocks.q0[None], None)
+    free = model.body_kind == BodyKind.FREE
+    if free.any():
+        owner = np.repeat(np.arange(model.body_count), np.diff(blocks.vertex_start))
+        pts = blocks.world(blocks.q0)[free[owner]]
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        pad = 0.08 * float((hi - lo).max())
+        look = dataclasses.replace(look, xlim=(lo[0] - pad, hi[0] + pad),
+                                   ylim=(lo[1] - pad, hi[1] + pad))
+    if ax is None:
+        ax = Figure(figsize=_figsize(look), layout="constrained").add_subplot()
+    _draw_blocks(ax, look, blocks, blocks.q0)
+    polygons = blocks.polygons(blocks.q0)
+    handles, others = [], 0
+    for g in np.unique(model.body_group[free]):
+        mine = free & (model.body_group == g)
+        colour = _GROUP_COLOURS.get(model.group_names[g])
+        if colour is None:
+            colour, others = _OTHER_COLOURS[others % len(_OTHER_COLOURS)], others + 1
+        ax.add_collection(PolyCollection([p for p, m in zip(polygons, mine, strict=True) if m],
+                                         facecolors=colour, edgecolors="k", linewidths=0.6,
+                                         zorder=3))
+        handles.append(Patch(facecolor=colour, edgecolor="k", label=model.group_names[g]))
+    if handles:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7,
+                  frameon=False)
+    _finish_axes(ax, look, title)
+    if path is not None:
+        ax.figure.savefig(path, dpi=dpi)
+    return ax.figure
 
 
 def save_states(path: str | PathLike, panels: Sequence[tuple[Model, np.ndarray, str]]) -> None:
