@@ -105,13 +105,15 @@ class BlocksStructure(_Strict):
     density: Positive | dict[str, Positive] | None = None
     group: str = Field("block", min_length=1)
     fixed_layers: list[str] = ["FIXED"]
+    ignore_layers: list[str] = []
     scale: Positive = 1.0
 
     def add_to(self, builder: ModelBuilder) -> None:
         if not self.file.is_file():
             raise InputError(f"structure.file: no blocks file at {self.file}")
         add_blocks_from_file(builder, self.file, format=self.format, density=self.density,
-                             group=self.group, fixed_layers=self.fixed_layers, scale=self.scale)
+                             group=self.group, fixed_layers=self.fixed_layers,
+                             ignore_layers=self.ignore_layers, scale=self.scale)
 
 
 SHAPE_KEYS = {"semicircular": (), "circular": ("embrace",), "segmental": ("rise",),

@@ -51,11 +51,12 @@ def add_semicircular_arch(
     joints; intrados and extrados are chords between joint ends. The springings lie on the
     horizontal line through `centre`.
     """
-    if not (radius > 0.0 and 0.0 < thickness < 2.0 * radius):
-        raise InputError(f"arch needs radius > 0 and 0 < thickness < 2 radius, got "
-                         f"radius={radius}, thickness={thickness}")
-    if voussoirs < 1:
-        raise InputError(f"arch needs at least 1 voussoir, got {voussoirs}")
+    check_positive(radius=radius, thickness=thickness)
+    if not thickness < 2.0 * radius:
+        raise InputError(f"thickness must be less than 2 radius (the mean radius R = "
+                         f"{radius:g} m: the intrados radius R - t/2 must stay > 0), got "
+                         f"thickness={thickness:g}")
+    check_count("voussoirs", voussoirs)
     cx, cy = centre
     r_in, r_out = radius - 0.5 * thickness, radius + 0.5 * thickness
     phi = np.linspace(0.0, math.pi, voussoirs + 1)

@@ -77,12 +77,15 @@ def _opening_blocks(op: Opening, i: int, origin: np.ndarray, brick_length: float
     elif op.head != "none":
         depth = brick_length if op.head_depth is None else op.head_depth
         check_positive(**{f"{where}.head_depth": depth})
-        if op.head == "flat_arch":
-            shape = ArchShape.flat(span=op.width, depth=depth, skewback=op.skewback)
-        else:
-            rise = 0.25 * op.width if op.rise is None else op.rise
-            shape = ArchShape.segmental(span=op.width, rise=rise, thickness=depth)
-        cut = arch_ring(shape, op.voussoirs, origin=(x0 + 0.5 * op.width, top))
+        try:
+            if op.head == "flat_arch":
+                shape = ArchShape.flat(span=op.width, depth=depth, skewback=op.skewback)
+            else:
+                rise = 0.25 * op.width if op.rise is None else op.rise
+                shape = ArchShape.segmental(span=op.width, rise=rise, thickness=depth)
+            cut = arch_ring(shape, op.voussoirs, origin=(x0 + 0.5 * op.width, top))
+        except InputError as err:
+            raise InputError(f"{where} ({op.head}): {err}") from None
         holes.append(cut.outline)
         heads += [("voussoirs", v, "voussoir", f"opening {i + 1} voussoir {k + 1}")
                   for k, v in enumerate(cut.voussoirs)]
@@ -131,6 +134,12 @@ def add_wall(
     length, height = bricks * brick_length, courses * brick_height
     holes, heads, owner = [], [], []
     for i, op in enumerate(openings):
+        for size, name, bound in ((op.width, "width", length), (op.height, "height", height)):
+            if isinstance(size, int | float) and size > bound:
+                raise InputError(
+                    f"openings[{i}].{name} = {size:g} m is larger than the wall's {name} "
+                    f"({bound:g} m); make the opening smaller or add "
+                    f"{'bricks' if name == 'width' else 'courses'}")
         more, spans = _opening_blocks(op, i, np.array(origin, dtype=np.float64), brick_length,
                                       brick_height)
         lo = np.min([h.min(axis=0) for h in more], axis=0)
