@@ -103,6 +103,7 @@ FULL = textwrap.dedent("""\
     duration = 0.1
     interval = 0.02
     checkpoint_interval = 0.05
+    histories = ["brick c1b1", 2]
 """)
 
 PYTHON = Scenario(
@@ -122,7 +123,8 @@ PYTHON = Scenario(
                     baseline_correction=True)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
-    output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05),
+    output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
+                      histories=["brick c1b1", 2]),
 )
 
 

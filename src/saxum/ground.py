@@ -18,6 +18,7 @@ The two give the same motion of the blocks relative to the ground for the same G
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -88,6 +89,11 @@ class GroundMotion:
 
     def velocity(self) -> np.ndarray:
         """Ground velocity [m/s] at the samples: trapezoidal integral of the acceleration."""
+        return self._velocity.copy()
+
+    @functools.cached_property
+    def _velocity(self) -> np.ndarray:
+        # computed once: velocity_at is called twice per time step
         dt = np.diff(self.time)[:, None]
         return np.vstack((np.zeros((1, 2)),
                           np.cumsum(0.5 * dt * (self.acceleration[1:] + self.acceleration[:-1]),
@@ -102,11 +108,11 @@ class GroundMotion:
     def velocity_at(self, t: float) -> np.ndarray:
         """Ground velocity [m/s] at any time: the exact integral of the piecewise-linear
         acceleration (0 before the record, its final value after)."""
-        v = self.velocity()
+        v = self._velocity
         if t <= self.time[0]:
             return np.zeros(2)
         if t >= self.time[-1]:
-            return v[-1]
+            return v[-1].copy()
         k = int(np.searchsorted(self.time, t, side="right")) - 1
         tau = t - self.time[k]
         a0, a1 = self.acceleration[k], self.acceleration[k + 1]

@@ -529,11 +529,28 @@ class DetectionSpec(_Strict):
 
 class OutputSpec(_Strict):
     """Simulated duration [s], interval between output frames [s] and between checkpoints
-    [s] (both rounded to whole steps)."""
+    [s] (both rounded to whole steps); blocks (names or indices) whose coordinates and
+    velocities are written at every step (`histories`)."""
 
     duration: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
     interval: Positive = 0.01
     checkpoint_interval: Positive = 1.0
+    histories: list[str | int] = []
+
+    def history_bodies(self, model: Model) -> tuple[int, ...]:
+        """Indices of the `histories` blocks in `model`; an unknown name or index is an
+        InputError listing what exists."""
+        out = []
+        for item in self.histories:
+            if isinstance(item, int) and 0 <= item < model.body_count:
+                out.append(item)
+            elif isinstance(item, str) and item in model.body_name:
+                out.append(model.body_name.index(item))
+            else:
+                names = ", ".join(repr(n) for n in model.body_name)
+                raise InputError(f"output.histories: no block {item!r}; give a name or an "
+                                 f"index below {model.body_count}. The blocks: {names}")
+        return tuple(out)
 
 
 class Scenario(_Strict):
