@@ -12,6 +12,7 @@ from saxum.scenario import (
     ArchStructure,
     BlocksStructure,
     DetectionSpec,
+    FloodSpec,
     GroundMotionSpec,
     LawSpec,
     Loads,
@@ -77,6 +78,13 @@ FULL = textwrap.dedent("""\
     end = 0.9
     baseline_correction = true
 
+    [loads.flood]
+    level = 0.1
+    velocity = 0.5
+    tailwater = 0.05
+    water_density = 1050.0
+    drag_coefficient = 0.8
+
     [solver]
     dt = 5e-4
     theta = 0.6
@@ -110,7 +118,9 @@ PYTHON = Scenario(
                 ground_motion=GroundMotionSpec(
                     pulse="mavroeidis_papageorgiou", amplitude=0.5, velocity=0.3, period=0.4,
                     gamma=2.5, nu=0.2, direction=(1.0, 0.5), scale=1.5, start=0.01, end=0.9,
-                    baseline_correction=True)),
+                    baseline_correction=True),
+                flood=FloodSpec(level=0.1, velocity=0.5, tailwater=0.05, water_density=1050.0,
+                                drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05),
@@ -288,7 +298,7 @@ def test_docs_describe_every_key():
 
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, LawSpec, Loads,
-                  PointLoad, Settlement, GroundMotionSpec, SolverSpec, DetectionSpec,
+                  PointLoad, Settlement, GroundMotionSpec, FloodSpec, SolverSpec, DetectionSpec,
                   OutputSpec):
         for key in model.model_fields:
             if key != "type":

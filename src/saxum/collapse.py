@@ -95,7 +95,7 @@ def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) 
     free = m.body_kind == BodyKind.FREE
     net = np.hypot(*((state.body_v[free, :2] - v_before[free, :2]).T)) * m.body_mass[free] / h
     force = np.empty_like(state.body_v)
-    sim.external_force(state.time, force)
+    sim.external_force(state.time, force, state.body_q)
     applied = np.hypot(*force[free, :2].T)
     c = state.contacts
     r = np.hypot(*c.impulse[: c.count].T) / h

@@ -36,8 +36,8 @@ from .simulation import Simulation
 from .solver import NLGS
 from .structures import add_grounded_running_bond_wall, add_supported_semicircular_arch
 
-__all__ = ["ArchStructure", "BlockSpec", "BlocksStructure", "DetectionSpec", "GroundMotionSpec",
-           "LawSpec",
+__all__ = ["ArchStructure", "BlockSpec", "BlocksStructure", "DetectionSpec", "FloodSpec",
+           "GroundMotionSpec", "LawSpec",
            "Loads", "OutputSpec", "PointLoad", "Scenario", "Settlement", "SolverSpec",
            "WallStructure", "load_scenario", "parse_scenario"]
 
@@ -213,10 +213,48 @@ class GroundMotionSpec(_Strict):
         return record.baseline_corrected() if self.baseline_correction else record
 
 
+class FloodSpec(_Strict):
+    """Water of a flood on the blocks: hydrostatic pressure (joints wet), buoyancy and drag
+    (saxum.flood, docs/flood.md). Give level or level_series, and velocity or
+    velocity_series (default: still water)."""
+
+    level: Finite | None = None
+    level_series: list[tuple[Finite, Finite]] | None = None
+    velocity: Finite | None = None
+    velocity_series: list[tuple[Finite, Finite]] | None = None
+    tailwater: Finite | None = None
+    water_density: Positive = 1000.0
+    drag_coefficient: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 1.4
+
+    @field_validator("level_series", "velocity_series")
+    @classmethod
+    def _increasing(cls, series):
+        from .flood import series_problem
+
+        problem = None if series is None else series_problem(series)
+        if problem is not None:
+            raise ValueError(problem)
+        return series
+
+    @model_validator(mode="after")
+    def _consistent(self) -> FloodSpec:
+        try:
+            self.load()
+        except InputError as err:
+            raise ValueError(str(err)) from None
+        return self
+
+    def load(self):
+        """The saxum.flood.FloodLoad described."""
+        from .flood import FloodLoad
+
+        return FloodLoad(**self.model_dump(), name="loads.flood")
+
+
 class Loads(_Strict):
     """Gravity [m/s^2]; a horizontal inertial load a_x(t) = (horizontal_acceleration +
     load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table);
-    point loads; settlements of supports."""
+    point loads; settlements of supports; ground motion; a flood."""
 
     gravity: tuple[Finite, Finite] = (0.0, -9.81)
     horizontal_acceleration: Finite = 0.0
@@ -224,6 +262,7 @@ class Loads(_Strict):
     point_loads: list[PointLoad] = []
     settlements: list[Settlement] = []
     ground_motion: GroundMotionSpec | None = None
+    flood: FloodSpec | None = None
 
     def add_to(self, builder: ModelBuilder) -> None:
         """Apply these loads to the blocks in `builder`."""
@@ -245,6 +284,8 @@ class Loads(_Strict):
                 motion.apply_as_inertial_forces(builder)
             else:
                 motion.apply_as_driven_supports(builder, self.ground_motion.supports)
+        if self.flood is not None:
+            builder.add_field_load(self.flood.load())
 
 
 def _unit(direction: tuple[float, float], key: str):
@@ -418,7 +459,7 @@ def _allowed(loc: list) -> list[str]:
     if not names:
         return list(Scenario.model_fields)
     nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement,
-              ("loads", "ground_motion"): GroundMotionSpec}
+              ("loads", "ground_motion"): GroundMotionSpec, ("loads", "flood"): FloodSpec}
     if tuple(names[:2]) in nested:
         return list(nested[tuple(names[:2])].model_fields)
     if names[0] == "structure":
