@@ -218,3 +218,38 @@ def test_bad_flood_parameters_in_python_are_named():
     with pytest.raises(sx.InputError, match="flood.level: a water level of -2 m is below"):
         _model([[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]],
                load=FloodLoad(level=-2.0))
+
+
+def test_cli_collapse_on_the_flood_level_draws_the_water(tmp_path, capsys):
+    """`saxum collapse --vary loads.flood.level --per-block` on the bundled bridge section
+    (examples/flood_bridge.toml, 3 m/s): the upstream parapet (0.4 x 1 m on the deck at 7 m)
+    slides off where mu g (rho_s t h - rho_w t d) = 1/2 rho_w C_d U^2 d (statics, as in
+    tests/test_examples.py); the picture shows the water."""
+    import shutil
+    from pathlib import Path
+
+    from saxum.cli import main
+
+    examples = Path(__file__).resolve().parents[1] / "examples"
+    for name in ("flood_bridge.toml", "flood-bridge-section.json"):
+        shutil.copy(examples / name, tmp_path / name)
+    out = tmp_path / "collapse.h5"
+    assert main(["collapse", str(tmp_path / "flood_bridge.toml"), "--vary", "loads.flood.level",
+                 "--stands", "7.4", "--collapses", "7.9", "--tolerance", "0.002",
+                 "--per-block", "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    stands, collapses = (float(v) for v in
+                         text.split("stands at ")[1].split(" (")[0].split(", collapses at "))
+    mu_g, t, h = 0.6 * G, 0.4, 1.0
+    level = 7.0 + mu_g * 2400.0 * t * h / (0.5 * 1000.0 * 1.4 * 3.0**2 + mu_g * 1000.0 * t)
+    assert stands < level < collapses and collapses - stands < 0.02
+    assert "moving blocks (1, " in text and "upstream parapet" in text
+    assert "sliding joint between upstream wall c6 and upstream parapet" in text
+    with sx.Results(out) as r:
+        from saxum.plot import plot_frame
+
+        ax = plot_frame(r, -1).axes[0]
+        assert any(np.allclose(c.get_facecolor()[0][:3], (0x9c / 255, 0xc8 / 255, 0xe8 / 255))
+                   for c in ax.collections)  # the water's colour
+        assert any("flow → 3 m/s" in t.get_text() for t in ax.texts)
+    assert out.with_suffix(".png").stat().st_size > 10_000

@@ -89,22 +89,19 @@ def _wet_pieces(s0, ds, z0, dz, h_up, h_down, s_a, s_b, pieces):
     (t_begin, t_end, H - z at t_begin, H - z at t_end) of `pieces` (3 rows at most: the
     segment is cut where it crosses s_a and s_b, and each piece at the water line, where
     H - z changes sign); returns the number of rows."""
-    cuts = np.empty(4)
-    cuts[0] = 0.0
-    n = 1
+    c1 = 1.0  # the cuts at s_a and s_b, in order, clamped to [0, 1]
+    c2 = 1.0
     if h_down != h_up and ds != 0.0:
-        for edge in (s_a, s_b):
-            t = (edge - s0) / ds
-            if 0.0 < t < 1.0:
-                cuts[n] = t
-                n += 1
-        if n == 3 and cuts[2] < cuts[1]:
-            cuts[1], cuts[2] = cuts[2], cuts[1]
-    cuts[n] = 1.0
+        u = (s_a - s0) / ds
+        v = (s_b - s0) / ds
+        c1 = min(max(min(u, v), 0.0), 1.0)
+        c2 = min(max(max(u, v), 0.0), 1.0)
     count = 0
-    for i in range(n):
-        ta = cuts[i]
-        tb = cuts[i + 1]
+    for i in range(3):
+        ta = 0.0 if i == 0 else (c1 if i == 1 else c2)
+        tb = c1 if i == 0 else (c2 if i == 1 else 1.0)
+        if tb <= ta:
+            continue
         fa = _head(s0 + ta * ds, h_up, h_down, s_a, s_b) - (z0 + ta * dz)
         fb = _head(s0 + tb * ds, h_up, h_down, s_a, s_b) - (z0 + tb * dz)
         if fa <= 0.0 and fb <= 0.0:
@@ -125,14 +122,15 @@ def _wet_pieces(s0, ds, z0, dz, h_up, h_down, s_a, s_b, pieces):
 
 
 @nb.njit(cache=True)
-def hydrostatic_forces(q, kind, vertex_start, vertex_local, normal_local, rho_g, up, h_up,
-                       h_down, s_a, s_b, out):
+def hydrostatic_forces(q, kind, radius, vertex_start, vertex_local, normal_local, rho_g, up,
+                       h_up, h_down, s_a, s_b, out):
     """out[b] += (fx [N], fy [N], torque about the centre of mass [N m]) of the water
     pressure p = rho_g max(H(s) - z, 0) [Pa] on every edge of every free body b:
     F = -int p n dl, M = -int (r - G) x p n dl, exact for p linear on each wet piece (from
     p_0, p_1 at its ends Q_0, Q_1, length l: int p dl = l (p_0 + p_1)/2 and
     int p r dl = l [(2 p_0 + p_1) Q_0 + (p_0 + 2 p_1) Q_1]/6). rho_g = rho_w g [N/m^3];
-    up: unit vector against gravity; heads h_up, h_down [m], s_a, s_b [m] (module doc)."""
+    up: unit vector against gravity; heads h_up, h_down [m], s_a, s_b [m] (module doc);
+    radius [m]: each body's largest distance from its centre of mass to a vertex."""
     pieces = np.empty((3, 4))
     ux = up[0]
     uy = up[1]
@@ -141,9 +139,11 @@ def hydrostatic_forces(q, kind, vertex_start, vertex_local, normal_local, rho_g,
     for b in range(q.shape[0]):
         if kind[b] != 0:
             continue
+        zg = q[b, 0] * ux + q[b, 1] * uy
+        if zg - radius[b] >= max(h_up, h_down):
+            continue  # above the water
         c = math.cos(q[b, 2])
         s = math.sin(q[b, 2])
-        zg = q[b, 0] * ux + q[b, 1] * uy
         sg = q[b, 0] * ex + q[b, 1] * ey
         fx = 0.0
         fy = 0.0
@@ -234,13 +234,22 @@ def drag_forces(q, kind, vertex_start, vertex_local, normal_local, pressure, flo
                 count += 1
     if count == 0:
         return
-    bands = heights[: 2 * count]
-    bands.sort()
-    best[: 2 * count] = np.inf
-    owner[: 2 * count] = -1
+    heights[: 2 * count].sort()
+    # Band edges: the heights, those within tol of the previous edge merged into it (the
+    # blocks of a course share their heights, give or take the micrometres they settle by),
+    # so that each face spans few bands; the drag moves by p_d tol at most per edge.
+    tol = 1e-6 * (heights[2 * count - 1] - heights[0])
+    unique = 1
+    for j in range(1, 2 * count):
+        if heights[j] - heights[unique - 1] > tol:
+            heights[unique] = heights[j]
+            unique += 1
+    bands = heights[:unique]
+    best[:unique] = np.inf
+    owner[:unique] = -1
     for i in range(count):
-        lo = np.searchsorted(bands, segments[i, 5])
-        hi = np.searchsorted(bands, segments[i, 6])
+        lo = np.searchsorted(bands, segments[i, 5] - tol)
+        hi = np.searchsorted(bands, segments[i, 6] - tol)
         x0 = segments[i, 1] * flow[0] + segments[i, 2] * flow[1]
         x1 = segments[i, 3] * flow[0] + segments[i, 4] * flow[1]
         z0 = segments[i, 1] * ux + segments[i, 2] * uy
@@ -251,7 +260,7 @@ def drag_forces(q, kind, vertex_start, vertex_local, normal_local, pressure, flo
             if x < best[j]:
                 best[j] = x
                 owner[j] = i
-    for j in range(2 * count - 1):
+    for j in range(unique - 1):
         i = owner[j]
         if i < 0:
             continue
@@ -401,9 +410,9 @@ class FloodLoad:
         if h_down != h_up:
             s_a, s_b = _extent(q, model.body_kind, model.body_vertex_start, model.vertex_local,
                                along)
-        hydrostatic_forces(q, model.body_kind, model.body_vertex_start, model.vertex_local,
-                           model.edge_normal_local, self.water_density * g, up, h_up, h_down,
-                           s_a, s_b, out)
+        hydrostatic_forces(q, model.body_kind, model.body_radius, model.body_vertex_start,
+                           model.vertex_local, model.edge_normal_local, self.water_density * g,
+                           up, h_up, h_down, s_a, s_b, out)
         u = self.velocity.at(t)
         pressure = 0.5 * self.water_density * self.drag_coefficient * u * u
         if pressure == 0.0:
