@@ -11,7 +11,7 @@ import saxum as sx
 from saxum.contacts import Contacts
 from saxum.detection import DetectionSettings, Detector
 from saxum.detection.broadphase import bounding_boxes, grid_pairs, sort_pairs
-from saxum.rigid2d import world_vertices
+from saxum.rigid2d import world_geometry
 from saxum.structures import running_bond_wall
 
 
@@ -120,7 +120,8 @@ def test_grid_broad_phase_finds_exactly_the_overlapping_boxes(centres, size, big
 def test_broad_phase_reports_overflow_instead_of_writing_past_the_end():
     model = running_bond_wall(courses=3, bricks=4)
     wv = np.empty_like(model.vertex_local)
-    world_vertices(model.body_q0, model.body_vertex_start, model.vertex_local, wv)
+    world_geometry(model.body_q0, model.body_vertex_start, model.vertex_local,
+                   model.edge_normal_local, wv, np.empty_like(wv))
     lo = np.empty((model.body_count, 2))
     hi = np.empty((model.body_count, 2))
     bounding_boxes(wv, model.body_vertex_start, 0.001, lo, hi)

@@ -33,6 +33,19 @@ def test_demo_writes_picture(tmp_path):
     assert out.stat().st_size > 10_000
 
 
+@pytest.mark.parametrize("name, bodies", [("pointed_arch", 1 + 4 + 13), ("bridge", 60)])
+def test_example_scenarios_stand_under_their_own_weight(name, bodies):
+    """The bundled structures stand: judged at rest (unbalanced force ratio < 1e-4 for
+    0.05 s, saxum.collapse) before any block has moved by 1 % of the smallest block's size."""
+    from saxum.collapse import run_trial
+    from saxum.scenario import load_scenario
+
+    sim = load_scenario(EXAMPLES / f"{name}.toml").build_simulation()
+    assert sim.model.body_count == bodies
+    trial = run_trial(sim)
+    assert not trial.collapsed and trial.displacement < 1e-6
+
+
 def test_flood_bridge_parapet_goes_at_the_statics_values():
     """The first two cases of the flood example (docs/flood.md): the upstream parapet
     (t x h = 0.4 x 1.0 m, rho_s = 2400 kg/m^3 on the deck, mu = 0.6, C_d = 1.4) fails where

@@ -188,7 +188,7 @@ def test_scenario_flood_builds_the_load():
     ("level = 0.1\ndrag_coefficient = -0.5\n",
      "line 15: loads.flood.drag_coefficient: Input should be greater than or equal to 0"),
     ("level_series = [[0.0, 0.0], [5.0, 0.2], [4.0, 0.3]]\n",
-     "line 14: loads.flood.level_series: Value error, times must increase, but entry 2 "
+     "line 14: loads.flood.level_series: times must increase, but entry 2 "
      "(t = 4 s) does not come after entry 1 (t = 5 s)"),
     ("velocity = 1.0\n", "loads.flood.level: give level or level_series, not both or neither"),
     ("level = 0.1\nlevel_series = [[0, 0], [1, 1]]\n", "not both or neither"),

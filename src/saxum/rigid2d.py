@@ -14,35 +14,27 @@ __all__ = [
     "kinetic_energy",
     "predict_positions",
     "update_positions",
-    "world_directions",
-    "world_vertices",
+    "world_geometry",
 ]
 
 
 @nb.njit(cache=True)
-def world_vertices(q, vertex_start, vertex_local, out):
-    """out[k] = x_b + Rot(theta_b) vertex_local[k] [m] for every vertex k of every body b."""
+def world_geometry(q, vertex_start, vertex_local, direction_local, vertices, directions):
+    """vertices[k] = x_b + Rot(theta_b) vertex_local[k] [m] and directions[k] =
+    Rot(theta_b) direction_local[k] for every vertex k of every body b (one rotation per
+    body for both)."""
     for b in range(q.shape[0]):
         c = math.cos(q[b, 2])
         s = math.sin(q[b, 2])
         for k in range(vertex_start[b], vertex_start[b + 1]):
             lx = vertex_local[k, 0]
             ly = vertex_local[k, 1]
-            out[k, 0] = q[b, 0] + c * lx - s * ly
-            out[k, 1] = q[b, 1] + s * lx + c * ly
-
-
-@nb.njit(cache=True)
-def world_directions(q, vertex_start, direction_local, out):
-    """out[k] = Rot(theta_b) direction_local[k] for every vertex k of every body b."""
-    for b in range(q.shape[0]):
-        c = math.cos(q[b, 2])
-        s = math.sin(q[b, 2])
-        for k in range(vertex_start[b], vertex_start[b + 1]):
+            vertices[k, 0] = q[b, 0] + c * lx - s * ly
+            vertices[k, 1] = q[b, 1] + s * lx + c * ly
             lx = direction_local[k, 0]
             ly = direction_local[k, 1]
-            out[k, 0] = c * lx - s * ly
-            out[k, 1] = s * lx + c * ly
+            directions[k, 0] = c * lx - s * ly
+            directions[k, 1] = s * lx + c * ly
 
 
 @nb.njit(cache=True)

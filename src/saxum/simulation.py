@@ -159,23 +159,24 @@ class Simulation:
         contacts = self._spare
         self.detector.detect(self._q_pred, contacts)
         contacts.warm_start_from(state.contacts)
-        self.problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
-                              self.detector.closed_gap)
-        self.problem.apply_impulses(contacts.impulse, self._v)
-        solved = self.solver.solve(self.problem, contacts.impulse, self._v_free, self._v)
+        problem = self.problem
+        problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
+                         self.detector.closed_gap, self._v)
+        solved = self.solver.solve(problem, contacts.impulse, self._v_free, self._v)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
-        projected = self.projection.project(self.problem, self.solver, self._v, h, theta)
-        w = self.projection.pseudo_velocity
+        problem.end_gaps(self._v, h, theta)
+        projected = self.projection.project(problem, self.solver, h)
         if projected is not None:
+            w = self.projection.pseudo_velocity
             kin.update_positions(state.body_q, w, w, h, 1.0)
+            problem.end_gaps(self._v, h, theta, w)
         state.body_v[:] = self._v
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
 
-        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v,
-                                                None if projected is None else w, h, theta)
+        loaded, depth = problem.statistics(contacts.impulse)
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if not math.isfinite(energy):
             raise SimulationError(

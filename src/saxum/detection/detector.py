@@ -8,7 +8,7 @@ import numpy as np
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
-from ..rigid2d import world_directions, world_vertices
+from ..rigid2d import world_geometry
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .polygons import polygon_contacts
 
@@ -74,6 +74,12 @@ class Detector:
         self._lo = np.empty((n, 2))
         self._hi = np.empty((n, 2))
         self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
+        # A body's padded box, however it turns, fits in a square of side 2 (radius + pad):
+        # bodies far larger than the median go through the broad phase's direct test, and
+        # the grid's cell fits every other body's box.
+        extent = 2.0 * (model.body_radius + 0.5 * (self.alert + self.margin))
+        self._large = extent > 4.0 * np.median(extent)
+        self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
         self._q_ref = np.zeros((n, 3))
         self._since_refresh = self.refresh_every  # the first detection runs the broad phase
@@ -82,8 +88,8 @@ class Detector:
     def detect(self, q: np.ndarray, contacts: Contacts) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
         m = self.model
-        world_vertices(q, m.body_vertex_start, m.vertex_local, self._wv)
-        world_directions(q, m.body_vertex_start, m.edge_normal_local, self._wn)
+        world_geometry(q, m.body_vertex_start, m.vertex_local, m.edge_normal_local, self._wv,
+                       self._wn)
         if (
             self._since_refresh >= self.refresh_every
             or _largest_motion(q, self._q_ref, m.body_radius) > 0.5 * self.margin
@@ -103,11 +109,9 @@ class Detector:
         m = self.model
         bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.alert + self.margin),
                        self._lo, self._hi)
-        extent = (self._hi - self._lo).max(axis=1)
-        large = extent > 4.0 * np.median(extent)
-        cell = float(extent[~large].max()) if (~large).any() else float(extent.max())
         while True:
-            count = grid_pairs(self._lo, self._hi, self._mobile, large, cell, self._pairs)
+            count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
+                               self._pairs)
             if count <= len(self._pairs):
                 break
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)

@@ -16,10 +16,12 @@ __all__ = ["polygon_contacts"]
 
 
 @nb.njit(inline="always")
-def _max_separation(wv, wn, r0, nr, o0, no, alert):
-    """Largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m].
+def _max_separation(wv, wn, r0, nr, o0, no):
+    """Largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m],
+    and the first edge that reaches it.
 
-    Stops early once an edge separates by more than `alert`.
+    Written without data-dependent branches (selects instead): which edge and which vertex
+    win changes from pair to pair, and mispredicted branches cost more than the arithmetic.
     """
     best = -np.inf
     best_e = 0
@@ -28,14 +30,13 @@ def _max_separation(wv, wn, r0, nr, o0, no, alert):
         ay = wv[r0 + e, 1]
         nx = wn[r0 + e, 0]
         ny = wn[r0 + e, 1]
-        s = np.inf
-        for k in range(o0, o0 + no):
-            s = min(s, nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay))
-        if s > best:
-            best = s
-            best_e = e
-            if s > alert:
-                break
+        s = nx * (wv[o0, 0] - ax) + ny * (wv[o0, 1] - ay)
+        for k in range(o0 + 1, o0 + no):
+            t = nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay)
+            s = t if t < s else s
+        better = s > best
+        best_e = e if better else best_e
+        best = s if better else best
     return best, best_e
 
 
@@ -61,10 +62,10 @@ def polygon_contacts(
         ni = vertex_start[i + 1] - i0
         j0 = vertex_start[j]
         nj = vertex_start[j + 1] - j0
-        s_i, e_i = _max_separation(wv, wn, i0, ni, j0, nj, alert)
+        s_i, e_i = _max_separation(wv, wn, i0, ni, j0, nj)
         if s_i > alert:
             continue
-        s_j, e_j = _max_separation(wv, wn, j0, nj, i0, ni, alert)
+        s_j, e_j = _max_separation(wv, wn, j0, nj, i0, ni)
         if s_j > alert:
             continue
         flip = s_j > s_i + ref_tol
@@ -86,11 +87,11 @@ def polygon_contacts(
         most = np.inf
         for e in range(nc):
             d = wn[c0 + e, 0] * nx + wn[c0 + e, 1] * ny
-            if d < most:
-                most = d
-                inc = e
+            lower = d < most
+            inc = e if lower else inc
+            most = d if lower else most
         k0 = c0 + inc
-        k1 = c0 + (inc + 1) % nc
+        k1 = c0 + (inc + 1 if inc + 1 < nc else 0)
         p0x = wv[k0, 0]
         p0y = wv[k0, 1]
         p1x = wv[k1, 0]

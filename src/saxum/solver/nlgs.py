@@ -11,10 +11,11 @@ sweep with the impulses. Here the quadratic form is the Delassus one, dR^T W dR 
 evaluated through the body velocities (which the sweep keeps anyway):
     error = sqrt( sum_b |v_b - v_b^prev|^2_M / sum_b |v_b - v_b^free|^2_M ),   |x|^2_M = x^T M x,
 (plus a round-off floor 1e-14 |v|_M in the denominator),
-v^prev the velocities before the sweep. It is the W-norm of the sweep's impulse change relative
-to the W-norm of the impulse, and unlike a per-contact norm it ignores self-equilibrated impulse
-changes (H dR = 0), which are indeterminate for rigid blocks and do not move anything; so a
-statically indeterminate wall at rest converges instead of wandering in that null space.
+v^prev the velocities before the sweep, M the bodies' masses and inertias (zero for bodies that
+no impulse moves). It is the W-norm of the sweep's impulse change relative to the W-norm of the
+impulse, and unlike a per-contact norm it ignores self-equilibrated impulse changes (H dR = 0),
+which are indeterminate for rigid blocks and do not move anything; so a statically
+indeterminate wall at rest converges instead of wandering in that null space.
 The solve stops when error <= tolerance or after max_iterations sweeps.
 """
 
@@ -26,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
-from .local2d import solve_contact_2d
+from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .problem import ContactProblem
 
 __all__ = ["NLGS"]
@@ -49,30 +50,48 @@ class NLGS(ContactSolver):
         if not (0.0 < self.relaxation <= 1.0):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
         self._v_prev = np.empty((0, 0))
+        self._factors = np.empty((0, 5))
+        self._inv_mass = None
+        self._mass = np.empty((0, 0))
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
         c = problem.contacts
+        inv_mass = problem.model.body_inv_mass
+        if self._inv_mass is not inv_mass:
+            self._inv_mass = inv_mass
+            self._mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
+                                   where=inv_mass > 0.0)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
+        if len(self._factors) < problem.count:
+            self._factors = np.empty((max(problem.count, 2 * len(self._factors)), 5))
         iterations, error = nlgs_2d(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
-            problem.bias, problem.friction, problem.active, problem.count,
-            problem.model.body_inv_mass, v_free, v, self._v_prev, impulse,
+            problem.bias, problem.friction, problem.active, problem.count, inv_mass,
+            self._mass, v_free, v, self._v_prev, impulse, self._factors,
             self.tolerance, self.max_iterations, self.relaxation,
         )
         return SolverReport(iterations=iterations, error=error, converged=error <= self.tolerance)
 
 
 @nb.njit(cache=True)
-def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, v_free,
-            v, v_prev, impulse, tolerance, max_iterations, relaxation):
+def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
+            v_free, v, v_prev, impulse, factors, tolerance, max_iterations, relaxation):
     """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
-    v_prev is work memory shaped like v. Written out for 2D rigid bodies (3 dof, frame (t, n)):
-    the unrolled loads and stores halve the cost of a contact update against loops over dof."""
+    mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
+    factors (at least count x 5) are work memory. Written out for 2D rigid bodies (3 dof,
+    frame (t, n)): the unrolled loads and stores halve the cost of a contact update against
+    loops over dof, and the single-contact solve's divisions are done once per step
+    (factorize_contact_2d), not at every visit."""
     nactive = 0
     for a in range(count):
-        nactive += active[a]
+        if active[a]:
+            nactive += 1
+            f = factorize_contact_2d(delassus[a, 0, 0], delassus[a, 0, 1], delassus[a, 1, 1],
+                                     friction[a])
+            for i in range(5):
+                factors[a, i] = f[i]
     if nactive == 0:
         return 0, 0.0
     error = np.inf
@@ -93,36 +112,44 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             wnn = delassus[a, 1, 1]
             rt0 = impulse[a, 0]
             rn0 = impulse[a, 1]
-            ut = (h_cand[a, 0, 0] * vc0 + h_cand[a, 0, 1] * vc1 + h_cand[a, 0, 2] * vc2
-                  + h_ant[a, 0, 0] * vb0 + h_ant[a, 0, 1] * vb1 + h_ant[a, 0, 2] * vb2
-                  - wtt * rt0 - wtn * rn0)
-            un = (h_cand[a, 1, 0] * vc0 + h_cand[a, 1, 1] * vc1 + h_cand[a, 1, 2] * vc2
-                  + h_ant[a, 1, 0] * vb0 + h_ant[a, 1, 1] * vb1 + h_ant[a, 1, 2] * vb2
-                  - wtn * rt0 - wnn * rn0)
-            rt, rn = solve_contact_2d(wtt, wtn, wnn, ut, un + bias[a], friction[a])
+            # Sums as balanced trees and the impulse terms apart: the velocities of one
+            # contact depend on those the previous one wrote, so the latency of this chain
+            # (not the arithmetic) bounds the sweep.
+            ut = (((h_cand[a, 0, 0] * vc0 + h_cand[a, 0, 1] * vc1)
+                   + (h_cand[a, 0, 2] * vc2 + h_ant[a, 0, 0] * vb0))
+                  + ((h_ant[a, 0, 1] * vb1 + h_ant[a, 0, 2] * vb2) - (wtt * rt0 + wtn * rn0)))
+            # u_n + b_n, the law's shift with the impulse terms
+            un = (((h_cand[a, 1, 0] * vc0 + h_cand[a, 1, 1] * vc1)
+                   + (h_cand[a, 1, 2] * vc2 + h_ant[a, 1, 0] * vb0))
+                  + ((h_ant[a, 1, 1] * vb1 + h_ant[a, 1, 2] * vb2)
+                     + (bias[a] - (wtn * rt0 + wnn * rn0))))
+            rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, factors[a, 0], factors[a, 1],
+                                               factors[a, 2], factors[a, 3], factors[a, 4], ut,
+                                               un, friction[a])
             if relaxation != 1.0:
                 rt = relaxation * rt + (1.0 - relaxation) * rt0
                 rn = relaxation * rn + (1.0 - relaxation) * rn0
             dt = rt - rt0
             dn = rn - rn0
-            if dt != 0.0 or dn != 0.0:
-                # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b
-                v[c, 0] = vc0 + inv_mass[c, 0] * (h_cand[a, 0, 0] * dt + h_cand[a, 1, 0] * dn)
-                v[c, 1] = vc1 + inv_mass[c, 1] * (h_cand[a, 0, 1] * dt + h_cand[a, 1, 1] * dn)
-                v[c, 2] = vc2 + inv_mass[c, 2] * (h_cand[a, 0, 2] * dt + h_cand[a, 1, 2] * dn)
-                v[b, 0] = vb0 + inv_mass[b, 0] * (h_ant[a, 0, 0] * dt + h_ant[a, 1, 0] * dn)
-                v[b, 1] = vb1 + inv_mass[b, 1] * (h_ant[a, 0, 1] * dt + h_ant[a, 1, 1] * dn)
-                v[b, 2] = vb2 + inv_mass[b, 2] * (h_ant[a, 0, 2] * dt + h_ant[a, 1, 2] * dn)
+            # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
+            # a branch on it is mispredicted more often than the stores cost)
+            mc, mb = inv_mass[c], inv_mass[b]
+            v[c, 0] = vc0 + (mc[0] * h_cand[a, 0, 0] * dt + mc[0] * h_cand[a, 1, 0] * dn)
+            v[c, 1] = vc1 + (mc[1] * h_cand[a, 0, 1] * dt + mc[1] * h_cand[a, 1, 1] * dn)
+            v[c, 2] = vc2 + (mc[2] * h_cand[a, 0, 2] * dt + mc[2] * h_cand[a, 1, 2] * dn)
+            v[b, 0] = vb0 + (mb[0] * h_ant[a, 0, 0] * dt + mb[0] * h_ant[a, 1, 0] * dn)
+            v[b, 1] = vb1 + (mb[1] * h_ant[a, 0, 1] * dt + mb[1] * h_ant[a, 1, 1] * dn)
+            v[b, 2] = vb2 + (mb[2] * h_ant[a, 0, 2] * dt + mb[2] * h_ant[a, 1, 2] * dn)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
-        error = _relative_change(v, v_prev, v_free, inv_mass)
+        error = _relative_change(v, v_prev, v_free, mass)
         if error <= tolerance:
             break
     return it, error
 
 
 @nb.njit(cache=True)
-def _relative_change(v, v_prev, v_free, inv_mass):
+def _relative_change(v, v_prev, v_free, mass):
     """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed.
     The second term of the denominator is the round-off floor: a change below ~1e-14 of the
     velocities themselves cannot be resolved in double precision, so a contact with a tiny
@@ -132,10 +159,12 @@ def _relative_change(v, v_prev, v_free, inv_mass):
     size = 0.0
     for b in range(v.shape[0]):
         for d in range(v.shape[1]):
-            if inv_mass[b, d] > 0.0:
-                num += (v[b, d] - v_prev[b, d]) ** 2 / inv_mass[b, d]
-                den += (v[b, d] - v_free[b, d]) ** 2 / inv_mass[b, d]
-                size += v[b, d] ** 2 / inv_mass[b, d]
+            m = mass[b, d]
+            change = v[b, d] - v_prev[b, d]
+            reaction = v[b, d] - v_free[b, d]
+            num += m * change * change
+            den += m * reaction * reaction
+            size += m * v[b, d] * v[b, d]
     if num == 0.0:
         return 0.0
     den += 1e-28 * size
