@@ -57,9 +57,8 @@ def _edges(x0, x1, length, shifted):
     return edges + [x1]
 
 
-def section(*, parapets: bool = True) -> sx.Model:
-    """The transverse section through a pier, at rest, friction 0.6 on every joint."""
-    b = sx.ModelBuilder()
+def add_section(b: sx.ModelBuilder, *, parapets: bool = True) -> None:
+    """Add the transverse section through a pier to `b`, friction 0.6 on every joint."""
     b.add_block(_rectangle(-4.0, -1.0, 12.0, 0.0), kind=sx.BodyKind.FIXED, group="ground",
                 name="river bed")
     x0, x1 = 0.0, UPSTREAM_CUTWATER + WIDTH + DOWNSTREAM_CUTWATER
@@ -87,20 +86,19 @@ def section(*, parapets: bool = True) -> sx.Model:
                     name="downstream parapet")
     for pair in itertools.combinations_with_replacement(("ground", "stone", "fill"), 2):
         b.set_law(*pair, sx.ContactLaw(friction=0.6))
+
+
+def section(*, parapets: bool = True) -> sx.Model:
+    """The transverse section through a pier, at rest, without water."""
+    b = sx.ModelBuilder()
+    add_section(b, parapets=parapets)
     return b.finalize()
 
 
 def simulation(flood: sx.FloodLoad, *, parapets: bool = True) -> sx.Simulation:
     """The section (with or without its parapets) under `flood`, dt = 1 ms."""
-    model = section(parapets=parapets)
     b = sx.ModelBuilder()
-    for k in range(model.body_count):
-        b.add_block(model.vertices(k), density=float(model.body_density[k]),
-                    group=model.group_names[model.body_group[k]],
-                    kind=sx.BodyKind(int(model.body_kind[k])), name=model.body_name[k])
-    for law in model.laws:
-        for pair in itertools.combinations_with_replacement(("ground", "stone", "fill"), 2):
-            b.set_law(*pair, law)
+    add_section(b, parapets=parapets)
     b.add_field_load(flood)
     return sx.Simulation(b.finalize(), dt=1e-3)
 
