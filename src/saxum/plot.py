@@ -5,7 +5,9 @@ backend or leaves figures open in the caller's session. A frame shows the blocks
 their displacement (or rotation) from the initial position, fixed and driven bodies hatched
 grey, and the contact forces: at each contact point a segment along the reaction whose width
 is proportional to the normal force |R_n|/dt [N/m], hinges (a joint loaded at one point only)
-as white circles and open contact points as crosses.
+as white circles and open contact points as crosses. Flood water (saxum.flood), from a results
+file's scenario or a model's field loads, is drawn behind the blocks up to its level at the
+frame's time, with the flow velocity.
 """
 
 import dataclasses
@@ -26,6 +28,7 @@ from matplotlib.patches import Patch
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
+from .flood import FloodLoad
 from .mechanism import Mechanism, course_of, joint_states, thrust_line
 from .model import BodyKind, Model
 
@@ -138,13 +141,16 @@ def _colour_values(blocks: _Blocks, q: np.ndarray, colour_by: str) -> np.ndarray
 
 
 def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
-          forces: Sequence[np.ndarray] = ()) -> _Look:
-    """Axes limits covering the initial and all given positions qs [frames, bodies, 3],
-    colour scale over them and force scale over the normal forces [N/m] of their frames."""
+          forces: Sequence[np.ndarray] = (), floods: Sequence[FloodLoad] = ()) -> _Look:
+    """Axes limits covering the initial and all given positions qs [frames, bodies, 3] and
+    the highest water level of `floods`, colour scale over them and force scale over the
+    normal forces [N/m] of their frames."""
     if colour_by not in _COLOUR_BY:
         raise InputError(f"colour_by must be one of {_COLOUR_BY}, got {colour_by!r}")
     pts = np.concatenate([blocks.world(blocks.q0), *blocks.world(qs)])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
+    for flood in floods:
+        hi[1] = max(hi[1], float(flood.level.value.max()), flood.heads(0.0)[1])
     pad = 0.05 * float((hi - lo).max())
     factor, mappable, label = 1.0, None, ""
     if colour_by is not None:
@@ -189,6 +195,40 @@ def _draw_blocks(ax, look: _Look, blocks: _Blocks, q: np.ndarray) -> None:
         moving.set_facecolor(look.mappable.to_rgba(
             look.factor * _colour_values(blocks, q, look.colour_by)[free]))
     ax.add_collection(moving)
+
+
+def _results_floods(results) -> list[FloodLoad]:
+    """The flood of the scenario a results file was run from (none for a run built in
+    Python)."""
+    if not results.scenario_json:
+        return []
+    from .scenario import Scenario
+
+    flood = Scenario.model_validate_json(results.scenario_json).loads.flood
+    return [] if flood is None else [flood.load()]
+
+
+def _model_floods(model: Model) -> list[FloodLoad]:
+    return [load for load in model.field_loads if isinstance(load, FloodLoad)]
+
+
+def _draw_water(ax, look: _Look, blocks: _Blocks, q: np.ndarray, floods: Sequence[FloodLoad],
+                t: float) -> None:
+    """Water below its surface H(x) at time t [s] across the axes (gravity along -y), and
+    the flow velocity in a corner."""
+    free = blocks.kind == BodyKind.FREE
+    owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
+    xs = blocks.world(q)[free[owner], 0]
+    x = np.linspace(*look.xlim, 200)
+    for flood in floods:
+        extent = (float(xs.min()), float(xs.max())) if xs.size else (0.0, 1.0)
+        surface = flood.surface(x, t, extent)
+        ax.fill_between(x, look.ylim[0], surface, color="#9cc8e8", alpha=0.5, lw=0, zorder=0)
+        ax.plot(x, surface, color="#2a6fa8", lw=1.0, zorder=0.5)
+        u = flood.velocity.at(t)
+        if u != 0.0:
+            ax.text(0.01, 0.98, f"flow {'→' if u > 0 else '←'} {abs(u):.3g} m/s",
+                    transform=ax.transAxes, va="top", fontsize=8, color="#2a6fa8")
 
 
 def _draw_contacts(ax, look: _Look, contacts: dict, slides: np.ndarray | None = None) -> None:
@@ -243,7 +283,9 @@ def _colourbar(ax, look: _Look) -> None:
 
 
 def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
-                title: str | None, slides: np.ndarray | None = None) -> None:
+                title: str | None, floods: Sequence[FloodLoad] = (), *,
+                slides: np.ndarray | None = None) -> None:
+    _draw_water(ax, look, blocks, results.body_q[k], floods, float(results.time[k]))
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
         _draw_contacts(ax, look, results.contacts(k), slides)
@@ -317,14 +359,15 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     when given (figsize * dpi pixels)."""
     k = _frame_index(results, frame)
     blocks = _results_blocks(results)
+    floods = _results_floods(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
-                 _normal_forces(results, [k]) if forces else ())
+                 _normal_forces(results, [k]) if forces else (), floods)
     if ax is None:
         ax = Figure(figsize=figsize or _figsize(look), layout="constrained").add_subplot()
     fig = ax.figure
     slides = None if mechanism is None else np.array(
         [j.centre_of_pressure for j in mechanism.sliding]).reshape(-1, 2)
-    _draw_frame(ax, results, k, look, blocks, forces, title, slides)
+    _draw_frame(ax, results, k, look, blocks, forces, title, floods, slides=slides)
     if thrust_line:
         _draw_thrust_line(ax, results, k, look, blocks)
     if mechanism is not None:
@@ -482,8 +525,9 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     if not ks:
         raise InputError(f"no frame to animate in {results.path}")
     blocks = _results_blocks(results)
+    floods = _results_floods(results)
     look = _look(blocks, results.body_q[ks], "displacement",
-                 _normal_forces(results, ks) if forces else ())
+                 _normal_forces(results, ks) if forces else (), floods)
     fig = Figure(figsize=figsize or _figsize(look), layout="constrained")
     ax = fig.add_subplot()
     _colourbar(ax, look)
@@ -491,7 +535,7 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     with writer.saving(fig, str(path), dpi):
         for k in ks:
             ax.clear()
-            _draw_frame(ax, results, k, look, blocks, forces, None)
+            _draw_frame(ax, results, k, look, blocks, forces, None, floods)
             writer.grab_frame()
             # Laid out once, on the first frame: the axes then stay put while titles change,
             # and each frame is drawn once instead of twice (layout, then picture).
@@ -546,12 +590,15 @@ def plot_model(model: Model, path: str | PathLike | None = None, *, ax=None, tit
 
 def save_states(path: str | PathLike, panels: Sequence[tuple[Model, np.ndarray, str]]) -> None:
     """Write a PNG with one panel per (model, q [m, m, rad] per body, title), blocks coloured
-    by displacement from the initial position [mm or m]."""
+    by displacement from the initial position [mm or m], with the model's flood water (at
+    t = 0)."""
     fig = Figure(figsize=(6 * len(panels), 4.5), layout="constrained")
     for ax, (model, q, title) in zip(fig.subplots(1, len(panels), squeeze=False)[0], panels,
                                      strict=True):
         blocks = _model_blocks(model)
-        look = _look(blocks, q[None], "displacement")
+        floods = _model_floods(model)
+        look = _look(blocks, q[None], "displacement", (), floods)
+        _draw_water(ax, look, blocks, q, floods, 0.0)
         _draw_blocks(ax, look, blocks, q)
         _finish_axes(ax, look, title)
         _colourbar(ax, look)
