@@ -33,9 +33,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry2d import normalize_polygon
-from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
-from ._common import Assembly, finalize
+from ._common import Assembly, model_form
 
 __all__ = ["BlockSpec", "add_blocks_from_file", "blocks_model", "read_blocks", "write_blocks"]
 
@@ -291,12 +290,7 @@ def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> 
     return asm
 
 
-def blocks_model(
-    path: str | Path, *, friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81), **options,
-) -> Model:
-    """A model of the blocks of a file (add_blocks_from_file), friction mu [-] between every
-    pair of groups."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_blocks_from_file(builder, path, **options)
-    return finalize(builder, asm.groups, friction, law)
+blocks_model = model_form(
+    add_blocks_from_file, "blocks_model",
+    """A model of the blocks of a file (add_blocks_from_file), friction mu [-] between every pair
+    of groups.""")

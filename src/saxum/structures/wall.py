@@ -16,8 +16,8 @@ from ._common import (
     add_ground,
     check_count,
     check_positive,
-    finalize,
     lay_courses,
+    model_form,
     rectangle,
     separated,
 )
@@ -180,31 +180,12 @@ def add_wall(
     return asm
 
 
-def wall(
-    *,
-    courses: int,
-    bricks: int,
-    bond: str = "running",
-    brick_length: float = 0.25,
-    brick_height: float = 0.065,
-    half_bricks: bool = True,
-    openings: tuple[Opening, ...] | list[Opening] = (),
-    min_piece: float = 0.1,
-    density: float = 1800.0,
-    ground_splits: Sequence[float] = (),
-    friction: float = 0.6,
-    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep
-    (body 0, group "ground"; cut at ground_splits [m] from the wall's left end into
-    "ground 1", "ground 2", ...), friction mu [-] on every joint."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_wall(builder, courses=courses, bricks=bricks, bond=bond,
-                   brick_length=brick_length, brick_height=brick_height,
-                   half_bricks=half_bricks, openings=openings, min_piece=min_piece,
-                   density=density, ground=True, ground_splits=ground_splits)
-    return finalize(builder, asm.groups, friction, law)
+wall = model_form(
+    add_wall, "wall",
+    """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep (body 0,
+    group "ground"; cut at ground_splits [m] from the wall's left end into "ground 1",
+    "ground 2", ...), friction mu [-] on every joint.""",
+    ground=True)
 
 
 def add_running_bond_wall(
