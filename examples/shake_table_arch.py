@@ -5,7 +5,7 @@ the arch's static horizontal load factor and its mechanism (after Albuerne, Will
 method", 2013; the scenario and what was assumed: examples/shake_table_arch.toml,
 docs/applications.md).
 
-    python examples/shake_table_arch.py      (a few minutes on 2 cores)
+    python examples/shake_table_arch.py      (under a minute on 2 cores)
 
 Prints the static load factor with its hinges, then per period the critical amplitude [g],
 the time of collapse and the hinge positions as angles from the crown [deg] (negative: left
