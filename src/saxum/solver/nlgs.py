@@ -96,9 +96,9 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
         return 0, 0.0
     error = np.inf
     it = 0
+    v_prev[:] = v
     while it < max_iterations:
         it += 1
-        v_prev[:] = v
         for k in range(count):
             a = count - 1 - k
             if not active[a]:
@@ -142,7 +142,7 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             v[b, 2] = vb2 + (mb[2] * h_ant[a, 0, 2] * dt + mb[2] * h_ant[a, 1, 2] * dn)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
-        error = _relative_change(v, v_prev, v_free, mass)
+        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
@@ -150,10 +150,11 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 
 @nb.njit(cache=True)
 def _relative_change(v, v_prev, v_free, mass):
-    """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed.
-    The second term of the denominator is the round-off floor: a change below ~1e-14 of the
-    velocities themselves cannot be resolved in double precision, so a contact with a tiny
-    impulse on a fast body must not keep the solver sweeping."""
+    """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed;
+    then v_prev = v, ready for the next sweep. The second term of the denominator is the
+    round-off floor: a change below ~1e-14 of the velocities themselves cannot be resolved in
+    double precision, so a contact with a tiny impulse on a fast body must not keep the solver
+    sweeping."""
     num = 0.0
     den = 0.0
     size = 0.0
@@ -161,6 +162,7 @@ def _relative_change(v, v_prev, v_free, mass):
         for d in range(v.shape[1]):
             m = mass[b, d]
             change = v[b, d] - v_prev[b, d]
+            v_prev[b, d] = v[b, d]
             reaction = v[b, d] - v_free[b, d]
             num += m * change * change
             den += m * reaction * reaction
