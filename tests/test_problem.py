@@ -51,6 +51,8 @@ def test_assembly_and_warm_start_match_the_generic_kernels(stepped):
         assert not slow[5].all()  # and some are inactive
     for a, b in zip(fast, slow, strict=True):
         assert np.array_equal(a, b)
+    # the structure of rigid 2D contact rows that saxum.solver.nlgs.nlgs_2d relies on
+    assert np.array_equal(fast[1][:, :, :2], -fast[0][:, :, :2])
 
 
 def test_end_of_step_gaps_match_the_generic_kernel(stepped):
