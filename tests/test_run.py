@@ -35,6 +35,7 @@ SCENARIO = textwrap.dedent("""\
     duration = 1.0
     interval = 0.01
     checkpoint_interval = 0.05
+    histories = ["voussoir 8", 1]
 """)
 
 
@@ -58,6 +59,8 @@ def _same_results(a_path, b_path):
                 assert np.array_equal(ca[name], cb[name]), (k, name)
         for name in a.steps:
             assert np.array_equal(a.steps[name], b.steps[name]), name
+        for name in a.histories:
+            assert np.array_equal(a.histories[name], b.histories[name]), name
 
 
 def test_results_of_a_run(one_go):
@@ -73,6 +76,11 @@ def test_results_of_a_run(one_go):
         assert np.array_equal(c["force"], c["impulse"] / r.dt)
         ds = r.to_xarray()
         assert ds["body_q"].sel(body="voussoir 8").shape == (101, 3)
+        h = r.histories  # every step, the frames' values at the frames' steps
+        assert h["name"] == ["voussoir 8", "voussoir 1"] and h["step"].tolist() == list(
+            range(1, 1001))
+        assert np.array_equal(h["body_q"][9::10, 0], r.body_q[1:, crown])
+        assert "ground_acceleration" not in h
 
 
 def _start(args, cwd):

@@ -17,13 +17,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
+from .contacts import Contacts
 from .model import BodyKind, Model
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "joint_resultants", "joint_states", "mechanism", "thrust_line"]
+__all__ = ["Joint", "Mechanism", "frame_mechanism", "joint_resultants", "joint_states",
+           "mechanism", "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
 
@@ -141,7 +144,9 @@ class Mechanism:
 
 def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | None = None,
               threshold: float | None = None, slip_fraction: float = 0.05) -> Mechanism:
-    """Classify the joints of `state` (contacts of its last step, impulses over dt [s]).
+    """Classify the joints of `state` (contacts of its last step, impulses over dt [s]) of
+    `model` (a Model, or anything with its body_kind, body_q0, body_size, body_radius and
+    body_name, such as the bodies of a results file: frame_mechanism).
     gap_tolerance [m]: a point is open beyond it (default 0.1 % of the smallest free block's
     size); threshold [m]: a block moves when displaced by more (default 10 % of the largest
     displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
@@ -192,6 +197,33 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
+
+
+class _Bodies(NamedTuple):
+    """The bodies of a results file, as mechanism() reads them from a Model."""
+
+    body_kind: np.ndarray
+    body_q0: np.ndarray
+    body_size: np.ndarray
+    body_radius: np.ndarray
+    body_name: list[str]
+
+
+def frame_mechanism(results, frame: int, **options) -> Mechanism:
+    """The mechanism (see mechanism(); same options) of output frame `frame` of a
+    saxum.results.Results: its coordinates, velocities and contacts with their impulses."""
+    k = range(results.frame_count)[frame]
+    m = results.model
+    bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
+                     results.body_name)
+    stored = results.contacts(k)
+    contacts = Contacts(results.dim, max(1, stored["gap"].size))
+    contacts.count = stored["gap"].size
+    for name in Contacts._fields():
+        getattr(contacts, name)[: contacts.count] = stored[name]
+    state = State(float(results.time[k]), results.body_q[k], results.body_v[k], contacts,
+                  int(results.step[k]))
+    return mechanism(bodies, state, results.dt, **options)
 
 
 def _point_velocity(q: np.ndarray, v: np.ndarray, body: np.ndarray, p: np.ndarray) -> np.ndarray:

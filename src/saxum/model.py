@@ -149,6 +149,16 @@ class ModelBuilder:
     def body_count(self) -> int:
         return len(self._blocks)
 
+    @property
+    def gravity(self) -> tuple[float, float]:
+        """Gravity (gx, gy) [m/s^2] of the model being built."""
+        return float(self._gravity[0]), float(self._gravity[1])
+
+    @property
+    def groups(self) -> list[str]:
+        """The groups of the blocks added so far, sorted."""
+        return sorted({blk.group for blk in self._blocks})
+
     def add_block(
         self,
         vertices,

@@ -27,7 +27,8 @@ from .errors import InputError
 from .mechanism import joint_states, thrust_line
 from .model import BodyKind, Model
 
-__all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
+__all__ = ["animate", "joint_states", "plot_collapse_curve", "plot_frame", "plot_histories",
+           "save_states"]
 
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
 _FORCE_COLOUR = "#c0152f"
@@ -320,27 +321,27 @@ def _body_index(results, body: int | str | None) -> int:
 
 
 def plot_histories(results, path: str | PathLike | None = None, *,
-                   body: int | str | None = None, figsize: tuple[float, float] = (8.0, 9.0),
+                   body: int | str | None = None, figsize: tuple[float, float] | None = None,
                    dpi: int = 150) -> Figure:
-    """Time histories in stacked panels: displacement of block `body` (name or index; default
-    the free block that moved most) [mm or m], kinetic energy [J/m], NLGS iterations per step
-    (non-converged steps in red) and the largest interpenetration [µm, mm or m]. Saved to
-    `path` at dpi when given."""
+    """Time histories in stacked panels: the blocks of the run's `histories` output at every
+    step (horizontal displacement [mm or m] and rotation [deg]; ground acceleration
+    [m/s^2] under a ground motion) or, without them or when `body` (name or index) is given,
+    the displacement of that block at the output frames (default: the free block that moved
+    most); then kinetic energy [J/m], NLGS iterations per step (non-converged steps in red)
+    and the largest interpenetration [µm, mm or m]. Saved to `path` at dpi when given."""
     if results.frame_count == 0:
         raise InputError(f"{results.path} has no output frame")
-    b = _body_index(results, body)
+    h = results.histories if body is None else None
     s = results.steps
-    fig = Figure(figsize=figsize, layout="constrained")
-    ax_u, ax_e, ax_it, ax_pen = fig.subplots(4, 1, sharex=True)
-
-    u = results.body_q[:, b, :2] - results.model["body_q0"][b, :2]
-    magnitude = np.linalg.norm(u, axis=1)
-    factor, unit = _length_unit(float(magnitude.max()))
-    for values, label in ((u[:, 0], "$u_x$"), (u[:, 1], "$u_y$"), (magnitude, "$|u|$")):
-        ax_u.plot(results.time, factor * values, label=label, lw=1.2)
-    ax_u.set_ylabel(f"displacement [{unit}]")
-    ax_u.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
-    ax_u.legend(fontsize=8, ncol=3)
+    ground = h is not None and "ground_acceleration" in h
+    top = 2 + ground if h is not None else 1
+    fig = Figure(figsize=figsize or (8.0, 7.0 + 2.0 * top), layout="constrained")
+    axes = fig.subplots(top + 3, 1, sharex=True)
+    if h is not None:
+        _draw_block_histories(axes[:top], results, h)
+    else:
+        _draw_block_displacement(axes[0], results, _body_index(results, body))
+    ax_e, ax_it, ax_pen = axes[top:]
 
     ax_e.plot(s["time"], s["kinetic_energy"], lw=1.0, color="C3")
     ax_e.set_ylabel("kinetic energy [J/m]")
@@ -356,8 +357,69 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     ax_pen.plot(s["time"], factor * s["max_interpenetration"], lw=1.0, color="C4")
     ax_pen.set_ylabel(f"largest interpenetration [{unit}]")
     ax_pen.set_xlabel("time [s]")
-    for ax in (ax_u, ax_e, ax_it, ax_pen):
+    for ax in axes:
         ax.grid(alpha=0.3)
+    if path is not None:
+        fig.savefig(path, dpi=dpi)
+    return fig
+
+
+def _draw_block_displacement(ax, results, b: int) -> None:
+    u = results.body_q[:, b, :2] - results.model["body_q0"][b, :2]
+    magnitude = np.linalg.norm(u, axis=1)
+    factor, unit = _length_unit(float(magnitude.max()))
+    for values, label in ((u[:, 0], "$u_x$"), (u[:, 1], "$u_y$"), (magnitude, "$|u|$")):
+        ax.plot(results.time, factor * values, label=label, lw=1.2)
+    ax.set_ylabel(f"displacement [{unit}]")
+    ax.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
+    ax.legend(fontsize=8, ncol=3)
+
+
+def _draw_block_histories(axes, results, h: dict) -> None:
+    """Horizontal displacement and rotation of each history block, and a_g(t)."""
+    q0 = results.model["body_q0"][h["body"]]
+    ux = h["body_q"][:, :, 0] - q0[:, 0]
+    factor, unit = _length_unit(float(np.abs(ux).max(initial=0.0)))
+    for j, name in enumerate(h["name"]):
+        axes[0].plot(h["time"], factor * ux[:, j], lw=1.0, label=name)
+        axes[1].plot(h["time"], np.degrees(h["body_q"][:, j, 2] - q0[j, 2]), lw=1.0)
+    axes[0].set_ylabel(f"$u_x$ [{unit}]")
+    axes[0].legend(fontsize=8, ncol=min(4, len(h["name"])))
+    axes[0].set_title("blocks of output.histories, every step", fontsize=10)
+    axes[1].set_ylabel("rotation [deg]")
+    if len(axes) > 2:
+        axes[2].plot(h["time"], h["ground_acceleration"][:, 0], lw=0.8, color="0.2",
+                     label="horizontal")
+        if np.any(h["ground_acceleration"][:, 1]):
+            axes[2].plot(h["time"], h["ground_acceleration"][:, 1], lw=0.8, label="vertical")
+        axes[2].set_ylabel("ground acc. [m/s$^2$]")
+        axes[2].legend(fontsize=8)
+
+
+def plot_collapse_curve(points, path: str | PathLike | None = None, *, g: float = 9.81,
+                        title: str = "", figsize: tuple[float, float] = (7.0, 4.5),
+                        dpi: int = 150) -> Figure:
+    """The collapse curve of saxum.collapse.collapse_curve: the critical pulse amplitude
+    [g] against the pulse period [s], each point with its bisection bracket (stood at the
+    lower end, collapsed at the upper); the region above the curve collapses."""
+    pts = sorted(points, key=lambda p: p.period)
+    t = np.array([p.period for p in pts])
+    lo = np.array([p.stands for p in pts]) / g
+    hi = np.array([p.collapses for p in pts]) / g
+    mid = 0.5 * (lo + hi)
+    fig = Figure(figsize=figsize, layout="constrained")
+    ax = fig.add_subplot()
+    ax.fill_between(t, mid, max(hi.max(), 1e-9) * 1.15, color="#c0152f", alpha=0.08,
+                    label="collapses")
+    ax.errorbar(t, mid, yerr=(mid - lo, hi - mid), fmt="o-", color="k", ms=4, lw=1.2,
+                capsize=3, label="critical amplitude (bracket)")
+    ax.set_xlabel("pulse period $T_p$ [s]")
+    ax.set_ylabel("pulse amplitude [g]")
+    ax.set_ylim(0.0, max(hi.max(), 1e-9) * 1.15)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    if title:
+        ax.set_title(title, fontsize=10)
     if path is not None:
         fig.savefig(path, dpi=dpi)
     return fig

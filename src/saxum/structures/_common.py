@@ -237,10 +237,18 @@ def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, 
 
 
 def add_ground(builder: ModelBuilder, asm: Assembly, x0: float, x1: float, top: float,
-               depth: float) -> int:
-    """A fixed "ground" block from x0 to x1 [m], its top at `top` [m], `depth` [m] deep."""
-    return asm.add_block(builder, "ground", rectangle(x0, top - depth, x1, top), group="ground",
-                         kind=BodyKind.FIXED, name="ground")
+               depth: float, splits: Sequence[float] = ()) -> int:
+    """A fixed "ground" block from x0 to x1 [m], its top at `top` [m], `depth` [m] deep; cut
+    at the abscissae `splits` [m] (increasing, inside (x0, x1)) into "ground 1", "ground 2",
+    ... from the left, so that one part can settle. Returns the first block's index."""
+    edges = [x0, *splits, x1]
+    if any(b <= a for a, b in itertools.pairwise(edges)):
+        raise InputError(f"ground_splits must increase strictly inside ({x0:g}, {x1:g}) m, "
+                         f"got {list(splits)}")
+    names = ["ground"] if not splits else [f"ground {k + 1}" for k in range(len(edges) - 1)]
+    return [asm.add_block(builder, "ground", rectangle(a, top - depth, b, top), group="ground",
+                          kind=BodyKind.FIXED, name=name)
+            for (a, b), name in zip(itertools.pairwise(edges), names, strict=True)][0]
 
 
 def check_convex(polygons: Sequence[np.ndarray], names: Sequence[str], hint: str) -> None:

@@ -65,13 +65,18 @@ def add_pier(
     origin: tuple[float, float] = (0.0, 0.0),
     kind: BodyKind = BodyKind.FREE,
     group: str = "pier",
+    ground: bool = False,
 ) -> Assembly:
     """A pier: a column of `courses` equal blocks, width x height [m] in all, its lower-left
-    corner at `origin` [m]; part "piers", bottom block first, named "pier c1", ...."""
+    corner at `origin` [m]; part "piers", bottom block first, named "pier c1", ....
+    ground: first add a fixed "ground" block (part and group "ground") 3 widths wide and
+    width deep, under the pier's middle."""
     check_positive(width=width, height=height)
     check_count("courses", courses)
     x0, y0 = origin
     asm = Assembly()
+    if ground:
+        add_ground(builder, asm, x0 - width, x0 + 2.0 * width, y0, width)
     for c, poly in enumerate(pier_polygons(x0, x0 + width, y0, y0 + height, courses)):
         asm.add_block(builder, "piers", poly, group=group, density=density, kind=kind,
                       name=f"pier c{c + 1}")
@@ -86,9 +91,8 @@ def pier(
     """A free pier (add_pier) standing on a fixed ground block 3 widths wide and width deep
     (body 0, group "ground"), friction mu [-] on every joint."""
     builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    add_ground(builder, asm, -width, 2.0 * width, 0.0, width)
-    asm.merge(add_pier(builder, width=width, height=height, courses=courses, density=density))
+    asm = add_pier(builder, width=width, height=height, courses=courses, density=density,
+                   ground=True)
     return finalize(builder, asm.groups, friction, law)
 
 
@@ -105,6 +109,7 @@ def add_buttressed_wall(
     density: float = 2000.0,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "wall",
+    ground: bool = False,
 ) -> Assembly:
     """A wall in cross-section with a stepped buttress on its right, as courses of blocks.
 
@@ -115,7 +120,8 @@ def add_buttressed_wall(
     `block_length` [m] long (default: the wall thickness); courses at least two blocks wide are
     laid in running bond (every other one starts with a half block), so that the buttress is
     bonded to the wall. Returns part "blocks", course by course from the left, named
-    "wall c<course>b<block>".
+    "wall c<course>b<block>". ground: first add a fixed "ground" block (part and group
+    "ground") three section widths wide and `thickness` deep, under the section's middle.
     """
     buttress_height = height if buttress_height is None else buttress_height
     block_length = thickness if block_length is None else block_length
@@ -143,6 +149,9 @@ def add_buttressed_wall(
 
     levels = [y0 + c * course for c in range(courses + 1)]
     asm = Assembly()
+    if ground:
+        width = thickness + buttress_width
+        add_ground(builder, asm, x0 - width, x0 + 2.0 * width, y0, thickness)
     lay_courses(builder, asm, part="blocks", group=group, density=density, levels=levels,
                 edges=edges, name="wall")
     return asm
@@ -157,11 +166,8 @@ def buttressed_wall(
     """A buttressed wall (add_buttressed_wall) on a fixed ground (body 0, group "ground",
     three section widths wide), friction mu [-] on every joint."""
     builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    width = thickness + buttress_width
-    add_ground(builder, asm, -width, 2.0 * width, 0.0, thickness)
-    asm.merge(add_buttressed_wall(
+    asm = add_buttressed_wall(
         builder, height=height, thickness=thickness, courses=courses,
         buttress_width=buttress_width, buttress_height=buttress_height, setbacks=setbacks,
-        block_length=block_length, density=density))
+        block_length=block_length, density=density, ground=True)
     return finalize(builder, asm.groups, friction, law)

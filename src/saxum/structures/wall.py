@@ -3,6 +3,7 @@ windows) spanned by a lintel or an arch."""
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,6 +103,8 @@ def add_wall(
     density: float = 1800.0,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "brick",
+    ground: bool = False,
+    ground_splits: Sequence[float] = (),
 ) -> Assembly:
     """A wall of `courses` courses of `bricks` bricks, brick_length x brick_height [m], its
     lower-left corner at `origin` [m]; head and bed joints are exact (bricks touch).
@@ -113,7 +116,9 @@ def add_wall(
     spans it, and a piece smaller than min_piece [-] of a brick is left out.
     Parts "bricks" (course by course from the left, named "brick c<course>b<brick>", a cut
     brick's pieces ".1", ".2"), "lintels" and "voussoirs" (group "lintel", "voussoir"); all of
-    density [kg/m^3].
+    density [kg/m^3]. ground: first add a fixed "ground" block (part and group "ground") three
+    wall lengths wide and one course deep, under the wall's middle, cut at ground_splits [m]
+    (from the wall's left end) into "ground 1", "ground 2", ... so that a part can settle.
     """
     check_count("courses", courses)
     check_count("bricks", bricks)
@@ -153,6 +158,11 @@ def add_wall(
         return [x0] + inner + [x0 + bricks * brick_length] if half_bricks else inner
 
     asm = Assembly()
+    if ground:
+        add_ground(builder, asm, x0 - length, x0 + 2.0 * length, y0, brick_height,
+                   [x0 + x for x in ground_splits])
+    elif len(ground_splits):
+        raise InputError("ground_splits needs ground=True")
     lay_courses(builder, asm, part="bricks", group=group, density=density,
                 levels=[y0 + c * brick_height for c in range(courses + 1)], edges=edges,
                 holes=holes, min_piece=min_piece)
@@ -172,20 +182,19 @@ def wall(
     openings: tuple[Opening, ...] | list[Opening] = (),
     min_piece: float = 0.1,
     density: float = 1800.0,
+    ground_splits: Sequence[float] = (),
     friction: float = 0.6,
     law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
     gravity: tuple[float, float] = (0.0, -9.81),
 ) -> Model:
     """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep
-    (body 0, group "ground"), friction mu [-] on every joint."""
+    (body 0, group "ground"; cut at ground_splits [m] from the wall's left end into
+    "ground 1", "ground 2", ...), friction mu [-] on every joint."""
     builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    length = bricks * brick_length
-    add_ground(builder, asm, -length, 2.0 * length, 0.0, brick_height)
-    asm.merge(add_wall(builder, courses=courses, bricks=bricks, bond=bond,
-                       brick_length=brick_length, brick_height=brick_height,
-                       half_bricks=half_bricks, openings=openings, min_piece=min_piece,
-                       density=density))
+    asm = add_wall(builder, courses=courses, bricks=bricks, bond=bond,
+                   brick_length=brick_length, brick_height=brick_height,
+                   half_bricks=half_bricks, openings=openings, min_piece=min_piece,
+                   density=density, ground=True, ground_splits=ground_splits)
     return finalize(builder, asm.groups, friction, law)
 
 
