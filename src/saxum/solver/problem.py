@@ -178,11 +178,7 @@ def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
         ty = frame[a, 0, 1]
         nx = frame[a, 1, 0]
         ny = frame[a, 1, 1]
-        # material points: `point` on the candidate, its projection on the antagonist's face
-        lcx = point[a, 0] - q[c, 0]
-        lcy = point[a, 1] - q[c, 1]
-        lax = point[a, 0] - gap[a] * nx - q[b, 0]
-        lay = point[a, 1] - gap[a] * ny - q[b, 1]
+        lcx, lcy, lax, lay = rigid2d.lever_arms(q, c, b, point, frame, gap, a)
         ct = lcx * ty - lcy * tx
         cn = lcx * ny - lcy * nx
         at = -(lax * ty - lay * tx)
