@@ -17,6 +17,7 @@ from saxum.scenario import (
     ButtressedWallStructure,
     DetectionSpec,
     FemaP695Spec,
+    FloodSpec,
     GroundMotionSpec,
     LawSpec,
     Loads,
@@ -86,6 +87,13 @@ FULL = textwrap.dedent("""\
     end = 0.9
     baseline_correction = true
 
+    [loads.flood]
+    level = 0.1
+    velocity = 0.5
+    tailwater = 0.05
+    water_density = 1050.0
+    drag_coefficient = 0.8
+
     [solver]
     dt = 5e-4
     theta = 0.6
@@ -120,7 +128,9 @@ PYTHON = Scenario(
                 ground_motion=GroundMotionSpec(
                     pulse="mavroeidis_papageorgiou", amplitude=0.5, velocity=0.3, period=0.4,
                     gamma=2.5, nu=0.2, direction=(1.0, 0.5), scale=1.5, start=0.01, end=0.9,
-                    baseline_correction=True)),
+                    baseline_correction=True),
+                flood=FloodSpec(level=0.1, velocity=0.5, tailwater=0.05, water_density=1050.0,
+                                drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
@@ -301,7 +311,8 @@ def test_docs_describe_every_key():
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, ShapedArchStructure,
                   BondedWallStructure, OpeningSpec, PierStructure, ButtressedWallStructure,
                   ArchBridgeStructure, LawSpec, Loads, PointLoad, Settlement,
-                  GroundMotionSpec, FemaP695Spec, SolverSpec, DetectionSpec, OutputSpec):
+                  GroundMotionSpec, FemaP695Spec, FloodSpec, SolverSpec, DetectionSpec,
+                  OutputSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"

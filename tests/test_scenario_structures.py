@@ -289,7 +289,7 @@ def _error(text, **kw):
      ["line 14: structure.abutments: unknown key", "allowed keys here: shape, span, thickness"]),
     (WALL, "x = 1.8", "x = 2.2", ["structure: openings[2]", "outside the wall"]),
     (WALL, "width = 0.3\nheight = 0.4", "width = 3.0\nheight = 0.4",
-     ["structure: openings[0]", "outside the wall"]),
+     ["structure: openings[0].width = 3 m is larger than the wall's width (2.4 m)"]),
     (WALL, "bearing = 0.1", "bearing = 0.1\ncolour = 1",
      ["line 18: structure.openings[0].colour: unknown key",
       "allowed keys here: x, y, width, height, head"]),
@@ -375,12 +375,17 @@ def test_blocks_from_csv_and_dxf_files(tmp_path):
                        dxfattribs={"layer": "SUPPORT"})
     msp.add_lwpolyline([(0, 0), (0.2, 0), (0.2, 0.5), (0, 0.5)], close=True,
                        dxfattribs={"layer": "STONE"})
+    msp.add_text("elevation", dxfattribs={"layer": "NOTES"})
     doc.saveas(tmp_path / "e.dxf")
     dxf_text = ('[structure]\ntype = "blocks"\nfile = "e.dxf"\nformat = "dxf"\n'
-                'fixed_layers = ["support"]\ngroup = "unused"\ndensity = 2000.0\n' + LAWS)
+                'fixed_layers = ["support"]\ngroup = "unused"\ndensity = 2000.0\n'
+                'ignore_layers = ["notes"]\n' + LAWS)
     m = parse_scenario(dxf_text, base_dir=tmp_path).build_model()
     assert [m.group_names[g] for g in m.body_group] == ["SUPPORT", "STONE"]
     assert m.body_kind[0] == sx.BodyKind.FIXED and m.body_mass[1] == pytest.approx(200.0)
+    with pytest.raises(sx.InputError, match="TEXT handle .* on layer 'NOTES': not a block"):
+        parse_scenario(dxf_text.replace('ignore_layers = ["notes"]\n', ""),
+                       base_dir=tmp_path).build_model()
 
 
 def test_python_scenario_with_a_generated_structure_runs():

@@ -62,7 +62,8 @@ def _collapse(args) -> None:
     result = scenario_critical_value(
         args.scenario, args.vary, args.stands, args.collapses, overrides=tuple(args.set),
         tolerance=args.tolerance, criterion=CollapseCriterion(duration=args.duration,
-                                                              fraction=args.fraction))
+                                                              fraction=args.fraction,
+                                                              per_block=args.per_block))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
@@ -84,7 +85,8 @@ def _collapse(args) -> None:
               f"than {args.fraction:g} x the smallest block's size)")
     print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s (when the "
           "collapsing motion began):")
-    print(mechanism(trial.simulation.model, at, trial.simulation.integrator.dt).text())
+    mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
+    print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
@@ -92,7 +94,8 @@ def _collapse(args) -> None:
     run_scenario(scenario, output, quiet=True)
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        plot_frame(r, -1, picture, thrust_line=True)
+        wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
+        plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
@@ -316,6 +319,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
                         "has ended)")
+    p.add_argument("--per-block", action="store_true",
+                   help="at rest means every block at rest (its own net force small next to "
+                        "the forces on it), not the structure as a whole: for a small part "
+                        "(a parapet) that may fail slowly on a large structure")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
     p.add_argument("-o", "--output", type=Path,

@@ -80,7 +80,11 @@ class CollapseCriterion:
     brought back by it; what counts is where it is once the ground is still);
     after_motion: a settlement ends at not_before: before it, collapse when a block moves as
     fast as after a free fall by the displacement threshold; after it, displacements count
-    from the configuration at not_before instead of the initial one (module doc)."""
+    from the configuration at not_before instead of the initial one (module doc);
+    per_block: the force ratio is the largest over the free blocks of each block's own (its
+    net force over the forces acting on it) instead of the structure's: a small part (a
+    parapet) that starts to move slowly on a large structure is then not called at rest,
+    its net force being tiny next to the forces on the rest."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -90,6 +94,7 @@ class CollapseCriterion:
     energy: float = 1e-9
     not_before: float = 0.0
     after_motion: bool = False
+    per_block: bool = False
 
     def __post_init__(self) -> None:
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
@@ -133,20 +138,25 @@ class Trial:
         return mechanism(self.simulation.model, self.at_collapse, self.simulation.integrator.dt)
 
 
-def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) -> float:
-    """UFR of the last step (module doc): net force over acting forces on the free blocks;
-    v_before: the velocities at the start of the step [m/s, m/s, rad/s]."""
+def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, *,
+                           per_block: bool = False) -> float:
+    """UFR of the last step (module doc): net force over acting forces on the free blocks
+    (per_block: the largest of each block's own ratio); v_before: the velocities at the
+    start of the step [m/s, m/s, rad/s]."""
     m = sim.model
     h = sim.integrator.dt
     free = m.body_kind == BodyKind.FREE
     net = np.hypot(*((state.body_v[free, :2] - v_before[free, :2]).T)) * m.body_mass[free] / h
     force = np.empty_like(state.body_v)
-    sim.external_force(state.time, force)
+    sim.external_force(state.time, force, state.body_q)
     applied = np.hypot(*force[free, :2].T)
     c = state.contacts
     r = np.hypot(*c.impulse[: c.count].T) / h
     contact = (np.bincount(c.candidate[: c.count], r, m.body_count)
                + np.bincount(c.antagonist[: c.count], r, m.body_count))[free]
+    if per_block:
+        acting = applied + contact
+        return float(np.max(net / np.where(acting > 0.0, acting, np.inf), initial=0.0))
     acting = float(applied.sum() + contact.sum())
     return float(net.sum()) / acting if acting > 0.0 else 0.0
 
@@ -186,15 +196,18 @@ def run_trial(sim: Simulation, value: float = math.nan,
         moved = float(np.hypot(*(state.body_q[free, :2] - reference).T).max())
         displacements[k] = moved
         thrown = not anchored and bool(np.any(_block_energy(m, state.body_v)[free] > fall))
+        if thrown:  # during a settlement the displacements say nothing: collapse now
+            return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
+                         state, state.time, state.copy())
         before = displacements[k - 1] if k else 0.0
-        if moved > ONSET * limit >= before:
+        if anchored and moved > ONSET * limit >= before:
             onset = state.copy()
-        if moved > limit >= before or (thrown and math.isnan(crossed)):
+        if anchored and moved > limit >= before:
             crossed = state.time
-        if thrown or (moved > limit and state.time >= crit.not_before):
+        if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
                          state, crossed, onset if onset is not None else state.copy())
-        ratio = unbalanced_force_ratio(sim, state, v_before)
+        ratio = unbalanced_force_ratio(sim, state, v_before, per_block=crit.per_block)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
         if quiet >= settle and state.time >= crit.not_before:

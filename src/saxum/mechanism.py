@@ -11,11 +11,19 @@ velocities are round-off, shows no slide). The centre of pressure of a joint is 
 its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
 pressure of its joints, which is where the resultant of the joint's forces crosses it
 (J. Heyman, "The stone skeleton", 1995).
+
+In a wall, blocks named "<name> c<course>b<block>" (saxum.structures: walls, buttressed walls,
+a bridge's spandrels and fill) locate a joint by course: a head joint in course k (between two
+blocks of the course), a bed joint between courses k and k + 1, or course k against another
+block (the ground, a lintel), and by its position along the course, from the wall's left end
+(the leftmost initial vertex of the coursed blocks) [m]; arches keep their angles from the
+crown (Mechanism.hinge_angles).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -25,10 +33,17 @@ from .contacts import Contacts
 from .model import BodyKind, Model
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "frame_mechanism", "joint_resultants", "joint_states",
-           "mechanism", "thrust_line"]
+__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "joint_resultants",
+           "joint_states", "mechanism", "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
+_COURSED = re.compile(r"\bc(\d+)b\d+")  # "brick c3b5": course 3
+
+
+def course_of(name: str) -> int | None:
+    """The course of a block named "<name> c<course>b<block>" (module doc), else None."""
+    match = _COURSED.search(name)
+    return int(match.group(1)) if match else None
 
 
 def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
@@ -89,7 +104,9 @@ def _joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
 class Joint:
     """One joint: its two bodies (names), whether it hinges (and about which point [m]),
     slides (largest slip velocity [m/s]) or is open, its centre of pressure [m] and the
-    resultant of its contact forces [N/m] (world frame; nan when it carries nothing)."""
+    resultant of its contact forces [N/m] (world frame; nan when it carries nothing).
+    In a wall (module doc): the courses of its coursed bodies (one or two) and its position
+    along the course [m] (the hinge point's, else the centre of pressure's); None elsewhere."""
 
     bodies: tuple[str, str]
     hinge: bool
@@ -99,6 +116,22 @@ class Joint:
     open: bool
     centre_of_pressure: tuple[float, float]
     force: tuple[float, float]
+    courses: tuple[int, ...] | None = None
+    along: float | None = None
+
+    @property
+    def location(self) -> str | None:
+        """Where the joint is in a wall, in words (None outside walls)."""
+        if self.courses is None or self.along is None or not math.isfinite(self.along):
+            return None
+        if len(self.courses) == 1:
+            other = next(b for b in self.bodies if not _COURSED.search(b))
+            where = f"course {self.courses[0]} against {other}"
+        elif self.courses[0] == self.courses[1]:
+            where = f"head joint in course {self.courses[0]}"
+        else:
+            where = f"bed joint between courses {min(self.courses)} and {max(self.courses)}"
+        return f"{where}, {self.along:.3g} m along"
 
 
 @dataclass(frozen=True)
@@ -130,11 +163,13 @@ class Mechanism:
                  + (", ".join(self.moving) if self.moving else "none")]
         for j in self.hinges:
             x, y = j.hinge_point
+            where = f": {j.location}" if j.location else ""
             lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} at "
-                         f"({x:.4g}, {y:.4g}) m")
+                         f"({x:.4g}, {y:.4g}) m{where}")
         for j in self.sliding:
+            where = f": {j.location}" if j.location else ""
             lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
-                         f"(slip {j.slip:.3g} m/s)")
+                         f"(slip {j.slip:.3g} m/s){where}")
         opened = [j for j in self.joints if j.open]
         if opened:
             lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
@@ -179,11 +214,15 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     pairs, cop, resultant = joint_resultants(contacts, gap_tol)
     joint = _joint_index(cand, ant)
     names = model.body_name
+    course = {b: c for b, name in enumerate(names) if (c := course_of(name)) is not None}
+    left = min((float(model.vertices(b)[:, 0].min()) for b in course), default=0.0)
     joints = []
     for j, (a, b) in enumerate(pairs):
         rows = np.flatnonzero(joint == j)
         hinge_rows = rows[labels[rows] == "hinge"]
         carries = bool(np.isfinite(cop[j, 0]))
+        coursed = tuple(course[i] for i in (a, b) if i in course)
+        at = point[hinge_rows[0], 0] if hinge_rows.size else cop[j, 0]
         joints.append(Joint(
             bodies=(names[a], names[b]),
             hinge=hinge_rows.size > 0,
@@ -194,6 +233,8 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
             centre_of_pressure=(float(cop[j, 0]), float(cop[j, 1])),
             force=(float(resultant[j, 0]), float(resultant[j, 1])) if carries
             else (math.nan, math.nan),
+            courses=coursed or None,
+            along=float(at - left) if coursed else None,
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)

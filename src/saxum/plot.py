@@ -5,9 +5,12 @@ backend or leaves figures open in the caller's session. A frame shows the blocks
 their displacement (or rotation) from the initial position, fixed and driven bodies hatched
 grey, and the contact forces: at each contact point a segment along the reaction whose width
 is proportional to the normal force |R_n|/dt [N/m], hinges (a joint loaded at one point only)
-as white circles and open contact points as crosses.
+as white circles and open contact points as crosses. Flood water (saxum.flood), from a results
+file's scenario or a model's field loads, is drawn behind the blocks up to its level at the
+frame's time, with the flow velocity.
 """
 
+import dataclasses
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -21,14 +24,16 @@ from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
-from .mechanism import joint_states, thrust_line
+from .flood import FloodLoad
+from .mechanism import Mechanism, course_of, joint_states, thrust_line
 from .model import BodyKind, Model
 
 __all__ = ["animate", "joint_states", "plot_collapse_curve", "plot_frame", "plot_histories",
-           "save_states"]
+           "plot_model", "save_states"]
 
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
 _FORCE_COLOUR = "#c0152f"
@@ -37,6 +42,8 @@ _MARKS = {  # joint_states label: marker style (white circle: the usual symbol o
                   markeredgewidth=1.1),
     "open": dict(marker="x", markersize=5, markeredgecolor="#e07b00", markeredgewidth=1.2),
 }
+_SLIDE = dict(marker="D", markersize=5.5, markerfacecolor="#7b2cbf", markeredgecolor="k",
+              markeredgewidth=0.6)
 _COLOUR_BY = ("displacement", "rotation", None)
 
 
@@ -134,13 +141,16 @@ def _colour_values(blocks: _Blocks, q: np.ndarray, colour_by: str) -> np.ndarray
 
 
 def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
-          forces: Sequence[np.ndarray] = ()) -> _Look:
-    """Axes limits covering the initial and all given positions qs [frames, bodies, 3],
-    colour scale over them and force scale over the normal forces [N/m] of their frames."""
+          forces: Sequence[np.ndarray] = (), floods: Sequence[FloodLoad] = ()) -> _Look:
+    """Axes limits covering the initial and all given positions qs [frames, bodies, 3] and
+    the highest water level of `floods`, colour scale over them and force scale over the
+    normal forces [N/m] of their frames."""
     if colour_by not in _COLOUR_BY:
         raise InputError(f"colour_by must be one of {_COLOUR_BY}, got {colour_by!r}")
     pts = np.concatenate([blocks.world(blocks.q0), *blocks.world(qs)])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
+    for flood in floods:
+        hi[1] = max(hi[1], float(flood.level.value.max()), flood.heads(0.0)[1])
     pad = 0.05 * float((hi - lo).max())
     factor, mappable, label = 1.0, None, ""
     if colour_by is not None:
@@ -187,8 +197,43 @@ def _draw_blocks(ax, look: _Look, blocks: _Blocks, q: np.ndarray) -> None:
     ax.add_collection(moving)
 
 
-def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
-    """Force segments, hinges and open points, with a legend giving the force scale."""
+def _results_floods(results) -> list[FloodLoad]:
+    """The flood of the scenario a results file was run from (none for a run built in
+    Python)."""
+    if not results.scenario_json:
+        return []
+    from .scenario import Scenario
+
+    flood = Scenario.model_validate_json(results.scenario_json).loads.flood
+    return [] if flood is None else [flood.load()]
+
+
+def _model_floods(model: Model) -> list[FloodLoad]:
+    return [load for load in model.field_loads if isinstance(load, FloodLoad)]
+
+
+def _draw_water(ax, look: _Look, blocks: _Blocks, q: np.ndarray, floods: Sequence[FloodLoad],
+                t: float) -> None:
+    """Water below its surface H(x) at time t [s] across the axes (gravity along -y), and
+    the flow velocity in a corner."""
+    free = blocks.kind == BodyKind.FREE
+    owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
+    xs = blocks.world(q)[free[owner], 0]
+    x = np.linspace(*look.xlim, 200)
+    for flood in floods:
+        extent = (float(xs.min()), float(xs.max())) if xs.size else (0.0, 1.0)
+        surface = flood.surface(x, t, extent)
+        ax.fill_between(x, look.ylim[0], surface, color="#9cc8e8", alpha=0.5, lw=0, zorder=0)
+        ax.plot(x, surface, color="#2a6fa8", lw=1.0, zorder=0.5)
+        u = flood.velocity.at(t)
+        if u != 0.0:
+            ax.text(0.01, 0.98, f"flow {'→' if u > 0 else '←'} {abs(u):.3g} m/s",
+                    transform=ax.transAxes, va="top", fontsize=8, color="#2a6fa8")
+
+
+def _draw_contacts(ax, look: _Look, contacts: dict, slides: np.ndarray | None = None) -> None:
+    """Force segments, hinges and open points (and sliding joints at `slides` [m], when
+    given), with a legend giving the force scale."""
     rn = contacts["force"][:, 1]
     on = rn > 0
     handles = []
@@ -213,6 +258,9 @@ def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
         pts = contacts["point"][state == label]
         handles += ax.plot(pts[:, 0], pts[:, 1], ls="none", zorder=4,
                            label=f"{label} ({len(pts)})", **style)
+    if slides is not None:
+        handles += ax.plot(slides[:, 0], slides[:, 1], ls="none", zorder=5,
+                           label=f"sliding ({len(slides)})", **_SLIDE)
     # Below the x axis label whatever the axes' height: anchored a fixed distance in points.
     below = offset_copy(ax.transAxes, ax.figure, y=-34, units="points")
     ax.legend(handles=handles, title="normal force |R_n|/dt", loc="upper center",
@@ -235,10 +283,12 @@ def _colourbar(ax, look: _Look) -> None:
 
 
 def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
-                title: str | None) -> None:
+                title: str | None, floods: Sequence[FloodLoad] = (), *,
+                slides: np.ndarray | None = None) -> None:
+    _draw_water(ax, look, blocks, results.body_q[k], floods, float(results.time[k]))
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
-        _draw_contacts(ax, look, results.contacts(k))
+        _draw_contacts(ax, look, results.contacts(k), slides)
     heading = title if title is not None else results.path.stem
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
 
@@ -252,6 +302,23 @@ def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None
     line = thrust_line(results.contacts(k), look.gap_tolerance, centre)
     ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5, zorder=6,
             label="thrust line")
+
+
+def _draw_courses(ax, names: Sequence[str], blocks: _Blocks) -> None:
+    """Course numbers of a wall's coursed blocks (mechanism.course_of) in the left margin,
+    at the middle of each course's initial height, so that the report's courses can be
+    found on the picture."""
+    course = np.array([course_of(n) or 0 for n in names])
+    if not course.any():
+        return
+    owner = np.repeat(np.arange(len(names)), np.diff(blocks.vertex_start))
+    pts = blocks.world(blocks.q0[None])[0]
+    left = float(pts[course[owner] > 0, 0].min())
+    for c in np.unique(course[course > 0]):
+        y = pts[course[owner] == c, 1]
+        ax.annotate(f"c{c}", (left, 0.5 * (y.min() + y.max())), xytext=(-4, 0),
+                    textcoords="offset points", ha="right", va="center", fontsize=6,
+                    color="0.35", zorder=6)
 
 
 def _figsize(look: _Look) -> tuple[float, float]:
@@ -279,24 +346,32 @@ def _normal_forces(results, frames: Iterable[int]) -> list[np.ndarray]:
 def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, ax=None,
                forces: bool = True, colour_by: str | None = "displacement",
                title: str | None = None, figsize: tuple[float, float] | None = None,
-               dpi: int = 150, thrust_line: bool = False) -> Figure:
+               dpi: int = 150, thrust_line: bool = False,
+               mechanism: Mechanism | None = None) -> Figure:
     """The structure at output frame `frame` of saxum.results.Results: blocks coloured by
     displacement [mm or m] or rotation [deg] (colour_by "displacement", "rotation" or None),
     with the contact forces when `forces`, and for an arch the thrust line (the joints'
     centres of pressure, ordered about the arch's centre: mid-span on the springing line)
-    when `thrust_line`. Draws into `ax` if given, else a new figure of
+    when `thrust_line`; with a `mechanism` (saxum.mechanism, of this frame's state) its
+    sliding joints (at their centres of pressure) and, for a wall, the course numbers in the
+    left margin. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
     when given (figsize * dpi pixels)."""
     k = _frame_index(results, frame)
     blocks = _results_blocks(results)
+    floods = _results_floods(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
-                 _normal_forces(results, [k]) if forces else ())
+                 _normal_forces(results, [k]) if forces else (), floods)
     if ax is None:
         ax = Figure(figsize=figsize or _figsize(look), layout="constrained").add_subplot()
     fig = ax.figure
-    _draw_frame(ax, results, k, look, blocks, forces, title)
+    slides = None if mechanism is None else np.array(
+        [j.centre_of_pressure for j in mechanism.sliding]).reshape(-1, 2)
+    _draw_frame(ax, results, k, look, blocks, forces, title, floods, slides=slides)
     if thrust_line:
         _draw_thrust_line(ax, results, k, look, blocks)
+    if mechanism is not None:
+        _draw_courses(ax, results.body_name, blocks)
     _colourbar(ax, look)
     if path is not None:
         fig.savefig(path, dpi=dpi)
@@ -450,8 +525,9 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     if not ks:
         raise InputError(f"no frame to animate in {results.path}")
     blocks = _results_blocks(results)
+    floods = _results_floods(results)
     look = _look(blocks, results.body_q[ks], "displacement",
-                 _normal_forces(results, ks) if forces else ())
+                 _normal_forces(results, ks) if forces else (), floods)
     fig = Figure(figsize=figsize or _figsize(look), layout="constrained")
     ax = fig.add_subplot()
     _colourbar(ax, look)
@@ -459,7 +535,7 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     with writer.saving(fig, str(path), dpi):
         for k in ks:
             ax.clear()
-            _draw_frame(ax, results, k, look, blocks, forces, None)
+            _draw_frame(ax, results, k, look, blocks, forces, None, floods)
             writer.grab_frame()
             # Laid out once, on the first frame: the axes then stay put while titles change,
             # and each frame is drawn once instead of twice (layout, then picture).
@@ -467,14 +543,62 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     return path
 
 
+_GROUP_COLOURS = {"brick": "#d9b99b", "voussoir": "#9fb7c9", "pier": "#e3d5b8",
+                  "spandrel": "#c9a27e", "fill": "#b5c99f", "lintel": "#a07850",
+                  "wall": "#e3d5b8", "block": "#e3d5b8", "stone": "#cdbfa8"}
+_OTHER_COLOURS = ("#d9a5a5", "#c4b5d9", "#a5d9d0", "#d9cfa5")
+
+
+def plot_model(model: Model, path: str | PathLike | None = None, *, ax=None, title: str = "",
+               dpi: int = 150) -> Figure:
+    """The blocks of `model` at their initial positions, free blocks filled by group (named
+    in the legend), fixed and driven ones hatched grey, framed on the free blocks (a wide
+    ground is cut at the edges): what a generator or a scenario built, before any run.
+    Draws into `ax` if given; saved to `path` at dpi when given."""
+    blocks = _model_blocks(model)
+    look = _look(blocks, blocks.q0[None], None)
+    free = model.body_kind == BodyKind.FREE
+    if free.any():
+        owner = np.repeat(np.arange(model.body_count), np.diff(blocks.vertex_start))
+        pts = blocks.world(blocks.q0)[free[owner]]
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        pad = 0.08 * float((hi - lo).max())
+        look = dataclasses.replace(look, xlim=(lo[0] - pad, hi[0] + pad),
+                                   ylim=(lo[1] - pad, hi[1] + pad))
+    if ax is None:
+        ax = Figure(figsize=_figsize(look), layout="constrained").add_subplot()
+    _draw_blocks(ax, look, blocks, blocks.q0)
+    polygons = blocks.polygons(blocks.q0)
+    handles, others = [], 0
+    for g in np.unique(model.body_group[free]):
+        mine = free & (model.body_group == g)
+        colour = _GROUP_COLOURS.get(model.group_names[g])
+        if colour is None:
+            colour, others = _OTHER_COLOURS[others % len(_OTHER_COLOURS)], others + 1
+        ax.add_collection(PolyCollection([p for p, m in zip(polygons, mine, strict=True) if m],
+                                         facecolors=colour, edgecolors="k", linewidths=0.6,
+                                         zorder=3))
+        handles.append(Patch(facecolor=colour, edgecolor="k", label=model.group_names[g]))
+    if handles:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7,
+                  frameon=False)
+    _finish_axes(ax, look, title)
+    if path is not None:
+        ax.figure.savefig(path, dpi=dpi)
+    return ax.figure
+
+
 def save_states(path: str | PathLike, panels: Sequence[tuple[Model, np.ndarray, str]]) -> None:
     """Write a PNG with one panel per (model, q [m, m, rad] per body, title), blocks coloured
-    by displacement from the initial position [mm or m]."""
+    by displacement from the initial position [mm or m], with the model's flood water (at
+    t = 0)."""
     fig = Figure(figsize=(6 * len(panels), 4.5), layout="constrained")
     for ax, (model, q, title) in zip(fig.subplots(1, len(panels), squeeze=False)[0], panels,
                                      strict=True):
         blocks = _model_blocks(model)
-        look = _look(blocks, q[None], "displacement")
+        floods = _model_floods(model)
+        look = _look(blocks, q[None], "displacement", (), floods)
+        _draw_water(ax, look, blocks, q, floods, 0.0)
         _draw_blocks(ax, look, blocks, q)
         _finish_axes(ax, look, title)
         _colourbar(ax, look)

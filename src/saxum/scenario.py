@@ -49,10 +49,10 @@ from .structures import (
 )
 
 __all__ = ["ArchBridgeStructure", "ArchStructure", "BlocksStructure", "BondedWallStructure",
-           "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "GroundMotionSpec",
-           "LawSpec", "Loads", "OpeningSpec", "OutputSpec", "PierStructure", "PointLoad",
-           "Scenario", "Settlement", "ShapedArchStructure", "SolverSpec", "WallStructure",
-           "load_scenario", "parse_scenario"]
+           "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "FloodSpec",
+           "GroundMotionSpec", "LawSpec", "Loads", "OpeningSpec", "OutputSpec", "PierStructure",
+           "PointLoad", "Scenario", "Settlement", "ShapedArchStructure", "SolverSpec",
+           "WallStructure", "load_scenario", "parse_scenario"]
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -105,13 +105,15 @@ class BlocksStructure(_Strict):
     density: Positive | dict[str, Positive] | None = None
     group: str = Field("block", min_length=1)
     fixed_layers: list[str] = ["FIXED"]
+    ignore_layers: list[str] = []
     scale: Positive = 1.0
 
     def add_to(self, builder: ModelBuilder) -> None:
         if not self.file.is_file():
             raise InputError(f"structure.file: no blocks file at {self.file}")
         add_blocks_from_file(builder, self.file, format=self.format, density=self.density,
-                             group=self.group, fixed_layers=self.fixed_layers, scale=self.scale)
+                             group=self.group, fixed_layers=self.fixed_layers,
+                             ignore_layers=self.ignore_layers, scale=self.scale)
 
 
 SHAPE_KEYS = {"semicircular": (), "circular": ("embrace",), "segmental": ("rise",),
@@ -467,10 +469,48 @@ class GroundMotionSpec(_Strict):
         return record.baseline_corrected() if self.baseline_correction else record
 
 
+class FloodSpec(_Strict):
+    """Water of a flood on the blocks: hydrostatic pressure (joints wet), buoyancy and drag
+    (saxum.flood, docs/flood.md). Give level or level_series, and velocity or
+    velocity_series (default: still water)."""
+
+    level: Finite | None = None
+    level_series: list[tuple[Finite, Finite]] | None = None
+    velocity: Finite | None = None
+    velocity_series: list[tuple[Finite, Finite]] | None = None
+    tailwater: Finite | None = None
+    water_density: Positive = 1000.0
+    drag_coefficient: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 1.4
+
+    @field_validator("level_series", "velocity_series")
+    @classmethod
+    def _increasing(cls, series):
+        from .flood import series_problem
+
+        problem = None if series is None else series_problem(series)
+        if problem is not None:
+            raise ValueError(problem)
+        return series
+
+    @model_validator(mode="after")
+    def _consistent(self) -> FloodSpec:
+        try:
+            self.load()
+        except InputError as err:
+            raise ValueError(str(err)) from None
+        return self
+
+    def load(self):
+        """The saxum.flood.FloodLoad described."""
+        from .flood import FloodLoad
+
+        return FloodLoad(**self.model_dump(), name="loads.flood")
+
+
 class Loads(_Strict):
     """Gravity [m/s^2]; a horizontal inertial load a_x(t) = (horizontal_acceleration +
     load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table);
-    point loads; settlements of supports."""
+    point loads; settlements of supports; ground motion; a flood."""
 
     gravity: tuple[Finite, Finite] = (0.0, -9.81)
     horizontal_acceleration: Finite = 0.0
@@ -478,6 +518,7 @@ class Loads(_Strict):
     point_loads: list[PointLoad] = []
     settlements: list[Settlement] = []
     ground_motion: GroundMotionSpec | None = None
+    flood: FloodSpec | None = None
 
     def add_to(self, builder: ModelBuilder) -> None:
         """Apply these loads to the blocks in `builder`."""
@@ -496,6 +537,8 @@ class Loads(_Strict):
                 motion.apply_as_inertial_forces(builder)
             else:
                 motion.apply_as_driven_supports(builder, self.ground_motion.supports)
+        if self.flood is not None:
+            builder.add_field_load(self.flood.load())
 
 
 def _unit(direction: tuple[float, float], key: str):
@@ -718,7 +761,7 @@ def _allowed(loc: list) -> list[str]:
     if not names:
         return list(Scenario.model_fields)
     nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement,
-              ("loads", "ground_motion"): GroundMotionSpec}
+              ("loads", "ground_motion"): GroundMotionSpec, ("loads", "flood"): FloodSpec}
     if tuple(names[:3]) == ("loads", "ground_motion", "fema_p695"):
         return list(FemaP695Spec.model_fields)
     if tuple(names[:2]) in nested:

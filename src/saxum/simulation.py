@@ -109,14 +109,17 @@ class Simulation:
                      body_v=np.array(saved["body_v"]), contacts=contacts,
                      step=int(saved["step"]))
 
-    def external_force(self, t: float, out: np.ndarray) -> None:
-        """out = F(t) [N, N, N m] per body: weight, uniform accelerations, applied forces."""
-        self._step_force(t, t, out)
+    def external_force(self, t: float, out: np.ndarray, q: np.ndarray | None = None) -> None:
+        """out = F(t) [N, N, N m] per body: weight, uniform accelerations, applied forces and
+        field loads at coordinates q (default: the initial ones)."""
+        self._step_force(t, t, out, self.model.body_q0 if q is None else q)
 
-    def _step_force(self, t0: float, t1: float, out: np.ndarray) -> None:
+    def _step_force(self, t0: float, t1: float, out: np.ndarray, q: np.ndarray) -> None:
         """out = the force of the step [t0, t1]: (1 - theta) F(t0) + theta F(t1), except for
         loads that know their exact mean over an interval (`mean_over(t0, t1)`, e.g. ground
-        motion as inertial forces), which use it; t0 == t1 gives F(t0)."""
+        motion as inertial forces), which use it; t0 == t1 gives F(t0). Field loads (which
+        depend on positions, e.g. water) are explicit: evaluated at the beginning-of-step
+        coordinates q and at t0 + theta (t1 - t0), once per step."""
         theta = self.integrator.theta
         out[:] = self._weight
         for acc in self.model.accelerations:
@@ -132,6 +135,8 @@ class Simulation:
             f0 = np.asarray(force(t0), dtype=np.float64)
             f1 = np.asarray(force(t1), dtype=np.float64)
             np.add.at(out, bodies, (1.0 - theta) * f0 + theta * f1)
+        for load in self.model.field_loads:
+            load.add(self.model, q, t0 + theta * (t1 - t0), out)
 
     def step(self, state: State) -> StepReport:
         """Advance `state` in place by one time step; returns the step's report."""
@@ -140,8 +145,8 @@ class Simulation:
         theta = self.integrator.theta
         t1 = state.time + h
 
-        if self.model.accelerations or self.model.forces:
-            self._step_force(state.time, t1, self._force)
+        if self.model.accelerations or self.model.forces or self.model.field_loads:
+            self._step_force(state.time, t1, self._force, state.body_q)
         else:
             self._force[:] = self._weight
         free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v_free)

@@ -13,10 +13,10 @@ on fixed abutments.
 Test: saxum's bisection (loading from rest to a fixed lambda) finds the collapse load factor
 within 3 % (the issue's tolerance) and its four hinges at the same joints and on the same
 side (intrados or extrados) as the least mechanism, none sliding. The limit analysis assumes
-no sliding: mu = 1 with radial joints; with vertical joints the thrust near the springings
-makes about 50 degrees with a vertical joint's normal, so with mu = 1 the arch slides before
-it can turn (a trial at lambda = 0.33, half the rotational factor, already collapsed; not
-asserted here), and mu = 3 keeps it rotational.
+no sliding: mu = 1 with radial joints; with vertical joints the thrust at the first joints
+from the springings makes about 52 degrees with a vertical joint's normal (tan 1.3), so with
+mu = 1 the arch slides under its own weight already (seen, not asserted here), and mu = 3
+keeps it rotational.
 """
 
 import math

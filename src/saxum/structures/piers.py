@@ -3,17 +3,16 @@
 import numpy as np
 
 from ..errors import InputError
-from ..laws import LawKind
-from ..model import BodyKind, Model, ModelBuilder
+from ..model import BodyKind, ModelBuilder
 from ._common import (
     Assembly,
     add_ground,
     check_count,
     check_positive,
     clean,
-    finalize,
     fit_edges,
     lay_courses,
+    model_form,
     rectangle,
 )
 
@@ -83,17 +82,11 @@ def add_pier(
     return asm
 
 
-def pier(
-    *, width: float, height: float, courses: int = 1, density: float = 2000.0,
-    friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A free pier (add_pier) standing on a fixed ground block 3 widths wide and width deep
-    (body 0, group "ground"), friction mu [-] on every joint."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_pier(builder, width=width, height=height, courses=courses, density=density,
-                   ground=True)
-    return finalize(builder, asm.groups, friction, law)
+pier = model_form(
+    add_pier, "pier",
+    """A free pier (add_pier) standing on a fixed ground block 3 widths wide and width deep (body
+    0, group "ground"), friction mu [-] on every joint.""",
+    ground=True)
 
 
 def add_buttressed_wall(
@@ -157,17 +150,8 @@ def add_buttressed_wall(
     return asm
 
 
-def buttressed_wall(
-    *, height: float, thickness: float, courses: int, buttress_width: float,
-    buttress_height: float | None = None, setbacks: int = 1, block_length: float | None = None,
-    density: float = 2000.0, friction: float = 0.6,
-    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB, gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A buttressed wall (add_buttressed_wall) on a fixed ground (body 0, group "ground",
-    three section widths wide), friction mu [-] on every joint."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_buttressed_wall(
-        builder, height=height, thickness=thickness, courses=courses,
-        buttress_width=buttress_width, buttress_height=buttress_height, setbacks=setbacks,
-        block_length=block_length, density=density, ground=True)
-    return finalize(builder, asm.groups, friction, law)
+buttressed_wall = model_form(
+    add_buttressed_wall, "buttressed_wall",
+    """A buttressed wall (add_buttressed_wall) on a fixed ground (body 0, group "ground", three
+    section widths wide), friction mu [-] on every joint.""",
+    ground=True)
