@@ -11,6 +11,7 @@ import numba as nb
 
 __all__ = [
     "contact_jacobians",
+    "lever_arms",
     "kinetic_energy",
     "predict_positions",
     "update_positions",
@@ -65,22 +66,23 @@ def kinetic_energy(v, mass, inertia, inv_mass):
     return 0.5 * e
 
 
+@nb.njit(inline="always")
+def lever_arms(q, c, b, point, frame, gap, a):
+    """(l_c, l_a) [m] of contact a, flattened: from the candidate c's centre of mass to its
+    material point `point`, and from the antagonist b's to its own, the projection
+    point - gap n on the antagonist's face."""
+    nx = frame[a, 1, 0]
+    ny = frame[a, 1, 1]
+    return (point[a, 0] - q[c, 0], point[a, 1] - q[c, 1], point[a, 0] - gap[a] * nx - q[b, 0],
+            point[a, 1] - gap[a] * ny - q[b, 1])
+
+
 @nb.njit(cache=True)
 def contact_jacobians(q, candidate, antagonist, point, frame, gap, count, h_cand, h_ant):
-    """Rows of H* for each contact: U = h_cand[a] v_cand + h_ant[a] v_ant, U = (U_t, U_n).
-
-    The candidate's material point is `point`; the antagonist's is its projection
-    point - gap n on the antagonist's face.
-    """
+    """Rows of H* for each contact: U = h_cand[a] v_cand + h_ant[a] v_ant, U = (U_t, U_n),
+    material points as in lever_arms."""
     for a in range(count):
-        c = candidate[a]
-        b = antagonist[a]
-        nx = frame[a, 1, 0]
-        ny = frame[a, 1, 1]
-        lcx = point[a, 0] - q[c, 0]
-        lcy = point[a, 1] - q[c, 1]
-        lax = point[a, 0] - gap[a] * nx - q[b, 0]
-        lay = point[a, 1] - gap[a] * ny - q[b, 1]
+        lcx, lcy, lax, lay = lever_arms(q, candidate[a], antagonist[a], point, frame, gap, a)
         for r in range(2):
             dx = frame[a, r, 0]
             dy = frame[a, r, 1]

@@ -165,18 +165,17 @@ class Simulation:
         solved = self.solver.solve(problem, contacts.impulse, self._v_free, self._v)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
-        problem.end_gaps(self._v, h, theta)
-        projected = self.projection.project(problem, self.solver, h)
+        loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)
+        projected = self.projection.project(problem, self.solver, h, depth)
         if projected is not None:
             w = self.projection.pseudo_velocity
             kin.update_positions(state.body_q, w, w, h, 1.0)
-            problem.end_gaps(self._v, h, theta, w)
+            loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta, w)
         state.body_v[:] = self._v
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
 
-        loaded, depth = problem.statistics(contacts.impulse)
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if not math.isfinite(energy):
             raise SimulationError(

@@ -39,13 +39,14 @@ class DetectionSettings:
 
 
 @nb.njit(cache=True)
-def _largest_motion(q, q_ref, radius):
-    """Upper bound of the displacement of any point of any body since q_ref [m]."""
+def _motion_since(q, q_ref, radius, motion, turn):
+    """motion[b] [m]: upper bound of the displacement of any point of body b since q_ref,
+    turn[b] [rad]: its rotation; returns the largest motion."""
     worst = 0.0
     for b in range(q.shape[0]):
-        d = np.hypot(q[b, 0] - q_ref[b, 0], q[b, 1] - q_ref[b, 1])
-        d += abs(q[b, 2] - q_ref[b, 2]) * radius[b]
-        worst = max(worst, d)
+        turn[b] = abs(q[b, 2] - q_ref[b, 2])
+        motion[b] = np.hypot(q[b, 0] - q_ref[b, 0], q[b, 1] - q_ref[b, 1]) + turn[b] * radius[b]
+        worst = max(worst, motion[b])
     return worst
 
 
@@ -82,25 +83,32 @@ class Detector:
         self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
         self._q_ref = np.zeros((n, 3))
+        self._motion = np.zeros(n)
+        self._turn = np.zeros(n)
+        self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
+        """The narrow phase's choice of faces per pair on q_ref (polygon_contacts)."""
+        self._slack = np.zeros((len(self._pairs), 2))
         self._since_refresh = self.refresh_every  # the first detection runs the broad phase
         self.refresh_count = 0
+        self.kept_faces = 0
+        """Pairs of the last detection whose choice of faces was kept (polygon_contacts)."""
 
     def detect(self, q: np.ndarray, contacts: Contacts) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
         m = self.model
         world_geometry(q, m.body_vertex_start, m.vertex_local, m.edge_normal_local, self._wv,
                        self._wn)
-        if (
-            self._since_refresh >= self.refresh_every
-            or _largest_motion(q, self._q_ref, m.body_radius) > 0.5 * self.margin
-        ):
+        moved = _motion_since(q, self._q_ref, m.body_radius, self._motion, self._turn)
+        refresh = self._since_refresh >= self.refresh_every or moved > 0.5 * self.margin
+        if refresh:
             self._refresh(q)
         self._since_refresh += 1
         contacts.reserve(2 * self.pair_count)
-        contacts.count = polygon_contacts(
+        contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law, self.alert, self.reference_bias,
-            m.max_vertices,
+            m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
+            self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap,
         )
@@ -115,6 +123,9 @@ class Detector:
             if count <= len(self._pairs):
                 break
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
+        if len(self._faces) < len(self._pairs):
+            self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
+            self._slack = np.zeros((len(self._pairs), 2))
         sort_pairs(self._pairs, count, m.body_count)
         self.pair_count = count
         self._q_ref[:] = q
@@ -134,6 +145,10 @@ class Detector:
         if len(self._pairs) < count:
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
         self._pairs[:count] = saved["pairs"]
+        if len(self._faces) < len(self._pairs):
+            self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
+            self._slack = np.zeros((len(self._pairs), 2))
+        self._faces[:, 0] = 0  # no kept choice: the full test until the next broad phase
         self.pair_count = count
         self._q_ref[:] = saved["q_ref"]
         self._since_refresh = int(saved["since_refresh"])

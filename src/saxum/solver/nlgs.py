@@ -50,7 +50,7 @@ class NLGS(ContactSolver):
         if not (0.0 < self.relaxation <= 1.0):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
         self._v_prev = np.empty((0, 0))
-        self._factors = np.empty((0, 5))
+        self._work = np.empty((0, 18))
         self._inv_mass = None
         self._mass = np.empty((0, 0))
 
@@ -64,12 +64,12 @@ class NLGS(ContactSolver):
                                    where=inv_mass > 0.0)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
-        if len(self._factors) < problem.count:
-            self._factors = np.empty((max(problem.count, 2 * len(self._factors)), 5))
+        if len(self._work) < problem.count:
+            self._work = np.empty((max(problem.count, 2 * len(self._work)), 18))
         iterations, error = nlgs_2d(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
             problem.bias, problem.friction, problem.active, problem.count, inv_mass,
-            self._mass, v_free, v, self._v_prev, impulse, self._factors,
+            self._mass, v_free, v, self._v_prev, impulse, self._work,
             self.tolerance, self.max_iterations, self.relaxation,
         )
         return SolverReport(iterations=iterations, error=error, converged=error <= self.tolerance)
@@ -77,55 +77,68 @@ class NLGS(ContactSolver):
 
 @nb.njit(cache=True)
 def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, factors, tolerance, max_iterations, relaxation):
+            v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
     """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
     mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
-    factors (at least count x 5) are work memory. Written out for 2D rigid bodies (3 dof,
-    frame (t, n)): the unrolled loads and stores halve the cost of a contact update against
-    loops over dof, and the single-contact solve's divisions are done once per step
-    (factorize_contact_2d), not at every visit."""
+    work (at least count x 18) are work memory.
+
+    Written out for 2D rigid bodies (3 dof, frame (t, n)), whose rows of H* are
+    [t, l_c x t], [n, l_c x n] on the candidate and [-t, -(l_a x t)], [-n, -(l_a x n)] on the
+    antagonist: before the sweeps, each active contact's t, n, the four moment arms, W, the
+    factors of its single-contact solve (factorize_contact_2d: the divisions, once per step)
+    and b_n, mu go into one row of `work`, which the sweeps read in order."""
     nactive = 0
     for a in range(count):
         if active[a]:
             nactive += 1
-            f = factorize_contact_2d(delassus[a, 0, 0], delassus[a, 0, 1], delassus[a, 1, 1],
-                                     friction[a])
+            row = work[a]
+            row[0] = h_cand[a, 0, 0]
+            row[1] = h_cand[a, 0, 1]
+            row[2] = h_cand[a, 1, 0]
+            row[3] = h_cand[a, 1, 1]
+            row[4] = h_cand[a, 0, 2]
+            row[5] = h_cand[a, 1, 2]
+            row[6] = h_ant[a, 0, 2]
+            row[7] = h_ant[a, 1, 2]
+            row[8] = delassus[a, 0, 0]
+            row[9] = delassus[a, 0, 1]
+            row[10] = delassus[a, 1, 1]
+            f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
             for i in range(5):
-                factors[a, i] = f[i]
+                row[11 + i] = f[i]
+            row[16] = bias[a]
+            row[17] = friction[a]
     if nactive == 0:
         return 0, 0.0
     error = np.inf
     it = 0
+    v_prev[:] = v
     while it < max_iterations:
         it += 1
-        v_prev[:] = v
         for k in range(count):
             a = count - 1 - k
             if not active[a]:
                 continue
             c = cand[a]
             b = ant[a]
+            row = work[a]
+            tx, ty, nx, ny = row[0], row[1], row[2], row[3]
+            ct, cn, at, an = row[4], row[5], row[6], row[7]
+            wtt, wtn, wnn = row[8], row[9], row[10]
             vc0, vc1, vc2 = v[c, 0], v[c, 1], v[c, 2]
             vb0, vb1, vb2 = v[b, 0], v[b, 1], v[b, 2]
-            wtt = delassus[a, 0, 0]
-            wtn = delassus[a, 0, 1]
-            wnn = delassus[a, 1, 1]
             rt0 = impulse[a, 0]
             rn0 = impulse[a, 1]
-            # Sums as balanced trees and the impulse terms apart: the velocities of one
-            # contact depend on those the previous one wrote, so the latency of this chain
-            # (not the arithmetic) bounds the sweep.
-            ut = (((h_cand[a, 0, 0] * vc0 + h_cand[a, 0, 1] * vc1)
-                   + (h_cand[a, 0, 2] * vc2 + h_ant[a, 0, 0] * vb0))
-                  + ((h_ant[a, 0, 1] * vb1 + h_ant[a, 0, 2] * vb2) - (wtt * rt0 + wtn * rn0)))
-            # u_n + b_n, the law's shift with the impulse terms
-            un = (((h_cand[a, 1, 0] * vc0 + h_cand[a, 1, 1] * vc1)
-                   + (h_cand[a, 1, 2] * vc2 + h_ant[a, 1, 0] * vb0))
-                  + ((h_ant[a, 1, 1] * vb1 + h_ant[a, 1, 2] * vb2)
-                     + (bias[a] - (wtn * rt0 + wnn * rn0))))
-            rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, factors[a, 0], factors[a, 1],
-                                               factors[a, 2], factors[a, 3], factors[a, 4], ut,
-                                               un, friction[a])
+            # Sums as balanced trees, the impulse and shift terms apart: the velocities of one
+            # contact depend on those the previous one wrote, so this chain's latency counts.
+            dx = vc0 - vb0
+            dy = vc1 - vb1
+            ut = ((tx * dx + ty * dy) + (ct * vc2 + at * vb2)) - (wtt * rt0 + wtn * rn0)
+            # u_n + b_n
+            un = (((nx * dx + ny * dy) + (cn * vc2 + an * vb2))
+                  + (row[16] - (wtn * rt0 + wnn * rn0)))
+            rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
+                                               row[14], row[15], ut, un, row[17])
             if relaxation != 1.0:
                 rt = relaxation * rt + (1.0 - relaxation) * rt0
                 rn = relaxation * rn + (1.0 - relaxation) * rn0
@@ -133,16 +146,18 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             dn = rn - rn0
             # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
             # a branch on it is mispredicted more often than the stores cost)
+            fx = tx * dt + nx * dn
+            fy = ty * dt + ny * dn
             mc, mb = inv_mass[c], inv_mass[b]
-            v[c, 0] = vc0 + (mc[0] * h_cand[a, 0, 0] * dt + mc[0] * h_cand[a, 1, 0] * dn)
-            v[c, 1] = vc1 + (mc[1] * h_cand[a, 0, 1] * dt + mc[1] * h_cand[a, 1, 1] * dn)
-            v[c, 2] = vc2 + (mc[2] * h_cand[a, 0, 2] * dt + mc[2] * h_cand[a, 1, 2] * dn)
-            v[b, 0] = vb0 + (mb[0] * h_ant[a, 0, 0] * dt + mb[0] * h_ant[a, 1, 0] * dn)
-            v[b, 1] = vb1 + (mb[1] * h_ant[a, 0, 1] * dt + mb[1] * h_ant[a, 1, 1] * dn)
-            v[b, 2] = vb2 + (mb[2] * h_ant[a, 0, 2] * dt + mb[2] * h_ant[a, 1, 2] * dn)
+            v[c, 0] = vc0 + mc[0] * fx
+            v[c, 1] = vc1 + mc[1] * fy
+            v[c, 2] = vc2 + mc[2] * (ct * dt + cn * dn)
+            v[b, 0] = vb0 - mb[0] * fx
+            v[b, 1] = vb1 - mb[1] * fy
+            v[b, 2] = vb2 + mb[2] * (at * dt + an * dn)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
-        error = _relative_change(v, v_prev, v_free, mass)
+        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
@@ -150,10 +165,11 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 
 @nb.njit(cache=True)
 def _relative_change(v, v_prev, v_free, mass):
-    """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed.
-    The second term of the denominator is the round-off floor: a change below ~1e-14 of the
-    velocities themselves cannot be resolved in double precision, so a contact with a tiny
-    impulse on a fast body must not keep the solver sweeping."""
+    """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed;
+    then v_prev = v, ready for the next sweep. The second term of the denominator is the
+    round-off floor: a change below ~1e-14 of the velocities themselves cannot be resolved in
+    double precision, so a contact with a tiny impulse on a fast body must not keep the solver
+    sweeping."""
     num = 0.0
     den = 0.0
     size = 0.0
@@ -161,6 +177,7 @@ def _relative_change(v, v_prev, v_free, mass):
         for d in range(v.shape[1]):
             m = mass[b, d]
             change = v[b, d] - v_prev[b, d]
+            v_prev[b, d] = v[b, d]
             reaction = v[b, d] - v_free[b, d]
             num += m * change * change
             den += m * reaction * reaction

@@ -85,21 +85,18 @@ class ContactProblem:
         _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
                m.body_inv_mass, c.impulse, v)
 
-    def end_gaps(self, v: np.ndarray, h: float, theta: float,
-                 w: np.ndarray | None = None) -> None:
+    def end_gaps(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float,
+                 w: np.ndarray | None = None) -> tuple[int, float]:
         """gap_end = g + theta h U_n(v) [+ h U_n(w)]: the gap at the end of the step from the
         end-of-step velocity v [m/s, rad/s], plus the displacement h w of a position projection
-        (saxum.solver.projection) when w is given."""
+        (saxum.solver.projection) when w is given. Returns (contacts with R_n > 0, largest
+        interpenetration -gap_end [m], 0 if none)."""
         c = self.contacts
         h_w = 0.0 if w is None else h
         w = v if w is None else w
         kernel = _end_gaps_2d if self._written_out else _end_gaps
-        kernel(c.candidate, c.antagonist, self.h_cand, self.h_ant, c.gap, self.count, v, w, h_w,
-               h, theta, self.gap_end)
-
-    def statistics(self, impulse: np.ndarray) -> tuple[int, float]:
-        """(contacts with R_n > 0, largest interpenetration -gap_end [m], 0 if none)."""
-        return _statistics(impulse, self.gap_end, self.count)
+        return kernel(c.candidate, c.antagonist, self.h_cand, self.h_ant, c.gap, self.count,
+                      impulse, v, w, h_w, h, theta, self.gap_end)
 
 
 @nb.njit(inline="always")
@@ -181,11 +178,7 @@ def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
         ty = frame[a, 0, 1]
         nx = frame[a, 1, 0]
         ny = frame[a, 1, 1]
-        # material points: `point` on the candidate, its projection on the antagonist's face
-        lcx = point[a, 0] - q[c, 0]
-        lcy = point[a, 1] - q[c, 1]
-        lax = point[a, 0] - gap[a] * nx - q[b, 0]
-        lay = point[a, 1] - gap[a] * ny - q[b, 1]
+        lcx, lcy, lax, lay = rigid2d.lever_arms(q, c, b, point, frame, gap, a)
         ct = lcx * ty - lcy * tx
         cn = lcx * ny - lcy * nx
         at = -(lax * ty - lay * tx)
@@ -245,12 +238,17 @@ def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
 
 
 @nb.njit(cache=True)
-def _end_gaps(cand, ant, h_cand, h_ant, gap, count, v, w, h_w, h, theta, gap_end):
+def _end_gaps(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h_w, h, theta, gap_end):
+    loaded = 0
+    worst = 0.0
     for a in range(count):
         g = gap[a] + theta * h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
         if h_w != 0.0:
             g += h_w * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], w)
         gap_end[a] = g
+        loaded += impulse[a, 1] > 0.0
+        worst = max(worst, -g)
+    return loaded, worst
 
 
 @nb.njit(inline="always")
@@ -263,8 +261,10 @@ def _normal_velocity_2d(h_cand, h_ant, a, c, b, v):
 
 
 @nb.njit(cache=True)
-def _end_gaps_2d(cand, ant, h_cand, h_ant, gap, count, v, w, h_w, h, theta, gap_end):
+def _end_gaps_2d(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h_w, h, theta, gap_end):
     """_end_gaps written out for 3 dof (the same numbers bit for bit)."""
+    loaded = 0
+    worst = 0.0
     for a in range(count):
         c = cand[a]
         b = ant[a]
@@ -272,14 +272,6 @@ def _end_gaps_2d(cand, ant, h_cand, h_ant, gap, count, v, w, h_w, h, theta, gap_
         if h_w != 0.0:
             g += h_w * _normal_velocity_2d(h_cand, h_ant, a, c, b, w)
         gap_end[a] = g
-
-
-@nb.njit(cache=True)
-def _statistics(impulse, gap_end, count):
-    loaded = 0
-    worst = 0.0
-    for a in range(count):
-        if impulse[a, 1] > 0.0:
-            loaded += 1
-        worst = max(worst, -gap_end[a])
+        loaded += impulse[a, 1] > 0.0
+        worst = max(worst, -g)
     return loaded, worst

@@ -64,13 +64,16 @@ class PositionProjection:
         self._active = np.zeros(capacity, dtype=np.bool_)
         self._impulse = np.zeros((capacity, self.model.dim))
 
-    def project(self, problem: ContactProblem, solver: ContactSolver,
-                h: float) -> SolverReport | None:
+    def project(self, problem: ContactProblem, solver: ContactSolver, h: float,
+                depth: float) -> SolverReport | None:
         """Fill `pseudo_velocity` (zero when no gap-law contact is interpenetrated beyond the
-        tolerance) from the end-of-step gaps g+ of `problem` (ContactProblem.end_gaps), h [s]
-        the step; returns the solver's report, or None when no projection was needed. The
-        caller adds h * pseudo_velocity to the positions."""
+        tolerance) from the end-of-step gaps g+ of `problem` (ContactProblem.end_gaps, which
+        returns the largest interpenetration `depth` [m] of all contacts), h [s] the step;
+        returns the solver's report, or None when no projection was needed. The caller adds
+        h * pseudo_velocity to the positions."""
         self.pseudo_velocity[:] = 0.0
+        if depth <= self.tolerance:
+            return None
         k = problem.count
         if k > len(self._bias):
             self._allocate(max(k, 2 * len(self._bias)))
