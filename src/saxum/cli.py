@@ -63,7 +63,7 @@ def _collapse(args) -> None:
         args.scenario, args.vary, args.stands, args.collapses, overrides=tuple(args.set),
         tolerance=args.tolerance, criterion=CollapseCriterion(duration=args.duration,
                                                               fraction=args.fraction,
-                                                              per_block=args.per_block))
+                                                              per_block=not args.structure_ratio))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
@@ -324,10 +324,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
                         "has ended)")
-    p.add_argument("--per-block", action="store_true",
-                   help="at rest means every block at rest (its own net force small next to "
-                        "the forces on it), not the structure as a whole: for a small part "
-                        "(a parapet) that may fail slowly on a large structure")
+    p.add_argument("--structure-ratio", action="store_true",
+                   help="judge rest by the unbalanced force ratio of the structure as a "
+                        "whole instead of every block's own (docs/collapse.md): hides a small "
+                        "part (a parapet) that starts to fail slowly on a large structure")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
     p.add_argument("-o", "--output", type=Path,

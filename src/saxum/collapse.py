@@ -4,12 +4,15 @@ critical value of a load parameter found by bisection.
 A trial runs a simulation of the structure under a fixed value of the parameter (a horizontal
 load factor, a point load, a settlement, a thickness...) from rest, and decides:
 
-- **at rest** when, for `settle` seconds in a row, the unbalanced force ratio
-      UFR = sum_b |m_b (v_b+ - v_b-) / h| / sum_b (|F_ext,b| + sum_(alpha at b) |R_alpha| / h)
-  (net force on the free blocks over the forces acting on them: weight and loads plus contact
-  forces) stays below `force_ratio`, and the kinetic energy below `energy` times the potential
-  energy scale m g L (L the structure's height). A mechanism that has started, however slowly,
-  has a net force m a on its blocks, so UFR = a/g-ish stays above the threshold;
+- **at rest** when, for `settle` seconds in a row, the unbalanced force ratio of every free
+  block b,
+      UFR_b = |m_b (v_b+ - v_b-) / h| / (|F_ext,b| + sum_(alpha at b) |R_alpha| / h)
+  (its net force over the forces acting on it: weight and loads plus contact forces), stays
+  below `force_ratio`, and the kinetic energy below `energy` times the potential energy scale
+  m g L (L the structure's height). A mechanism that has started, however slowly, has a net
+  force m a on its blocks, so UFR = a/g-ish stays above the threshold. (The ratio of the sums
+  over the whole structure, `per_block=False`, hides a small part, a parapet, that starts to
+  move slowly on a large structure: its net force is tiny next to the forces on the rest.)
 - **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
   initial position;
 - after `duration` seconds with neither (counted from `not_before`, the end of a pulse),
@@ -82,9 +85,9 @@ class CollapseCriterion:
     fast as after a free fall by the displacement threshold; after it, displacements count
     from the configuration at not_before instead of the initial one (module doc);
     per_block: the force ratio is the largest over the free blocks of each block's own (its
-    net force over the forces acting on it) instead of the structure's: a small part (a
-    parapet) that starts to move slowly on a large structure is then not called at rest,
-    its net force being tiny next to the forces on the rest."""
+    net force over the forces acting on it, the default) or, if False, the structure's (sums
+    over all free blocks), which calls a small part that starts to move slowly on a large
+    structure (a parapet) at rest, its net force being tiny next to the forces on the rest."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -94,7 +97,7 @@ class CollapseCriterion:
     energy: float = 1e-9
     not_before: float = 0.0
     after_motion: bool = False
-    per_block: bool = False
+    per_block: bool = True
 
     def __post_init__(self) -> None:
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
