@@ -196,6 +196,7 @@ def test_too_large_time_step_for_alert_distance():
     ({"tolerance": 0.0}, "tolerance"), ({"tolerance": -1e-6}, "tolerance"),
     ({"tolerance": math.nan}, "tolerance"), ({"max_iterations": 0}, "max_iterations"),
     ({"relaxation": 0.0}, "relaxation"), ({"relaxation": 1.5}, "relaxation"),
+    ({"rest_after": -1}, "rest_after"),
 ])
 def test_solver_parameters(kwargs, name):
     with pytest.raises(sx.InputError, match=name):

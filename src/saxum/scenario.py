@@ -549,13 +549,15 @@ def _unit(direction: tuple[float, float], key: str):
 
 
 class SolverSpec(_Strict):
-    """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation."""
+    """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
+    before a slow step tries the rest solution (0: never)."""
 
     dt: Positive = 1e-3
     theta: Annotated[float, Field(ge=0.5, le=1.0)] = 0.5
     tolerance: Positive = 1e-6
     max_iterations: int = Field(5000, ge=1)
     relaxation: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
+    rest_after: int = Field(50, ge=0)
 
 
 class DetectionSpec(_Strict):
@@ -630,7 +632,7 @@ class Scenario(_Strict):
         return Simulation(
             model if model is not None else self.build_model(), dt=s.dt, theta=s.theta,
             solver=NLGS(tolerance=s.tolerance, max_iterations=s.max_iterations,
-                        relaxation=s.relaxation),
+                        relaxation=s.relaxation, rest_after=s.rest_after),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration),

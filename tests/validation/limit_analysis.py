@@ -103,6 +103,18 @@ def four_hinge_mechanism(intrados: np.ndarray, extrados: np.ndarray, voussoirs: 
     return best
 
 
+def semicircular_four_hinge(radius: float, thickness: float, voussoirs: int):
+    """four_hinge_mechanism of a semicircular arch of mean radius `radius` [m] (voussoirs with
+    straight intrados and extrados between the ends of radial joints); joint j at angle
+    pi j / voussoirs from the right springing."""
+    phi = np.pi * np.arange(voussoirs + 1) / voussoirs
+    unit = np.column_stack((np.cos(phi), np.sin(phi)))
+    inner, outer = (radius - thickness / 2) * unit, (radius + thickness / 2) * unit
+    quads = [np.array([inner[k], outer[k], outer[k + 1], inner[k + 1]])
+             for k in range(voussoirs)]
+    return four_hinge_mechanism(inner, outer, quads)
+
+
 def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3) -> sx.Simulation:
     """A simulation of `model` with a constant horizontal inertial load factor * g on every
     free block."""

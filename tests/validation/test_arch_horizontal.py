@@ -14,24 +14,13 @@ joints (intrados or extrados alike) as the least mechanism, one joint of slack a
 
 import math
 
-import numpy as np
 import pytest
-from limit_analysis import four_hinge_mechanism, saxum_horizontal_collapse
+from limit_analysis import saxum_horizontal_collapse
+from limit_analysis import semicircular_four_hinge as limit_analysis
 
 from saxum.structures import semicircular_arch
 
 RADIUS, RATIO, VOUSSOIRS = 1.0, 0.15, 15
-
-
-def limit_analysis(radius, thickness, voussoirs):
-    """four_hinge_mechanism of the semicircular arch; joint j at angle pi j / voussoirs from
-    the right springing."""
-    phi = np.pi * np.arange(voussoirs + 1) / voussoirs
-    unit = np.column_stack((np.cos(phi), np.sin(phi)))
-    inner, outer = (radius - thickness / 2) * unit, (radius + thickness / 2) * unit
-    quads = [np.array([inner[k], outer[k], outer[k + 1], inner[k + 1]])
-             for k in range(voussoirs)]
-    return four_hinge_mechanism(inner, outer, quads)
 
 
 def test_limit_analysis_orders_arches_by_thickness():

@@ -23,6 +23,11 @@ sliding block (test_newmark.py) checks the final slip; here the whole history, e
   measured in different frames picks a different one from the first step; the velocities
   agree to 1e-16 at step 1 while the impulses differ by 1e-4 N s/m; moving the whole model by
   0.37 m, frame unchanged, keeps agreement to 1e-9 over 1 s).
+  Both runs sweep NLGS only (rest_after=0). With rest solutions (saxum.solver.equilibrium),
+  both take the same one at each of the 25 steps before the mechanism opens (agreement 1e-18),
+  but the different impulses they leave steer the mechanism's opening onto a path that
+  amplifies round-off more: 1.1e-2 of the peak rotation at 0.6 s, whatever the NLGS tolerance
+  (1e-8 to 1e-12). The two formulations, which are what is compared, do not change.
 """
 
 import numpy as np
@@ -62,7 +67,8 @@ def _relative_history(structure, pulse, driven: bool, duration: float, dt: float
     else:
         pulse.apply_as_inertial_forces(builder)
     model = builder.finalize()
-    sim = sx.Simulation(model, dt=dt, solver=sx.NLGS(tolerance=TOLERANCE, max_iterations=20_000))
+    sim = sx.Simulation(model, dt=dt, solver=sx.NLGS(tolerance=TOLERANCE, max_iterations=20_000,
+                                                     rest_after=0))
     state = sim.initial_state()
     i, j = model.body(probe), model.body(support)
     out = np.empty((round(duration / dt), 3))

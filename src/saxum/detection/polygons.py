@@ -8,6 +8,13 @@ segment are the contact points, each kept if its gap n . (p - a) is below the al
 Two faces in contact thus give two points at the ends of their common segment, so that a joint
 can open and rotate about either end; a vertex against a face gives one point.
 
+Separations that differ by less than the closed gap (1e-6 alert: round-off of blocks built
+touching) count as equal: the first edge of a tie is the reference, and an incident face that
+reaches the end of the reference face within it is in contact there. Blocks laid corner to
+corner (four bricks of a stack bond meeting at a point) otherwise get a normal and a contact
+that round-off switches from step to step, each switch a contact lost and one new, with no
+impulse to start from.
+
 The choice of faces (rejected pair, reference polygon and edge, incident edge) is kept from the
 configuration on which the broad phase last ran, with how far each of its comparisons was from
 tipping over. Separations n_e . (p - a_e) change by at most d_o + d_r + |dtheta_r| L when the
@@ -31,15 +38,19 @@ _FLIPPED = 3
 
 
 @nb.njit(inline="always")
-def _max_separation(wv, wn, r0, nr, o0, no):
+def _max_separation(wv, wn, r0, nr, o0, no, tie):
     """(largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m],
-    the first edge that reaches it, the largest separation of the other edges).
+    to within tie [m]: the first edge that reaches it (an edge takes over only if it
+    separates more by tie), how far [m] the comparisons that chose it were from tipping over).
 
-    Written without data-dependent branches (selects instead): which edge and which vertex
-    win changes from pair to pair, and mispredicted branches cost more than the arithmetic.
+    Two edges separate equally when a vertex meets a vertex (blocks laid corner to corner):
+    without the tie, round-off would pick one or the other from step to step, and with it
+    the contact's normal. Written without data-dependent branches (selects instead): which
+    edge and which vertex win changes from pair to pair, and mispredicted branches cost more
+    than the arithmetic.
     """
     best = -np.inf
-    second = -np.inf
+    margin = np.inf
     best_e = 0
     for e in range(nr):
         ax = wv[r0 + e, 0]
@@ -50,32 +61,33 @@ def _max_separation(wv, wn, r0, nr, o0, no):
         for k in range(o0 + 1, o0 + no):
             t = nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay)
             s = t if t < s else s
-        better = s > best
-        second = best if better else max(second, s)
+        better = s > best + tie
+        margin = min(margin, abs(s - (best + tie)))
         best_e = e if better else best_e
         best = s if better else best
-    return best, best_e, second
+    return best, best_e, margin
 
 
 @nb.njit(inline="always")
-def _choose_faces(wv, wn, i0, ni, j0, nj, alert, ref_tol):
+def _choose_faces(wv, wn, i0, ni, j0, nj, alert, ref_tol, tie):
     """The separating-axis test of polygons i and j: (_REJECTED, _KEPT (i is the reference) or
     _FLIPPED (j is), reference edge, incident edge, slack [m] of the comparisons of
-    separations, slack [-] of the comparisons of products of normals) (module doc)."""
-    s_i, e_i, second_i = _max_separation(wv, wn, i0, ni, j0, nj)
+    separations, slack [-] of the comparisons of products of normals) (module doc); tie [m]:
+    see _max_separation."""
+    s_i, e_i, margin_i = _max_separation(wv, wn, i0, ni, j0, nj, tie)
     if s_i > alert:
         return _REJECTED, 0, 0, s_i - alert, np.inf
-    s_j, e_j, second_j = _max_separation(wv, wn, j0, nj, i0, ni)
+    s_j, e_j, margin_j = _max_separation(wv, wn, j0, nj, i0, ni, tie)
     if s_j > alert:
         return _REJECTED, 0, 0, s_j - alert, np.inf
     flip = s_j > s_i + ref_tol
     slack = min(min(alert - s_i, alert - s_j), 0.5 * abs(s_j - (s_i + ref_tol)))
     if flip:
         ref, a0, c0, nc = e_j, j0, i0, ni
-        slack = min(slack, 0.5 * (s_j - second_j))
+        slack = min(slack, 0.5 * margin_j)
     else:
         ref, a0, c0, nc = e_i, i0, j0, nj
-        slack = min(slack, 0.5 * (s_i - second_i))
+        slack = min(slack, 0.5 * margin_i)
     # incident edge: the candidate's edge whose normal is most opposed to the reference's
     nx = wn[a0 + ref, 0]
     ny = wn[a0 + ref, 1]
@@ -114,6 +126,7 @@ def polygon_contacts(
     slack uses its row of faces (choice _NO_CHOICE: run the full test).
     """
     nbody = vertex_start.shape[0] - 1
+    tie = 1e-6 * alert  # the detector's closed_gap: separations closer than this are equal
     count = 0
     reused = 0
     for p in range(npairs):
@@ -135,7 +148,7 @@ def polygon_contacts(
             reused += 1
         else:
             choice, ref, inc, slack_length, slack_turn = _choose_faces(wv, wn, i0, ni, j0, nj,
-                                                                       alert, ref_tol)
+                                                                       alert, ref_tol, tie)
             if record:
                 faces[p, 0] = choice
                 faces[p, 1] = ref
@@ -170,7 +183,7 @@ def polygon_contacts(
             p0x, p1x = p1x, p0x
             p0y, p1y = p1y, p0y
             s0, s1 = s1, s0
-        if s1 < 0.0 or s0 > length:
+        if s1 < -tie or s0 > length + tie:
             continue
         ds = s1 - s0
         law_index = group_law[body_group[cand], body_group[ant]]

@@ -1,0 +1,152 @@
+"""The rest solution of a step (saxum.solver.equilibrium) exists exactly when the blocks can
+stand: static thresholds from closed forms and from an independent limit analysis.
+
+By the lower-bound theorem of limit analysis for rigid blocks with Coulomb joints, a step from
+rest has a rest solution exactly when contact impulses inside the friction cones balance the
+loads of the step; so the rest solution must exist below each threshold and not above it.
+References:
+- a block on a slope a (gravity turned by a): it stays if tan a < mu (Coulomb); a wide block
+  (b/h = 4) so that it slides before it tips; checked on random slopes and friction
+  coefficients at least 1e-5 (relative) from the threshold;
+- a block b/h = 0.2, mu = 1, under a horizontal acceleration a: it stays if a < g b/h
+  (Housner, BSSA 53, 1963; test_rocking_threshold.py), checked at 0.999 and 1.001 g b/h;
+- the 15-voussoir semicircular arch, t/R = 0.15, mu = 1, under a horizontal load factor
+  lambda: it stands if lambda < lambda_c, the least four-hinge mechanism computed
+  independently of saxum (limit_analysis.py: kinematic theorem, which for no sliding gives the
+  same lambda_c as the static one), checked at 0.999 and 1.001 lambda_c.
+(Observed by bisection: the rest solution stops existing at tan a / mu = 1 - 1.5e-8 and at
+lambda / lambda_c = 1 - 2e-7: the barrier needs room inside the cones.)
+When it exists: every impulse is inside its cone, the blocks end the step at rest (velocities
+below 1e-9 of those of one step of the loads) and one NLGS sweep from it changes nothing
+(error <= 1e-9). When it does not: the impulses and velocities are left as they were.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from limit_analysis import semicircular_four_hinge, with_load_factor
+
+import saxum as sx
+from saxum.solver import SolverReport
+from saxum.solver.equilibrium import rest_solution
+from saxum.structures import add_wall, semicircular_arch
+
+G = 9.81
+DT = 1e-3
+
+
+class _FirstStepRest(sx.ContactSolver):
+    """Looks for the rest solution of the first step's problem, then sweeps once from it."""
+
+    def __init__(self) -> None:
+        self.found = None
+
+    def solve(self, problem, impulse, v_free, v):
+        if self.found is not None:
+            return SolverReport(iterations=0, error=0.0, converged=True)
+        before = impulse.copy(), v.copy()
+        self.found = rest_solution(problem, impulse, v_free, v)
+        k = problem.count
+        self.untouched = np.array_equal(before[0], impulse) and np.array_equal(before[1], v)
+        self.impulse = impulse[:k].copy()
+        self.friction = problem.friction[:k].copy()
+        self.active = problem.active[:k].copy()
+        self.v = v.copy()
+        self.load = float(np.abs(v_free - before[1]).max()) + G * DT  # scale of v_free
+        self.sweep = sx.NLGS(rest_after=0, max_iterations=1).solve(problem, impulse, v_free, v)
+        return self.sweep
+
+
+def _first_step(model):
+    solver = _FirstStepRest()
+    sim = sx.Simulation(model, dt=DT, solver=solver)
+    sim.step(sim.initial_state())
+    return solver
+
+
+def _check(solver, model, exists):
+    assert solver.found is exists
+    if not exists:
+        assert solver.untouched
+        return
+    rt, rn = solver.impulse[:, 0], solver.impulse[:, 1]
+    assert np.all(rn >= 0.0) and np.all(np.abs(rt) <= solver.friction * rn)
+    assert np.all(solver.impulse[~solver.active] == 0.0)
+    free = model.body_kind == sx.BodyKind.FREE
+    assert np.abs(solver.v[free]).max() <= 1e-9 * solver.load
+    assert solver.sweep.iterations == 1 and solver.sweep.error <= 1e-9
+
+
+def _block_on_slope(slope, mu):
+    b = sx.ModelBuilder(gravity=(G * math.sin(slope), -G * math.cos(slope)))
+    b.add_block([(-1.0, -0.2), (1.0, -0.2), (1.0, 0.0), (-1.0, 0.0)], kind=sx.BodyKind.FIXED,
+                group="ground", name="ground")
+    b.add_block([(0.0, 0.0), (0.4, 0.0), (0.4, 0.1), (0.0, 0.1)], density=2000.0, name="block")
+    b.set_law("block", "ground", sx.ContactLaw(friction=mu))
+    b.set_law("block", "block", sx.ContactLaw(friction=mu))
+    return b.finalize()
+
+
+@given(slope=st.floats(0.0, 1.2), mu=st.floats(0.05, 1.5))
+def test_block_on_a_slope_rests_exactly_below_the_friction_angle(slope, mu):
+    margin = math.tan(slope) / mu - 1.0
+    if abs(margin) < 1e-5:
+        return
+    model = _block_on_slope(slope, mu)
+    _check(_first_step(model), model, margin < 0.0)
+
+
+@pytest.mark.parametrize("factor", [0.999, 1.001])
+def test_block_under_horizontal_acceleration_rests_below_g_b_over_h(factor):
+    width, height = 0.2, 1.0
+    b = sx.ModelBuilder(gravity=(0.0, -G))
+    b.add_block([(-2.0, -0.2), (2.0, -0.2), (2.0, 0.0), (-2.0, 0.0)], kind=sx.BodyKind.FIXED,
+                group="ground", name="ground")
+    b.add_block([(0.0, 0.0), (width, 0.0), (width, height), (0.0, height)], density=2000.0,
+                name="rocker")
+    b.set_law("block", "ground", sx.ContactLaw(friction=1.0))
+    b.set_law("block", "block", sx.ContactLaw(friction=1.0))
+    b.add_acceleration(lambda t: (factor * G * width / height, 0.0))
+    model = b.finalize()
+    _check(_first_step(model), model, factor < 1.0)
+
+
+@pytest.fixture(scope="module")
+def lambda_c():
+    return semicircular_four_hinge(1.0, 0.15, 15)[0]
+
+
+@pytest.mark.parametrize("factor", [0.999, 1.001])
+def test_arch_under_horizontal_load_rests_below_its_collapse_load_factor(factor, lambda_c):
+    lam_c = lambda_c
+    arch = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=15, friction=1.0)
+    model = with_load_factor(arch, factor * lam_c).model
+    _check(_first_step(model), model, factor < 1.0)
+
+
+def test_wall_carried_by_a_moving_ground_rests_on_it():
+    """Galilean invariance: a wall on a ground that translates at a constant velocity V, its
+    bricks moving with it from the start, stays at rest relative to the ground as a wall on a
+    fixed ground does (test_wall_rest.py): the rest solution is sought in the frame of the
+    supports. 6 courses of 5 bricks, V = (0.5, 0.1) m/s, 0.2 s: every step converged, no
+    brick's position relative to the ground off by more than 1e-9 m."""
+    velocity = (0.5, 0.1, 0.0)
+    b = sx.ModelBuilder(gravity=(0.0, -G))
+    add_wall(b, courses=6, bricks=5, ground=True)
+    b.drive("ground", lambda t: velocity)
+    for pair in (("brick", "brick"), ("brick", "ground")):
+        b.set_law(*pair, sx.ContactLaw(friction=0.6))
+    model = b.finalize()
+    sim = sx.Simulation(model, dt=DT)
+    state = sim.initial_state()
+    free = model.body_kind == sx.BodyKind.FREE
+    state.body_v[free] = velocity
+    sim.run(state, 0.2)
+    assert np.all(sim.log.converged) and sim.solver.rest_solutions >= 1
+    ground = model.body("ground")
+    relative = (state.body_q[:, :2] - model.body_q0[:, :2]) - (
+        state.body_q[ground, :2] - model.body_q0[ground, :2])
+    assert np.abs(relative[free]).max() < 1e-9
