@@ -166,7 +166,8 @@ def worker_jit() -> dict:
     }
 
 
-def worker_saxum(courses: int, bricks: int, duration: float, dt: float) -> dict:
+def worker_saxum(courses: int, bricks: int, duration: float, dt: float,
+                 rest_after: int | None = None) -> dict:
     import numpy as np
 
     import saxum as sx
@@ -179,7 +180,8 @@ def worker_saxum(courses: int, bricks: int, duration: float, dt: float) -> dict:
     t0 = time.perf_counter()
     model = running_bond_wall(courses=courses, bricks=bricks, brick_length=BRICK_LENGTH,
                               brick_height=BRICK_HEIGHT, density=DENSITY, friction=FRICTION)
-    sim = sx.Simulation(model, dt=dt)
+    solver = sx.NLGS() if rest_after is None else sx.NLGS(rest_after=rest_after)
+    sim = sx.Simulation(model, dt=dt, solver=solver)
     state = sim.initial_state()
     t_build = time.perf_counter() - t0
 
@@ -536,6 +538,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=3,
                         help="runs of the 25 x 20 wall and of pymunk, interleaved; the figures "
                              "reported are the median run's (default 3)")
+    parser.add_argument("--rest-after", type=int, default=None,
+                        help="NLGS rest_after for saxum (0: NLGS alone, no rest solution; "
+                             "default: saxum's default)")
     parser.add_argument("--skip-jit", action="store_true", help="skip the compile-time probe")
     parser.add_argument("--skip-large", action="store_true", help="skip the 50 x 40 wall")
     parser.add_argument("--skip-pymunk", action="store_true", help="skip pymunk")
@@ -562,7 +567,8 @@ def main(argv: list[str] | None = None) -> int:
         "parameters": {"dt_s": args.dt, "duration_s": args.duration,
                        "large_duration_s": args.large_duration, "brick_length_m": BRICK_LENGTH,
                        "brick_height_m": BRICK_HEIGHT, "density_kg_m3": DENSITY,
-                       "friction": FRICTION, "gravity_m_s2": GRAVITY},
+                       "friction": FRICTION, "gravity_m_s2": GRAVITY,
+                       "rest_after": args.rest_after},
     }
     m = results["machine"]
     print(f"machine: {m['cpu_model']}, {m['cpu_count']} CPUs, {m['platform']}; python "
@@ -590,7 +596,8 @@ def main(argv: list[str] | None = None) -> int:
         small_runs, pm_runs = [], []
         for k in range(args.repeats):
             print(f"\nsaxum 25 x 20 (run {k + 1} of {args.repeats}) ...", flush=True)
-            small_runs.append(_spawn("saxum", [*SMALL, args.duration, args.dt], env))
+            small_runs.append(_spawn("saxum", [*SMALL, args.duration, args.dt,
+                                               args.rest_after], env))
             if not args.skip_pymunk:
                 print(f"pymunk 25 x 20 (run {k + 1} of {args.repeats}) ...", flush=True)
                 pm_runs.append(_spawn("pymunk", [*SMALL, args.duration, args.dt], env))
@@ -642,7 +649,7 @@ def main(argv: list[str] | None = None) -> int:
 
         if not args.skip_large:
             print("\nsaxum 50 x 40 ...", flush=True)
-            large = _spawn("saxum", [*LARGE, args.large_duration, args.dt], env)
+            large = _spawn("saxum", [*LARGE, args.large_duration, args.dt, args.rest_after], env)
             results["saxum_large"] = large
             note = (f"\n  NOTE: shorter than the small wall's {args.duration:g} s to keep the "
                     "default run short; its early steps, which need the most sweeps, weigh "

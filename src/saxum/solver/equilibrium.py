@@ -63,15 +63,16 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     _ITERATIONS Newton steps) leave both untouched and return False. The caller's impulses are
     the starting point: among the solutions, it returns one near them."""
     count = problem.count
-    if count == 0 or problem.model.dof != 3:  # written for 2D rigid bodies
+    v_begin = getattr(problem, "v_begin", None)
+    if count == 0 or v_begin is None or problem.model.dof != 3:  # written for 2D rigid bodies
         return False
     c = problem.contacts
     inv_mass = problem.model.body_inv_mass
     slot = np.empty(len(inv_mass), dtype=np.int64)
     closed = np.empty(count, dtype=np.int64)
     m, nfree, force = _rest_contacts(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
-                                     problem.bias, problem.active, count, inv_mass, v_free,
-                                     slot, closed)
+                                     problem.bias, problem.active, count, inv_mass, v_begin,
+                                     v_free, slot, closed)
     if m <= 0:
         return False
     closed = closed[:m]
@@ -123,14 +124,17 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
 
 
 @nb.njit(cache=True)
-def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_free, slot,
-                   closed):
+def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_begin, v_free,
+                   slot, closed):
     """Check the rest hypothesis: slot[b] = index of free body b among the free bodies (-1
     for the others), closed[:m] = the closed contacts. Returns (m, free bodies, f [N s] per
     free body: M (V - v_free), V the supports' velocity (see rest_solution)), m = -1 when no
     rest solution can exist: supports in closed contact that do not share one translation,
     an open contact that would close, a restitution target, or a free body that needs an
-    impulse and has no closed contact."""
+    impulse and has no closed contact; or when it is not worth looking for: the blocks move
+    relative to the supports (|v_begin - V|_M above |v_free - v_begin|_M, the velocity that
+    one step of the loads gives: a structure in motion, which the contacts would have to stop
+    within one step)."""
     nfree = 0
     for b in range(inv_mass.shape[0]):
         if inv_mass[b, 0] > 0.0:
@@ -155,12 +159,18 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_fr
                         return -1, nfree, force
     if frame[2] != 0.0:
         return -1, nfree, force
+    moving = 0.0
+    loads = 0.0
     for b in range(inv_mass.shape[0]):
         if slot[b] >= 0:
             for d in range(3):
                 if not inv_mass[b, d] > 0.0:
                     return -1, nfree, force
                 force[slot[b], d] = (frame[d] - v_free[b, d]) / inv_mass[b, d]
+                moving += (v_begin[b, d] - frame[d]) ** 2 / inv_mass[b, d]
+                loads += (v_free[b, d] - v_begin[b, d]) ** 2 / inv_mass[b, d]
+    if moving > loads:
+        return -1, nfree, force
     held = np.zeros(nfree, dtype=np.bool_)
     m = 0
     for a in range(count):

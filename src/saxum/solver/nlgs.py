@@ -48,13 +48,19 @@ from .problem import ContactProblem
 
 __all__ = ["NLGS"]
 
+_REST_WORK = 20_000
+"""Single-contact updates that cost about as much as an attempt at the rest solution does at
+least (a few calls into the kernels and scipy's SuperLU, ~0.3 ms): a step tries it only once
+its sweeps have done that much work, so that where sweeps are cheap (a few dozen contacts)
+NLGS alone goes on."""
+
 
 @dataclass
 class NLGS(ContactSolver):
     """tolerance [-] on the relative change per sweep (see module doc), max_iterations sweeps
     per step, relaxation omega in (0, 1]; rest_after: sweeps after which a step that has not
     converged tries the rest solution (saxum.solver.equilibrium) and sweeps on from it if
-    there is one (0: never)."""
+    there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -95,8 +101,8 @@ class NLGS(ContactSolver):
                 problem.bias, problem.friction, problem.active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, self.tolerance)
         first = self.max_iterations
-        if 0 < self.rest_after < self.max_iterations:
-            first = self.rest_after
+        if self.rest_after > 0 and problem.count > 0:
+            first = min(max(self.rest_after, -(-_REST_WORK // problem.count)), first)
         sweep = nlgs_2d
         iterations, error = sweep(*args, first, self.relaxation)
         if error > self.tolerance and iterations < self.max_iterations:

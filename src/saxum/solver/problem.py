@@ -32,6 +32,8 @@ class ContactProblem:
     def __init__(self, model: Model) -> None:
         self.model = model
         self.count = 0
+        self.v_begin = None
+        """Velocities at the start of the step [m/s, rad/s] (bodies, dof), set by assemble."""
         self._jacobians = _JACOBIANS[model.dim]
         self._written_out = model.dim == 2 and model.dof == 3
         """Use the kernels written out for 2D (False: the generic ones, which tests compare)."""
@@ -70,6 +72,7 @@ class ContactProblem:
         self.count = k = contacts.count
         m = self.model
         self.contacts = contacts
+        self.v_begin = v_begin
         c = contacts
         if self._written_out:
             _assemble_2d(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,

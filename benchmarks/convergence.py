@@ -1,0 +1,262 @@
+"""Benchmark of the contact solver's convergence: NLGS sweeps per step and steps not converged
+on structures at rest and one collapsing, from the cold start on.
+
+    python benchmarks/convergence.py                  # every case (about a minute)
+    python benchmarks/convergence.py --cases tower,arch --rest-after 0 --spectral
+
+Cases (dt = 1e-3 s, theta = 0.5, default law and NLGS: tolerance 1e-6, at most 5000 sweeps,
+unless --rest-after is given):
+- tower: stack-bond tower of 40 courses x 2 bricks 0.25 x 0.065 m, density 1800 kg/m^3,
+  mu = 0.6, at rest on a fixed ground, 1 s;
+- wall512 / wall2025: running-bond walls of 25 x 20 and 50 x 40 bricks (512 and 2025 with the
+  half bricks), same bricks, at rest, 1 s;
+- arch: semicircular arch of 15 voussoirs, R = 1 m, t/R = 0.15, density 2000 kg/m^3,
+  mu = 0.6, on fixed supports (it stands), 2 s;
+- arch-collapse: the same with t/R = 0.09 (it collapses), 2 s: a dynamic case.
+For each: the first step (a cold start from zero impulses: sweeps, error, converged, time),
+the steps after it (sweeps mean, median, 95th percentile, max; steps not converged; steps
+with more sweeps than rest_after), the steps whose contact set changed from the step before,
+rest-solution attempts and successes (saxum.solver.equilibrium, if the installed saxum has
+it), the time per step, the largest displacement of a block [m] and interpenetration [m].
+
+--spectral: the factor by which one sweep shrinks the slowest deformation mode, on the tower's
+first step (and on towers of 10 and 20 courses) linearized with every closed contact sticking
+(a bilateral problem, W R = -u): the spectral radius rho of the block Gauss-Seidel iteration
+matrix I - (D/omega + L)^-1 W on the range of W (its null space, self-equilibrated impulses,
+has eigenvalue 1 and moves nothing), for the sweep's order (last contact first), the forward
+order, over-relaxation omega = 1.5, 1.8, 1.95 and symmetric sweeps; and W's smallest nonzero
+eigenvalue relative to its largest. Dense, so a few tens of seconds.
+
+Kernels are compiled (a warm-up run) before the clock starts. The figures are printed and
+written as JSON (benchmarks/results/convergence.json by default) with the machine, the package
+versions and the git commit; per-step sweeps are kept in the JSON.
+"""
+
+import argparse
+import json
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import saxum as sx
+from saxum.solver import SolverReport
+from saxum.structures import running_bond_wall, semicircular_arch, wall
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from wall import machine_info  # noqa: E402  (benchmarks/ is not a package)
+
+DEFAULT_JSON = HERE / "results" / "convergence.json"
+DT = 1e-3
+
+CASES = {
+    "tower": (lambda: wall(courses=40, bricks=2, bond="stack"), 1.0),
+    "wall512": (lambda: running_bond_wall(courses=25, bricks=20), 1.0),
+    "wall2025": (lambda: running_bond_wall(courses=50, bricks=40), 1.0),
+    "arch": (lambda: semicircular_arch(radius=1.0, thickness=0.15, voussoirs=15,
+                                       density=2000.0, friction=0.6), 2.0),
+    "arch-collapse": (lambda: semicircular_arch(radius=1.0, thickness=0.09, voussoirs=15,
+                                                density=2000.0, friction=0.6), 2.0),
+}
+
+
+def _solver(rest_after: int | None) -> sx.NLGS:
+    if rest_after is None:
+        return sx.NLGS()
+    return sx.NLGS(rest_after=rest_after)  # TypeError on a saxum without rest solutions
+
+
+def _warm_up(rest_after: int | None) -> None:
+    """Compile (or load) every kernel a step uses, the rest solution's included."""
+    for model in (running_bond_wall(courses=3, bricks=3),
+                  semicircular_arch(radius=1.0, thickness=0.09, voussoirs=5)):
+        sim = sx.Simulation(model, dt=DT, solver=_solver(rest_after))
+        sim.run(sim.initial_state(), 0.01)
+
+
+def run_case(name: str, rest_after: int | None) -> dict:
+    build, duration = CASES[name]
+    model = build()
+    solver = _solver(rest_after)
+    sim = sx.Simulation(model, dt=DT, solver=solver)
+    state = sim.initial_state()
+    times, changed = [], []
+    previous = [None]
+    clock = [time.perf_counter()]
+
+    def after_step(state, report):
+        now = time.perf_counter()
+        times.append(now - clock[0])
+        c = state.contacts
+        keys = c.key[: c.count].copy()
+        changed.append(previous[0] is not None and not np.array_equal(keys, previous[0]))
+        previous[0] = keys
+        clock[0] = time.perf_counter()
+
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        sim.run(state, duration, callback=after_step)
+    log = sim.log
+    sweeps = np.asarray(log.iterations)
+    converged = np.asarray(log.converged)
+    later = sweeps[1:]
+    free = model.body_kind == sx.BodyKind.FREE
+    moved = np.hypot(*(state.body_q[free, :2] - model.body_q0[free, :2]).T)
+    threshold = getattr(solver, "rest_after", 0) or None
+    out = {
+        "case": name,
+        "bodies": int(model.body_count),
+        "duration_s": duration,
+        "steps": len(sweeps),
+        "contacts_min": int(np.min(log.contacts)),
+        "contacts_max": int(np.max(log.contacts)),
+        "rest_after": getattr(solver, "rest_after", None),
+        "first_sweeps": int(sweeps[0]),
+        "first_error": float(log.error[0]),
+        "first_converged": bool(converged[0]),
+        "first_ms": 1e3 * times[0],
+        "sweeps_mean": float(later.mean()),
+        "sweeps_median": float(np.median(later)),
+        "sweeps_p95": float(np.percentile(later, 95)),
+        "sweeps_max": int(later.max()),
+        "not_converged": int(np.count_nonzero(~converged)),
+        "not_converged_after_first": int(np.count_nonzero(~converged[1:])),
+        "steps_over_rest_after": (int(np.count_nonzero(later > threshold))
+                                  if threshold else None),
+        "steps_contacts_changed": int(np.count_nonzero(changed)),
+        "rest_attempts": getattr(solver, "rest_attempts", None),
+        "rest_solutions": getattr(solver, "rest_solutions", None),
+        "ms_per_step_mean": 1e3 * statistics.fmean(times[1:]),
+        "ms_per_step_median": 1e3 * statistics.median(times[1:]),
+        "largest_displacement_m": float(moved.max()),
+        "largest_interpenetration_m": float(np.max(log.max_interpenetration)),
+        "sweeps": sweeps.tolist(),
+    }
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# spectral radius of the linearized sweep
+
+
+def _first_problem(model):
+    """(W dense [1/kg], closed contacts) of the first step's problem, every closed contact
+    taken as a bilateral 2 x 2 block."""
+    captured = {}
+
+    class Capture(sx.ContactSolver):
+        def solve(self, problem, impulse, v_free, v):
+            if not captured:
+                k = problem.count
+                keep = problem.active[:k] & (problem.bias[:k] == 0.0)
+                captured.update(
+                    cand=problem.contacts.candidate[:k][keep].copy(),
+                    ant=problem.contacts.antagonist[:k][keep].copy(),
+                    h_cand=problem.h_cand[:k][keep].copy(),
+                    h_ant=problem.h_ant[:k][keep].copy())
+            return SolverReport(iterations=0, error=0.0, converged=True)
+
+    sim = sx.Simulation(model, dt=DT, solver=Capture())
+    sim.step(sim.initial_state())
+    inv_mass = model.body_inv_mass.reshape(-1)
+    n, dof = len(captured["cand"]), model.body_inv_mass.shape[1]
+    rows = np.zeros((2 * n, model.body_count * dof))  # H*: local velocity from body velocity
+    for a in range(n):
+        for r in range(2):
+            for body, h in ((captured["cand"][a], captured["h_cand"][a, r]),
+                            (captured["ant"][a], captured["h_ant"][a, r])):
+                rows[2 * a + r, body * dof:(body + 1) * dof] += h
+    return rows @ (inv_mass[:, None] * rows.T), n
+
+
+def _radius(w, omega=1.0, order=None, symmetric=False):
+    """Largest |eigenvalue| other than 1 of the block Gauss-Seidel (SOR) iteration matrix."""
+    m = w.shape[0]
+    if order is not None:
+        perm = np.concatenate([[2 * a, 2 * a + 1] for a in order])
+        w = w[np.ix_(perm, perm)]
+    d = np.zeros_like(w)
+    for i in range(0, m, 2):
+        d[i:i + 2, i:i + 2] = w[i:i + 2, i:i + 2]
+    lower, upper = np.tril(w) - np.tril(d), np.triu(w) - np.triu(d)
+    g = np.eye(m) - np.linalg.solve(d / omega + lower, w)
+    if symmetric:
+        g = (np.eye(m) - np.linalg.solve(d / omega + upper, w)) @ g
+    radii = np.sort(np.abs(np.linalg.eigvals(g)))[::-1]
+    return float(radii[np.abs(radii - 1.0) > 1e-9][0])
+
+
+def spectral(courses_list=(10, 20, 40)) -> list[dict]:
+    out = []
+    for courses in courses_list:
+        w, n = _first_problem(wall(courses=courses, bricks=2, bond="stack"))
+        eig = np.linalg.eigvalsh(w)
+        positive = eig[eig > 1e-10 * eig.max()]
+        sweep = np.arange(n)[::-1]  # nlgs_2d visits the last contact first
+        row = {"courses": courses, "closed_contacts": n,
+               "eigenvalue_ratio": float(positive.min() / eig.max()),
+               "one_minus_rho": {
+                   "sweep_order": 1.0 - _radius(w, order=sweep),
+                   "forward_order": 1.0 - _radius(w, order=np.arange(n)),
+                   **{f"omega_{om}": 1.0 - _radius(w, omega=om, order=sweep)
+                      for om in (1.5, 1.8, 1.95)},
+                   "symmetric_per_sweep": 1.0 - math.sqrt(_radius(w, order=sweep,
+                                                                  symmetric=True))}}
+        out.append(row)
+        print(f"tower {courses} x 2: {n} closed contacts, smallest/largest eigenvalue of W "
+              f"{row['eigenvalue_ratio']:.3g}; 1 - rho: "
+              + ", ".join(f"{k} {v:.3g}" for k, v in row["one_minus_rho"].items()))
+    return out
+
+
+def _print(r: dict) -> None:
+    rest = (f"rest solutions {r['rest_solutions']}/{r['rest_attempts']}"
+            if r["rest_attempts"] is not None else "no rest solution")
+    print(f"{r['case']}: {r['bodies']} bodies, {r['contacts_min']}..{r['contacts_max']} "
+          f"contacts, {r['steps']} steps; first step {r['first_sweeps']} sweeps "
+          f"({'converged' if r['first_converged'] else 'NOT converged'}, error "
+          f"{r['first_error']:.2g}, {r['first_ms']:.1f} ms); after it sweeps mean "
+          f"{r['sweeps_mean']:.2f}, median {r['sweeps_median']:g}, p95 {r['sweeps_p95']:g}, "
+          f"max {r['sweeps_max']}; not converged {r['not_converged']} "
+          f"({r['not_converged_after_first']} after the first); contact set changed on "
+          f"{r['steps_contacts_changed']} steps; {rest}; {r['ms_per_step_mean']:.3f} ms/step "
+          f"(median {r['ms_per_step_median']:.3f}); largest displacement "
+          f"{r['largest_displacement_m']:.2g} m, interpenetration "
+          f"{r['largest_interpenetration_m']:.2g} m")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--cases", default=",".join(CASES),
+                        help=f"comma-separated subset of {', '.join(CASES)}")
+    parser.add_argument("--rest-after", type=int, default=None,
+                        help="NLGS rest_after (0: NLGS alone); default: saxum's default")
+    parser.add_argument("--spectral", action="store_true",
+                        help="also the spectral radius of the linearized sweep (towers)")
+    parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
+    args = parser.parse_args(argv)
+    started = time.perf_counter()
+    _warm_up(args.rest_after)
+    results = {"command": " ".join(sys.argv), "machine": machine_info(),
+               "saxum_file": sx.__file__, "cases": []}
+    for name in args.cases.split(","):
+        r = run_case(name, args.rest_after)
+        _print(r)
+        results["cases"].append(r)
+    if args.spectral:
+        results["spectral"] = spectral()
+    results["wall_s"] = time.perf_counter() - started
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    args.json.write_text(json.dumps(results, indent=1))
+    print(f"written {args.json} ({results['wall_s']:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
