@@ -146,17 +146,17 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
     # V: the velocity of the supports in closed contact (a translation, the same for all)
     frame = np.zeros(3)
     framed = False
-    for a in range(count):
-        if active[a] and bias[a] == 0.0:
-            for body in (cand[a], ant[a]):
-                if slot[body] < 0:
-                    if not framed:
-                        framed = True
-                        for d in range(3):
-                            frame[d] = v_free[body, d]
-                    elif (v_free[body, 0] != frame[0] or v_free[body, 1] != frame[1]
-                          or v_free[body, 2] != frame[2]):
-                        return -1, nfree, force
+    for k in range(2 * count):
+        a = k // 2
+        body = cand[a] if k % 2 == 0 else ant[a]
+        if active[a] and bias[a] == 0.0 and slot[body] < 0:
+            if not framed:
+                framed = True
+                for d in range(3):
+                    frame[d] = v_free[body, d]
+            elif (v_free[body, 0] != frame[0] or v_free[body, 1] != frame[1]
+                  or v_free[body, 2] != frame[2]):
+                return -1, nfree, force
     if frame[2] != 0.0:
         return -1, nfree, force
     moving = 0.0
@@ -208,24 +208,50 @@ def _pattern(cand, ant, closed, slot, nfree):
     body is not free; entry (dr, dc) of a block at position + dc * 3 (blocks in its column) +
     dr), position of each free body's diagonal block)."""
     m = closed.shape[0]
-    raw = np.empty(nfree + 2 * m, dtype=np.int64)
-    n = 0
-    for k in range(nfree):
-        raw[n] = k * nfree + k
-        n += 1
+    # block rows of each block column: the body itself and the bodies it touches, sorted
+    count = np.ones(nfree, dtype=np.int64)
     for k in range(m):
         i = slot[cand[closed[k]]]
         j = slot[ant[closed[k]]]
         if i >= 0 and j >= 0:
-            raw[n] = j * nfree + i
-            raw[n + 1] = i * nfree + j
-            n += 2
-    keys = np.unique(raw[:n])  # col * nfree + row, sorted: CSC order of the blocks
+            count[i] += 1
+            count[j] += 1
+    first = np.zeros(nfree + 1, dtype=np.int64)
+    for col in range(nfree):
+        first[col + 1] = first[col] + count[col]
+    rows = np.empty(first[nfree], dtype=np.int64)
+    fill = first[:nfree].copy()
+    for col in range(nfree):
+        rows[fill[col]] = col
+        fill[col] += 1
+    for k in range(m):
+        i = slot[cand[closed[k]]]
+        j = slot[ant[closed[k]]]
+        if i >= 0 and j >= 0:
+            rows[fill[j]] = i
+            fill[j] += 1
+            rows[fill[i]] = j
+            fill[i] += 1
     bptr = np.zeros(nfree + 1, dtype=np.int64)
-    for key in keys:
-        bptr[key // nfree + 1] += 1
-    for k in range(nfree):
-        bptr[k + 1] += bptr[k]
+    for col in range(nfree):  # sort (insertion: a few neighbours) and drop repeats
+        lo, hi = first[col], first[col + 1]
+        for x in range(lo + 1, hi):
+            value = rows[x]
+            y = x - 1
+            while y >= lo and rows[y] > value:
+                rows[y + 1] = rows[y]
+                y -= 1
+            rows[y + 1] = value
+        kept = lo
+        for x in range(lo, hi):
+            if x == lo or rows[x] != rows[x - 1]:
+                rows[kept] = rows[x]
+                kept += 1
+        bptr[col + 1] = bptr[col] + (kept - lo)
+    blocks = np.empty(bptr[nfree], dtype=np.int64)
+    for col in range(nfree):
+        for x in range(bptr[col + 1] - bptr[col]):
+            blocks[bptr[col] + x] = rows[first[col] + x]
     indptr = np.zeros(3 * nfree + 1, dtype=np.int64)
     for col in range(nfree):
         per = 3 * (bptr[col + 1] - bptr[col])
@@ -236,23 +262,27 @@ def _pattern(cand, ant, closed, slot, nfree):
         for dc in range(3):
             at = indptr[3 * col + dc]
             for blk in range(bptr[col], bptr[col + 1]):
-                row = keys[blk] - col * nfree
                 for dr in range(3):
-                    indices[at] = 3 * row + dr
+                    indices[at] = 3 * blocks[blk] + dr
                     at += 1
     where = np.full((m, 4), -1, dtype=np.int64)
     for k in range(m):
-        pair = (slot[cand[closed[k]]], slot[ant[closed[k]]])
+        i = slot[cand[closed[k]]]
+        j = slot[ant[closed[k]]]
         for q in range(2):
-            col = pair[q]
+            col = i if q == 0 else j
             for r in range(2):
-                row = pair[r]
+                row = i if r == 0 else j
                 if row >= 0 and col >= 0:
-                    blk = np.searchsorted(keys, col * nfree + row)
+                    blk = bptr[col]
+                    while blocks[blk] != row:
+                        blk += 1
                     where[k, 2 * q + r] = indptr[3 * col] + 3 * (blk - bptr[col])
     diagonal = np.empty(nfree, dtype=np.int64)
     for col in range(nfree):
-        blk = np.searchsorted(keys, col * nfree + col)
+        blk = bptr[col]
+        while blocks[blk] != col:
+            blk += 1
         diagonal[col] = indptr[3 * col] + 3 * (blk - bptr[col])
     return indptr, indices, where, diagonal
 
@@ -437,7 +467,9 @@ def _apply(cand, ant, h_cand, h_ant, active, count, closed, b, s, inv_mass, v_fr
         a = closed[k]
         impulse[a, 0] = b[k, 0, 0] * s[k, 0] + b[k, 0, 1] * s[k, 1]
         impulse[a, 1] = b[k, 1, 0] * s[k, 0] + b[k, 1, 1] * s[k, 1]
-    v[:, :] = v_free
+    for body in range(v.shape[0]):
+        for d in range(3):
+            v[body, d] = v_free[body, d]
     for a in range(count):
         if not active[a]:
             continue
