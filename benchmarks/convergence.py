@@ -2,7 +2,7 @@
 on structures at rest and one collapsing, from the cold start on.
 
     python benchmarks/convergence.py                  # every case (about a minute)
-    python benchmarks/convergence.py --cases tower,arch --rest-after 0 --spectral
+    python benchmarks/convergence.py --cases tower,arch --rest-after 0 --spectral --orders
 
 Cases (dt = 1e-3 s, theta = 0.5, default law and NLGS: tolerance 1e-6, at most 5000 sweeps,
 unless --rest-after is given):
@@ -28,6 +28,11 @@ matrix I - (D/omega + L)^-1 W on the range of W (its null space, self-equilibrat
 has eigenvalue 1 and moves nothing), for the sweep's order (last contact first), the forward
 order, over-relaxation omega = 1.5, 1.8, 1.95 and symmetric sweeps; and W's smallest nonzero
 eigenvalue relative to its largest. Dense, so a few tens of seconds.
+
+--orders: the first step of the tower, the 512-brick wall and the two arches, solved by NLGS
+alone from zero impulses (cap 20 000 sweeps) with the contacts visited in other orders: the
+sweep's own (last contact first), forward, by height of the contact point (highest or lowest
+first), and symmetric (alternating directions); the sweeps to converge are compared.
 
 Kernels are compiled (a warm-up run) before the clock starts. The figures are printed and
 written as JSON (benchmarks/results/convergence.json by default) with the machine, the package
@@ -153,28 +158,83 @@ def run_case(name: str, rest_after: int | None) -> dict:
 
 
 # --------------------------------------------------------------------------------------------
-# spectral radius of the linearized sweep
+# the first step's problem: the sweep in other orders, the spectral radius of the linearized sweep
 
 
-def _first_problem(model):
-    """(W dense [1/kg], closed contacts) of the first step's problem, every closed contact
-    taken as a bilateral 2 x 2 block."""
+_ARRAYS = ("h_cand", "h_ant", "delassus", "bias", "friction", "active")
+
+
+def _capture_first(model) -> dict:
+    """Copies of the first step's problem (before the solve): the arrays NLGS reads, the
+    contact points, v_free."""
     captured = {}
 
     class Capture(sx.ContactSolver):
         def solve(self, problem, impulse, v_free, v):
             if not captured:
                 k = problem.count
-                keep = problem.active[:k] & (problem.bias[:k] == 0.0)
-                captured.update(
-                    cand=problem.contacts.candidate[:k][keep].copy(),
-                    ant=problem.contacts.antagonist[:k][keep].copy(),
-                    h_cand=problem.h_cand[:k][keep].copy(),
-                    h_ant=problem.h_ant[:k][keep].copy())
+                c = problem.contacts
+                captured.update({name: getattr(problem, name)[:k].copy() for name in _ARRAYS})
+                captured.update(cand=c.candidate[:k].copy(), ant=c.antagonist[:k].copy(),
+                                point=c.point[:k].copy(), v_free=v_free.copy())
             return SolverReport(iterations=0, error=0.0, converged=True)
 
     sim = sx.Simulation(model, dt=DT, solver=Capture())
     sim.step(sim.initial_state())
+    return captured
+
+
+def _cold_sweeps(model, p, orders, cap=20_000, tolerance=1e-6) -> int:
+    """Sweeps NLGS (nlgs_2d) takes from zero impulses on problem p when its successive sweeps
+    visit the contacts in orders[0], orders[1], ... (cycling; nlgs_2d visits the last row
+    first)."""
+    from saxum.solver.nlgs import nlgs_2d
+
+    inv_mass = model.body_inv_mass
+    mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass), where=inv_mass > 0.0)
+    permuted = [{name: p[name][order] for name in ("cand", "ant", *_ARRAYS)}
+                for order in orders]
+    n = len(p["cand"])
+    v, v_prev, work = p["v_free"].copy(), np.empty_like(p["v_free"]), np.empty((n, 18))
+    impulse = np.zeros((n, 2))
+    for sweep in range(cap):
+        k = sweep % len(orders)
+        q, order = permuted[k], orders[k]
+        r = impulse[order]  # this order's rows
+        _, error = nlgs_2d(q["cand"], q["ant"], q["h_cand"], q["h_ant"], q["delassus"],
+                           q["bias"], q["friction"], q["active"], n, inv_mass, mass,
+                           p["v_free"], v, v_prev, r, work, tolerance, 1, 1.0)
+        impulse[order] = r
+        if error <= tolerance:
+            return sweep + 1
+    return cap
+
+
+def orders() -> list[dict]:
+    out = []
+    for name in ("tower", "wall512", "arch", "arch-collapse"):
+        model = CASES[name][0]()
+        p = _capture_first(model)
+        n = len(p["cand"])
+        own = np.arange(n)
+        height = np.argsort(-p["point"][:, 1], kind="stable")  # last row: the lowest point
+        row = {"case": name, "contacts": n}
+        for label, sequence in (("sweep_order", [own]), ("forward", [own[::-1]]),
+                                ("lowest_first", [height]), ("highest_first", [height[::-1]]),
+                                ("symmetric", [own, own[::-1]])):
+            row[label] = _cold_sweeps(model, p, sequence)
+        out.append(row)
+        print(f"{name}: cold start, sweeps to 1e-6: "
+              + ", ".join(f"{k} {v}" for k, v in row.items() if k not in ("case", "contacts")))
+    return out
+
+
+def _first_problem(model):
+    """(W dense [1/kg], closed contacts) of the first step's problem, every closed contact
+    taken as a bilateral 2 x 2 block."""
+    p = _capture_first(model)
+    keep = p["active"] & (p["bias"] == 0.0)
+    captured = {name: p[name][keep] for name in ("cand", "ant", "h_cand", "h_ant")}
     inv_mass = model.body_inv_mass.reshape(-1)
     n, dof = len(captured["cand"]), model.body_inv_mass.shape[1]
     rows = np.zeros((2 * n, model.body_count * dof))  # H*: local velocity from body velocity
@@ -250,6 +310,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="NLGS rest_after (0: NLGS alone); default: saxum's default")
     parser.add_argument("--spectral", action="store_true",
                         help="also the spectral radius of the linearized sweep (towers)")
+    parser.add_argument("--orders", action="store_true",
+                        help="also the cold start's sweeps in other orders of the contacts")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
     args = parser.parse_args(argv)
     started = time.perf_counter()
@@ -260,6 +322,8 @@ def main(argv: list[str] | None = None) -> int:
         r = run_case(name, args.rest_after)
         _print(r)
         results["cases"].append(r)
+    if args.orders:
+        results["orders"] = orders()
     if args.spectral:
         results["spectral"] = spectral()
     results["wall_s"] = time.perf_counter() - started
