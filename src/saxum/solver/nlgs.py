@@ -27,6 +27,7 @@ import numpy as np
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .local2d import solve_contact_2d
+from .local3d import solve_contact_3d
 from .problem import ContactProblem
 
 __all__ = ["NLGS"]
@@ -55,7 +56,8 @@ class NLGS(ContactSolver):
         c = problem.contacts
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
-        iterations, error = nlgs_2d(
+        sweep = nlgs_3d if problem.model.dim == 3 else nlgs_2d
+        iterations, error = sweep(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
             problem.bias, problem.friction, problem.active, problem.count,
             problem.model.body_inv_mass, v_free, v, self._v_prev, impulse,
@@ -142,3 +144,60 @@ def _relative_change(v, v_prev, v_free, inv_mass):
     if den == 0.0:
         return np.inf
     return math.sqrt(num / den)
+
+
+@nb.njit(cache=True)
+def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, v_free,
+            v, v_prev, impulse, tolerance, max_iterations, relaxation):
+    """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)): the single-contact problem on the
+    Coulomb cone is solved exactly by saxum.solver.local3d.solve_contact_3d."""
+    nactive = 0
+    for a in range(count):
+        nactive += active[a]
+    if nactive == 0:
+        return 0, 0.0
+    u = np.empty(3)
+    r = np.empty(3)
+    r0 = np.empty(3)
+    error = np.inf
+    it = 0
+    while it < max_iterations:
+        it += 1
+        v_prev[:] = v
+        for k in range(count):
+            a = count - 1 - k
+            if not active[a]:
+                continue
+            c = cand[a]
+            b = ant[a]
+            w = delassus[a]
+            for i in range(3):
+                r0[i] = impulse[a, i]
+            for i in range(3):
+                ui = 0.0
+                for d in range(6):
+                    ui += h_cand[a, i, d] * v[c, d] + h_ant[a, i, d] * v[b, d]
+                u[i] = ui - (w[i, 0] * r0[0] + w[i, 1] * r0[1] + w[i, 2] * r0[2])
+                r[i] = r0[i]
+            u[1] += bias[a]
+            solve_contact_3d(w, u, friction[a], r)
+            if relaxation != 1.0:
+                for i in range(3):
+                    r[i] = relaxation * r[i] + (1.0 - relaxation) * r0[i]
+            d0 = r[0] - r0[0]
+            d1 = r[1] - r0[1]
+            d2 = r[2] - r0[2]
+            if d0 != 0.0 or d1 != 0.0 or d2 != 0.0:
+                # v += M^-1 H_a dR on the candidate c and the antagonist b
+                for d in range(6):
+                    v[c, d] += inv_mass[c, d] * (h_cand[a, 0, d] * d0 + h_cand[a, 1, d] * d1
+                                                 + h_cand[a, 2, d] * d2)
+                    v[b, d] += inv_mass[b, d] * (h_ant[a, 0, d] * d0 + h_ant[a, 1, d] * d1
+                                                 + h_ant[a, 2, d] * d2)
+            impulse[a, 0] = r[0]
+            impulse[a, 1] = r[1]
+            impulse[a, 2] = r[2]
+        error = _relative_change(v, v_prev, v_free, inv_mass)
+        if error <= tolerance:
+            break
+    return it, error

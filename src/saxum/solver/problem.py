@@ -9,10 +9,10 @@ With v the end-of-step velocities, U_alpha = H*_alpha v and v = v_free + M^-1 H 
 import numba as nb
 import numpy as np
 
+from .. import rigid2d, rigid3d
 from ..contacts import Contacts
 from ..laws import LawKind
 from ..model import Model
-from ..rigid2d import contact_jacobians
 
 __all__ = ["ContactProblem"]
 
@@ -56,8 +56,9 @@ class ContactProblem:
         self.count = k = contacts.count
         m = self.model
         self.contacts = contacts
-        contact_jacobians(q, contacts.candidate, contacts.antagonist, contacts.point,
-                          contacts.frame, contacts.gap, k, self.h_cand, self.h_ant)
+        jacobians = rigid3d.contact_jacobians if m.dim == 3 else rigid2d.contact_jacobians
+        jacobians(q, contacts.candidate, contacts.antagonist, contacts.point,
+                  contacts.frame, contacts.gap, k, self.h_cand, self.h_ant)
         _assemble(contacts.candidate, contacts.antagonist, contacts.law, contacts.gap, k,
                   self.h_cand, self.h_ant, m.body_inv_mass, v_begin, m.law_kind,
                   m.law_friction, m.law_restitution, h, theta, closed_gap,
