@@ -13,7 +13,7 @@ from ..model import BodyKind, Model
 from ..rigid2d import world_directions, world_vertices
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .polygons import polygon_contacts
-from .polyhedra import MAX_POINTS, polyhedron_contacts
+from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
 
 __all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]
 
@@ -202,7 +202,7 @@ class PolyhedronDetector(Detector):
         self._max_edges = int(np.diff(model.body_edge_start).max())
         self._max_face_vertices = int(np.diff(model.face_vertex_start).max())
         features = self._max_faces + self._max_edges
-        if float(model.body_count) ** 2 * 2 * features**2 * MAX_POINTS >= 2.0**62:
+        if float(model.body_count) ** 2 * 2 * features**2 * SLOTS >= 2.0**62:
             raise InputError(
                 f"{model.body_count} blocks with up to {self._max_faces} faces and "
                 f"{self._max_edges} edges are too many to number their contacts in 64 bits; "

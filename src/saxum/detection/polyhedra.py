@@ -12,11 +12,14 @@ the two blocks; beyond the alert distance there is no contact.
   direction of its first edge and s = t x n, so that (t, n, s) is right-handed. The candidate's
   face most opposed to n (the incident face) is clipped by the side planes of the reference face
   (Sutherland-Hodgman); of the clipped polygon's points with gap n . (p - a) below the alert
-  distance, the extreme points in eight directions of the reference face's plane
-  (+-t +-s first, then +-t, +-s) are kept, each once: at most eight well-spread points, four for
-  two rectangles side by side, three for a triangle, so that a joint can open and rock about
-  any edge of the contact surface; a vertex against a face gives one point and an edge against
-  a face two.
+  distance, the extreme points in 16 directions of the reference face's plane (+-t +-s first,
+  then +-t and +-s, then the eight in between) are kept, each once, at most MAX_POINTS: four
+  for two rectangles side by side, all eight corners of two squares at 45 degrees, three for a
+  triangle (every corner whose exterior angle exceeds 22.5 degrees is kept), so that a joint
+  can open and rock about any edge of the contact surface; a vertex against a face gives one
+  point and an edge against a face two. Taking the points by direction, rather than by how the
+  clipping made them, keeps their identity when a corner of one face crosses an edge of the
+  other by round-off, as happens all the time in a wall built flush.
 - Edge-edge contact (an edge pair separates more than any face by more than `ref_tol`): one
   point, the closest point of the candidate's edge to the antagonist's, n along the cross
   product of the edges (pointing from the antagonist to the candidate), t along the
@@ -32,14 +35,21 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = ["MAX_POINTS", "polyhedron_contacts"]
+__all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
 
 MAX_POINTS = 8
 """Contact points of one face-to-face contact, at most."""
 
-# directions of the reference face's plane that pick the kept points, as (t, s) components
+# directions of the reference face's plane that pick the kept points, as (t, s) components:
+# diagonals first (unique corners of rectangles aligned with the face), then axes, then between
+_C = math.cos(math.pi / 8)
+_S = math.sin(math.pi / 8)
 _DIRECTIONS = np.array([[1.0, 1.0], [1.0, -1.0], [-1.0, -1.0], [-1.0, 1.0],
-                        [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0], [0.0, 1.0]])
+                        [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0], [0.0, 1.0],
+                        [_C, _S], [_S, -_C], [-_C, -_S], [-_S, _C],
+                        [_C, -_S], [-_S, -_C], [-_C, _S], [_S, _C]])
+SLOTS = len(_DIRECTIONS)
+"""Directions that pick contact points, and so the slots of a face contact's keys."""
 
 
 @nb.njit(inline="always")
@@ -186,7 +196,7 @@ def polyhedron_contacts(
             ref = max_faces + e_i - edge_start[i]
             inc = max_faces + e_j - edge_start[j]
             _write(candidate, antagonist, key, law, point, frame, gap, count, j, i,
-                   ((pair_key * features + ref) * features + inc) * MAX_POINTS, law_index,
+                   ((pair_key * features + ref) * features + inc) * SLOTS, law_index,
                    cx, cy, cz, tx / norm, ty / norm, tz / norm, ux, uy, uz,
                    ux * (cx - ox) + uy * (cy - oy) + uz * (cz - oz))
             count += 1
@@ -262,7 +272,9 @@ def polyhedron_contacts(
         base = ((pair_key + flip) * features + ref_face - face_start[ant]) * features + (
             inc_face - face_start[cand])
         first = count
-        for slot in range(MAX_POINTS):
+        for slot in range(SLOTS):
+            if count - first == MAX_POINTS:
+                break
             dt = _DIRECTIONS[slot, 0]
             ds = _DIRECTIONS[slot, 1]
             best = -np.inf
@@ -282,7 +294,7 @@ def polyhedron_contacts(
                     break
             if fresh:
                 _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
-                       base * MAX_POINTS + slot, law_index, px[src, pick], py[src, pick],
+                       base * SLOTS + slot, law_index, px[src, pick], py[src, pick],
                        pz[src, pick], tx, ty, tz, nx, ny, nz, dist[pick])
                 count += 1
     return count
