@@ -285,13 +285,20 @@ def polyhedron_contacts(
                 if h > best:
                     best = h
                     pick = k
-            # each point once: skip one (nearly) at a point already kept
+            # Each point once, and past the diagonals only a point that extends the support
+            # appreciably in this direction: along a side that is straight up to round-off,
+            # the extreme point is noise (anywhere on the side), not a corner.
+            reach = -np.inf
             fresh = True
             for c in range(first, count):
                 if (abs(point[c, 0] - px[src, pick]) + abs(point[c, 1] - py[src, pick])
                         + abs(point[c, 2] - pz[src, pick])) <= 1e-3 * alert:
                     fresh = False
                     break
+                reach = max(reach, dt * (tx * point[c, 0] + ty * point[c, 1] + tz * point[c, 2])
+                            + ds * (sx * point[c, 0] + sy * point[c, 1] + sz * point[c, 2]))
+            if slot >= 4 and best <= reach + 1e-3 * alert * math.hypot(dt, ds):
+                fresh = False
             if fresh:
                 _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
                        base * SLOTS + slot, law_index, px[src, pick], py[src, pick],
@@ -319,7 +326,9 @@ def _clip(px, py, pz, dist, src, m, sx, sy, sz, off, tol):
             pz[dst, out] = pz[src, k]
             out += 1
         if (d0 <= tol) != (d1 <= tol):
-            f = d0 / (d0 - d1)
+            # the crossing of the plane, clamped to the side: with both ends within tol of
+            # the plane (one inside, one just outside) the line would cross it anywhere
+            f = min(max(d0 / (d0 - d1), 0.0), 1.0)
             px[dst, out] = px[src, k] + f * (px[src, k1] - px[src, k])
             py[dst, out] = py[src, k] + f * (py[src, k1] - py[src, k])
             pz[dst, out] = pz[src, k] + f * (pz[src, k1] - pz[src, k])
