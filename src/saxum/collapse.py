@@ -89,16 +89,18 @@ class Trial:
 
 def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) -> float:
     """UFR of the last step (module doc): net force over acting forces on the free blocks;
-    v_before: the velocities at the start of the step [m/s, m/s, rad/s]."""
+    v_before: the velocities at the start of the step [m/s, rad/s]."""
     m = sim.model
     h = sim.integrator.dt
+    d = m.dim
     free = m.body_kind == BodyKind.FREE
-    net = np.hypot(*((state.body_v[free, :2] - v_before[free, :2]).T)) * m.body_mass[free] / h
+    net = np.linalg.norm(state.body_v[free, :d] - v_before[free, :d], axis=1) * m.body_mass[
+        free] / h
     force = np.empty_like(state.body_v)
     sim.external_force(state.time, force)
-    applied = np.hypot(*force[free, :2].T)
+    applied = np.linalg.norm(force[free, :d], axis=1)
     c = state.contacts
-    r = np.hypot(*c.impulse[: c.count].T) / h
+    r = np.linalg.norm(c.impulse[: c.count], axis=1) / h
     contact = (np.bincount(c.candidate[: c.count], r, m.body_count)
                + np.bincount(c.antagonist[: c.count], r, m.body_count))[free]
     acting = float(applied.sum() + contact.sum())
@@ -115,8 +117,9 @@ def run_trial(sim: Simulation, value: float = math.nan,
         raise InputError("a collapse trial needs at least one free block")
     limit = crit.displacement or crit.fraction * float(m.body_size[free].min())
     h = sim.integrator.dt
-    height = float(np.ptp(m.vertex_local[:, 1]) + np.ptp(m.body_q0[:, 1]))
-    g = float(np.hypot(*m.gravity)) or 1.0
+    up = m.dim - 1  # the vertical axis: y in 2D, z in 3D
+    height = float(np.ptp(m.vertex_local[:, up]) + np.ptp(m.body_q0[:, up]))
+    g = float(np.linalg.norm(m.gravity)) or 1.0
     energy_scale = float(m.body_mass[free].sum()) * g * height
     state = sim.initial_state()
     steps = round((crit.not_before + crit.duration) / h)
@@ -131,7 +134,8 @@ def run_trial(sim: Simulation, value: float = math.nan,
         v_before[:] = state.body_v
         report = sim.step(state)
         energies[k] = report.kinetic_energy
-        moved = float(np.hypot(*(state.body_q[free, :2] - m.body_q0[free, :2]).T).max())
+        moved = float(np.linalg.norm(state.body_q[free, : m.dim] - m.body_q0[free, : m.dim],
+                                     axis=1).max())
         displacements[k] = moved
         if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
