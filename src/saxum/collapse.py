@@ -216,10 +216,11 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
         return load_scenario(path, [*overrides, f"{key}={x!r}"]).build_simulation()
 
     crit = criterion or CollapseCriterion()
-    ground = load_scenario(path, list(overrides)).loads.ground_motion
+    scenario = load_scenario(path, list(overrides))
+    ground = scenario.loads.ground_motion
     if ground is not None:
-        crit = dataclasses.replace(crit, not_before=max(crit.not_before,
-                                                        float(ground.motion().time[-1])))
+        end = float(ground.motion(scenario.structure.dim).time[-1])
+        crit = dataclasses.replace(crit, not_before=max(crit.not_before, end))
     return critical_value(make, stands, collapses, tolerance=tolerance, criterion=crit)
 
 

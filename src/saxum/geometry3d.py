@@ -26,7 +26,7 @@ from scipy.spatial import ConvexHull, QhullError
 from .errors import InputError
 
 __all__ = ["Polyhedron", "convex_polyhedron", "polyhedron_properties", "quaternion_from_matrix",
-           "rotation_matrix"]
+           "rotation_matrix", "rotation_vectors", "world_points"]
 
 _REL_TOL = 1e-9
 
@@ -205,13 +205,36 @@ def polyhedron_properties(poly: Polyhedron) -> PolyhedronProperties:
 
 
 def rotation_matrix(q) -> np.ndarray:
-    """Rotation matrix (body to world) of the unit quaternion q = (w, x, y, z)."""
-    w, x, y, z = q
-    return np.array([
+    """Rotation matrix (body to world) of the unit quaternion q = (w, x, y, z); q may be an
+    array (..., 4), giving (..., 3, 3)."""
+    w, x, y, z = np.moveaxis(np.asarray(q, dtype=np.float64), -1, 0)
+    return np.moveaxis(np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])
+    ]), (0, 1), (-2, -1))
+
+
+def world_points(q: np.ndarray, start: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """World coordinates [m] of the body-frame points `local` (k, 3), body b owning the rows
+    start[b]:start[b+1], at the 3D coordinates q (..., bodies, 7): shape (..., k, 3)."""
+    owner = np.repeat(np.arange(len(start) - 1), np.diff(start))
+    rot = rotation_matrix(q[..., owner, 3:])
+    return q[..., owner, :3] + np.einsum("...ij,...j->...i", rot, local)
+
+
+def rotation_vectors(q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    """Rotation vectors [rad] (world frame; direction: axis, length: angle in [0, pi]) that
+    take the orientations q0 (..., 4) to q (..., 4)."""
+    # relative rotation q q0^-1 as a quaternion (w, v)
+    w0, v0 = q0[..., :1], -q0[..., 1:]
+    w1, v1 = q[..., :1], q[..., 1:]
+    w = w1 * w0 - np.sum(v1 * v0, axis=-1, keepdims=True)
+    v = w1 * v0 + w0 * v1 + np.cross(v1, v0)
+    v = np.where(w < 0.0, -v, v)
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    angle = 2.0 * np.arctan2(norm, np.abs(w))
+    return np.divide(angle * v, norm, out=np.zeros_like(v), where=norm > 0.0)
 
 
 def quaternion_from_matrix(r: np.ndarray) -> np.ndarray:

@@ -196,6 +196,11 @@ class ModelBuilder:
     def body_count(self) -> int:
         return len(self._blocks)
 
+    @property
+    def groups(self) -> list[str]:
+        """The groups of the blocks added so far, sorted."""
+        return sorted({blk.group for blk in self._blocks})
+
     def add_block(
         self,
         vertices,

@@ -285,8 +285,17 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     centres of pressure, ordered about the arch's centre: mid-span on the springing line)
     when `thrust_line`. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
-    when given (figsize * dpi pixels)."""
+    when given (figsize * dpi pixels). 3D results: a perspective picture
+    (saxum.plot3d.plot_frame_3d), coloured by displacement."""
     k = _frame_index(results, frame)
+    if results.dim == 3:
+        if thrust_line or ax is not None or colour_by != "displacement":
+            raise InputError("a 3D picture is coloured by displacement, in its own figure, "
+                             "without a thrust line")
+        from .plot3d import plot_frame_3d
+
+        return plot_frame_3d(results, k, path, forces=forces, title=title, figsize=figsize,
+                             dpi=dpi)
     blocks = _results_blocks(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
                  _normal_forces(results, [k]) if forces else ())
@@ -305,7 +314,8 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
 def _body_index(results, body: int | str | None) -> int:
     """The block named or numbered `body`; None: the free block that moved most."""
     if body is None:
-        moved = np.linalg.norm(results.body_q[..., :2] - results.model["body_q0"][:, :2],
+        d = results.dim
+        moved = np.linalg.norm(results.body_q[..., :d] - results.model["body_q0"][:, :d],
                                axis=-1).max(axis=0)
         moved[results.model["body_kind"] != BodyKind.FREE] = -1.0
         return int(np.argmax(moved))
@@ -333,17 +343,19 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     fig = Figure(figsize=figsize, layout="constrained")
     ax_u, ax_e, ax_it, ax_pen = fig.subplots(4, 1, sharex=True)
 
-    u = results.body_q[:, b, :2] - results.model["body_q0"][b, :2]
+    d = results.dim
+    u = results.body_q[:, b, :d] - results.model["body_q0"][b, :d]
     magnitude = np.linalg.norm(u, axis=1)
     factor, unit = _length_unit(float(magnitude.max()))
-    for values, label in ((u[:, 0], "$u_x$"), (u[:, 1], "$u_y$"), (magnitude, "$|u|$")):
+    for values, label in (*((u[:, i], f"$u_{'xyz'[i]}$") for i in range(d)),
+                          (magnitude, "$|u|$")):
         ax_u.plot(results.time, factor * values, label=label, lw=1.2)
     ax_u.set_ylabel(f"displacement [{unit}]")
     ax_u.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
-    ax_u.legend(fontsize=8, ncol=3)
+    ax_u.legend(fontsize=8, ncol=d + 1)
 
     ax_e.plot(s["time"], s["kinetic_energy"], lw=1.0, color="C3")
-    ax_e.set_ylabel("kinetic energy [J/m]")
+    ax_e.set_ylabel(f"kinetic energy [{results.units['kinetic_energy']}]")
 
     ax_it.plot(s["time"], s["iterations"], lw=0.7, color="0.3")
     bad = ~s["converged"]
@@ -372,6 +384,9 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     even pixels). Axes limits, colour scale and force scale are the same on every frame.
     Returns the path."""
     path = Path(path)
+    if results.dim == 3:
+        raise InputError(f"{results.path}: animations are drawn for 2D results; for 3D, "
+                         "export the frames to ParaView (saxum export-vtk) and animate there")
     suffix = path.suffix.lower()
     if suffix == ".mp4":
         if not animation.writers.is_available("ffmpeg"):

@@ -9,7 +9,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            applied and paths resolved: what `saxum resume` rebuilds the run from
     /model/...             body_name, body_kind, body_group, group_names, body_mass [kg/m],
                            body_inertia [kg m^2/m], body_q0, body_vertex_start, vertex_local [m],
-                           law_kind, law_friction, law_restitution, group_law, gravity [m/s^2]
+                           law_kind, law_friction, law_restitution, group_law, gravity [m/s^2];
+                           3D also body_face_start, face_vertex_start, face_vertex (faces)
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
@@ -37,6 +38,7 @@ import h5py
 import numpy as np
 
 from .errors import InputError
+from .geometry3d import rotation_matrix
 from .steplog import STEP_DTYPES, StepReport
 
 __all__ = ["Results", "ResultsWriter", "STATUS"]
@@ -57,6 +59,10 @@ _CONTACT_FIELDS = {
     "impulse": (np.float64, lambda d: (d,), "N s/m"),
 }
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
+_UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
+          3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
+              "m/s, m/s, m/s, rad/s, rad/s, rad/s (vx, vy, vz world; wx, wy, wz body frame)")}
+"""Units of body_q and body_v by dimension."""
 _STEP_FIELDS = [f.name for f in fields(StepReport)]
 
 
@@ -89,6 +95,8 @@ class ResultsWriter:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = f = h5py.File(self.path, "w", libver="latest")
         dim, dof = model.dim, model.dof
+        nq = model.body_q0.shape[1]
+        q_units, v_units = _UNITS[dim]
         f.attrs.update(format=FORMAT, format_version=FORMAT_VERSION, saxum_version=version,
                        dim=dim, dof=dof, dt=dt, theta=theta)
         f.create_dataset("scenario", data=scenario, dtype=h5py.string_dtype())
@@ -98,8 +106,8 @@ class ResultsWriter:
         frames = f.create_group("frames")
         n = model.body_count
         _grow(frames, "step", np.int64, (), "-")
-        _grow(frames, "body_q", np.float64, (n, dof), "m, m, rad")
-        _grow(frames, "body_v", np.float64, (n, dof), "m/s, m/s, rad/s")
+        _grow(frames, "body_q", np.float64, (n, nq), q_units)
+        _grow(frames, "body_v", np.float64, (n, dof), v_units)
         _grow(frames, "contact_count", np.int64, (), "-")
         _contact_datasets(frames.create_group("contacts"), dim)
         _grow(frames, "time", np.float64, (), "s")
@@ -110,9 +118,9 @@ class ResultsWriter:
 
         cp = f.create_group("checkpoints")
         _grow(cp, "time", np.float64, (), "s", chunk=16)
-        _grow(cp, "body_q", np.float64, (n, dof), "m, m, rad", chunk=1)
-        _grow(cp, "body_v", np.float64, (n, dof), "m/s, m/s, rad/s", chunk=1)
-        _grow(cp, "q_ref", np.float64, (n, dof), "m, m, rad", chunk=1)
+        _grow(cp, "body_q", np.float64, (n, nq), q_units, chunk=1)
+        _grow(cp, "body_v", np.float64, (n, dof), v_units, chunk=1)
+        _grow(cp, "q_ref", np.float64, (n, nq), q_units, chunk=1)
         for name in ("contact_count", "pair_count", "since_refresh", "refresh_count",
                      "steps_logged"):
             _grow(cp, name, np.int64, (), "-", chunk=16)
@@ -235,18 +243,24 @@ class ResultsWriter:
 def _write_model(g: h5py.Group, model) -> None:
     g.create_dataset("body_name", data=_strings(model.body_name))
     g.create_dataset("group_names", data=_strings(model.group_names))
-    for name, units in (("body_kind", "-"), ("body_group", "-"), ("body_mass", "kg/m"),
-                        ("body_inertia", "kg m^2/m"), ("body_q0", "m, m, rad"),
-                        ("body_vertex_start", "-"), ("vertex_local", "m"), ("law_kind", "-"),
-                        ("law_friction", "-"), ("law_restitution", "-"), ("group_law", "-"),
-                        ("gravity", "m/s^2")):
+    per_depth = "/m" if model.dim == 2 else ""
+    fields = [("body_kind", "-"), ("body_group", "-"), ("body_mass", "kg" + per_depth),
+              ("body_inertia", "kg m^2" + per_depth), ("body_q0", _UNITS[model.dim][0]),
+              ("body_vertex_start", "-"), ("vertex_local", "m"), ("law_kind", "-"),
+              ("law_friction", "-"), ("law_restitution", "-"), ("group_law", "-"),
+              ("gravity", "m/s^2")]
+    if model.dim == 3:
+        fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-")]
+    for name, units in fields:
         ds = g.create_dataset(name, data=np.asarray(getattr(model, name)))
         ds.attrs["units"] = units
 
 
 def _contact_datasets(g: h5py.Group, dim: int) -> None:
     for name, (dtype, tail, units) in _CONTACT_FIELDS.items():
-        _grow(g, name, dtype, tail(dim), units, chunk=4096)
+        # 2D quantities are per metre of depth, 3D ones are not
+        _grow(g, name, dtype, tail(dim), units if dim == 2 else units.replace("/m", ""),
+              chunk=4096)
 
 
 def _append_contacts(g: h5py.Group, c) -> None:
@@ -337,13 +351,18 @@ class Results:
                                                   and k != "pairs")]
         self.status = STATUS[int(self.file["run/status"][0])]
         self.message = self.file["run/message"][0].decode().strip()
-        self.units = {"time": "s", "body_q": "m, m, rad", "body_v": "m/s, m/s, rad/s",
-                      "point": "m", "gap": "m", "impulse": "N s/m", "force": "N/m",
+        per_depth = "/m" if self.dim == 2 else ""
+        self.units = {"time": "s", "body_q": _UNITS[self.dim][0],
+                      "body_v": _UNITS[self.dim][1], "point": "m", "gap": "m",
+                      "impulse": "N s" + per_depth, "force": "N" + per_depth,
                       **_STEP_UNITS}
+        if self.dim == 3:
+            self.units["kinetic_energy"] = "J"
 
     def contacts(self, frame: int) -> dict[str, np.ndarray]:
         """The contacts of output frame `frame`: the stored fields and `force` = impulse / dt
-        [N/m], the mean contact force over the step, in the contact frame (t, n)."""
+        [N/m; 3D: N], the mean contact force over the step, in the contact frame (t, n) (3D:
+        (t, n, s))."""
         k = range(self.frame_count)[frame]
         lo, hi = self._contact_start[k], self._contact_start[k + 1]
         g = self.file["frames/contacts"]
@@ -352,10 +371,13 @@ class Results:
         return out
 
     def vertices(self, body: int, frame: int) -> np.ndarray:
-        """World vertices [m] of `body` at output frame `frame`, shape (n, 2)."""
-        x, y, th = self.body_q[frame, body]
+        """World vertices [m] of `body` at output frame `frame`, shape (n, dim)."""
         vs = self.model["body_vertex_start"]
         loc = self.model["vertex_local"][vs[body]:vs[body + 1]]
+        if self.dim == 3:
+            q = self.body_q[frame, body]
+            return q[:3] + loc @ rotation_matrix(q[3:]).T
+        x, y, th = self.body_q[frame, body]
         c, s = np.cos(th), np.sin(th)
         return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
                                 y + s * loc[:, 0] + c * loc[:, 1]))
@@ -382,11 +404,18 @@ class Results:
         (requires xarray)."""
         import xarray as xr
 
-        coords = {"time": ("time", self.time, {"units": "s"}), "body": self.body_name,
-                  "dof": ["x", "y", "theta"][: self.dof]}
+        if self.dim == 3:
+            coords = {"time": ("time", self.time, {"units": "s"}), "body": self.body_name,
+                      "coordinate": ["x", "y", "z", "qw", "qx", "qy", "qz"],
+                      "dof": ["x", "y", "z", "wx", "wy", "wz"]}
+            q_dims = ("time", "body", "coordinate")
+        else:
+            coords = {"time": ("time", self.time, {"units": "s"}), "body": self.body_name,
+                      "dof": ["x", "y", "theta"][: self.dof]}
+            q_dims = ("time", "body", "dof")
         return xr.Dataset({
-            "body_q": (("time", "body", "dof"), self.body_q, {"units": "m, m, rad"}),
-            "body_v": (("time", "body", "dof"), self.body_v, {"units": "m/s, m/s, rad/s"}),
+            "body_q": (q_dims, self.body_q, {"units": self.units["body_q"]}),
+            "body_v": (("time", "body", "dof"), self.body_v, {"units": self.units["body_v"]}),
         }, coords=coords)
 
     def close(self) -> None:

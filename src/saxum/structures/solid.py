@@ -4,9 +4,10 @@ Axes: z is vertical; a 2D elevation (x, y) becomes the plane (x, z) of the 3D mo
 depth runs along y. Every dimension in metres, density in kg/m^3.
 
 - extruded 2D structures (add_extruded, extruded): each block of a 2D model becomes a prism
-  through the depth, optionally cut into pieces along it with staggered joints; arches (arch3d)
-  and a single-span stone bridge with spandrel walls (bridge3d) are made this way from the 2D
-  generators, so the 3D model of an arch is the 2D one given a depth;
+  through the depth, optionally cut into pieces along it with staggered joints; arches and
+  barrel vaults (add_arch3d, arch3d, add_semicircular_arch3d) and a single-span stone bridge
+  with spandrel walls (add_bridge3d, bridge3d) are made this way from the 2D generators, so
+  the 3D model of an arch is the 2D one given a depth;
 - walls in running bond one brick thick, with an optional return wall making an L-shaped
   corner where the courses interlock (add_wall3d, wall3d);
 - piers of courses of two blocks, crossed from course to course (add_pier3d, pier3d).
@@ -20,10 +21,11 @@ from ..errors import InputError
 from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
 from ._common import Assembly, check_count, check_positive, finalize
-from .arch import ArchShape, arch
-from .bridge import arch_bridge
+from .arch import ArchShape, add_supported_arch, add_supported_semicircular_arch
+from .bridge import add_arch_bridge
 
-__all__ = ["add_extruded", "add_pier3d", "add_wall3d", "arch3d", "bridge3d", "extruded",
+__all__ = ["add_arch3d", "add_bridge3d", "add_extruded", "add_ground_slab", "add_pier3d",
+           "add_semicircular_arch3d", "add_wall3d", "arch3d", "box", "bridge3d", "extruded",
            "pier3d", "prism", "wall3d"]
 
 Span = tuple[float, float, str]
@@ -57,11 +59,12 @@ def add_extruded(builder: ModelBuilder, model2d: Model, depth: float, *, pieces:
                  spans: dict[str, Sequence[Span]] | None = None) -> Assembly:
     """Add every block of the 2D model as a prism (x, z) through the depth y = 0 .. depth [m].
 
-    pieces: free blocks are cut into this many equal pieces along the depth; stagger: every
-    other free block (by index) has its joints shifted by half a piece, so that joints along
-    the depth do not line up from one block to the next (a bonded barrel).
+    pieces: free blocks through the whole depth are cut into this many equal pieces along it;
+    stagger: every other such block (by index) has its joints shifted by half a piece, so
+    that joints along the depth do not line up from one block to the next (a bonded barrel).
     spans: for the blocks of a group, the depth spans (y0, y1, group) they fill instead of the
-    whole depth (e.g. a bridge's spandrel walls at the two faces, its fill between them).
+    whole depth (e.g. a bridge's spandrel walls at the two faces, its fill between them);
+    these are not cut.
     Parts and names follow the 2D model's groups and names ("<name>" or "<name> p<k>").
     """
     return _extrude(builder, model2d, depth, pieces, stagger, spans)[0]
@@ -95,7 +98,7 @@ def _extrude(builder, model2d, depth, pieces, stagger, spans):
         density = float(model2d.body_density[b])
         ranges = spans.get(group, [(0.0, depth, group)])
         for y0, y1, span_group in ranges:
-            if kind == BodyKind.FREE:
+            if kind == BodyKind.FREE and group not in spans:
                 cuts = _cuts(y0, y1, pieces, stagger and free_count % 2 == 1)
             else:
                 cuts = [y0, y1]
@@ -148,40 +151,95 @@ def _force3d(force2d, depth: float) -> tuple[float, ...]:
     return (fx * depth, 0.0, fy * depth, 0.0, -torque * depth, 0.0)
 
 
+def _plane(add) -> Model:
+    """The 2D model of the blocks that add(builder) adds, as a source of geometry for
+    add_extruded (its contact laws are placeholders: the 3D model gets its own)."""
+    builder = ModelBuilder()
+    add(builder)
+    return finalize(builder, builder.groups, 0.0, LawKind.SIGNORINI_COULOMB)
+
+
+def add_arch3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, depth: float,
+               pieces: int = 1, stagger: bool = False, **options) -> Assembly:
+    """An arch or barrel vault: the 2D arch on its piers and ground (add_supported_arch;
+    `options` are passed to it) through `depth` [m], the voussoirs cut into `pieces` along
+    the depth, with staggered joints if `stagger` (add_extruded). Groups as in 2D: "ground",
+    "pier", "voussoir"."""
+    model2d = _plane(lambda b: add_supported_arch(b, shape, voussoirs=voussoirs, **options))
+    return add_extruded(builder, model2d, depth, pieces=pieces, stagger=stagger)
+
+
+def add_semicircular_arch3d(builder: ModelBuilder, *, radius: float, thickness: float,
+                            voussoirs: int, depth: float, pieces: int = 1,
+                            stagger: bool = False, density: float = 2000.0) -> Assembly:
+    """The semicircular arch on its support block of saxum.structures.semicircular_arch (the
+    2D validation arch) through `depth` [m] (add_extruded; groups "support", "voussoir")."""
+    def add(b: ModelBuilder) -> None:
+        add_supported_semicircular_arch(b, radius=radius, thickness=thickness,
+                                        voussoirs=voussoirs, density=density)
+
+    return add_extruded(builder, _plane(add), depth, pieces=pieces, stagger=stagger)
+
+
 def arch3d(shape: ArchShape, *, voussoirs: int, depth: float, pieces: int = 1,
            stagger: bool = False, friction: float = 0.6,
-           law: LawKind = LawKind.GAP_SIGNORINI_COULOMB, **options) -> Model:
-    """An arch or barrel vault: the 2D arch (saxum.structures.arch, with its piers and ground;
-    `options` are passed to it) through `depth` [m], voussoirs cut into `pieces` along the
-    depth, with staggered joints if `stagger`."""
-    model2d = arch(shape, voussoirs=voussoirs, friction=friction, law=law, **options)
-    return extruded(model2d, depth, pieces=pieces, stagger=stagger)
+           law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+           gravity: tuple[float, float, float] = (0.0, 0.0, -9.81), **options) -> Model:
+    """An arch or barrel vault (add_arch3d), friction mu [-] on every joint.
+
+    >>> model = arch3d(ArchShape.segmental(span=4.0, rise=1.0, thickness=0.3), voussoirs=9,
+    ...                depth=1.0, pieces=2, stagger=True)
+    >>> model.dim, model.body_count
+    (3, 25)
+    """
+    builder = ModelBuilder(dim=3, gravity=gravity)
+    asm = add_arch3d(builder, shape, voussoirs=voussoirs, depth=depth, pieces=pieces,
+                     stagger=stagger, **options)
+    return finalize(builder, asm.groups, friction, law)
 
 
-def bridge3d(shape: ArchShape, *, voussoirs: int, width: float, spandrel_thickness: float,
-             abutment_width: float, pier_height: float, fill: str = "blocks",
-             pieces: int = 1, stagger: bool = False, friction: float = 0.6,
-             law: LawKind = LawKind.GAP_SIGNORINI_COULOMB, **options) -> Model:
-    """A single-span stone bridge `width` [m] wide (along y): the barrel (the 2D arch_bridge's
-    voussoirs through the width, `pieces` and `stagger` as arch3d), spandrel walls
-    spandrel_thickness [m] thick at both faces (the 2D spandrel courses), and between them,
-    if fill == "blocks", the same courses as fill blocks (group "fill"), else ("none") nothing.
-    `options` go to saxum.structures.arch_bridge (course_height, block_length, density, ...)."""
+def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, width: float,
+                 spandrel_thickness: float, abutment_width: float, pier_height: float,
+                 fill: str = "blocks", pieces: int = 1, stagger: bool = False,
+                 **options) -> Assembly:
+    """A single-span stone bridge `width` [m] wide (along y): the barrel (the 2D
+    arch_bridge's voussoirs through the width, `pieces` and `stagger` as add_arch3d),
+    spandrel walls spandrel_thickness [m] thick at both faces (the 2D spandrel courses), and
+    between them, if fill == "blocks", the same courses as fill blocks (group "fill"), else
+    ("none") nothing. `options` go to saxum.structures.add_arch_bridge (course_height,
+    block_length, density, ...). Groups "ground", "pier" (the abutments), "voussoir",
+    "spandrel" and "fill"."""
     check_positive(width=width, spandrel_thickness=spandrel_thickness)
     if fill not in ("blocks", "none"):
         raise InputError(f"fill must be 'blocks' or 'none', got {fill!r}")
     if not 2.0 * spandrel_thickness < width:
         raise InputError(f"spandrel_thickness {spandrel_thickness:g} m leaves no room between "
                          f"the two spandrel walls of a bridge {width:g} m wide")
-    model2d = arch_bridge(shape, spans=1, voussoirs=voussoirs, pier_width=abutment_width,
-                          pier_height=pier_height, abutment_width=abutment_width,
-                          fill="surcharge", fill_depth=0.0, friction=friction, law=law,
-                          **options)
+    model2d = _plane(lambda b: add_arch_bridge(
+        b, shape, spans=1, voussoirs=voussoirs, pier_width=abutment_width,
+        pier_height=pier_height, abutment_width=abutment_width, fill="surcharge",
+        fill_depth=0.0, **options))
     t, w = spandrel_thickness, width
     walls = [(0.0, t, "spandrel"), (w - t, w, "spandrel")]
     if fill == "blocks":
         walls.insert(1, (t, w - t, "fill"))
-    return extruded(model2d, width, pieces=pieces, stagger=stagger, spans={"spandrel": walls})
+    return add_extruded(builder, model2d, width, pieces=pieces, stagger=stagger,
+                        spans={"spandrel": walls})
+
+
+def bridge3d(shape: ArchShape, *, voussoirs: int, width: float, spandrel_thickness: float,
+             abutment_width: float, pier_height: float, fill: str = "blocks",
+             pieces: int = 1, stagger: bool = False, friction: float = 0.6,
+             law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+             gravity: tuple[float, float, float] = (0.0, 0.0, -9.81), **options) -> Model:
+    """A single-span stone bridge with spandrel walls (add_bridge3d), friction mu [-] on
+    every joint."""
+    builder = ModelBuilder(dim=3, gravity=gravity)
+    asm = add_bridge3d(builder, shape, voussoirs=voussoirs, width=width,
+                       spandrel_thickness=spandrel_thickness, abutment_width=abutment_width,
+                       pier_height=pier_height, fill=fill, pieces=pieces, stagger=stagger,
+                       **options)
+    return finalize(builder, asm.groups, friction, law)
 
 
 def _edges(x0: float, x1: float, start: float, length: float) -> list[float]:
@@ -245,12 +303,16 @@ def add_wall3d(builder: ModelBuilder, *, courses: int, length: float,
     return asm
 
 
-def _ground(builder: ModelBuilder, asm: Assembly, lo, hi, top: float) -> None:
-    """A fixed "ground" slab under the box lo..hi (x, y) [m], reaching beyond it by its size."""
+def add_ground_slab(builder: ModelBuilder, lo: Sequence[float], hi: Sequence[float],
+                    top: float) -> Assembly:
+    """A fixed "ground" slab, its top at `top` [m], under the rectangle lo..hi (x, y) [m] and
+    reaching beyond it by the rectangle's larger side (part and group "ground")."""
     size = max(hi[0] - lo[0], hi[1] - lo[1])
+    asm = Assembly()
     asm.add_block(builder, "ground", box(lo[0] - size, lo[1] - size, top - 0.25 * size,
                                          hi[0] + size, hi[1] + size, top),
                   group="ground", kind=BodyKind.FIXED, name="ground")
+    return asm
 
 
 def wall3d(*, courses: int, length: float, return_length: float | None = None,
@@ -266,8 +328,7 @@ def wall3d(*, courses: int, length: float, return_length: float | None = None,
     (3, 25)
     """
     builder = ModelBuilder(dim=3, gravity=gravity)
-    asm = Assembly()
-    _ground(builder, asm, (0.0, 0.0), (length, return_length or thickness), 0.0)
+    asm = add_ground_slab(builder, (0.0, 0.0), (length, return_length or thickness), 0.0)
     asm.merge(add_wall3d(builder, courses=courses, length=length, return_length=return_length,
                          thickness=thickness, brick_length=brick_length,
                          brick_height=brick_height, density=density))
@@ -305,8 +366,7 @@ def pier3d(*, width: float, depth: float, courses: int, course_height: float,
            gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)) -> Model:
     """A 3D pier (add_pier3d) on a fixed ground slab (body 0), friction mu [-] on every joint."""
     builder = ModelBuilder(dim=3, gravity=gravity)
-    asm = Assembly()
-    _ground(builder, asm, (0.0, 0.0), (width, depth), 0.0)
+    asm = add_ground_slab(builder, (0.0, 0.0), (width, depth), 0.0)
     asm.merge(add_pier3d(builder, width=width, depth=depth, courses=courses,
                          course_height=course_height, density=density))
     return finalize(builder, asm.groups, friction, law)
