@@ -62,14 +62,17 @@ def _collapse(args) -> None:
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
+    dim = scenario.structure.dim
     if args.vary == "loads.horizontal_acceleration":
-        g = float(np.hypot(*scenario.loads.gravity))
+        g = float(np.linalg.norm(scenario.loads.gravity_for(dim)))
         print(f"horizontal load factor lambda = a/g: {result.value / g:.4g} "
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     trial = result.collapse()
     trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
-    print(f"mechanism at {args.vary} = {result.collapses:.6g}:")
-    print(mechanism(trial.simulation.model, trial.state, trial.simulation.integrator.dt).text())
+    if dim == 2:
+        print(f"mechanism at {args.vary} = {result.collapses:.6g}:")
+        print(mechanism(trial.simulation.model, trial.state,
+                        trial.simulation.integrator.dt).text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
@@ -77,7 +80,7 @@ def _collapse(args) -> None:
     run_scenario(scenario, output, quiet=True)
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        plot_frame(r, -1, picture, thrust_line=True)
+        plot_frame(r, -1, picture, thrust_line=dim == 2)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 

@@ -77,7 +77,7 @@ def wall_demo(output: Path, *, duration: float | None = None, echo=print) -> flo
     with Results(path) as r:
         moved = _largest_motion(r)
         failing = np.flatnonzero(moved > 0.01 * height)
-        g = float(np.hypot(*r.model["gravity"]))
+        g = float(np.linalg.norm(r.model["gravity"]))
         rate = scenario.loads.load_factor_rate
         if failing.size:
             k = int(failing[0])

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import InputError
 from .model import BodyKind, Model
 from .state import State
 
@@ -147,7 +148,11 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
     early has moved little, a structure at rest only by round-off);
     slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
-    0.1 % of the smallest block size per second)."""
+    0.1 % of the smallest block size per second). 2D models only (hinges are points of
+    polygon joints); for 3D results, look at the mechanism in ParaView."""
+    if model.dim != 2:
+        raise InputError("the mechanism report (hinges, sliding and open joints) is made for "
+                         "2D models; export 3D results to ParaView (saxum export-vtk)")
     free = model.body_kind == BodyKind.FREE
     size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
     gap_tol = gap_tolerance if gap_tolerance is not None else 1e-3 * size
