@@ -11,7 +11,7 @@ import saxum as sx
 from saxum.contacts import Contacts
 from saxum.detection import DetectionSettings, Detector
 from saxum.detection.broadphase import bounding_boxes, grid_pairs, sort_pairs
-from saxum.rigid2d import world_vertices
+from saxum.rigid2d import world_geometry
 from saxum.structures import running_bond_wall
 
 
@@ -120,7 +120,8 @@ def test_grid_broad_phase_finds_exactly_the_overlapping_boxes(centres, size, big
 def test_broad_phase_reports_overflow_instead_of_writing_past_the_end():
     model = running_bond_wall(courses=3, bricks=4)
     wv = np.empty_like(model.vertex_local)
-    world_vertices(model.body_q0, model.body_vertex_start, model.vertex_local, wv)
+    world_geometry(model.body_q0, model.body_vertex_start, model.vertex_local,
+                   model.edge_normal_local, wv, np.empty_like(wv))
     lo = np.empty((model.body_count, 2))
     hi = np.empty((model.body_count, 2))
     bounding_boxes(wv, model.body_vertex_start, 0.001, lo, hi)
@@ -148,3 +149,43 @@ def test_broad_phase_refreshes_when_a_body_moves_more_than_half_the_margin():
     det.detect(q, contacts)
     assert det.refresh_count == 2
     assert contacts.count == 2
+
+
+@pytest.mark.parametrize("case", ["collapsing arch", "wall at rest"])
+def test_kept_choice_of_faces_gives_the_contacts_of_the_full_test(case):
+    """Between broad phases the narrow phase keeps each pair's choice of faces while the
+    motion since stays within what could change it (saxum.detection.polygons): at every
+    step its contacts must be those of the full separating-axis test on the same pairs."""
+    if case == "collapsing arch":  # voussoirs turning and sliding: choices change and expire
+        model = sx.structures.semicircular_arch(radius=1.0, thickness=0.09, voussoirs=15)
+        steps = 400
+    else:
+        model = running_bond_wall(courses=4, bricks=3)
+        steps = 40
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    det = sim.detector
+    twin = Detector(model)
+    kept = []
+
+    def detect_and_compare(q, contacts):
+        saved = det.checkpoint()
+        Detector.detect(det, q, contacts)
+        kept.append(det.kept_faces)
+        twin.restore(saved)  # the same pairs, no kept choice: the full test on every pair
+        full = Contacts()
+        twin.detect(q, full)
+        assert twin.kept_faces == 0
+        assert full.count == contacts.count
+        for name in ("candidate", "antagonist", "key", "law", "point", "frame", "gap"):
+            assert np.array_equal(getattr(full, name)[: full.count],
+                                  getattr(contacts, name)[: contacts.count])
+
+    det.detect = detect_and_compare
+    sim.run(state, steps * sim.integrator.dt)
+    assert det.refresh_count > 1
+    if case == "collapsing arch":  # kept for some pairs, not for all
+        assert np.ptp(state.body_q[1:, 2]) > 0.1
+        assert 0 < sum(kept) < 0.5 * det.pair_count * steps
+    else:  # kept for nearly every pair between broad phases
+        assert sum(kept) > 0.8 * det.pair_count * steps

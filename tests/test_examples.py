@@ -3,6 +3,8 @@
 import importlib.util
 from pathlib import Path
 
+import pytest
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -29,3 +31,95 @@ def test_demo_writes_picture(tmp_path):
     out = tmp_path / "arch.png"
     assert main(["demo", "arch", "--duration", "1.0", "-o", str(out)]) == 0
     assert out.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("name, bodies", [("pointed_arch", 1 + 4 + 13), ("bridge", 60)])
+def test_example_scenarios_stand_under_their_own_weight(name, bodies):
+    """The bundled structures stand: judged at rest (unbalanced force ratio < 1e-4 for
+    0.05 s, saxum.collapse) before any block has moved by 1 % of the smallest block's size."""
+    from saxum.collapse import run_trial
+    from saxum.scenario import load_scenario
+
+    sim = load_scenario(EXAMPLES / f"{name}.toml").build_simulation()
+    assert sim.model.body_count == bodies
+    trial = run_trial(sim)
+    assert not trial.collapsed and trial.displacement < 1e-6
+
+
+def test_flood_bridge_parapet_goes_at_the_statics_values():
+    """The first two cases of the flood example (docs/flood.md): the upstream parapet
+    (t x h = 0.4 x 1.0 m, rho_s = 2400 kg/m^3 on the deck, mu = 0.6, C_d = 1.4) fails where
+    the statics of a rigid block under drag 1/2 rho_w C_d U^2 (wet height) and buoyancy put
+    it: sliding at mu g (rho_s t h - rho_w t d) = 1/2 rho_w C_d U^2 d under a 3 m/s flow,
+    overturning about its toe at 1/2 rho_w C_d U^2 h^2/2 = g (rho_s - rho_w) t h t/2 with
+    the water 1 m over the deck (sliding and the other mode need more); within 1 %."""
+    import math
+
+    from saxum.structures.blockfile import read_blocks
+
+    fb = _load("flood_bridge")
+    stored = read_blocks(EXAMPLES / "flood-bridge-section.json")
+    model = fb.section()
+    assert [s.name for s in stored] == list(model.body_name)
+    for k, spec in enumerate(stored):
+        assert spec.vertices == pytest.approx(model.vertices(k), abs=1e-12)
+
+    g, rho_w, rho_s, mu, cd = 9.81, 1000.0, fb.STONE, 0.6, 1.4
+    t, h = fb.PARAPET
+    drag = 0.5 * rho_w * cd * 3.0**2  # [Pa] at 3 m/s
+    slide = mu * g * rho_s * t * h / (drag + mu * g * rho_w * t)
+    overturn = (-g * rho_w * t * t / 2 + math.sqrt((g * rho_w * t * t / 2) ** 2
+                + 2 * drag * g * rho_s * t * t * h)) / drag  # drag d^2/2 = g (.. - ..) t/2
+    level = fb.DECK + min(slide, overturn)
+    u_overturn = math.sqrt(g * (rho_s - rho_w) * t * t / (0.5 * rho_w * cd * h))
+    u_slide = math.sqrt(mu * g * (rho_s - rho_w) * t / (0.5 * rho_w * cd))
+    assert slide < overturn and u_overturn < u_slide
+    found = fb.main(tolerance=0.004, cases=tuple(fb.CASES)[:2])
+    (by_level, mech_level), (by_velocity, mech_velocity) = found.values()
+    assert by_level.value == pytest.approx(level, rel=0.01)
+    assert by_velocity.value == pytest.approx(min(u_overturn, u_slide), rel=0.01)
+    assert mech_level.moving == mech_velocity.moving == ["upstream parapet"]
+    assert [j.bodies for j in mech_level.sliding] == [("upstream wall c6", "upstream parapet")]
+    assert [j.hinge_point for j in mech_velocity.hinges] == [pytest.approx((0.4 + 1.2, 7.0))]
+
+
+def test_flood_bridge_blocked_by_debris_slides_at_the_statics_level():
+    """The fourth case of the flood example: arches blocked, the head falling linearly across
+    the section from the upstream level h to a tailwater at the springing (4 m). On the
+    section's outline (joints inside cancel) the water gives a thrust, the uplift on its base
+    and the weight of the water on the cutwaters and deck; the section slides on the river
+    bed (mu = 0.6) where thrust = mu (weight + water on top - uplift): h = 10.18 m by
+    quadrature here (overturning about the downstream toe would need 14.3 m); within 1 %."""
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+
+    fb = _load("flood_bridge")
+    g, rho_w, mu, tail = 9.81, 1000.0, 0.6, fb.PIER_HEIGHT
+    x_up, x_down = fb.UPSTREAM_CUTWATER, fb.UPSTREAM_CUTWATER + fb.WIDTH
+    length = x_down + fb.DOWNSTREAM_CUTWATER
+    weight = g * (fb.STONE * length * fb.PIER_HEIGHT
+                  + fb.STONE * 2 * fb.WALL * fb.SPANDREL_HEIGHT
+                  + fb.FILL * (fb.WIDTH - 2 * fb.WALL) * fb.SPANDREL_HEIGHT)
+
+    def unbalanced(h):
+        def p(x, y):
+            return rho_w * g * max(h + (tail - h) * x / length - y, 0.0)
+
+        def along_y(x, y0, y1):
+            return quad(lambda y: p(x, y), y0, y1)[0]
+
+        def along_x(y, x0, x1):
+            return quad(lambda x: p(x, y), x0, x1)[0]
+
+        thrust = (along_y(0.0, 0.0, 4.0) + along_y(x_up, 4.0, fb.DECK)
+                  - along_y(x_down, 4.0, fb.DECK) - along_y(length, 0.0, 4.0))
+        on_top = (along_x(4.0, 0.0, x_up) + along_x(4.0, x_down, length)
+                  + along_x(fb.DECK, x_up, x_down))
+        return thrust - mu * (weight + on_top - along_x(0.0, 0.0, length))
+
+    expected = brentq(unbalanced, 5.0, 20.0)
+    name = "arches blocked by debris, tailwater at the springing"
+    ((result, mech),) = fb.main(tolerance=0.004, cases=(name,)).values()
+    assert result.value == pytest.approx(expected, rel=0.01)
+    assert len(mech.moving) == 73  # every free block: the whole section slides
+    assert {j.bodies[0] for j in mech.sliding} == {"river bed"}

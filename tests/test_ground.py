@@ -9,6 +9,7 @@ import saxum as sx
 from saxum.ground import (
     G_STANDARD,
     GroundMotion,
+    harmonic,
     mavroeidis_papageorgiou,
     one_sine,
     read_at2,
@@ -37,7 +38,9 @@ def test_read_at2(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (("NPTS=    7", "NPTS=    8"), "NPTS = 8 but the file has 7"),
+    (("NPTS=    7", "NPTS=    8"), "line 4: the header says NPTS = 8 but lines 5-6 hold 7"),
+    (("DT=   .0050", "DT=   -.0050"), "line 4: the time step DT must be > 0"),
+    ((" .7000000E-02", " NaN"), "line 6: NaN or infinite value"),
     (("UNITS OF G", "UNITS OF FURLONGS"), "line 3: units not recognized"),
     (("NPTS=    7, DT=   .0050 SEC", "seven points"), "line 4: expected 'NPTS= n, DT= dt"),
     ((" .7000000E-02", " seven"), "line 6: not numbers"),
@@ -57,19 +60,53 @@ def test_read_csv_with_units(tmp_path):
     assert read_csv(path, units="m/s^2").acceleration[2, 0] == pytest.approx(-0.2)
 
 
-def test_bad_csv_files_are_named(tmp_path):
+@pytest.mark.parametrize("text, message", [
+    ("0.0 0.0\n0.01 0.1\n", "units unknown"),
+    ("# units: g\n0.0 0.0\n0.01 x\n", "line 3: not numbers"),
+    ("# units: g\n\n0.0 0.0\n0.01 0.1\n0.01 0.2\n",
+     "line 5: time must increase: 0.01 s follows 0.01 s \\(line 4\\)"),
+    ("# units: g\n0.0 0.0\n0.02 0.1\n0.01 0.2\n", "line 4: time must increase"),
+    ("# units: g\nt,a\n0.0,0.0\n,0.1\n", "line 4: a value is missing"),
+    ("# units: g\n0.0 0.0\n0.1\n", "line 3: expected 2 columns"),
+    ("# units: g\n0.0 0.0\n0.01 nan\n", "line 3: NaN or infinite value"),
+    ("# units: furlongs\n0.0 0.0\n0.01 0.1\n", "line 1: units 'furlongs' not one of"),
+    ("# units: g\n# dt: 0.01\n0.0 0.0\n0.01 0.1\n0.025 0.1\n",
+     "line 5: the time step 0.015 s does not match dt = 0.01 s stated on line 2"),
+    ("# units: g\n# dt: fast\n0.0 0.0\n0.01 0.1\n", "line 2: the time step must be"),
+])
+def test_bad_csv_files_name_the_line(tmp_path, text, message):
     path = tmp_path / "r.csv"
-    path.write_text("0.0 0.0\n0.01 0.1\n")
-    with pytest.raises(sx.InputError, match="units unknown"):
+    path.write_text(text)
+    with pytest.raises(sx.InputError, match=message):
         read_csv(path)
-    path.write_text("# units: g\n0.0 0.0\n0.01 x\n")
-    with pytest.raises(sx.InputError, match="line 3: not numbers"):
-        read_csv(path)
-    path.write_text("# units: g\n0.0 0.0\n0.0 0.1\n")
-    with pytest.raises(sx.InputError, match="time must increase"):
-        read_csv(path)
+
+
+def test_csv_stated_time_step_and_missing_file(tmp_path):
+    path = tmp_path / "r.csv"
+    path.write_text("# units: m/s^2\n# dt: 0.01\n0.0 0.0\n0.01 0.1\n0.02 0.2\n")
+    assert read_csv(path).time == pytest.approx([0.0, 0.01, 0.02])
     with pytest.raises(sx.InputError, match="no ground-motion file"):
         read_csv(tmp_path / "absent.csv", units="g")
+
+
+def test_harmonic_motion_with_a_ramp():
+    amplitude, period, cycles = 2.0, 0.4, 5
+    steady = harmonic(amplitude, period, cycles)
+    assert steady.duration == pytest.approx(cycles * period)
+    assert np.abs(steady.acceleration[:, 0]).max() == pytest.approx(amplitude, rel=1e-3)
+    assert steady.velocity()[-1, 0] == pytest.approx(0.0, abs=1e-4)  # whole cycles
+    ramped = harmonic(amplitude, period, cycles, ramp=cycles * period)
+    t, a = ramped.time, ramped.acceleration[:, 0]
+    # the envelope grows linearly: the peak of each cycle is A t/t_r at its peak time
+    for k in range(cycles):
+        peak = (k + 0.25) * period
+        assert ramped.acceleration_at(peak)[0] == pytest.approx(
+            amplitude * peak / (cycles * period), rel=1e-3)
+    assert abs(a[t < period]).max() < 0.25 * amplitude
+    with pytest.raises(sx.InputError, match="cycles must be > 0"):
+        harmonic(1.0, 1.0, 0)
+    with pytest.raises(sx.InputError, match="ramp must be >= 0"):
+        harmonic(1.0, 1.0, 2, ramp=-1.0)
 
 
 def test_pulses_have_their_closed_form_velocities():

@@ -121,14 +121,15 @@ def test_sliding_with_coupled_delassus():
 def test_stick_slide_boundary_case_found_by_search():
     """A contact exactly at the stick/slide boundary (U = 0, R_t = -mu R_n). Here round-off
     makes the stick test and both slide tests fail, and the fallback branch of
-    solve_contact_2d (R_n = -u_n / W_nn, R_t clipped) is reached; its result must still obey
-    the law to round-off. Exact solution: R = (-1.14 * 0.38, 0.38), U = 0."""
-    w = np.array([[1.27, 0.9], [0.9, 1.29]])
-    u = np.array([0.20816399999999996, -0.10032000000000002])
-    mu = 1.14
+    solve_contact_2d (slide along the edge of the cone nearest the stick impulse) is reached;
+    its result must still obey the law to round-off. Exact solution: R = (0.59 * 0.51, 0.51),
+    U = 0."""
+    w = np.array([[1.31, 0.51], [0.51, 0.99]])
+    u = np.array([-0.654279, -0.658359])
+    mu = 0.59
     r = _solve(w, u, mu)
     assert _violations(w, u, mu, r) == []
-    assert r == pytest.approx([-1.14 * 0.38, 0.38], rel=1e-9)
+    assert r == pytest.approx([0.59 * 0.51, 0.51], rel=1e-9)
 
 
 @settings(max_examples=1000, deadline=None)

@@ -42,3 +42,54 @@ def test_thrust_line_is_ordered_about_the_centre():
     c = _contacts([(1, 2), (2, 3), (3, 4), (4, 5)], pts, rn=[1.0, 1.0, 1.0, 1.0])
     line = thrust_line(c, 1e-6, centre=(0.0, 0.0))
     assert line == pytest.approx(pts[[0, 2, 1, 3]])
+
+
+def _tilted_wall(friction, factor, seconds=0.15):
+    """A 12-course running-bond wall two bricks long (0.5 x 0.78 m) under a horizontal load
+    factor, after `seconds` of motion."""
+    import dataclasses
+
+    import saxum as sx
+    from saxum.mechanism import mechanism
+    from saxum.structures import wall
+
+    model = wall(courses=12, bricks=2, friction=friction)
+    loaded = dataclasses.replace(model, accelerations=((lambda t: (factor * 9.81, 0.0)),))
+    sim = sx.Simulation(loaded, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, seconds)
+    return mechanism(loaded, state, 1e-3)
+
+
+def test_wall_hinges_and_slides_are_located_by_course_and_position():
+    rocking = _tilted_wall(friction=1.0, factor=1.0)
+    toe = [j for j in rocking.hinges if j.courses == (1,)]
+    assert toe and all(j.along == pytest.approx(0.5, abs=1e-3) for j in toe)  # right end
+    assert "hinge between ground and brick c1b2 at (0.5, " in rocking.text()
+    assert ": course 1 against ground, 0.5 m along" in rocking.text()
+    inner = [j for j in rocking.hinges if j.courses and len(j.courses) == 2]
+    for j in inner:  # a bed joint between neighbouring courses, or a head joint
+        assert abs(j.courses[0] - j.courses[1]) <= 1
+        assert ("head joint in course" if j.courses[0] == j.courses[1]
+                else "bed joint between courses") in j.location
+    sliding = _tilted_wall(friction=0.3, factor=0.6)
+    base = [j for j in sliding.sliding if j.courses == (1,)]
+    assert base and "sliding joint between ground and brick c1b" in sliding.text()
+    assert all(0.0 <= j.along <= 0.5 for j in base)
+
+
+def test_arches_keep_their_report():
+    """Voussoirs are not coursed blocks: no course, no position along a course."""
+    import dataclasses
+
+    import saxum as sx
+    from saxum.mechanism import mechanism
+    from saxum.structures import semicircular_arch
+
+    model = semicircular_arch(radius=1.0, thickness=0.1, voussoirs=9)
+    sim = sx.Simulation(dataclasses.replace(model), dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.2)
+    mech = mechanism(model, state, 1e-3)
+    assert mech.hinges and all(j.courses is None and j.location is None for j in mech.joints)
+    assert "along" not in mech.text() and "course" not in mech.text()

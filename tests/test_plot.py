@@ -153,3 +153,17 @@ def test_joint_states():
     # a looser gap tolerance counts the 1 mm opening as touching: that joint is closed
     assert joint_states(c, 1.5e-3).tolist()[6:8] == ["closed", "closed"]
     assert joint_states(_contacts(np.zeros((0, 2)), []), 1e-4).size == 0
+
+
+def test_model_picture_names_groups_and_frames_the_free_blocks(tmp_path):
+    from saxum.plot import plot_model
+    from saxum.structures import Opening, wall
+
+    model = wall(courses=8, bricks=6, openings=[Opening(0.5, 0.0, 0.5, 0.26)])
+    out = tmp_path / "wall.png"
+    ax = plot_model(model, out, title="a wall").axes[0]
+    assert _image(out, "PNG").format == "PNG"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["brick", "lintel"]
+    lo, hi = ax.get_xlim()
+    assert -0.2 < lo < 0.0 and 1.5 < hi < 1.7  # the wall (1.5 m), not its 4.5 m ground
+    assert ax.get_title() == "a wall" and plt.get_fignums() == []

@@ -2,6 +2,7 @@
 of bad input gets a message naming the key, the line and the allowed values."""
 
 import json
+import math
 import textwrap
 
 import numpy as np
@@ -10,19 +11,27 @@ import pytest
 import saxum as sx
 from saxum.scenario import (
     Arch3dStructure,
+    ArchBridgeStructure,
     ArchStructure,
     BlocksStructure,
+    BondedWallStructure,
     Bridge3dStructure,
+    ButtressedWallStructure,
     DetectionSpec,
+    FemaP695Spec,
+    FloodSpec,
     GroundMotionSpec,
     LawSpec,
     Loads,
     MeshStructure,
+    OpeningSpec,
     OutputSpec,
     Pier3dStructure,
+    PierStructure,
     PointLoad,
     Scenario,
     Settlement,
+    ShapedArchStructure,
     SolverSpec,
     Wall3dStructure,
     WallStructure,
@@ -68,6 +77,7 @@ FULL = textwrap.dedent("""\
     direction = [0.0, -1.0]
     rotation = 0.001
     time = 0.5
+    profile = "smooth"
 
     [loads.ground_motion]
     pulse = "mavroeidis_papageorgiou"
@@ -81,6 +91,13 @@ FULL = textwrap.dedent("""\
     start = 0.01
     end = 0.9
     baseline_correction = true
+
+    [loads.flood]
+    level = 0.1
+    velocity = 0.5
+    tailwater = 0.05
+    water_density = 1050.0
+    drag_coefficient = 0.8
 
     [solver]
     dt = 5e-4
@@ -99,6 +116,7 @@ FULL = textwrap.dedent("""\
     duration = 0.1
     interval = 0.02
     checkpoint_interval = 0.05
+    histories = ["brick c1b1", 2]
 """)
 
 PYTHON = Scenario(
@@ -111,14 +129,17 @@ PYTHON = Scenario(
     loads=Loads(gravity=(0.0, -9.8), horizontal_acceleration=0.5, load_factor_rate=0.01,
                 point_loads=[PointLoad(block="brick c3b2", magnitude=10.0, direction=(1.0, 0.0))],
                 settlements=[Settlement(block="ground", magnitude=0.001, direction=(0.0, -1.0),
-                                        rotation=0.001, time=0.5)],
+                                        rotation=0.001, time=0.5, profile="smooth")],
                 ground_motion=GroundMotionSpec(
                     pulse="mavroeidis_papageorgiou", amplitude=0.5, velocity=0.3, period=0.4,
                     gamma=2.5, nu=0.2, direction=(1.0, 0.5), scale=1.5, start=0.01, end=0.9,
-                    baseline_correction=True)),
+                    baseline_correction=True),
+                flood=FloodSpec(level=0.1, velocity=0.5, tailwater=0.05, water_density=1050.0,
+                                drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
-    output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05),
+    output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
+                      histories=["brick c1b1", 2]),
 )
 
 
@@ -191,7 +212,7 @@ def test_blocks_file_relative_to_the_scenario(tmp_path):
     sc = load_scenario(tmp_path / "s.toml")
     assert isinstance(sc.structure, BlocksStructure)
     m = sc.build_model()
-    assert m.body_name == ("ground", "block 1")
+    assert m.body_name == ("ground", "block 2")  # unnamed blocks: "block K", K from 1
     assert m.body_mass[1] == pytest.approx(0.1 * 2500.0)
 
 
@@ -272,7 +293,7 @@ def test_bad_block_in_a_blocks_file_is_named(tmp_path):
     sc = Scenario(structure=BlocksStructure(file=path),
                   laws=[LawSpec(groups=("block", "block"), friction=0.5)],
                   output=OutputSpec(duration=0.1))
-    with pytest.raises(sx.InputError, match="block 1 .*vertices"):
+    with pytest.raises(sx.InputError, match=r"blocks\[1\]: .*at least 3 vertices"):
         sc.build_model()
 
 
@@ -294,15 +315,18 @@ def test_docs_describe_every_key():
     from pathlib import Path
 
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
-    for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, Arch3dStructure,
-                  Wall3dStructure, Pier3dStructure, Bridge3dStructure, MeshStructure, LawSpec,
-                  Loads, PointLoad, Settlement, GroundMotionSpec, SolverSpec, DetectionSpec,
+    for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, ShapedArchStructure,
+                  BondedWallStructure, OpeningSpec, PierStructure, ButtressedWallStructure,
+                  ArchBridgeStructure, Arch3dStructure, Wall3dStructure, Pier3dStructure,
+                  Bridge3dStructure, MeshStructure, LawSpec, Loads, PointLoad, Settlement,
+                  GroundMotionSpec, FemaP695Spec, FloodSpec, SolverSpec, DetectionSpec,
                   OutputSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
-    for tag in ("semicircular_arch", "running_bond_wall", "blocks", "semicircular_arch_3d",
-                "wall_3d", "pier_3d", "bridge_3d", "mesh"):
+    for tag in ("semicircular_arch", "running_bond_wall", "blocks", "arch", "wall", "pier",
+                "buttressed_wall", "arch_bridge", "semicircular_arch_3d", "wall_3d", "pier_3d",
+                "bridge_3d", "mesh"):
         assert f'`type = "{tag}"`' in doc
 
 
@@ -329,6 +353,12 @@ def test_point_loads_and_settlements():
     assert m.body_kind[support] == sx.BodyKind.DRIVEN
     motion = m.motions[m.body_motion[support]]
     assert motion(0.1) == pytest.approx((0.0, -0.04, 0.02)) and motion(0.6) == (0.0, 0.0, 0.0)
+    smooth = parse_scenario(text, overrides=["loads.settlements[0].profile=smooth"]).build_model()
+    motion = smooth.motions[smooth.body_motion[support]]
+    # (pi/2) sin(pi t / T) times the mean rate: zero at both ends, pi/2 times it mid-way
+    assert motion(0.0) == pytest.approx((0.0, 0.0, 0.0))
+    assert motion(0.25) == pytest.approx((0.0, -0.04 * math.pi / 2, 0.02 * math.pi / 2))
+    assert motion(0.5) == (0.0, 0.0, 0.0)
 
 
 def test_bad_loads_are_named():
@@ -360,7 +390,23 @@ def test_ground_motion_driving_the_supports(tmp_path):
     assert m.body_kind[support] == sx.BodyKind.DRIVEN
     motion = m.motions[m.body_motion[support]]
     assert motion(0.01)[0] == pytest.approx(0.5 * 0.01 * 0.1)  # m/s^2 units given
-    assert "give either file (a record) or pulse" in _error(
+    assert "give one of file (a record), fema_p695 or pulse" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\nfile = "x.csv"\n')
     assert "needs the names of the supports" in _error(
         ARCH + '[loads.ground_motion]\npulse = "ricker"\napply = "driven"\n')
+
+
+def test_harmonic_ground_motion_in_a_scenario():
+    text = ARCH + textwrap.dedent("""\
+        [loads.ground_motion]
+        pulse = "harmonic"
+        amplitude = 3.0
+        period = 0.5
+        cycles = 4
+        ramp = 2.0
+    """)
+    motion = parse_scenario(text).loads.ground_motion.motion()
+    assert motion.duration == pytest.approx(2.0)
+    assert motion.acceleration_at(1.625)[0] == pytest.approx(3.0 * 1.625 / 2.0, rel=1e-3)
+    assert "ramp: Input should be greater than or equal to 0" in _error(
+        text.replace("ramp = 2.0", "ramp = -1.0"))

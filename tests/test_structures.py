@@ -23,6 +23,7 @@ from saxum.structures import (
     buttressed_wall,
     pier,
     read_blocks,
+    semicircular_arch,
     wall,
     write_blocks,
 )
@@ -191,6 +192,10 @@ def test_any_arch_cuts_into_convex_voussoirs(span, ratio, thickness, n, joints, 
     (lambda: arch_ring(SHAPES["flat"], 5, "diagonal"), ["joints", "'radial'"]),
     (lambda: arch(SHAPES["segmental"], voussoirs=5, pier_width=0.1), ["pier_width"]),
     (lambda: arch(SHAPES["segmental"], voussoirs=0), ["voussoirs", ">= 1"]),
+    (lambda: semicircular_arch(radius=1.0, thickness=2.5, voussoirs=9),
+     ["thickness must be less than 2 radius", "thickness=2.5"]),
+    (lambda: semicircular_arch(radius=1.0, thickness=0.2, voussoirs=0), ["voussoirs", ">= 1"]),
+    (lambda: semicircular_arch(radius=-1.0, thickness=0.2, voussoirs=9), ["radius", "> 0"]),
 ])
 def test_bad_arch_input_names_the_parameter(call, words):
     with pytest.raises(sx.InputError) as info:
@@ -258,6 +263,14 @@ def test_flat_arch_and_plain_openings():
     (Opening(x=0.5, y=0.0, width=0.5, height=1.5), ["openings[0]", "add courses"]),
     (Opening(x=0.5, y=0.0, width=0.5, height=0.3, head="arch"), ["openings[0].head"]),
     (Opening(x=0.5, y=0.0, width=-0.5, height=0.3), ["openings[0].width"]),
+    (Opening(x=0.0, y=0.0, width=2.5, height=0.3),
+     ["openings[0].width = 2.5 m is larger than the wall's width (2 m)", "add bricks"]),
+    (Opening(x=0.0, y=0.0, width=0.5, height=0.7),
+     ["openings[0].height = 0.7 m is larger than the wall's height (0.65 m)", "add courses"]),
+    (Opening(x=0.5, y=0.0, width=0.5, height=0.3, head="segmental_arch", rise=0.4),
+     ["openings[0] (segmental_arch): rise must be in (0, span/2"]),
+    (Opening(x=0.5, y=0.0, width=0.5, height=0.3, head="flat_arch", voussoirs=0),
+     ["openings[0] (flat_arch): voussoirs must be a whole number >= 1"]),
 ])
 def test_bad_openings_are_named(opening, words):
     with pytest.raises(sx.InputError) as info:
@@ -377,20 +390,30 @@ def test_dxf_closed_polylines_become_blocks(tmp_path):
     # closed by repeating the first point rather than by the flag, as some CAD programs do
     msp.add_polyline2d([(0, 0.3), (0.4, 0.3), (0.2, 0.6), (0, 0.3)],
                        dxfattribs={"layer": "STONE"})
-    msp.add_lwpolyline([(1, 1), (2, 1), (2, 2)], dxfattribs={"layer": "NOTES"})  # open: ignored
+    msp.add_lwpolyline([(1, 1), (2, 1), (2, 2)], dxfattribs={"layer": "NOTES"})
+    msp.add_text("north elevation", dxfattribs={"layer": "Notes"})
     path = tmp_path / "elevation.dxf"
     doc.saveas(path)
-    specs = read_blocks(path, density=2400.0)
+    specs = read_blocks(path, density=2400.0, ignore_layers=["notes"])
     assert [(s.group, s.kind) for s in specs] == [("Fixed", sx.BodyKind.FIXED),
                                                  ("STONE", sx.BodyKind.FREE),
                                                  ("STONE", sx.BodyKind.FREE)]
-    model = blocks_model(path, density=2400.0)
+    model = blocks_model(path, density=2400.0, ignore_layers=["NOTES"])
     assert _moved(model, 0.05) < 1e-6
+    # an open polyline or another entity outside the ignored layers is named, not dropped
+    with pytest.raises(sx.InputError, match=r"LWPOLYLINE handle \w+ on layer 'NOTES': an open "
+                                            r"polyline \(3 points\); a block must be closed"):
+        read_blocks(path, density=2400.0)
+    msp.add_line((0, 0), (1, 1), dxfattribs={"layer": "STONE"})
+    doc.saveas(path)
+    with pytest.raises(sx.InputError, match=r"LINE handle \w+ on layer 'STONE': not a block "
+                                            r".*ignore_layers"):
+        read_blocks(path, density=2400.0, ignore_layers=["NOTES"])
 
     msp.add_lwpolyline([(5, 0, 0, 0, 0.5), (6, 0), (6, 1)], format="xyseb", close=True)
     doc.saveas(path)
     with pytest.raises(sx.InputError, match=r"LWPOLYLINE handle \w+ on layer '0'.*bulges"):
-        read_blocks(path, density=2400.0)
+        read_blocks(path, density=2400.0, ignore_layers=["NOTES", "STONE"])
 
 
 def test_dxf_without_ezdxf_says_how_to_install(tmp_path, monkeypatch):

@@ -8,6 +8,7 @@ from ._version import __version__ as __version__
 from .contacts import Contacts
 from .detection import DetectionSettings
 from .errors import InputError, OverlapError, SimulationError, SolverWarning
+from .flood import FloodLoad
 from .integrator import MoreauJean
 from .laws import ContactLaw, LawKind
 from .model import BodyKind, Model, ModelBuilder
@@ -26,6 +27,7 @@ __all__ = [
     "ContactSolver",
     "Contacts",
     "DetectionSettings",
+    "FloodLoad",
     "InputError",
     "LawKind",
     "Model",

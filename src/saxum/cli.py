@@ -4,10 +4,10 @@
     saxum resume RESULTS [--quiet]
     saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
     saxum collapse SCENARIO --vary KEY --stands A --collapses B
-    saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B
+    saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B [-o PNG]
     saxum fclib solve FILE...
     saxum info RESULTS
-    saxum plot RESULTS [--frame K] [--histories] [-o PNG]
+    saxum plot RESULTS [--frame K | --collapse] [--histories] [-o PNG]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
 """
@@ -49,16 +49,21 @@ def _demo(args) -> None:
 
 
 def _collapse(args) -> None:
-    from .collapse import CollapseCriterion, scenario_critical_value
+    from .collapse import DYNAMIC_FRACTION, CollapseCriterion, scenario_critical_value
     from .mechanism import mechanism
     from .plot import plot_frame
     from .results import Results
     from .runner import run_scenario
     from .scenario import load_scenario
 
+    if args.fraction is None:
+        dynamic = load_scenario(args.scenario, args.set).loads.ground_motion is not None
+        args.fraction = DYNAMIC_FRACTION if dynamic else CollapseCriterion.fraction
     result = scenario_critical_value(
         args.scenario, args.vary, args.stands, args.collapses, overrides=tuple(args.set),
-        tolerance=args.tolerance, criterion=CollapseCriterion(duration=args.duration))
+        tolerance=args.tolerance, criterion=CollapseCriterion(duration=args.duration,
+                                                              fraction=args.fraction,
+                                                              per_block=args.per_block))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
@@ -68,24 +73,41 @@ def _collapse(args) -> None:
         print(f"horizontal load factor lambda = a/g: {result.value / g:.4g} "
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     trial = result.collapse()
-    trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
-    if dim == 2:
-        print(f"mechanism at {args.vary} = {result.collapses:.6g}:")
-        print(mechanism(trial.simulation.model, trial.state,
-                        trial.simulation.integrator.dt).text())
+    motion = scenario.loads.ground_motion
+    if motion is not None:  # the state when a block moved past the limit
+        at = trial.at_collapse
+        print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
+              f"than {args.fraction:g} x the smallest block's size; the ground motion ends at "
+              f"{float(motion.motion(dim).time[-1]):.4g} s)")
+    else:
+        trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
+        at = trial.state
+        print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
+              f"than {args.fraction:g} x the smallest block's size)")
+    mech = None
+    if dim == 2:  # the mechanism report is made for 2D models
+        print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s (when "
+              "the collapsing motion began):")
+        mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
+        print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
-        update={"duration": trial.state.time, "interval": trial.state.time / 20})})
+        update={"duration": at.time, "interval": at.time / 20})})
     run_scenario(scenario, output, quiet=True)
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        plot_frame(r, -1, picture, thrust_line=dim == 2)
+        if mech is None:
+            plot_frame(r, -1, picture)
+        else:
+            wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
+            plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
 def _collapse_curve(args) -> None:
     from .collapse import CollapseCriterion, collapse_curve
+    from .plot import plot_collapse_curve
 
     periods = [float(p) for p in args.periods.split(",")]
     rows = collapse_curve(args.scenario, periods, args.stands, args.collapses,
@@ -94,10 +116,33 @@ def _collapse_curve(args) -> None:
                                                       fraction=args.fraction),
                           processes=args.processes)
     g = 9.81
-    print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials")
-    for period, lo, hi, trials in rows:
-        print(f"{period:10.4g}  {0.5 * (lo + hi):26.4g}  ({lo:.4g} .. {hi:.4g})  "
-              f"{0.5 * (lo + hi) / g:7.4f}  {trials:6d}")
+    print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
+          "  collapse at [s]")
+    for p in rows:
+        print(f"{p.period:10.4g}  {p.amplitude:26.4g}  ({p.stands:.4g} .. {p.collapses:.4g})"
+              f"  {p.amplitude / g:7.4f}  {p.trials:6d}  {p.collapse_time:15.4g}")
+    for p in rows:
+        if p.mechanism is not None:  # (2D models)
+            print(f"\nmechanism at T_p = {p.period:g} s, amplitude {p.collapses:.4g} m/s^2, "
+                  f"collapsing from t = {p.mechanism_time:.4g} s:")
+            print("  " + p.mechanism.text().replace("\n", "\n  "))
+    picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
+                                                           + "-curve.png")
+    plot_collapse_curve(rows, picture, g=g, title=f"{Path(args.scenario).stem}: collapse "
+                                                  "curve")
+    table = picture.with_suffix(".csv")
+    with open(table, "w") as f:
+        f.write("period_s,stands_m_s2,collapses_m_s2,amplitude_g,trials,collapse_time_s,"
+                "hinges,sliding_joints,moving_blocks\n")
+        for p in rows:
+            m = p.mechanism
+            joints = [" | ".join(j.bodies) for j in m.hinges] if m else []
+            slides = [" | ".join(j.bodies) for j in m.sliding] if m else []
+            moving = m.moving if m else []
+            f.write(f"{p.period!r},{p.stands!r},{p.collapses!r},{p.amplitude / g:.6g},"
+                    f"{p.trials},{p.collapse_time!r},\"{'; '.join(joints)}\","
+                    f"\"{'; '.join(slides)}\",\"{'; '.join(moving)}\"\n")
+    print(f"\npicture: {picture.resolve()}\ntable: {table.resolve()}")
 
 
 def _fclib_solve(args) -> None:
@@ -150,7 +195,49 @@ def info_text(r) -> str:
             f"largest interpenetration {s['max_interpenetration'].max():.3g} m; "
             f"projection used at {int(np.count_nonzero(s['projection_iterations']))} step(s); "
             f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} J/m")
+    lines += _collapse_lines(r, sc.loads.ground_motion if r.scenario_json else None)
     return "\n".join(lines)
+
+
+def _collapse_lines(r, ground) -> list[str]:
+    """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
+    harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
+    from .collapse import DYNAMIC_FRACTION, find_collapse
+    from .mechanism import frame_mechanism
+
+    free = r.model["body_kind"] == 0
+    if r.frame_count == 0 or not free.any():
+        return []
+    d = r.dim
+    moved = np.linalg.norm(r.body_q[:, free, :d] - r.model["body_q0"][free, :d],
+                           axis=-1).max(axis=1)
+    peak = int(np.argmax(moved))
+    event = find_collapse(r)
+    if event is None:
+        return [f"collapse: none (at the end no free block has moved by more than "
+                f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
+                f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
+                f"{moved[-1]:.3g} m at the end"]
+    text = (frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ") if d == 2
+            else "(the mechanism report is made for 2D models)")
+    began = float(r.time[event.onset_frame])
+    lines = [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
+             f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
+             f"size) and did not come back ({event.displacement:.3g} m at the end)",
+             f"mechanism at collapse (when the collapsing motion began, t = {began:.4g} s, "
+             f"frame {event.onset_frame}):\n  " + text]
+    if ground is not None and ground.pulse == "harmonic" and ground.ramp > 0.0:
+        g = float(np.hypot(*r.model["gravity"]))
+
+        def amplitude(t):
+            return ground.scale * ground.amplitude * min(1.0, (t + ground.start) / ground.ramp)
+
+        lines.append(f"harmonic amplitude A min(1, t/ramp): {amplitude(began):.4g} m/s^2 "
+                     f"({amplitude(began) / g:.3g} g) when the collapsing motion began, "
+                     f"{amplitude(event.time):.4g} m/s^2 ({amplitude(event.time) / g:.3g} g) "
+                     "at collapse")
+    lines.append(f"picture: saxum plot {r.path} --collapse")
+    return lines
 
 
 def _plot(args) -> None:
@@ -161,6 +248,15 @@ def _plot(args) -> None:
         if args.histories:
             out = args.output or Path(args.results).with_suffix(".histories.png")
             plot_histories(r, out, body=args.body)
+        elif args.collapse:
+            from .collapse import find_collapse
+
+            event = find_collapse(r)
+            if event is None:
+                raise InputError(f"{args.results}: no collapse (saxum info says why)")
+            out = args.output or Path(args.results).with_suffix(".collapse.png")
+            plot_frame(r, event.onset_frame, out, thrust_line=args.thrust_line,
+                       title=f"{Path(args.results).stem}: mechanism at collapse")
         else:
             out = args.output or Path(args.results).with_suffix(".png")
             plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
@@ -229,6 +325,14 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--tolerance", type=float, default=0.005,
                    help="relative width of the final bracket (default 0.005)")
     p.add_argument("--duration", type=float, default=1.0, help="longest trial [s]")
+    p.add_argument("--fraction", type=float, default=None,
+                   help="collapse: a block moved by this fraction of the smallest block's "
+                        "size (default 0.01, and 0.5 under a ground motion, judged once it "
+                        "has ended)")
+    p.add_argument("--per-block", action="store_true",
+                   help="at rest means every block at rest (its own net force small next to "
+                        "the forces on it), not the structure as a whole: for a small part "
+                        "(a parapet) that may fail slowly on a large structure")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
     p.add_argument("-o", "--output", type=Path,
@@ -254,6 +358,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="worker processes (default: one per CPU)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
+    p.add_argument("-o", "--output", type=Path,
+                   help="picture of amplitude against period (default: SCENARIO-curve.png); "
+                        "the table goes next to it as .csv")
     p.set_defaults(func=_collapse_curve)
 
     p = sub.add_parser("fclib", help="FCLIB frictional-contact problems")
@@ -274,8 +381,11 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("plot", help="picture of an output frame, or the time histories")
     p.add_argument("results", type=Path)
     p.add_argument("--frame", type=int, default=-1, help="output frame (default: the last)")
+    p.add_argument("--collapse", action="store_true",
+                   help="the frame at which the collapse began, with its hinges (saxum info)")
     p.add_argument("--histories", action="store_true",
-                   help="time histories (displacement, energy, solver) instead of a frame")
+                   help="time histories (the output.histories blocks at every step, energy, "
+                        "solver) instead of a frame")
     p.add_argument("--thrust-line", action="store_true",
                    help="draw the thrust line of an arch (joints' centres of pressure)")
     p.add_argument("--body", help="block for --histories (name or index; default: the one "

@@ -17,6 +17,22 @@ load factor, a point load, a settlement, a thickness...) from rest, and decides:
   displacement grew (a mechanism that keeps going), standing otherwise (e.g. a block still
   rocking after a pulse, back and forth about its initial position).
 
+Under an imposed settlement (`after_motion`, with `not_before` the end of the settlement)
+the blocks carried by the moving support move with it without collapsing, so a trial is
+judged instead:
+
+- **collapsed during the settlement** as soon as a free block's kinetic energy exceeds
+  m_b |g| d, d the displacement threshold: the block moves as fast as after falling freely
+  by d, sqrt(2 |g| d) (0.3 m/s for d = 4.5 mm), while a structure that follows a slow
+  settlement quasi-statically moves at the support's speed times a lever ratio of order one;
+- then, with displacements measured from where the blocks are when the support stops:
+  **at rest** as above (the settlement is accommodated, usually with a mechanism: joints
+  opened, blocks moved with the support), **collapsed** if a block moves on by more than d
+  (a block falling, a mechanism that keeps going).
+
+The settlement must then be slow and start and stop smoothly (saxum.scenario Settlement
+with profile = "smooth"), so that no block is thrown by the support's own motion.
+
 For rigid blocks with unilateral frictional contacts a load below the collapse load is carried
 with no motion at all (a statically admissible set of contact forces exists and v = 0 solves
 every step), so loading from rest to a fixed value and bisecting on that value gives the
@@ -31,6 +47,7 @@ import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,8 +56,17 @@ from .model import BodyKind
 from .simulation import Simulation
 from .state import State
 
-__all__ = ["CollapseCriterion", "CriticalValue", "Trial", "collapse_curve", "critical_value",
+__all__ = ["DYNAMIC_FRACTION", "ONSET", "CollapseCriterion", "CollapseEvent", "CriticalValue",
+           "CurvePoint", "Trial", "collapse_curve", "critical_value", "find_collapse",
            "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
+
+DYNAMIC_FRACTION = 0.5
+"""Under ground motion a block may rock far and come back: a structure has collapsed when a
+free block has moved by this fraction of the smallest free block's size [-] and stays so."""
+ONSET = 0.2
+"""The mechanism at collapse is taken when the collapsing motion began: when a block last
+moved past this fraction of the collapse displacement [-] before the collapse (by the time a
+block has moved half its size, extra hinges open as the blocks fall apart)."""
 
 
 @dataclass(frozen=True)
@@ -51,7 +77,14 @@ class CollapseCriterion:
     (after not_before), settle [s], force_ratio [-], energy [-];
     not_before [s]: no verdict before this time (the end of a pulse or record: a structure
     is at rest before a pulse has risen, and a block that rocks far during a pulse may be
-    brought back by it; what counts is where it is once the ground is still)."""
+    brought back by it; what counts is where it is once the ground is still);
+    after_motion: a settlement ends at not_before: before it, collapse when a block moves as
+    fast as after a free fall by the displacement threshold; after it, displacements count
+    from the configuration at not_before instead of the initial one (module doc);
+    per_block: the force ratio is the largest over the free blocks of each block's own (its
+    net force over the forces acting on it) instead of the structure's: a small part (a
+    parapet) that starts to move slowly on a large structure is then not called at rest,
+    its net force being tiny next to the forces on the rest."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -60,6 +93,8 @@ class CollapseCriterion:
     force_ratio: float = 1e-4
     energy: float = 1e-9
     not_before: float = 0.0
+    after_motion: bool = False
+    per_block: bool = False
 
     def __post_init__(self) -> None:
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
@@ -74,8 +109,14 @@ class CollapseCriterion:
 @dataclass
 class Trial:
     """Outcome of one trial: the parameter value, collapsed or at rest, the time it was
-    decided [s], the largest displacement of a free block [m], the last unbalanced force ratio,
-    the kinetic energy at the end [J/m], and the simulation and state at the end."""
+    decided [s], the largest displacement of a free block [m] (from the initial position, or
+    from that at not_before with after_motion), the last unbalanced force ratio, the kinetic
+    energy at the end [J/m], and the simulation and state at the end. For a collapse: the time
+    of collapse [s], when a free block last moved past the displacement limit (under a pulse
+    this may be before the verdict, which waits for the pulse to end), and the state when that
+    collapsing motion began (`at_collapse`: when a block last moved past ONSET times the limit
+    before it), whose mechanism (`mechanism()`) shows the hinges that formed before the blocks
+    fell apart (nan and None when it stood)."""
 
     value: float
     collapsed: bool
@@ -85,11 +126,24 @@ class Trial:
     kinetic_energy: float
     simulation: Simulation = field(repr=False)
     state: State = field(repr=False)
+    collapse_time: float = math.nan
+    at_collapse: State | None = field(default=None, repr=False)
+
+    def mechanism(self):
+        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood, and for
+        a 3D model: the mechanism report is made for 2D ones)."""
+        from .mechanism import mechanism
+
+        if self.at_collapse is None or self.simulation.model.dim != 2:
+            return None
+        return mechanism(self.simulation.model, self.at_collapse, self.simulation.integrator.dt)
 
 
-def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) -> float:
-    """UFR of the last step (module doc): net force over acting forces on the free blocks;
-    v_before: the velocities at the start of the step [m/s, rad/s]."""
+def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, *,
+                           per_block: bool = False) -> float:
+    """UFR of the last step (module doc): net force over acting forces on the free blocks
+    (per_block: the largest of each block's own ratio); v_before: the velocities at the
+    start of the step [m/s, rad/s]."""
     m = sim.model
     h = sim.integrator.dt
     d = m.dim
@@ -97,12 +151,15 @@ def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray) 
     net = np.linalg.norm(state.body_v[free, :d] - v_before[free, :d], axis=1) * m.body_mass[
         free] / h
     force = np.empty_like(state.body_v)
-    sim.external_force(state.time, force)
+    sim.external_force(state.time, force, state.body_q)
     applied = np.linalg.norm(force[free, :d], axis=1)
     c = state.contacts
     r = np.linalg.norm(c.impulse[: c.count], axis=1) / h
     contact = (np.bincount(c.candidate[: c.count], r, m.body_count)
                + np.bincount(c.antagonist[: c.count], r, m.body_count))[free]
+    if per_block:
+        acting = applied + contact
+        return float(np.max(net / np.where(acting > 0.0, acting, np.inf), initial=0.0))
     acting = float(applied.sum() + contact.sum())
     return float(net.sum()) / acting if acting > 0.0 else 0.0
 
@@ -129,18 +186,32 @@ def run_trial(sim: Simulation, value: float = math.nan,
     energies = np.zeros(steps)
     displacements = np.zeros(steps)
     moved = ratio = 0.0
+    crossed = math.nan  # when a block last moved past the limit
+    onset: State | None = None  # the state when a block last moved past ONSET * limit
     v_before = np.empty_like(state.body_v)
+    reference, anchored = m.body_q0[free, : m.dim], not crit.after_motion
+    fall = m.body_mass[free] * g * limit  # [J/m] the energy of a free fall by `limit`
     for k in range(steps):
         v_before[:] = state.body_v
         report = sim.step(state)
         energies[k] = report.kinetic_energy
-        moved = float(np.linalg.norm(state.body_q[free, : m.dim] - m.body_q0[free, : m.dim],
-                                     axis=1).max())
+        if not anchored and state.time >= crit.not_before:
+            reference, anchored = state.body_q[free, : m.dim].copy(), True
+        moved = float(np.linalg.norm(state.body_q[free, : m.dim] - reference, axis=1).max())
         displacements[k] = moved
+        thrown = not anchored and bool(np.any(_block_energy(m, state.body_v)[free] > fall))
+        if thrown:  # during a settlement the displacements say nothing: collapse now
+            return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
+                         state, state.time, state.copy())
+        before = displacements[k - 1] if k else 0.0
+        if anchored and moved > ONSET * limit >= before:
+            onset = state.copy()
+        if anchored and moved > limit >= before:
+            crossed = state.time
         if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
-                         state)
-        ratio = unbalanced_force_ratio(sim, state, v_before)
+                         state, crossed, onset if onset is not None else state.copy())
+        ratio = unbalanced_force_ratio(sim, state, v_before, per_block=crit.per_block)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
         if quiet >= settle and state.time >= crit.not_before:
@@ -149,8 +220,19 @@ def run_trial(sim: Simulation, value: float = math.nan,
     half = (first + steps) // 2
     growing = (energies[half:].mean() > energies[first:half].mean()
                and displacements[half:].max() > displacements[first:half].max())
-    return Trial(value, bool(growing), state.time, moved, ratio, float(energies[-1]), sim,
-                 state)
+    if not growing:
+        return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state)
+    over = moved > limit
+    return Trial(value, True, state.time, moved, ratio, float(energies[-1]), sim, state,
+                 crossed if over else state.time,
+                 onset if onset is not None and moved > ONSET * limit else state)
+
+
+def _block_energy(model, v: np.ndarray) -> np.ndarray:
+    """Kinetic energy of each body, 1/2 (m |v|^2 + sum_k J_k omega_k^2) [J/m; 3D: J]."""
+    d = model.dim
+    spin = model.body_inertia.reshape(model.body_count, -1) * v[:, d:] ** 2
+    return 0.5 * (model.body_mass * np.sum(v[:, :d] ** 2, axis=1) + spin.sum(axis=1))
 
 
 @dataclass
@@ -209,7 +291,8 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
     """critical_value over the scenario key `key` (dotted, e.g. loads.horizontal_acceleration,
     structure.thickness or loads.ground_motion.amplitude) of the scenario file at `path`, other
     keys overridden by `overrides` ("key=value"). With a ground motion, no trial is judged at
-    rest before the motion has ended."""
+    rest before the motion has ended; with settlements, none before they end, and
+    displacements count from there (CollapseCriterion.after_motion)."""
     from .scenario import load_scenario
 
     def make(x: float) -> Simulation:
@@ -217,33 +300,97 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
 
     crit = criterion or CollapseCriterion()
     scenario = load_scenario(path, list(overrides))
-    ground = scenario.loads.ground_motion
-    if ground is not None:
-        end = float(ground.motion(scenario.structure.dim).time[-1])
-        crit = dataclasses.replace(crit, not_before=max(crit.not_before, end))
+    loads = scenario.loads
+    if loads.ground_motion is not None:
+        crit = dataclasses.replace(crit, not_before=max(
+            crit.not_before, float(loads.ground_motion.motion(scenario.structure.dim)
+                                   .time[-1])))
+    if loads.settlements:
+        crit = dataclasses.replace(crit, after_motion=True, not_before=max(
+            crit.not_before, *(s.time for s in loads.settlements)))
     return critical_value(make, stands, collapses, tolerance=tolerance, criterion=crit)
 
 
-def _curve_point(args) -> tuple[float, float, float, int]:
+class CurvePoint(NamedTuple):
+    """One period of a collapse curve: the period [s], the amplitudes [m/s^2] at which the
+    structure stood and collapsed (the bracket of the critical amplitude), the number of
+    trials, and for the collapsing amplitude the time of collapse [s], the time the
+    collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism)."""
+
+    period: float
+    stands: float
+    collapses: float
+    trials: int
+    collapse_time: float
+    mechanism_time: float
+    mechanism: object
+
+    @property
+    def amplitude(self) -> float:
+        """Midpoint of the bracket [m/s^2]."""
+        return 0.5 * (self.stands + self.collapses)
+
+
+def _curve_point(args) -> CurvePoint:
     path, period, stands, collapses, overrides, tolerance, criterion = args
     result = scenario_critical_value(
         path, "loads.ground_motion.amplitude", stands, collapses,
         overrides=(*overrides, f"loads.ground_motion.period={period!r}"), tolerance=tolerance,
         criterion=criterion)
-    return period, result.stands, result.collapses, len(result.trials)
+    trial = result.collapse()
+    return CurvePoint(period, result.stands, result.collapses, len(result.trials),
+                      trial.collapse_time, trial.at_collapse.time, trial.mechanism())
 
 
 def collapse_curve(path, periods, stands: float, collapses: float, *,
                    overrides: tuple[str, ...] = (), tolerance: float = 0.01,
                    criterion: CollapseCriterion | None = None,
-                   processes: int | None = None) -> list[tuple[float, float, float, int]]:
+                   processes: int | None = None) -> list[CurvePoint]:
     """For a scenario with a pulse (`[loads.ground_motion]` with `pulse`): for each period
     T_p [s], the smallest pulse amplitude [m/s^2] that collapses the structure, bracketed by
     bisection between `stands` and `collapses`; the periods run in parallel processes.
-    Returns (period, stands at, collapses at, trials) per period, in the order given."""
+    Returns a CurvePoint per period (with the mechanism at collapse), in the order given."""
     jobs = [(str(path), float(p), stands, collapses, tuple(overrides), tolerance, criterion)
             for p in periods]
     if processes == 1 or len(jobs) == 1:
         return [_curve_point(job) for job in jobs]
     with concurrent.futures.ProcessPoolExecutor(max_workers=processes) as pool:
         return list(pool.map(_curve_point, jobs))
+
+
+@dataclass(frozen=True)
+class CollapseEvent:
+    """A run's collapse: the time [s] and output frame from which a free block stayed moved
+    by more than `limit` [m] to the end of the run, that block, the largest displacement of a
+    free block at the end [m], and the output frame at which that collapsing motion began
+    (a block last moved past ONSET * limit), whose mechanism is the mechanism at collapse."""
+
+    time: float
+    frame: int
+    block: str
+    limit: float
+    displacement: float
+    onset_frame: int
+
+
+def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent | None:
+    """When the run of saxum.results.Results collapsed, judged on its output frames: a free
+    block moved by more than `fraction` of the smallest free block's size (DYNAMIC_FRACTION:
+    a rocking block that comes back has not collapsed) and did not come back by the end.
+    None when no block is that far at the end."""
+    free = results.model["body_kind"] == BodyKind.FREE
+    if not free.any() or results.frame_count == 0:
+        return None
+    limit = fraction * float(results.body_size[free].min())
+    d = results.dim
+    moved = np.linalg.norm(results.body_q[:, free, :d] - results.model["body_q0"][free, :d],
+                           axis=-1)
+    largest = moved.max(axis=1)
+    if largest[-1] <= limit:
+        return None
+    below = np.flatnonzero(largest <= limit)
+    k = int(below[-1]) + 1 if below.size else 0
+    block = results.body_name[int(np.flatnonzero(free)[np.argmax(moved[k])])]
+    still = np.flatnonzero(largest[:k] <= ONSET * limit)
+    onset = int(still[-1]) + 1 if still.size else 0
+    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]), onset)

@@ -79,9 +79,12 @@ def _warm_start(key, impulse, old_key, old_impulse):
     for a in range(key.shape[0]):
         while k < old_key.shape[0] and old_key[k] < key[a]:
             k += 1
+        # element by element: a slice assignment per contact costs more than the merge itself
         if k < old_key.shape[0] and old_key[k] == key[a]:
-            impulse[a, :] = old_impulse[k, :]
+            for r in range(impulse.shape[1]):
+                impulse[a, r] = old_impulse[k, r]
             hits += 1
         else:
-            impulse[a, :] = 0.0
+            for r in range(impulse.shape[1]):
+                impulse[a, r] = 0.0
     return hits

@@ -22,6 +22,7 @@ record with one horizontal component is put along any horizontal direction of a 
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -31,8 +32,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["G_STANDARD", "GroundMotion", "mavroeidis_papageorgiou", "one_sine", "read_at2",
-           "read_csv", "rectangular", "ricker"]
+__all__ = ["G_STANDARD", "GroundMotion", "harmonic", "mavroeidis_papageorgiou", "one_sine",
+           "read_at2", "read_csv", "rectangular", "ricker"]
 
 G_STANDARD = 9.80665  # [m/s^2]
 _UNITS = {"g": G_STANDARD, "m/s^2": 1.0, "m/s2": 1.0, "cm/s^2": 0.01, "cm/s2": 0.01,
@@ -107,6 +108,11 @@ class GroundMotion:
 
     def velocity(self) -> np.ndarray:
         """Ground velocity [m/s] at the samples: trapezoidal integral of the acceleration."""
+        return self._velocity.copy()
+
+    @functools.cached_property
+    def _velocity(self) -> np.ndarray:
+        # computed once: velocity_at is called twice per time step
         dt = np.diff(self.time)[:, None]
         return np.vstack((np.zeros((1, self.components)),
                           np.cumsum(0.5 * dt * (self.acceleration[1:] + self.acceleration[:-1]),
@@ -121,11 +127,11 @@ class GroundMotion:
     def velocity_at(self, t: float) -> np.ndarray:
         """Ground velocity [m/s] at any time: the exact integral of the piecewise-linear
         acceleration (0 before the record, its final value after)."""
-        v = self.velocity()
+        v = self._velocity
         if t <= self.time[0]:
             return np.zeros(self.components)
         if t >= self.time[-1]:
-            return v[-1]
+            return v[-1].copy()
         k = int(np.searchsorted(self.time, t, side="right")) - 1
         tau = t - self.time[k]
         a0, a1 = self.acceleration[k], self.acceleration[k + 1]
@@ -243,11 +249,36 @@ def rectangular(amplitude: float, duration: float, *, direction=(1.0, 0.0)) -> G
     return GroundMotion(t, np.outer([0.0, amplitude, amplitude, 0.0], d), "rectangular pulse")
 
 
+def harmonic(amplitude: float, period: float, cycles: float, *, ramp: float = 0.0,
+             direction=(1.0, 0.0), samples_per_cycle: int = 200) -> GroundMotion:
+    """Harmonic base motion of `cycles` periods T [s] (frequency 1/T), its amplitude growing
+    linearly over the first `ramp` seconds: a(t) = A min(1, t/t_r) sin(2 pi t/T) on
+    [0, cycles T], A [m/s^2] (t_r = 0: full amplitude at once). With ramp = cycles T the
+    amplitude grows through the whole motion, reaching A at the end: the amplitude at time t
+    is A t/t_r, so the time at which a structure fails gives the amplitude that failed it."""
+    if not (math.isfinite(period) and period > 0.0):
+        raise InputError(f"harmonic motion: period must be > 0 [s], got {period}")
+    if not (math.isfinite(cycles) and cycles > 0.0):
+        raise InputError(f"harmonic motion: cycles must be > 0, got {cycles}")
+    if not (math.isfinite(ramp) and ramp >= 0.0):
+        raise InputError(f"harmonic motion: ramp must be >= 0 [s], got {ramp}")
+    w = 2.0 * math.pi / period
+
+    def shape(t):
+        envelope = np.minimum(1.0, t / ramp) if ramp > 0.0 else 1.0
+        return amplitude * envelope * np.sin(w * t)
+
+    return _pulse("harmonic motion", cycles * period, shape,
+                  max(2, math.ceil(cycles * samples_per_cycle)) + 1, direction)
+
+
 def read_at2(path: str | Path) -> GroundMotion:
     """A PEER NGA record (.AT2): four header lines (the third names the units, the fourth
     NPTS and DT), then the accelerations, several per line."""
     path = Path(path)
     lines = _read_lines(path)
+    while lines and not lines[-1].strip():
+        lines.pop()
     if len(lines) < 5:
         raise InputError(f"{path}: an .AT2 file has 4 header lines and data; this has "
                          f"{len(lines)} lines")
@@ -265,58 +296,106 @@ def read_at2(path: str | Path) -> GroundMotion:
     except (ValueError, IndexError):
         raise InputError(f"{path} line 4: expected 'NPTS= n, DT= dt SEC', got "
                          f"{lines[3]!r}") from None
-    values = []
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise InputError(f"{path} line 4: the time step DT must be > 0 [s], got {dt:g}")
+    values: list[float] = []
     for n, line in enumerate(lines[4:], start=5):
-        try:
-            values.extend(float(x) for x in line.split())
-        except ValueError:
-            raise InputError(f"{path} line {n}: not numbers: {line!r}") from None
+        values.extend(_numbers(path, n, line.split(), line))
     if len(values) != npts:
-        raise InputError(f"{path}: header says NPTS = {npts} but the file has {len(values)} "
-                         "values")
+        raise InputError(f"{path} line 4: the header says NPTS = {npts} but lines 5-"
+                         f"{len(lines)} hold {len(values)} values")
     acc = factor * np.array(values)
     return GroundMotion(dt * np.arange(npts), acc, path.stem)
 
 
 def read_csv(path: str | Path, *, units: str | None = None) -> GroundMotion:
     """Two columns, time [s] and acceleration (three with a vertical component; four: x, y, z
-    for a 3D model), comma or whitespace separated; lines starting with # are comments, and a
-    comment "# units: g" (or m/s^2, cm/s^2) gives the units unless `units` does."""
+    for a 3D model), comma or whitespace separated; lines starting with # are comments. A
+    comment "# units: g" (or m/s^2, cm/s^2, gal) gives the units unless `units` does; a
+    comment "# dt: 0.01" states the time step [s], which the time column must then follow
+    (to 1e-6 relative). Every error names the line."""
     path = Path(path)
-    rows, found_units = [], None
-    for n, line in enumerate(_read_lines(path, keep_comments=True), start=1):
+    rows, lines = [], []
+    stated: dict[str, tuple[str, int]] = {}  # "units"/"dt" -> (value, line)
+    for n, line in enumerate(_read_lines(path), start=1):
         text = line.strip()
         if not text:
             continue
         if text.startswith("#"):
             key, _, value = text.lstrip("#").partition(":")
-            if key.strip().lower() == "units":
-                found_units = value.strip()
+            if key.strip().lower() in ("units", "dt"):
+                stated[key.strip().lower()] = (value.strip(), n)
             continue
-        parts = text.replace(",", " ").split()
-        try:
-            rows.append([float(x) for x in parts])
-        except ValueError:
-            if rows:
-                raise InputError(f"{path} line {n}: not numbers: {line!r}") from None
+        fields = [f.strip() for f in text.split(",")] if "," in text else text.split()
+        if not rows and not any(_is_number(f) for f in fields):
             continue  # a header line of column names
-        if len(rows[-1]) not in (2, 3, 4) or len(rows[-1]) != len(rows[0]):
-            raise InputError(f"{path} line {n}: expected 2, 3 or 4 columns like the first "
-                             f"data line, got {len(rows[-1])}")
-    chosen = units or found_units
-    if chosen is None:
+        row = _numbers(path, n, fields, line)
+        if len(row) not in (2, 3, 4) or (rows and len(row) != len(rows[0])):
+            expected = len(rows[0]) if rows else "2, 3 or 4"
+            raise InputError(f"{path} line {n}: expected {expected} columns (time [s], "
+                             f"acceleration[s]), got {len(row)}: {line!r}")
+        if rows and not row[0] > rows[-1][0]:
+            raise InputError(f"{path} line {n}: time must increase: {row[0]:g} s follows "
+                             f"{rows[-1][0]:g} s (line {lines[-1]})")
+        rows.append(row)
+        lines.append(n)
+    if units is not None:
+        chosen, where = units, "units="
+    elif "units" in stated:
+        chosen, where = stated["units"][0], f"line {stated['units'][1]}"
+    else:
         raise InputError(f"{path}: units unknown; add a line '# units: g' (or m/s^2) or pass "
                          "units=")
     if chosen.lower() not in _UNITS:
-        raise InputError(f"{path}: units {chosen!r} not one of {', '.join(_UNITS)}")
-    data = np.array(rows)
-    if data.shape[0] < 2:
+        raise InputError(f"{path} {where}: units {chosen!r} not one of {', '.join(_UNITS)}")
+    if len(rows) < 2:
         raise InputError(f"{path}: fewer than 2 data lines")
+    data = np.array(rows)
+    if "dt" in stated:
+        _check_step(path, stated["dt"], data[:, 0], lines)
     return GroundMotion(data[:, 0], _UNITS[chosen.lower()] * data[:, 1:], path.stem)
 
 
-def _read_lines(path: Path, keep_comments: bool = False) -> list[str]:
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _numbers(path: Path, n: int, fields: list[str], line: str) -> list[float]:
+    """The numbers in the fields of line n of a record file; an empty field (a missing
+    value) or one that is not a finite number is an error naming the line."""
+    if "" in fields:
+        raise InputError(f"{path} line {n}: a value is missing (empty field): {line!r}")
+    try:
+        values = [float(x) for x in fields]
+    except ValueError:
+        raise InputError(f"{path} line {n}: not numbers: {line!r}") from None
+    if not all(math.isfinite(v) for v in values):
+        raise InputError(f"{path} line {n}: NaN or infinite value: {line!r}")
+    return values
+
+
+def _check_step(path: Path, stated: tuple[str, int], time: np.ndarray, lines: list[int]):
+    value, where = stated
+    try:
+        dt = float(value)
+    except ValueError:
+        dt = math.nan
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise InputError(f"{path} line {where}: the time step must be a number > 0 [s], got "
+                         f"{value!r}")
+    off = np.flatnonzero(np.abs(np.diff(time) - dt) > 1e-6 * dt)
+    if off.size:
+        k = int(off[0]) + 1
+        raise InputError(f"{path} line {lines[k]}: the time step {time[k] - time[k - 1]:g} s "
+                         f"does not match dt = {dt:g} s stated on line {where}")
+
+
+def _read_lines(path: Path) -> list[str]:
+    """All lines of the file (blank ones too, so that line numbers in messages are right)."""
     if not path.is_file():
         raise InputError(f"no ground-motion file at {path}")
-    lines = [line.rstrip("\n") for line in path.read_text(errors="replace").splitlines()]
-    return [line for line in lines if line.strip() or keep_comments]
+    return path.read_text(errors="replace").splitlines()

@@ -11,22 +11,40 @@ velocities are round-off, shows no slide). The centre of pressure of a joint is 
 its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
 pressure of its joints, which is where the resultant of the joint's forces crosses it
 (J. Heyman, "The stone skeleton", 1995).
+
+In a wall, blocks named "<name> c<course>b<block>" (saxum.structures: walls, buttressed walls,
+a bridge's spandrels and fill) locate a joint by course: a head joint in course k (between two
+blocks of the course), a bed joint between courses k and k + 1, or course k against another
+block (the ground, a lintel), and by its position along the course, from the wall's left end
+(the leftmost initial vertex of the coursed blocks) [m]; arches keep their angles from the
+crown (Mechanism.hinge_angles).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
+from .contacts import Contacts
 from .errors import InputError
 from .model import BodyKind, Model
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "joint_resultants", "joint_states", "mechanism", "thrust_line"]
+__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "joint_resultants",
+           "joint_states", "mechanism", "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
+_COURSED = re.compile(r"\bc(\d+)b\d+")  # "brick c3b5": course 3
+
+
+def course_of(name: str) -> int | None:
+    """The course of a block named "<name> c<course>b<block>" (module doc), else None."""
+    match = _COURSED.search(name)
+    return int(match.group(1)) if match else None
 
 
 def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
@@ -87,7 +105,9 @@ def _joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
 class Joint:
     """One joint: its two bodies (names), whether it hinges (and about which point [m]),
     slides (largest slip velocity [m/s]) or is open, its centre of pressure [m] and the
-    resultant of its contact forces [N/m] (world frame; nan when it carries nothing)."""
+    resultant of its contact forces [N/m] (world frame; nan when it carries nothing).
+    In a wall (module doc): the courses of its coursed bodies (one or two) and its position
+    along the course [m] (the hinge point's, else the centre of pressure's); None elsewhere."""
 
     bodies: tuple[str, str]
     hinge: bool
@@ -97,6 +117,22 @@ class Joint:
     open: bool
     centre_of_pressure: tuple[float, float]
     force: tuple[float, float]
+    courses: tuple[int, ...] | None = None
+    along: float | None = None
+
+    @property
+    def location(self) -> str | None:
+        """Where the joint is in a wall, in words (None outside walls)."""
+        if self.courses is None or self.along is None or not math.isfinite(self.along):
+            return None
+        if len(self.courses) == 1:
+            other = next(b for b in self.bodies if not _COURSED.search(b))
+            where = f"course {self.courses[0]} against {other}"
+        elif self.courses[0] == self.courses[1]:
+            where = f"head joint in course {self.courses[0]}"
+        else:
+            where = f"bed joint between courses {min(self.courses)} and {max(self.courses)}"
+        return f"{where}, {self.along:.3g} m along"
 
 
 @dataclass(frozen=True)
@@ -128,11 +164,13 @@ class Mechanism:
                  + (", ".join(self.moving) if self.moving else "none")]
         for j in self.hinges:
             x, y = j.hinge_point
+            where = f": {j.location}" if j.location else ""
             lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} at "
-                         f"({x:.4g}, {y:.4g}) m")
+                         f"({x:.4g}, {y:.4g}) m{where}")
         for j in self.sliding:
+            where = f": {j.location}" if j.location else ""
             lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
-                         f"(slip {j.slip:.3g} m/s)")
+                         f"(slip {j.slip:.3g} m/s){where}")
         opened = [j for j in self.joints if j.open]
         if opened:
             lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
@@ -142,7 +180,9 @@ class Mechanism:
 
 def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | None = None,
               threshold: float | None = None, slip_fraction: float = 0.05) -> Mechanism:
-    """Classify the joints of `state` (contacts of its last step, impulses over dt [s]).
+    """Classify the joints of `state` (contacts of its last step, impulses over dt [s]) of
+    `model` (a Model, or anything with its body_kind, body_q0, body_size, body_radius and
+    body_name, such as the bodies of a results file: frame_mechanism).
     gap_tolerance [m]: a point is open beyond it (default 0.1 % of the smallest free block's
     size); threshold [m]: a block moves when displaced by more (default 10 % of the largest
     displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
@@ -179,11 +219,15 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     pairs, cop, resultant = joint_resultants(contacts, gap_tol)
     joint = _joint_index(cand, ant)
     names = model.body_name
+    course = {b: c for b, name in enumerate(names) if (c := course_of(name)) is not None}
+    left = min((float(model.vertices(b)[:, 0].min()) for b in course), default=0.0)
     joints = []
     for j, (a, b) in enumerate(pairs):
         rows = np.flatnonzero(joint == j)
         hinge_rows = rows[labels[rows] == "hinge"]
         carries = bool(np.isfinite(cop[j, 0]))
+        coursed = tuple(course[i] for i in (a, b) if i in course)
+        at = point[hinge_rows[0], 0] if hinge_rows.size else cop[j, 0]
         joints.append(Joint(
             bodies=(names[a], names[b]),
             hinge=hinge_rows.size > 0,
@@ -194,9 +238,39 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
             centre_of_pressure=(float(cop[j, 0]), float(cop[j, 1])),
             force=(float(resultant[j, 0]), float(resultant[j, 1])) if carries
             else (math.nan, math.nan),
+            courses=coursed or None,
+            along=float(at - left) if coursed else None,
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
+
+
+class _Bodies(NamedTuple):
+    """The bodies of a results file, as mechanism() reads them from a Model."""
+
+    body_kind: np.ndarray
+    body_q0: np.ndarray
+    body_size: np.ndarray
+    body_radius: np.ndarray
+    body_name: list[str]
+    dim: int
+
+
+def frame_mechanism(results, frame: int, **options) -> Mechanism:
+    """The mechanism (see mechanism(); same options) of output frame `frame` of a
+    saxum.results.Results: its coordinates, velocities and contacts with their impulses."""
+    k = range(results.frame_count)[frame]
+    m = results.model
+    bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
+                     results.body_name, results.dim)
+    stored = results.contacts(k)
+    contacts = Contacts(results.dim, max(1, stored["gap"].size))
+    contacts.count = stored["gap"].size
+    for name in Contacts._fields():
+        getattr(contacts, name)[: contacts.count] = stored[name]
+    state = State(float(results.time[k]), results.body_q[k], results.body_v[k], contacts,
+                  int(results.step[k]))
+    return mechanism(bodies, state, results.dt, **options)
 
 
 def _point_velocity(q: np.ndarray, v: np.ndarray, body: np.ndarray, p: np.ndarray) -> np.ndarray:

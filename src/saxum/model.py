@@ -19,6 +19,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import IntEnum
+from typing import Protocol
 
 import numpy as np
 
@@ -33,12 +34,28 @@ from .geometry3d import (
 )
 from .laws import ContactLaw
 
-__all__ = ["BodyKind", "Model", "ModelBuilder"]
+__all__ = ["BodyKind", "FieldLoad", "Model", "ModelBuilder"]
 
 Motion = Callable[[float], Sequence[float]]
 """Imposed velocity of a driven body: t [s] -> (vx [m/s], vy [m/s], omega [rad/s]) in 2D,
 (vx, vy, vz [m/s], wx, wy, wz [rad/s]) in 3D with the angular velocity in the world frame."""
 TimeVector = Callable[[float], Sequence[float]]
+
+
+class FieldLoad(Protocol):
+    """A load that depends on where the blocks are (e.g. water: saxum.flood.FloodLoad).
+
+    `add` runs once per step over all bodies at once (a compiled kernel, no Python loop over
+    bodies): out [N, N, N m] per body (2D; in 3D the 6 components of force and torque) +=
+    the load at coordinates q (model.body_q layout: 3 columns in 2D, 7 in 3D) and time t [s].
+    The time loop calls it explicitly, at the beginning-of-step configuration and at
+    t_i + theta h (saxum.simulation). `check` raises InputError if the load cannot act on
+    the model (ModelBuilder.finalize calls it).
+    """
+
+    def check(self, model: "Model") -> None: ...
+
+    def add(self, model: "Model", q: np.ndarray, t: float, out: np.ndarray) -> None: ...
 
 
 class BodyKind(IntEnum):
@@ -106,6 +123,8 @@ class Model:
     """Uniform accelerations t -> (ax, ay) [m/s^2] applied as m a to every free body."""
     forces: tuple[tuple[np.ndarray, TimeVector], ...] = ()
     """(body indices, t -> (fx [N], fy [N], torque [N m])) applied to each listed body."""
+    field_loads: tuple[FieldLoad, ...] = ()
+    """Loads that depend on the blocks' positions (FieldLoad), e.g. a flood."""
     dim: int = 2
     dof: int = 3
     body_face_start: np.ndarray = field(default_factory=lambda: np.zeros(1, np.int32))
@@ -183,6 +202,7 @@ class ModelBuilder:
         self._laws: dict[frozenset[str], ContactLaw] = {}
         self._accelerations: list[TimeVector] = []
         self._forces: list[tuple[np.ndarray, TimeVector]] = []
+        self._field_loads: list[FieldLoad] = []
         if gravity is None:
             gravity = (0.0, -9.81) if dim == 2 else (0.0, 0.0, -9.81)
         g = np.array(gravity, dtype=np.float64)
@@ -195,6 +215,11 @@ class ModelBuilder:
     @property
     def body_count(self) -> int:
         return len(self._blocks)
+
+    @property
+    def gravity(self) -> tuple[float, ...]:
+        """Gravity (gx, gy) (3D: (gx, gy, gz)) [m/s^2] of the model being built."""
+        return tuple(float(g) for g in self._gravity)
 
     @property
     def groups(self) -> list[str]:
@@ -280,6 +305,14 @@ class ModelBuilder:
             raise InputError(f"add_force: no body with index {int(bad[0])}")
         self._forces.append((idx, force))
 
+    def add_field_load(self, load: FieldLoad) -> None:
+        """Apply a load that depends on where the blocks are (FieldLoad, e.g.
+        saxum.flood.FloodLoad); it is checked against the model in finalize()."""
+        if not (callable(getattr(load, "add", None)) and callable(getattr(load, "check", None))):
+            raise InputError(f"add_field_load: {load!r} has no add(model, q, t, out) and "
+                             "check(model) methods")
+        self._field_loads.append(load)
+
     def finalize(self) -> "Model":
         """Freeze into a Model; checks that every pair of groups that can meet has a law."""
         if not self._blocks:
@@ -312,7 +345,7 @@ class ModelBuilder:
         free = kind == BodyKind.FREE
         inv_mass[free, : self.dim] = 1.0 / mass[free, None]
         inv_mass[free, self.dim :] = 1.0 / inertia[free].reshape(-1, dof - self.dim)
-        return Model(
+        model = Model(
             body_count=n,
             body_name=tuple(blk.name for blk in self._blocks),
             body_kind=kind,
@@ -331,10 +364,14 @@ class ModelBuilder:
             gravity=self._gravity.copy(),
             accelerations=tuple(self._accelerations),
             forces=tuple(self._forces),
+            field_loads=tuple(self._field_loads),
             dim=self.dim,
             dof=dof,
             **geometry,
         )
+        for load in model.field_loads:
+            load.check(model)
+        return model
 
     def _geometry_2d(self) -> dict:
         """Mass properties and the polygons' vertex and edge arrays, body frame = world axes

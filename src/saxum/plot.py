@@ -5,9 +5,12 @@ backend or leaves figures open in the caller's session. A frame shows the blocks
 their displacement (or rotation) from the initial position, fixed and driven bodies hatched
 grey, and the contact forces: at each contact point a segment along the reaction whose width
 is proportional to the normal force |R_n|/dt [N/m], hinges (a joint loaded at one point only)
-as white circles and open contact points as crosses.
+as white circles and open contact points as crosses. Flood water (saxum.flood), from a results
+file's scenario or a model's field loads, is drawn behind the blocks up to its level at the
+frame's time, with the flow velocity.
 """
 
+import dataclasses
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -21,13 +24,17 @@ from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 from matplotlib.transforms import offset_copy
 
 from .errors import InputError
-from .mechanism import joint_states, thrust_line
+from .flood import FloodLoad
+from .geometry3d import rotation_vectors
+from .mechanism import Mechanism, course_of, joint_states, thrust_line
 from .model import BodyKind, Model
 
-__all__ = ["animate", "joint_states", "plot_frame", "plot_histories", "save_states"]
+__all__ = ["animate", "joint_states", "plot_collapse_curve", "plot_frame", "plot_histories",
+           "plot_model", "save_states"]
 
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
 _FORCE_COLOUR = "#c0152f"
@@ -36,6 +43,8 @@ _MARKS = {  # joint_states label: marker style (white circle: the usual symbol o
                   markeredgewidth=1.1),
     "open": dict(marker="x", markersize=5, markeredgecolor="#e07b00", markeredgewidth=1.2),
 }
+_SLIDE = dict(marker="D", markersize=5.5, markerfacecolor="#7b2cbf", markeredgecolor="k",
+              markeredgewidth=0.6)
 _COLOUR_BY = ("displacement", "rotation", None)
 
 
@@ -133,13 +142,16 @@ def _colour_values(blocks: _Blocks, q: np.ndarray, colour_by: str) -> np.ndarray
 
 
 def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
-          forces: Sequence[np.ndarray] = ()) -> _Look:
-    """Axes limits covering the initial and all given positions qs [frames, bodies, 3],
-    colour scale over them and force scale over the normal forces [N/m] of their frames."""
+          forces: Sequence[np.ndarray] = (), floods: Sequence[FloodLoad] = ()) -> _Look:
+    """Axes limits covering the initial and all given positions qs [frames, bodies, 3] and
+    the highest water level of `floods`, colour scale over them and force scale over the
+    normal forces [N/m] of their frames."""
     if colour_by not in _COLOUR_BY:
         raise InputError(f"colour_by must be one of {_COLOUR_BY}, got {colour_by!r}")
     pts = np.concatenate([blocks.world(blocks.q0), *blocks.world(qs)])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
+    for flood in floods:
+        hi[1] = max(hi[1], float(flood.level.value.max()), flood.heads(0.0)[1])
     pad = 0.05 * float((hi - lo).max())
     factor, mappable, label = 1.0, None, ""
     if colour_by is not None:
@@ -186,8 +198,43 @@ def _draw_blocks(ax, look: _Look, blocks: _Blocks, q: np.ndarray) -> None:
     ax.add_collection(moving)
 
 
-def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
-    """Force segments, hinges and open points, with a legend giving the force scale."""
+def _results_floods(results) -> list[FloodLoad]:
+    """The flood of the scenario a results file was run from (none for a run built in
+    Python)."""
+    if not results.scenario_json:
+        return []
+    from .scenario import Scenario
+
+    flood = Scenario.model_validate_json(results.scenario_json).loads.flood
+    return [] if flood is None else [flood.load()]
+
+
+def _model_floods(model: Model) -> list[FloodLoad]:
+    return [load for load in model.field_loads if isinstance(load, FloodLoad)]
+
+
+def _draw_water(ax, look: _Look, blocks: _Blocks, q: np.ndarray, floods: Sequence[FloodLoad],
+                t: float) -> None:
+    """Water below its surface H(x) at time t [s] across the axes (gravity along -y), and
+    the flow velocity in a corner."""
+    free = blocks.kind == BodyKind.FREE
+    owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
+    xs = blocks.world(q)[free[owner], 0]
+    x = np.linspace(*look.xlim, 200)
+    for flood in floods:
+        extent = (float(xs.min()), float(xs.max())) if xs.size else (0.0, 1.0)
+        surface = flood.surface(x, t, extent)
+        ax.fill_between(x, look.ylim[0], surface, color="#9cc8e8", alpha=0.5, lw=0, zorder=0)
+        ax.plot(x, surface, color="#2a6fa8", lw=1.0, zorder=0.5)
+        u = flood.velocity.at(t)
+        if u != 0.0:
+            ax.text(0.01, 0.98, f"flow {'→' if u > 0 else '←'} {abs(u):.3g} m/s",
+                    transform=ax.transAxes, va="top", fontsize=8, color="#2a6fa8")
+
+
+def _draw_contacts(ax, look: _Look, contacts: dict, slides: np.ndarray | None = None) -> None:
+    """Force segments, hinges and open points (and sliding joints at `slides` [m], when
+    given), with a legend giving the force scale."""
     rn = contacts["force"][:, 1]
     on = rn > 0
     handles = []
@@ -212,6 +259,9 @@ def _draw_contacts(ax, look: _Look, contacts: dict) -> None:
         pts = contacts["point"][state == label]
         handles += ax.plot(pts[:, 0], pts[:, 1], ls="none", zorder=4,
                            label=f"{label} ({len(pts)})", **style)
+    if slides is not None:
+        handles += ax.plot(slides[:, 0], slides[:, 1], ls="none", zorder=5,
+                           label=f"sliding ({len(slides)})", **_SLIDE)
     # Below the x axis label whatever the axes' height: anchored a fixed distance in points.
     below = offset_copy(ax.transAxes, ax.figure, y=-34, units="points")
     ax.legend(handles=handles, title="normal force |R_n|/dt", loc="upper center",
@@ -234,10 +284,12 @@ def _colourbar(ax, look: _Look) -> None:
 
 
 def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
-                title: str | None) -> None:
+                title: str | None, floods: Sequence[FloodLoad] = (), *,
+                slides: np.ndarray | None = None) -> None:
+    _draw_water(ax, look, blocks, results.body_q[k], floods, float(results.time[k]))
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
-        _draw_contacts(ax, look, results.contacts(k))
+        _draw_contacts(ax, look, results.contacts(k), slides)
     heading = title if title is not None else results.path.stem
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
 
@@ -251,6 +303,23 @@ def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None
     line = thrust_line(results.contacts(k), look.gap_tolerance, centre)
     ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5, zorder=6,
             label="thrust line")
+
+
+def _draw_courses(ax, names: Sequence[str], blocks: _Blocks) -> None:
+    """Course numbers of a wall's coursed blocks (mechanism.course_of) in the left margin,
+    at the middle of each course's initial height, so that the report's courses can be
+    found on the picture."""
+    course = np.array([course_of(n) or 0 for n in names])
+    if not course.any():
+        return
+    owner = np.repeat(np.arange(len(names)), np.diff(blocks.vertex_start))
+    pts = blocks.world(blocks.q0[None])[0]
+    left = float(pts[course[owner] > 0, 0].min())
+    for c in np.unique(course[course > 0]):
+        y = pts[course[owner] == c, 1]
+        ax.annotate(f"c{c}", (left, 0.5 * (y.min() + y.max())), xytext=(-4, 0),
+                    textcoords="offset points", ha="right", va="center", fontsize=6,
+                    color="0.35", zorder=6)
 
 
 def _figsize(look: _Look) -> tuple[float, float]:
@@ -278,33 +347,42 @@ def _normal_forces(results, frames: Iterable[int]) -> list[np.ndarray]:
 def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, ax=None,
                forces: bool = True, colour_by: str | None = "displacement",
                title: str | None = None, figsize: tuple[float, float] | None = None,
-               dpi: int = 150, thrust_line: bool = False) -> Figure:
+               dpi: int = 150, thrust_line: bool = False,
+               mechanism: Mechanism | None = None) -> Figure:
     """The structure at output frame `frame` of saxum.results.Results: blocks coloured by
     displacement [mm or m] or rotation [deg] (colour_by "displacement", "rotation" or None),
     with the contact forces when `forces`, and for an arch the thrust line (the joints'
     centres of pressure, ordered about the arch's centre: mid-span on the springing line)
-    when `thrust_line`. Draws into `ax` if given, else a new figure of
+    when `thrust_line`; with a `mechanism` (saxum.mechanism, of this frame's state) its
+    sliding joints (at their centres of pressure) and, for a wall, the course numbers in the
+    left margin. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
     when given (figsize * dpi pixels). 3D results: a perspective picture
     (saxum.plot3d.plot_frame_3d), coloured by displacement."""
     k = _frame_index(results, frame)
     if results.dim == 3:
-        if thrust_line or ax is not None or colour_by != "displacement":
+        if thrust_line or mechanism is not None or ax is not None or colour_by != (
+                "displacement"):
             raise InputError("a 3D picture is coloured by displacement, in its own figure, "
-                             "without a thrust line")
+                             "without a thrust line or mechanism")
         from .plot3d import plot_frame_3d
 
         return plot_frame_3d(results, k, path, forces=forces, title=title, figsize=figsize,
                              dpi=dpi)
     blocks = _results_blocks(results)
+    floods = _results_floods(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
-                 _normal_forces(results, [k]) if forces else ())
+                 _normal_forces(results, [k]) if forces else (), floods)
     if ax is None:
         ax = Figure(figsize=figsize or _figsize(look), layout="constrained").add_subplot()
     fig = ax.figure
-    _draw_frame(ax, results, k, look, blocks, forces, title)
+    slides = None if mechanism is None else np.array(
+        [j.centre_of_pressure for j in mechanism.sliding]).reshape(-1, 2)
+    _draw_frame(ax, results, k, look, blocks, forces, title, floods, slides=slides)
     if thrust_line:
         _draw_thrust_line(ax, results, k, look, blocks)
+    if mechanism is not None:
+        _draw_courses(ax, results.body_name, blocks)
     _colourbar(ax, look)
     if path is not None:
         fig.savefig(path, dpi=dpi)
@@ -330,29 +408,27 @@ def _body_index(results, body: int | str | None) -> int:
 
 
 def plot_histories(results, path: str | PathLike | None = None, *,
-                   body: int | str | None = None, figsize: tuple[float, float] = (8.0, 9.0),
+                   body: int | str | None = None, figsize: tuple[float, float] | None = None,
                    dpi: int = 150) -> Figure:
-    """Time histories in stacked panels: displacement of block `body` (name or index; default
-    the free block that moved most) [mm or m], kinetic energy [J/m], NLGS iterations per step
-    (non-converged steps in red) and the largest interpenetration [µm, mm or m]. Saved to
-    `path` at dpi when given."""
+    """Time histories in stacked panels: the blocks of the run's `histories` output at every
+    step (horizontal displacement [mm or m] and rotation [deg]; ground acceleration
+    [m/s^2] under a ground motion) or, without them or when `body` (name or index) is given,
+    the displacement of that block at the output frames (default: the free block that moved
+    most); then kinetic energy [J/m], NLGS iterations per step (non-converged steps in red)
+    and the largest interpenetration [µm, mm or m]. Saved to `path` at dpi when given."""
     if results.frame_count == 0:
         raise InputError(f"{results.path} has no output frame")
-    b = _body_index(results, body)
+    h = results.histories if body is None else None
     s = results.steps
-    fig = Figure(figsize=figsize, layout="constrained")
-    ax_u, ax_e, ax_it, ax_pen = fig.subplots(4, 1, sharex=True)
-
-    d = results.dim
-    u = results.body_q[:, b, :d] - results.model["body_q0"][b, :d]
-    magnitude = np.linalg.norm(u, axis=1)
-    factor, unit = _length_unit(float(magnitude.max()))
-    for values, label in (*((u[:, i], f"$u_{'xyz'[i]}$") for i in range(d)),
-                          (magnitude, "$|u|$")):
-        ax_u.plot(results.time, factor * values, label=label, lw=1.2)
-    ax_u.set_ylabel(f"displacement [{unit}]")
-    ax_u.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
-    ax_u.legend(fontsize=8, ncol=d + 1)
+    ground = h is not None and "ground_acceleration" in h
+    top = 2 + ground if h is not None else 1
+    fig = Figure(figsize=figsize or (8.0, 7.0 + 2.0 * top), layout="constrained")
+    axes = fig.subplots(top + 3, 1, sharex=True)
+    if h is not None:
+        _draw_block_histories(axes[:top], results, h)
+    else:
+        _draw_block_displacement(axes[0], results, _body_index(results, body))
+    ax_e, ax_it, ax_pen = axes[top:]
 
     ax_e.plot(s["time"], s["kinetic_energy"], lw=1.0, color="C3")
     ax_e.set_ylabel(f"kinetic energy [{results.units['kinetic_energy']}]")
@@ -368,8 +444,78 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     ax_pen.plot(s["time"], factor * s["max_interpenetration"], lw=1.0, color="C4")
     ax_pen.set_ylabel(f"largest interpenetration [{unit}]")
     ax_pen.set_xlabel("time [s]")
-    for ax in (ax_u, ax_e, ax_it, ax_pen):
+    for ax in axes:
         ax.grid(alpha=0.3)
+    if path is not None:
+        fig.savefig(path, dpi=dpi)
+    return fig
+
+
+def _draw_block_displacement(ax, results, b: int) -> None:
+    d = results.dim
+    u = results.body_q[:, b, :d] - results.model["body_q0"][b, :d]
+    magnitude = np.linalg.norm(u, axis=1)
+    factor, unit = _length_unit(float(magnitude.max()))
+    for values, label in (*((u[:, i], f"$u_{'xyz'[i]}$") for i in range(d)),
+                          (magnitude, "$|u|$")):
+        ax.plot(results.time, factor * values, label=label, lw=1.2)
+    ax.set_ylabel(f"displacement [{unit}]")
+    ax.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
+    ax.legend(fontsize=8, ncol=d + 1)
+
+
+def _draw_block_histories(axes, results, h: dict) -> None:
+    """Horizontal displacement and rotation of each history block, and a_g(t)."""
+    q0 = results.model["body_q0"][h["body"]]
+    ux = h["body_q"][:, :, 0] - q0[:, 0]
+    if results.dim == 2:
+        turned = np.degrees(h["body_q"][:, :, 2] - q0[:, 2])
+    else:  # the angle of the rotation from the initial orientation
+        turned = np.degrees(np.linalg.norm(rotation_vectors(h["body_q"][:, :, 3:],
+                                                            q0[None, :, 3:]), axis=-1))
+    factor, unit = _length_unit(float(np.abs(ux).max(initial=0.0)))
+    for j, name in enumerate(h["name"]):
+        axes[0].plot(h["time"], factor * ux[:, j], lw=1.0, label=name)
+        axes[1].plot(h["time"], turned[:, j], lw=1.0)
+    axes[0].set_ylabel(f"$u_x$ [{unit}]")
+    axes[0].legend(fontsize=8, ncol=min(4, len(h["name"])))
+    axes[0].set_title("blocks of output.histories, every step", fontsize=10)
+    axes[1].set_ylabel("rotation [deg]" if results.dim == 2 else "rotation angle [deg]")
+    if len(axes) > 2:
+        a = h["ground_acceleration"]
+        names = ("horizontal", "vertical") if results.dim == 2 else ("x", "y", "z")
+        for k, name in enumerate(names):
+            if k == 0 or np.any(a[:, k]):
+                axes[2].plot(h["time"], a[:, k], lw=0.8, label=name,
+                             color="0.2" if k == 0 else None)
+        axes[2].set_ylabel("ground acc. [m/s$^2$]")
+        axes[2].legend(fontsize=8)
+
+
+def plot_collapse_curve(points, path: str | PathLike | None = None, *, g: float = 9.81,
+                        title: str = "", figsize: tuple[float, float] = (7.0, 4.5),
+                        dpi: int = 150) -> Figure:
+    """The collapse curve of saxum.collapse.collapse_curve: the critical pulse amplitude
+    [g] against the pulse period [s], each point with its bisection bracket (stood at the
+    lower end, collapsed at the upper); the region above the curve collapses."""
+    pts = sorted(points, key=lambda p: p.period)
+    t = np.array([p.period for p in pts])
+    lo = np.array([p.stands for p in pts]) / g
+    hi = np.array([p.collapses for p in pts]) / g
+    mid = 0.5 * (lo + hi)
+    fig = Figure(figsize=figsize, layout="constrained")
+    ax = fig.add_subplot()
+    ax.fill_between(t, mid, max(hi.max(), 1e-9) * 1.15, color="#c0152f", alpha=0.08,
+                    label="collapses")
+    ax.errorbar(t, mid, yerr=(mid - lo, hi - mid), fmt="o-", color="k", ms=4, lw=1.2,
+                capsize=3, label="critical amplitude (bracket)")
+    ax.set_xlabel("pulse period $T_p$ [s]")
+    ax.set_ylabel("pulse amplitude [g]")
+    ax.set_ylim(0.0, max(hi.max(), 1e-9) * 1.15)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    if title:
+        ax.set_title(title, fontsize=10)
     if path is not None:
         fig.savefig(path, dpi=dpi)
     return fig
@@ -403,8 +549,9 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     if not ks:
         raise InputError(f"no frame to animate in {results.path}")
     blocks = _results_blocks(results)
+    floods = _results_floods(results)
     look = _look(blocks, results.body_q[ks], "displacement",
-                 _normal_forces(results, ks) if forces else ())
+                 _normal_forces(results, ks) if forces else (), floods)
     fig = Figure(figsize=figsize or _figsize(look), layout="constrained")
     ax = fig.add_subplot()
     _colourbar(ax, look)
@@ -412,7 +559,7 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     with writer.saving(fig, str(path), dpi):
         for k in ks:
             ax.clear()
-            _draw_frame(ax, results, k, look, blocks, forces, None)
+            _draw_frame(ax, results, k, look, blocks, forces, None, floods)
             writer.grab_frame()
             # Laid out once, on the first frame: the axes then stay put while titles change,
             # and each frame is drawn once instead of twice (layout, then picture).
@@ -420,14 +567,65 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     return path
 
 
+_GROUP_COLOURS = {"brick": "#d9b99b", "voussoir": "#9fb7c9", "pier": "#e3d5b8",
+                  "spandrel": "#c9a27e", "fill": "#b5c99f", "lintel": "#a07850",
+                  "wall": "#e3d5b8", "block": "#e3d5b8", "stone": "#cdbfa8"}
+_OTHER_COLOURS = ("#d9a5a5", "#c4b5d9", "#a5d9d0", "#d9cfa5")
+
+
+def plot_model(model: Model, path: str | PathLike | None = None, *, ax=None, title: str = "",
+               dpi: int = 150) -> Figure:
+    """The blocks of `model` at their initial positions, free blocks filled by group (named
+    in the legend), fixed and driven ones hatched grey, framed on the free blocks (a wide
+    ground is cut at the edges): what a generator or a scenario built, before any run.
+    Draws into `ax` if given; saved to `path` at dpi when given. 2D models only."""
+    if model.dim != 2:
+        raise InputError("plot_model draws 2D models; for a 3D one, run it for a step and "
+                         "use saxum plot, or export to ParaView")
+    blocks = _model_blocks(model)
+    look = _look(blocks, blocks.q0[None], None)
+    free = model.body_kind == BodyKind.FREE
+    if free.any():
+        owner = np.repeat(np.arange(model.body_count), np.diff(blocks.vertex_start))
+        pts = blocks.world(blocks.q0)[free[owner]]
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        pad = 0.08 * float((hi - lo).max())
+        look = dataclasses.replace(look, xlim=(lo[0] - pad, hi[0] + pad),
+                                   ylim=(lo[1] - pad, hi[1] + pad))
+    if ax is None:
+        ax = Figure(figsize=_figsize(look), layout="constrained").add_subplot()
+    _draw_blocks(ax, look, blocks, blocks.q0)
+    polygons = blocks.polygons(blocks.q0)
+    handles, others = [], 0
+    for g in np.unique(model.body_group[free]):
+        mine = free & (model.body_group == g)
+        colour = _GROUP_COLOURS.get(model.group_names[g])
+        if colour is None:
+            colour, others = _OTHER_COLOURS[others % len(_OTHER_COLOURS)], others + 1
+        ax.add_collection(PolyCollection([p for p, m in zip(polygons, mine, strict=True) if m],
+                                         facecolors=colour, edgecolors="k", linewidths=0.6,
+                                         zorder=3))
+        handles.append(Patch(facecolor=colour, edgecolor="k", label=model.group_names[g]))
+    if handles:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7,
+                  frameon=False)
+    _finish_axes(ax, look, title)
+    if path is not None:
+        ax.figure.savefig(path, dpi=dpi)
+    return ax.figure
+
+
 def save_states(path: str | PathLike, panels: Sequence[tuple[Model, np.ndarray, str]]) -> None:
     """Write a PNG with one panel per (model, q [m, m, rad] per body, title), blocks coloured
-    by displacement from the initial position [mm or m]."""
+    by displacement from the initial position [mm or m], with the model's flood water (at
+    t = 0)."""
     fig = Figure(figsize=(6 * len(panels), 4.5), layout="constrained")
     for ax, (model, q, title) in zip(fig.subplots(1, len(panels), squeeze=False)[0], panels,
                                      strict=True):
         blocks = _model_blocks(model)
-        look = _look(blocks, q[None], "displacement")
+        floods = _model_floods(model)
+        look = _look(blocks, q[None], "displacement", (), floods)
+        _draw_water(ax, look, blocks, q, floods, 0.0)
         _draw_blocks(ax, look, blocks, q)
         _finish_axes(ax, look, title)
         _colourbar(ax, look)

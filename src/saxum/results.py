@@ -16,6 +16,9 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
                            impulse}
     /steps/...             one row per time step: the StepReport fields (saxum.steplog)
+    /histories/...         one row per time step for the chosen blocks (attrs body: their
+                           indices): time [s], step, body_q, body_v (shape [steps, blocks, 3])
+                           and, under a ground motion, ground_acceleration [m/s^2]
     /checkpoints/...       one row per checkpoint: everything a bit-identical restart needs
                            (state, contacts with impulses, broad-phase pair list)
     /run/status            0 running, 1 finished, 2 interrupted, 3 failed; /run/message
@@ -38,6 +41,7 @@ import h5py
 import numpy as np
 
 from .errors import InputError
+from .geometry2d import polygon_properties
 from .geometry3d import rotation_matrix
 from .steplog import STEP_DTYPES, StepReport
 
@@ -90,7 +94,8 @@ class ResultsWriter:
     step reports and checkpoints. Use as a context manager or call close()."""
 
     def __init__(self, path: str | os.PathLike, model, *, dt: float, theta: float,
-                 scenario: str = "", scenario_json: str = "", version: str = "") -> None:
+                 scenario: str = "", scenario_json: str = "", version: str = "",
+                 histories: tuple[int, ...] = (), ground: bool = False) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = f = h5py.File(self.path, "w", libver="latest")
@@ -116,6 +121,17 @@ class ResultsWriter:
         for name in _STEP_FIELDS:
             _grow(steps, name, STEP_DTYPES[name], (), _STEP_UNITS.get(name, "-"), chunk=1024)
 
+        if histories:
+            hist = f.create_group("histories")
+            hist.attrs["body"] = np.asarray(histories, dtype=np.int64)
+            k = len(histories)
+            _grow(hist, "step", np.int64, (), "-", chunk=1024)
+            _grow(hist, "body_q", np.float64, (k, nq), q_units, chunk=1024)
+            _grow(hist, "body_v", np.float64, (k, dof), v_units, chunk=1024)
+            if ground:
+                _grow(hist, "ground_acceleration", np.float64, (dim,), "m/s^2", chunk=1024)
+            _grow(hist, "time", np.float64, (), "s", chunk=1024)
+
         cp = f.create_group("checkpoints")
         _grow(cp, "time", np.float64, (), "s", chunk=16)
         _grow(cp, "body_q", np.float64, (n, nq), q_units, chunk=1)
@@ -133,6 +149,8 @@ class ResultsWriter:
         run.create_dataset("message", data=np.array([b" " * 512]), dtype="S512")
         f.swmr_mode = True
         self._steps_buffer: list[StepReport] = []
+        self._history_buffer: list[tuple] = []
+        self._history_bodies = np.asarray(histories, dtype=np.int64)
 
     @classmethod
     def resume(cls, path: str | os.PathLike, checkpoint: int = -1, *,
@@ -161,6 +179,11 @@ class ResultsWriter:
             n_steps = int(src.file["checkpoints/steps_logged"][k])
             _copy_rows(src, dst, "steps", n_steps, None)
             _copy_rows(src, dst, "checkpoints", k + 1, None)
+            if "histories" in src.file:
+                hsteps = src.file["histories/step"]
+                _copy_rows(src, dst, "histories", hsteps.shape[0],
+                           hsteps[: hsteps.shape[0]] <= cp_step)
+                dst["histories"].attrs["body"] = src.file["histories"].attrs["body"]
         src.close()
         os.replace(tmp, path)
         self = cls.__new__(cls)
@@ -169,6 +192,9 @@ class ResultsWriter:
         self._file["run/status"][0] = 0
         self._file.swmr_mode = True
         self._steps_buffer = []
+        self._history_buffer = []
+        self._history_bodies = (self._file["histories"].attrs["body"]
+                                if "histories" in self._file else np.zeros(0, np.int64))
         return self, k
 
     # -- appending ----------------------------------------------------------------------------
@@ -177,8 +203,28 @@ class ResultsWriter:
         """Buffer one step's report; written at the next frame, checkpoint or flush."""
         self._steps_buffer.append(report)
 
+    def log_history(self, state, ground: tuple[float, ...] | None = None) -> None:
+        """Buffer the chosen blocks' coordinates and velocities after a step, and the ground
+        acceleration a_g(t) [m/s^2] when the run has a ground motion."""
+        if self._history_bodies.size:
+            b = self._history_bodies
+            self._history_buffer.append((state.step, state.time, state.body_q[b].copy(),
+                                         state.body_v[b].copy(), ground))
+
     def flush_steps(self) -> None:
+        """Write the buffered step reports and histories."""
+        if self._history_buffer:
+            hist = self._file["histories"]
+            rows = list(zip(*self._history_buffer, strict=True))
+            _append(hist["step"], np.array(rows[0]))
+            _append(hist["body_q"], np.array(rows[2]))
+            _append(hist["body_v"], np.array(rows[3]))
+            if "ground_acceleration" in hist:
+                _append(hist["ground_acceleration"], np.array(rows[4], dtype=np.float64))
+            _append(hist["time"], np.array(rows[1]))
+            self._history_buffer.clear()
         if not self._steps_buffer:
+            self._file.flush()
             return
         steps = self._file["steps"]
         for name in _STEP_FIELDS:
@@ -250,7 +296,8 @@ def _write_model(g: h5py.Group, model) -> None:
               ("law_friction", "-"), ("law_restitution", "-"), ("group_law", "-"),
               ("gravity", "m/s^2")]
     if model.dim == 3:
-        fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-")]
+        fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-"),
+                   ("body_size", "m")]
     for name, units in fields:
         ds = g.create_dataset(name, data=np.asarray(getattr(model, name)))
         ds.attrs["units"] = units
@@ -333,6 +380,15 @@ class Results:
         self.body_name = [s.decode() for s in m["body_name"][:]]
         self.group_names = [s.decode() for s in m["group_names"][:]]
         self.model = {k: m[k][()] for k in m if k not in ("body_name", "group_names")}
+        polys = np.split(self.model["vertex_local"], self.model["body_vertex_start"][1:-1])
+        if "body_size" in self.model:  # 3D files store them
+            self.body_size = self.model.pop("body_size")
+        else:
+            self.body_size = np.array([np.sqrt(polygon_properties(p).area) for p in polys])
+        """Square root of each body's area (3D: cube root of its volume) [m] (as
+        saxum.model.Model.body_size)."""
+        self.body_radius = np.array([np.linalg.norm(p, axis=1).max() for p in polys])
+        """Largest distance from a body's centre of mass to its vertices [m]."""
         fr = self.file["frames"]
         self.frame_count = min(fr[k].shape[0] for k in ("time", "step", "body_q", "body_v",
                                                          "contact_count"))
@@ -349,6 +405,7 @@ class Results:
         self.checkpoint_steps = cp["step"][: min(cp[k].shape[0] for k in cp
                                                   if isinstance(cp[k], h5py.Dataset)
                                                   and k != "pairs")]
+        self.histories = self._read_histories()
         self.status = STATUS[int(self.file["run/status"][0])]
         self.message = self.file["run/message"][0].decode().strip()
         per_depth = "/m" if self.dim == 2 else ""
@@ -358,6 +415,19 @@ class Results:
                       **_STEP_UNITS}
         if self.dim == 3:
             self.units["kinetic_energy"] = "J"
+
+    def _read_histories(self) -> dict[str, np.ndarray] | None:
+        """{"body": indices, "name": names, "time", "step", "body_q", "body_v" and, under a
+        ground motion, "ground_acceleration"}, rows that every dataset has; None when the run
+        kept no histories."""
+        h = self.file.get("histories")
+        if h is None:
+            return None
+        n = min(ds.shape[0] for ds in h.values())
+        out = {name: ds[:n] for name, ds in h.items()}
+        out["body"] = np.asarray(h.attrs["body"])
+        out["name"] = [self.body_name[b] for b in out["body"]]
+        return out
 
     def contacts(self, frame: int) -> dict[str, np.ndarray]:
         """The contacts of output frame `frame`: the stored fields and `force` = impulse / dt

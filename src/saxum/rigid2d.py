@@ -11,38 +11,31 @@ import numba as nb
 
 __all__ = [
     "contact_jacobians",
+    "lever_arms",
     "kinetic_energy",
     "predict_positions",
     "update_positions",
-    "world_directions",
-    "world_vertices",
+    "world_geometry",
 ]
 
 
 @nb.njit(cache=True)
-def world_vertices(q, vertex_start, vertex_local, out):
-    """out[k] = x_b + Rot(theta_b) vertex_local[k] [m] for every vertex k of every body b."""
+def world_geometry(q, vertex_start, vertex_local, direction_local, vertices, directions):
+    """vertices[k] = x_b + Rot(theta_b) vertex_local[k] [m] and directions[k] =
+    Rot(theta_b) direction_local[k] for every vertex k of every body b (one rotation per
+    body for both)."""
     for b in range(q.shape[0]):
         c = math.cos(q[b, 2])
         s = math.sin(q[b, 2])
         for k in range(vertex_start[b], vertex_start[b + 1]):
             lx = vertex_local[k, 0]
             ly = vertex_local[k, 1]
-            out[k, 0] = q[b, 0] + c * lx - s * ly
-            out[k, 1] = q[b, 1] + s * lx + c * ly
-
-
-@nb.njit(cache=True)
-def world_directions(q, vertex_start, direction_local, out):
-    """out[k] = Rot(theta_b) direction_local[k] for every vertex k of every body b."""
-    for b in range(q.shape[0]):
-        c = math.cos(q[b, 2])
-        s = math.sin(q[b, 2])
-        for k in range(vertex_start[b], vertex_start[b + 1]):
+            vertices[k, 0] = q[b, 0] + c * lx - s * ly
+            vertices[k, 1] = q[b, 1] + s * lx + c * ly
             lx = direction_local[k, 0]
             ly = direction_local[k, 1]
-            out[k, 0] = c * lx - s * ly
-            out[k, 1] = s * lx + c * ly
+            directions[k, 0] = c * lx - s * ly
+            directions[k, 1] = s * lx + c * ly
 
 
 @nb.njit(cache=True)
@@ -73,22 +66,23 @@ def kinetic_energy(v, mass, inertia, inv_mass):
     return 0.5 * e
 
 
+@nb.njit(inline="always")
+def lever_arms(q, c, b, point, frame, gap, a):
+    """(l_c, l_a) [m] of contact a, flattened: from the candidate c's centre of mass to its
+    material point `point`, and from the antagonist b's to its own, the projection
+    point - gap n on the antagonist's face."""
+    nx = frame[a, 1, 0]
+    ny = frame[a, 1, 1]
+    return (point[a, 0] - q[c, 0], point[a, 1] - q[c, 1], point[a, 0] - gap[a] * nx - q[b, 0],
+            point[a, 1] - gap[a] * ny - q[b, 1])
+
+
 @nb.njit(cache=True)
 def contact_jacobians(q, candidate, antagonist, point, frame, gap, count, h_cand, h_ant):
-    """Rows of H* for each contact: U = h_cand[a] v_cand + h_ant[a] v_ant, U = (U_t, U_n).
-
-    The candidate's material point is `point`; the antagonist's is its projection
-    point - gap n on the antagonist's face.
-    """
+    """Rows of H* for each contact: U = h_cand[a] v_cand + h_ant[a] v_ant, U = (U_t, U_n),
+    material points as in lever_arms."""
     for a in range(count):
-        c = candidate[a]
-        b = antagonist[a]
-        nx = frame[a, 1, 0]
-        ny = frame[a, 1, 1]
-        lcx = point[a, 0] - q[c, 0]
-        lcy = point[a, 1] - q[c, 1]
-        lax = point[a, 0] - gap[a] * nx - q[b, 0]
-        lay = point[a, 1] - gap[a] * ny - q[b, 1]
+        lcx, lcy, lax, lay = lever_arms(q, candidate[a], antagonist[a], point, frame, gap, a)
         for r in range(2):
             dx = frame[a, r, 0]
             dy = frame[a, r, 1]

@@ -46,7 +46,9 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
     state = sim.initial_state()
     writer = ResultsWriter(output, sim.model, dt=scenario.solver.dt,
                            theta=scenario.solver.theta, scenario=scenario_text,
-                           scenario_json=scenario.model_dump_json(), version=__version__)
+                           scenario_json=scenario.model_dump_json(), version=__version__,
+                           histories=scenario.output.history_bodies(sim.model),
+                           ground=scenario.loads.ground_motion is not None)
     writer.write_frame(state)
     writer.write_checkpoint(state, sim.detector)
     return _advance(scenario, sim, state, writer, quiet)
@@ -77,6 +79,9 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
     total = round(out.duration / dt)
     frame_every = _every(out.interval, dt)
     checkpoint_every = _every(out.checkpoint_interval, dt)
+    spec = scenario.loads.ground_motion
+    ground = (spec.motion(scenario.structure.dim).acceleration_at if spec is not None
+              else None)
     stop = {"now": False}
 
     def on_sigint(signum, frame):
@@ -93,6 +98,7 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
         while state.step < total:
             report = sim.step(state)
             writer.log_step(report)
+            writer.log_history(state, ground(state.time) if ground else None)
             bad += not report.converged
             if state.step % frame_every == 0 and state.step < total:
                 writer.write_frame(state)

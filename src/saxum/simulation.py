@@ -110,15 +110,18 @@ class Simulation:
                      body_v=np.array(saved["body_v"]), contacts=contacts,
                      step=int(saved["step"]))
 
-    def external_force(self, t: float, out: np.ndarray) -> None:
+    def external_force(self, t: float, out: np.ndarray, q: np.ndarray | None = None) -> None:
         """out = F(t) [N, N m] per body and dof: weight, uniform accelerations, applied forces
-        (3D: moments in the world frame)."""
-        self._step_force(t, t, out)
+        (3D: moments in the world frame) and field loads at coordinates q (default: the
+        initial ones)."""
+        self._step_force(t, t, out, self.model.body_q0 if q is None else q)
 
-    def _step_force(self, t0: float, t1: float, out: np.ndarray) -> None:
+    def _step_force(self, t0: float, t1: float, out: np.ndarray, q: np.ndarray) -> None:
         """out = the force of the step [t0, t1]: (1 - theta) F(t0) + theta F(t1), except for
         loads that know their exact mean over an interval (`mean_over(t0, t1)`, e.g. ground
-        motion as inertial forces), which use it; t0 == t1 gives F(t0)."""
+        motion as inertial forces), which use it; t0 == t1 gives F(t0). Field loads (which
+        depend on positions, e.g. water) are explicit: evaluated at the beginning-of-step
+        coordinates q and at t0 + theta (t1 - t0), once per step."""
         theta = self.integrator.theta
         out[:] = self._weight
         for acc in self.model.accelerations:
@@ -133,6 +136,8 @@ class Simulation:
             f0 = np.asarray(force(t0), dtype=np.float64)
             f1 = np.asarray(force(t1), dtype=np.float64)
             np.add.at(out, bodies, (1.0 - theta) * f0 + theta * f1)
+        for load in self.model.field_loads:
+            load.add(self.model, q, t0 + theta * (t1 - t0), out)
 
     def step(self, state: State) -> StepReport:
         """Advance `state` in place by one time step; returns the step's report."""
@@ -141,8 +146,8 @@ class Simulation:
         theta = self.integrator.theta
         t1 = state.time + h
 
-        if self.model.accelerations or self.model.forces:
-            self._step_force(state.time, t1, self._force)
+        if self.model.accelerations or self.model.forces or self.model.field_loads:
+            self._step_force(state.time, t1, self._force, state.body_q)
         else:
             self._force[:] = self._weight
         if m.dim == 3:
@@ -160,23 +165,23 @@ class Simulation:
         contacts = self._spare
         self.detector.detect(self._q_pred, contacts)
         contacts.warm_start_from(state.contacts)
-        self.problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
-                              self.detector.closed_gap)
-        self.problem.apply_impulses(contacts.impulse, self._v)
-        solved = self.solver.solve(self.problem, contacts.impulse, self._v_free, self._v)
+        problem = self.problem
+        problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
+                         self.detector.closed_gap, self._v)
+        solved = self.solver.solve(problem, contacts.impulse, self._v_free, self._v)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
-        projected = self.projection.project(self.problem, self.solver, self._v, h, theta)
-        w = self.projection.pseudo_velocity
+        loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)
+        projected = self.projection.project(problem, self.solver, h, depth)
         if projected is not None:
+            w = self.projection.pseudo_velocity
             kin.update_positions(state.body_q, w, w, h, 1.0)
+            loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta, w)
         state.body_v[:] = self._v
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
 
-        loaded, depth = self.problem.statistics(contacts.impulse, state.body_v,
-                                                None if projected is None else w, h, theta)
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if not math.isfinite(energy):
             raise SimulationError(

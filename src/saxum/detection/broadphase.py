@@ -57,7 +57,6 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
     exceed len(out): the caller then enlarges out and calls again.
     """
     n = lo.shape[0]
-    space = lo.shape[1] == 3
     cap = out.shape[0]
     i0 = np.zeros((n, 3), np.int64)
     i1 = np.zeros((n, 3), np.int64)
@@ -113,10 +112,10 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
                             continue
                         if not (mobile[i] or mobile[j]) or not _overlap(lo, hi, i, j):
                             continue
-                        # report from the cell of the lower corner of the boxes' intersection
-                        if (_cell(max(lo[i, 0], lo[j, 0]), cell) == ix
-                                and _cell(max(lo[i, 1], lo[j, 1]), cell) == iy
-                                and (not space or _cell(max(lo[i, 2], lo[j, 2]), cell) == iz)):
+                        # the cell of the intersection's lower corner: floor(max(a, b) / cell)
+                        # is max(floor(a / cell), floor(b / cell)), both already known
+                        if (max(i0[i, 0], i0[j, 0]) == ix and max(i0[i, 1], i0[j, 1]) == iy
+                                and max(i0[i, 2], i0[j, 2]) == iz):
                             if count < cap:
                                 out[count, 0] = i
                                 out[count, 1] = j
@@ -137,10 +136,33 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
 
 @nb.njit(cache=True)
 def sort_pairs(pairs, count, n):
-    """Sort the first `count` pairs by (i, j), so that contact order does not depend on the grid."""
-    code = pairs[:count, 0].astype(np.int64) * n + pairs[:count, 1]
-    order = np.argsort(code, kind="mergesort")
-    tmp = pairs[:count].copy()
+    """Sort the first `count` pairs by (i, j), so that contact order does not depend on the grid.
+    Pairs are distinct and i < n: a counting sort on i, then each i's few j in place, O(count)
+    (a large body's many j by np.sort)."""
+    start = np.zeros(n + 1, np.int64)
     for k in range(count):
-        pairs[k, 0] = tmp[order[k], 0]
-        pairs[k, 1] = tmp[order[k], 1]
+        start[pairs[k, 0] + 1] += 1
+    for i in range(n):
+        start[i + 1] += start[i]
+    fill = start[:-1].copy()
+    second = np.empty(count, np.int32)
+    for k in range(count):
+        i = pairs[k, 0]
+        second[fill[i]] = pairs[k, 1]
+        fill[i] += 1
+    for i in range(n):
+        lo = start[i]
+        hi = start[i + 1]
+        if hi - lo > 16:
+            second[lo:hi] = np.sort(second[lo:hi])
+        else:
+            for k in range(lo + 1, hi):
+                j = second[k]
+                m = k - 1
+                while m >= lo and second[m] > j:
+                    second[m + 1] = second[m]
+                    m -= 1
+                second[m + 1] = j
+        for k in range(lo, hi):
+            pairs[k, 0] = i
+            pairs[k, 1] = second[k]

@@ -10,7 +10,7 @@ from .. import rigid3d
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
-from ..rigid2d import world_directions, world_vertices
+from ..rigid2d import world_geometry
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .polygons import polygon_contacts
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
@@ -42,13 +42,14 @@ class DetectionSettings:
 
 
 @nb.njit(cache=True)
-def _largest_motion(q, q_ref, radius):
-    """Upper bound of the displacement of any point of any body since q_ref [m]."""
+def _motion_since(q, q_ref, radius, motion, turn):
+    """motion[b] [m]: upper bound of the displacement of any point of body b since q_ref,
+    turn[b] [rad]: its rotation; returns the largest motion."""
     worst = 0.0
     for b in range(q.shape[0]):
-        d = np.hypot(q[b, 0] - q_ref[b, 0], q[b, 1] - q_ref[b, 1])
-        d += abs(q[b, 2] - q_ref[b, 2]) * radius[b]
-        worst = max(worst, d)
+        turn[b] = abs(q[b, 2] - q_ref[b, 2])
+        motion[b] = np.hypot(q[b, 0] - q_ref[b, 0], q[b, 1] - q_ref[b, 1]) + turn[b] * radius[b]
+        worst = max(worst, motion[b])
     return worst
 
 
@@ -77,39 +78,54 @@ class Detector:
         self._lo = np.empty((n, model.dim))
         self._hi = np.empty((n, model.dim))
         self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
+        # A body's padded box, however it turns, fits in a square (a cube in 3D) of side
+        # 2 (radius + pad):
+        # bodies far larger than the median go through the broad phase's direct test, and
+        # the grid's cell fits every other body's box.
+        extent = 2.0 * (model.body_radius + 0.5 * (self.alert + self.margin))
+        self._large = extent > 4.0 * np.median(extent)
+        self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
         self._q_ref = np.zeros_like(model.body_q0)
+        self._motion = np.zeros(n)
+        self._turn = np.zeros(n)
+        self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
+        """The narrow phase's choice of faces per pair on q_ref (polygon_contacts)."""
+        self._slack = np.zeros((len(self._pairs), 2))
         self._since_refresh = self.refresh_every  # the first detection runs the broad phase
         self.refresh_count = 0
+        self.kept_faces = 0
+        """Pairs of the last detection whose choice of faces was kept (polygon_contacts)."""
 
     def detect(self, q: np.ndarray, contacts: Contacts) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
         self._world_geometry(q)
-        if (
-            self._since_refresh >= self.refresh_every
-            or self._motion_since_refresh(q) > 0.5 * self.margin
-        ):
+        moved = self._motion_since_refresh(q)
+        refresh = self._since_refresh >= self.refresh_every or moved > 0.5 * self.margin
+        if refresh:
             self._refresh(q)
         self._since_refresh += 1
-        self._narrow_phase(q, contacts)
+        self._narrow_phase(q, contacts, refresh)
 
     def _world_geometry(self, q: np.ndarray) -> None:
         """World coordinates of what the narrow phase needs, for configuration q."""
         m = self.model
-        world_vertices(q, m.body_vertex_start, m.vertex_local, self._wv)
-        world_directions(q, m.body_vertex_start, m.edge_normal_local, self._wn)
+        world_geometry(q, m.body_vertex_start, m.vertex_local, m.edge_normal_local, self._wv,
+                       self._wn)
 
     def _motion_since_refresh(self, q: np.ndarray) -> float:
         """Upper bound of the displacement of any point since the last broad phase [m]."""
-        return _largest_motion(q, self._q_ref, self.model.body_radius)
+        return _motion_since(q, self._q_ref, self.model.body_radius, self._motion, self._turn)
 
-    def _narrow_phase(self, q: np.ndarray, contacts: Contacts) -> None:
+    def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
+        """Contacts of the broad phase's pairs; refresh: the broad phase has just run."""
         m = self.model
         contacts.reserve(2 * self.pair_count)
-        contacts.count = polygon_contacts(
+        contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law, self.alert, self.reference_bias,
-            m.max_vertices,
+            m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
+            self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap,
         )
@@ -118,14 +134,15 @@ class Detector:
         m = self.model
         bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.alert + self.margin),
                        self._lo, self._hi)
-        extent = (self._hi - self._lo).max(axis=1)
-        large = extent > 4.0 * np.median(extent)
-        cell = float(extent[~large].max()) if (~large).any() else float(extent.max())
         while True:
-            count = grid_pairs(self._lo, self._hi, self._mobile, large, cell, self._pairs)
+            count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
+                               self._pairs)
             if count <= len(self._pairs):
                 break
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
+        if len(self._faces) < len(self._pairs):
+            self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
+            self._slack = np.zeros((len(self._pairs), 2))
         sort_pairs(self._pairs, count, m.body_count)
         self.pair_count = count
         self._q_ref[:] = q
@@ -145,6 +162,10 @@ class Detector:
         if len(self._pairs) < count:
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
         self._pairs[:count] = saved["pairs"]
+        if len(self._faces) < len(self._pairs):
+            self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
+            self._slack = np.zeros((len(self._pairs), 2))
+        self._faces[:, 0] = 0  # no kept choice: the full test until the next broad phase
         self.pair_count = count
         self._q_ref[:] = saved["q_ref"]
         self._since_refresh = int(saved["since_refresh"])
@@ -217,7 +238,7 @@ class PolyhedronDetector(Detector):
     def _motion_since_refresh(self, q: np.ndarray) -> float:
         return _largest_motion_3d(q, self._q_ref, self.model.body_radius)
 
-    def _narrow_phase(self, q: np.ndarray, contacts: Contacts) -> None:
+    def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         m = self.model
         contacts.reserve(MAX_POINTS * self.pair_count)
         contacts.count = polyhedron_contacts(

@@ -7,6 +7,15 @@ outward normal, t = (n_y, -n_x)), the other the candidate. The candidate's face 
 segment are the contact points, each kept if its gap n . (p - a) is below the alert distance.
 Two faces in contact thus give two points at the ends of their common segment, so that a joint
 can open and rotate about either end; a vertex against a face gives one point.
+
+The choice of faces (rejected pair, reference polygon and edge, incident edge) is kept from the
+configuration on which the broad phase last ran, with how far each of its comparisons was from
+tipping over. Separations n_e . (p - a_e) change by at most d_o + d_r + |dtheta_r| L when the
+bodies' points move by at most d_o, d_r and the reference body turns by dtheta_r (L bounding
+|p - a|), and the products of unit normals by at most the sum of the turns; while these bounds
+stay below the recorded slack, every comparison comes out as it did and the kept choice is the
+one the full test would make, so it is used as is: the same contacts bit for bit, without the
+test's cost for blocks that barely move.
 """
 
 import numba as nb
@@ -15,34 +24,78 @@ import numpy as np
 __all__ = ["polygon_contacts"]
 
 
-@nb.njit(inline="always")
-def _max_separation(wv, wn, r0, nr, o0, no, alert):
-    """Largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m].
+_NO_CHOICE = 0
+_REJECTED = 1
+_KEPT = 2
+_FLIPPED = 3
 
-    Stops early once an edge separates by more than `alert`.
+
+@nb.njit(inline="always")
+def _max_separation(wv, wn, r0, nr, o0, no):
+    """(largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m],
+    the first edge that reaches it, the largest separation of the other edges).
+
+    Written without data-dependent branches (selects instead): which edge and which vertex
+    win changes from pair to pair, and mispredicted branches cost more than the arithmetic.
     """
     best = -np.inf
+    second = -np.inf
     best_e = 0
     for e in range(nr):
         ax = wv[r0 + e, 0]
         ay = wv[r0 + e, 1]
         nx = wn[r0 + e, 0]
         ny = wn[r0 + e, 1]
-        s = np.inf
-        for k in range(o0, o0 + no):
-            s = min(s, nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay))
-        if s > best:
-            best = s
-            best_e = e
-            if s > alert:
-                break
-    return best, best_e
+        s = nx * (wv[o0, 0] - ax) + ny * (wv[o0, 1] - ay)
+        for k in range(o0 + 1, o0 + no):
+            t = nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay)
+            s = t if t < s else s
+        better = s > best
+        second = best if better else max(second, s)
+        best_e = e if better else best_e
+        best = s if better else best
+    return best, best_e, second
+
+
+@nb.njit(inline="always")
+def _choose_faces(wv, wn, i0, ni, j0, nj, alert, ref_tol):
+    """The separating-axis test of polygons i and j: (_REJECTED, _KEPT (i is the reference) or
+    _FLIPPED (j is), reference edge, incident edge, slack [m] of the comparisons of
+    separations, slack [-] of the comparisons of products of normals) (module doc)."""
+    s_i, e_i, second_i = _max_separation(wv, wn, i0, ni, j0, nj)
+    if s_i > alert:
+        return _REJECTED, 0, 0, s_i - alert, np.inf
+    s_j, e_j, second_j = _max_separation(wv, wn, j0, nj, i0, ni)
+    if s_j > alert:
+        return _REJECTED, 0, 0, s_j - alert, np.inf
+    flip = s_j > s_i + ref_tol
+    slack = min(min(alert - s_i, alert - s_j), 0.5 * abs(s_j - (s_i + ref_tol)))
+    if flip:
+        ref, a0, c0, nc = e_j, j0, i0, ni
+        slack = min(slack, 0.5 * (s_j - second_j))
+    else:
+        ref, a0, c0, nc = e_i, i0, j0, nj
+        slack = min(slack, 0.5 * (s_i - second_i))
+    # incident edge: the candidate's edge whose normal is most opposed to the reference's
+    nx = wn[a0 + ref, 0]
+    ny = wn[a0 + ref, 1]
+    inc = 0
+    most = np.inf
+    second = np.inf
+    for e in range(nc):
+        d = wn[c0 + e, 0] * nx + wn[c0 + e, 1] * ny
+        lower = d < most
+        second = most if lower else min(second, d)
+        inc = e if lower else inc
+        most = d if lower else most
+    return _FLIPPED if flip else _KEPT, ref, inc, slack, 0.5 * (second - most)
 
 
 @nb.njit(cache=True)
 def polygon_contacts(
     pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, alert, ref_tol,
-    max_vertices, candidate, antagonist, key, law, point, frame, gap,
+    max_vertices, q, radius, motion, turn, record, faces, slack,
+    candidate, antagonist, key, law, point, frame, gap,
 ):
     """Contacts of the first npairs pairs of polygons with world vertices wv [m] and outward
     unit normals wn of the edges that start at them.
@@ -50,10 +103,19 @@ def polygon_contacts(
     alert: alert distance [m]; ref_tol: a face of the first body of a pair stays the reference
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
     identities stable across steps). Output arrays need room for 2 * npairs contacts.
-    Returns the number of contacts written, in increasing key order for pairs sorted by (i, j).
+    Returns (the number of contacts written, in increasing key order for pairs sorted by
+    (i, j), the number of pairs that used their kept choice of faces).
+
+    The kept choice of faces (module doc): q [m, rad] the configuration, radius [m] the bodies'
+    radii about their centroids, motion [m] and turn [rad] bounds of each body's displacement
+    and rotation since the reference configuration; record: q is that configuration, so the
+    full test runs on every pair and fills faces (int32 [npairs, 3]: choice, reference edge,
+    incident edge) and slack (float [npairs, 2]); otherwise a pair whose bounds stay within its
+    slack uses its row of faces (choice _NO_CHOICE: run the full test).
     """
     nbody = vertex_start.shape[0] - 1
     count = 0
+    reused = 0
     for p in range(npairs):
         i = pairs[p, 0]
         j = pairs[p, 1]
@@ -61,18 +123,33 @@ def polygon_contacts(
         ni = vertex_start[i + 1] - i0
         j0 = vertex_start[j]
         nj = vertex_start[j + 1] - j0
-        s_i, e_i = _max_separation(wv, wn, i0, ni, j0, nj, alert)
-        if s_i > alert:
+        kept = False
+        if not record and faces[p, 0] != _NO_CHOICE:
+            far = (abs(q[i, 0] - q[j, 0]) + abs(q[i, 1] - q[j, 1])) + (radius[i] + radius[j])
+            # round-off of the separations as computed, with a wide margin
+            eps = 1e-14 * (far + abs(q[i, 0]) + abs(q[i, 1]) + abs(q[j, 0]) + abs(q[j, 1]))
+            moved = motion[i] + motion[j] + max(turn[i], turn[j]) * far + eps
+            kept = moved < slack[p, 0] and turn[i] + turn[j] + 1e-14 < slack[p, 1]
+        if kept:
+            choice, ref, inc = faces[p, 0], faces[p, 1], faces[p, 2]
+            reused += 1
+        else:
+            choice, ref, inc, slack_length, slack_turn = _choose_faces(wv, wn, i0, ni, j0, nj,
+                                                                       alert, ref_tol)
+            if record:
+                faces[p, 0] = choice
+                faces[p, 1] = ref
+                faces[p, 2] = inc
+                slack[p, 0] = slack_length
+                slack[p, 1] = slack_turn
+        if choice == _REJECTED:
             continue
-        s_j, e_j = _max_separation(wv, wn, j0, nj, i0, ni, alert)
-        if s_j > alert:
-            continue
-        flip = s_j > s_i + ref_tol
+        flip = choice == _FLIPPED
         if flip:
-            ant, a0, ref = j, j0, e_j
+            ant, a0 = j, j0
             cand, c0, nc = i, i0, ni
         else:
-            ant, a0, ref = i, i0, e_i
+            ant, a0 = i, i0
             cand, c0, nc = j, j0, nj
         ax = wv[a0 + ref, 0]
         ay = wv[a0 + ref, 1]
@@ -81,16 +158,8 @@ def polygon_contacts(
         tx = -ny
         ty = nx
         length = edge_length[a0 + ref]
-
-        inc = 0
-        most = np.inf
-        for e in range(nc):
-            d = wn[c0 + e, 0] * nx + wn[c0 + e, 1] * ny
-            if d < most:
-                most = d
-                inc = e
         k0 = c0 + inc
-        k1 = c0 + (inc + 1) % nc
+        k1 = c0 + (inc + 1 if inc + 1 < nc else 0)
         p0x = wv[k0, 0]
         p0y = wv[k0, 1]
         p1x = wv[k1, 0]
@@ -131,4 +200,4 @@ def polygon_contacts(
             frame[count, 1, 1] = ny
             gap[count] = g
             count += 1
-    return count
+    return count, reused

@@ -11,10 +11,11 @@ sweep with the impulses. Here the quadratic form is the Delassus one, dR^T W dR 
 evaluated through the body velocities (which the sweep keeps anyway):
     error = sqrt( sum_b |v_b - v_b^prev|^2_M / sum_b |v_b - v_b^free|^2_M ),   |x|^2_M = x^T M x,
 (plus a round-off floor 1e-14 |v|_M in the denominator),
-v^prev the velocities before the sweep. It is the W-norm of the sweep's impulse change relative
-to the W-norm of the impulse, and unlike a per-contact norm it ignores self-equilibrated impulse
-changes (H dR = 0), which are indeterminate for rigid blocks and do not move anything; so a
-statically indeterminate wall at rest converges instead of wandering in that null space.
+v^prev the velocities before the sweep, M the bodies' masses and inertias (zero for bodies that
+no impulse moves). It is the W-norm of the sweep's impulse change relative to the W-norm of the
+impulse, and unlike a per-contact norm it ignores self-equilibrated impulse changes (H dR = 0),
+which are indeterminate for rigid blocks and do not move anything; so a statically
+indeterminate wall at rest converges instead of wandering in that null space.
 The solve stops when error <= tolerance or after max_iterations sweeps.
 """
 
@@ -26,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
-from .local2d import solve_contact_2d
+from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import solve_contact_3d
 from .problem import ContactProblem
 
@@ -50,94 +51,139 @@ class NLGS(ContactSolver):
         if not (0.0 < self.relaxation <= 1.0):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
         self._v_prev = np.empty((0, 0))
+        self._work = np.empty((0, 18))
+        self._inv_mass = None
+        self._mass = np.empty((0, 0))
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
         c = problem.contacts
+        inv_mass = problem.model.body_inv_mass
+        if self._inv_mass is not inv_mass:
+            self._inv_mass = inv_mass
+            self._mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
+                                   where=inv_mass > 0.0)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
+        if len(self._work) < problem.count:
+            self._work = np.empty((max(problem.count, 2 * len(self._work)), 18))
         sweep = nlgs_3d if problem.model.dim == 3 else nlgs_2d
         iterations, error = sweep(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
-            problem.bias, problem.friction, problem.active, problem.count,
-            problem.model.body_inv_mass, v_free, v, self._v_prev, impulse,
+            problem.bias, problem.friction, problem.active, problem.count, inv_mass,
+            self._mass, v_free, v, self._v_prev, impulse, self._work,
             self.tolerance, self.max_iterations, self.relaxation,
         )
         return SolverReport(iterations=iterations, error=error, converged=error <= self.tolerance)
 
 
 @nb.njit(cache=True)
-def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, v_free,
-            v, v_prev, impulse, tolerance, max_iterations, relaxation):
+def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
+            v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
     """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
-    v_prev is work memory shaped like v. Written out for 2D rigid bodies (3 dof, frame (t, n)):
-    the unrolled loads and stores halve the cost of a contact update against loops over dof."""
+    mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
+    work (at least count x 18) are work memory.
+
+    Written out for 2D rigid bodies (3 dof, frame (t, n)), whose rows of H* are
+    [t, l_c x t], [n, l_c x n] on the candidate and [-t, -(l_a x t)], [-n, -(l_a x n)] on the
+    antagonist: before the sweeps, each active contact's t, n, the four moment arms, W, the
+    factors of its single-contact solve (factorize_contact_2d: the divisions, once per step)
+    and b_n, mu go into one row of `work`, which the sweeps read in order."""
     nactive = 0
     for a in range(count):
-        nactive += active[a]
+        if active[a]:
+            nactive += 1
+            row = work[a]
+            row[0] = h_cand[a, 0, 0]
+            row[1] = h_cand[a, 0, 1]
+            row[2] = h_cand[a, 1, 0]
+            row[3] = h_cand[a, 1, 1]
+            row[4] = h_cand[a, 0, 2]
+            row[5] = h_cand[a, 1, 2]
+            row[6] = h_ant[a, 0, 2]
+            row[7] = h_ant[a, 1, 2]
+            row[8] = delassus[a, 0, 0]
+            row[9] = delassus[a, 0, 1]
+            row[10] = delassus[a, 1, 1]
+            f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
+            for i in range(5):
+                row[11 + i] = f[i]
+            row[16] = bias[a]
+            row[17] = friction[a]
     if nactive == 0:
         return 0, 0.0
     error = np.inf
     it = 0
+    v_prev[:] = v
     while it < max_iterations:
         it += 1
-        v_prev[:] = v
         for k in range(count):
             a = count - 1 - k
             if not active[a]:
                 continue
             c = cand[a]
             b = ant[a]
+            row = work[a]
+            tx, ty, nx, ny = row[0], row[1], row[2], row[3]
+            ct, cn, at, an = row[4], row[5], row[6], row[7]
+            wtt, wtn, wnn = row[8], row[9], row[10]
             vc0, vc1, vc2 = v[c, 0], v[c, 1], v[c, 2]
             vb0, vb1, vb2 = v[b, 0], v[b, 1], v[b, 2]
-            wtt = delassus[a, 0, 0]
-            wtn = delassus[a, 0, 1]
-            wnn = delassus[a, 1, 1]
             rt0 = impulse[a, 0]
             rn0 = impulse[a, 1]
-            ut = (h_cand[a, 0, 0] * vc0 + h_cand[a, 0, 1] * vc1 + h_cand[a, 0, 2] * vc2
-                  + h_ant[a, 0, 0] * vb0 + h_ant[a, 0, 1] * vb1 + h_ant[a, 0, 2] * vb2
-                  - wtt * rt0 - wtn * rn0)
-            un = (h_cand[a, 1, 0] * vc0 + h_cand[a, 1, 1] * vc1 + h_cand[a, 1, 2] * vc2
-                  + h_ant[a, 1, 0] * vb0 + h_ant[a, 1, 1] * vb1 + h_ant[a, 1, 2] * vb2
-                  - wtn * rt0 - wnn * rn0)
-            rt, rn = solve_contact_2d(wtt, wtn, wnn, ut, un + bias[a], friction[a])
+            # Sums as balanced trees, the impulse and shift terms apart: the velocities of one
+            # contact depend on those the previous one wrote, so this chain's latency counts.
+            dx = vc0 - vb0
+            dy = vc1 - vb1
+            ut = ((tx * dx + ty * dy) + (ct * vc2 + at * vb2)) - (wtt * rt0 + wtn * rn0)
+            # u_n + b_n
+            un = (((nx * dx + ny * dy) + (cn * vc2 + an * vb2))
+                  + (row[16] - (wtn * rt0 + wnn * rn0)))
+            rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
+                                               row[14], row[15], ut, un, row[17])
             if relaxation != 1.0:
                 rt = relaxation * rt + (1.0 - relaxation) * rt0
                 rn = relaxation * rn + (1.0 - relaxation) * rn0
             dt = rt - rt0
             dn = rn - rn0
-            if dt != 0.0 or dn != 0.0:
-                # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b
-                v[c, 0] = vc0 + inv_mass[c, 0] * (h_cand[a, 0, 0] * dt + h_cand[a, 1, 0] * dn)
-                v[c, 1] = vc1 + inv_mass[c, 1] * (h_cand[a, 0, 1] * dt + h_cand[a, 1, 1] * dn)
-                v[c, 2] = vc2 + inv_mass[c, 2] * (h_cand[a, 0, 2] * dt + h_cand[a, 1, 2] * dn)
-                v[b, 0] = vb0 + inv_mass[b, 0] * (h_ant[a, 0, 0] * dt + h_ant[a, 1, 0] * dn)
-                v[b, 1] = vb1 + inv_mass[b, 1] * (h_ant[a, 0, 1] * dt + h_ant[a, 1, 1] * dn)
-                v[b, 2] = vb2 + inv_mass[b, 2] * (h_ant[a, 0, 2] * dt + h_ant[a, 1, 2] * dn)
+            # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
+            # a branch on it is mispredicted more often than the stores cost)
+            fx = tx * dt + nx * dn
+            fy = ty * dt + ny * dn
+            mc, mb = inv_mass[c], inv_mass[b]
+            v[c, 0] = vc0 + mc[0] * fx
+            v[c, 1] = vc1 + mc[1] * fy
+            v[c, 2] = vc2 + mc[2] * (ct * dt + cn * dn)
+            v[b, 0] = vb0 - mb[0] * fx
+            v[b, 1] = vb1 - mb[1] * fy
+            v[b, 2] = vb2 + mb[2] * (at * dt + an * dn)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
-        error = _relative_change(v, v_prev, v_free, inv_mass)
+        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
 
 
 @nb.njit(cache=True)
-def _relative_change(v, v_prev, v_free, inv_mass):
-    """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed.
-    The second term of the denominator is the round-off floor: a change below ~1e-14 of the
-    velocities themselves cannot be resolved in double precision, so a contact with a tiny
-    impulse on a fast body must not keep the solver sweeping."""
+def _relative_change(v, v_prev, v_free, mass):
+    """sqrt(|v - v_prev|^2_M / (|v - v_free|^2_M + (1e-14 |v|_M)^2)), 0 when nothing changed;
+    then v_prev = v, ready for the next sweep. The second term of the denominator is the
+    round-off floor: a change below ~1e-14 of the velocities themselves cannot be resolved in
+    double precision, so a contact with a tiny impulse on a fast body must not keep the solver
+    sweeping."""
     num = 0.0
     den = 0.0
     size = 0.0
     for b in range(v.shape[0]):
         for d in range(v.shape[1]):
-            if inv_mass[b, d] > 0.0:
-                num += (v[b, d] - v_prev[b, d]) ** 2 / inv_mass[b, d]
-                den += (v[b, d] - v_free[b, d]) ** 2 / inv_mass[b, d]
-                size += v[b, d] ** 2 / inv_mass[b, d]
+            m = mass[b, d]
+            change = v[b, d] - v_prev[b, d]
+            v_prev[b, d] = v[b, d]
+            reaction = v[b, d] - v_free[b, d]
+            num += m * change * change
+            den += m * reaction * reaction
+            size += m * v[b, d] * v[b, d]
     if num == 0.0:
         return 0.0
     den += 1e-28 * size
@@ -147,8 +193,8 @@ def _relative_change(v, v_prev, v_free, inv_mass):
 
 
 @nb.njit(cache=True)
-def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, v_free,
-            v, v_prev, impulse, tolerance, max_iterations, relaxation):
+def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
+            v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
     """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)): the single-contact problem on the
     Coulomb cone is solved exactly by saxum.solver.local3d.solve_contact_3d."""
     nactive = 0
@@ -161,9 +207,9 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     r0 = np.empty(3)
     error = np.inf
     it = 0
+    v_prev[:] = v
     while it < max_iterations:
         it += 1
-        v_prev[:] = v
         for k in range(count):
             a = count - 1 - k
             if not active[a]:
@@ -197,7 +243,7 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             impulse[a, 0] = r[0]
             impulse[a, 1] = r[1]
             impulse[a, 2] = r[2]
-        error = _relative_change(v, v_prev, v_free, inv_mass)
+        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error

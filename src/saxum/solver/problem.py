@@ -4,6 +4,10 @@ For each contact alpha: the rows of H*_alpha on the candidate and antagonist vel
 Delassus block W_alpha_alpha = H*_c M_c^-1 H_c + H*_a M_a^-1 H_a, the shift b_n of the law
 (see saxum.laws), the friction coefficient, and whether the contact is active this step.
 With v the end-of-step velocities, U_alpha = H*_alpha v and v = v_free + M^-1 H R (NSCD.md).
+
+The kernels are generic over the dimension (rows of H* from the kinematics module of the
+model's dimension); in 2D, assembly and the end-of-step gaps run kernels written out for 3 dof,
+which give the same numbers bit for bit in a fraction of the time.
 """
 
 import numba as nb
@@ -18,6 +22,9 @@ __all__ = ["ContactProblem"]
 
 _RESTITUTION = int(LawKind.RESTITUTION_COULOMB)
 
+_JACOBIANS = {2: rigid2d.contact_jacobians, 3: rigid3d.contact_jacobians}
+"""Rows of H* per contact, by spatial dimension (the generic path of assembly)."""
+
 
 class ContactProblem:
     """Work arrays of the local problem (first `count` rows valid), reused from step to step."""
@@ -25,6 +32,9 @@ class ContactProblem:
     def __init__(self, model: Model) -> None:
         self.model = model
         self.count = 0
+        self._jacobians = _JACOBIANS[model.dim]
+        self._written_out = model.dim == 2 and model.dof == 3
+        """Use the kernels written out for 2D (False: the generic ones, which tests compare)."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -42,43 +52,51 @@ class ContactProblem:
         """Coulomb coefficient mu [-], shape [capacity]."""
         self.active = np.zeros(capacity, dtype=np.bool_)
         """Contact enters the solve this step (else R = 0), shape [capacity]."""
+        self.gap_end = np.zeros(capacity)
+        """Estimated gap at the end of the step [m] (end_gaps), shape [capacity]."""
 
     def assemble(
         self, contacts: Contacts, q: np.ndarray, v_begin: np.ndarray, h: float, theta: float,
-        closed_gap: float,
+        closed_gap: float, v: np.ndarray,
     ) -> None:
         """Build the problem of `contacts` detected on configuration q [m, rad]; v_begin is the
         velocity at the start of the step (for restitution), h [s] the step, theta [-].
         closed_gap [m]: velocity-level laws treat a contact as closed (active) when its gap is
-        below this round-off tolerance, so that blocks built touching are in contact at once."""
+        below this round-off tolerance, so that blocks built touching are in contact at once.
+        Then the warm start: v [m/s, rad/s] += M^-1 H R for the contacts' impulses R, which
+        are set to zero for inactive contacts."""
         if contacts.count > self.capacity:
             self._allocate(max(contacts.count, 2 * self.capacity))
         self.count = k = contacts.count
         m = self.model
         self.contacts = contacts
-        jacobians = rigid3d.contact_jacobians if m.dim == 3 else rigid2d.contact_jacobians
-        jacobians(q, contacts.candidate, contacts.antagonist, contacts.point,
-                  contacts.frame, contacts.gap, k, self.h_cand, self.h_ant)
-        _assemble(contacts.candidate, contacts.antagonist, contacts.law, contacts.gap, k,
-                  self.h_cand, self.h_ant, m.body_inv_mass, v_begin, m.law_kind,
-                  m.law_friction, m.law_restitution, h, theta, closed_gap,
-                  self.delassus, self.bias, self.friction, self.active)
+        c = contacts
+        if self._written_out:
+            _assemble_2d(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,
+                         m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
+                         m.law_restitution, h, theta, closed_gap, c.impulse, v, self.h_cand,
+                         self.h_ant, self.delassus, self.bias, self.friction, self.active)
+            return
+        self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k, self.h_cand,
+                        self.h_ant)
+        _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
+                  m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
+                  theta, closed_gap, self.delassus, self.bias, self.friction, self.active)
+        _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
+               m.body_inv_mass, c.impulse, v)
 
-    def apply_impulses(self, impulse: np.ndarray, v: np.ndarray) -> None:
-        """v += M^-1 H R for the current impulses (the warm start); inactive contacts' R = 0."""
+    def end_gaps(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float,
+                 w: np.ndarray | None = None) -> tuple[int, float]:
+        """gap_end = g + theta h U_n(v) [+ h U_n(w)]: the gap at the end of the step from the
+        end-of-step velocity v [m/s, rad/s], plus the displacement h w of a position projection
+        (saxum.solver.projection) when w is given. Returns (contacts with R_n > 0, largest
+        interpenetration -gap_end [m], 0 if none)."""
         c = self.contacts
-        _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, self.count,
-               self.model.body_inv_mass, impulse, v)
-
-    def statistics(self, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None, h: float,
-                   theta: float):
-        """(active contacts with R_n > 0, largest end-of-step interpenetration [m]), the gap at
-        the end estimated as g + theta h U_n(v) + h U_n(w), w the projection's pseudo-velocity
-        (saxum.solver.projection; None when there was no projection)."""
-        c = self.contacts
-        return _statistics(c.candidate, c.antagonist, self.h_cand, self.h_ant, c.gap, self.count,
-                           impulse, v, w if w is not None else v, 0.0 if w is None else h, h,
-                           theta)
+        h_w = 0.0 if w is None else h
+        w = v if w is None else w
+        kernel = _end_gaps_2d if self._written_out else _end_gaps
+        return kernel(c.candidate, c.antagonist, self.h_cand, self.h_ant, c.gap, self.count,
+                      impulse, v, w, h_w, h, theta, self.gap_end)
 
 
 @nb.njit(inline="always")
@@ -87,6 +105,21 @@ def _local_velocity(h_cand, h_ant, a, r, c, b, v):
     for d in range(v.shape[1]):
         u += h_cand[a, r, d] * v[c, d] + h_ant[a, r, d] * v[b, d]
     return u
+
+
+@nb.njit(inline="always")
+def _law(kind, restitution, gap, un_begin, closed_gap, h_theta):
+    """(active, b_n [m/s]) of a contact with gap g [m] under a law of `kind`; un_begin [m/s]
+    is U_n at the start of the step (used by restitution only)."""
+    if kind == _RESTITUTION:
+        return gap <= closed_gap, restitution * min(un_begin, 0.0)
+    # Signorini and gap-based: an open contact may close exactly by the end of the step
+    # (g + theta h U_n >= 0), a closed one gets U_n >= 0; the gap-based law's
+    # interpenetration is removed afterwards by saxum.solver.projection. Gaps within
+    # +-closed_gap count as exactly closed: targets that differ by round-off would be
+    # incompatible in a statically indeterminate assembly.
+    g = gap - min(max(gap, -closed_gap), closed_gap)
+    return True, max(g, 0.0) / h_theta
 
 
 @nb.njit(cache=True)
@@ -107,23 +140,14 @@ def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_
                 delassus[a, r, s] = w
         kind = law_kind[law[a]]
         friction[a] = law_friction[law[a]]
-        # Gaps within +-closed_gap count as exactly closed: targets that differ by round-off
-        # would be incompatible in a statically indeterminate assembly.
-        g = gap[a] - min(max(gap[a], -closed_gap), closed_gap)
-        if kind == _RESTITUTION:
-            active[a] = gap[a] <= closed_gap
-            un = _local_velocity(h_cand, h_ant, a, 1, c, b, v_begin)
-            bias[a] = law_restitution[law[a]] * min(un, 0.0)
-        else:
-            # Signorini and gap-based: an open contact may close exactly by the end of the step
-            # (g + theta h U_n >= 0), a closed one gets U_n >= 0; the gap-based law's
-            # interpenetration is removed afterwards by saxum.solver.projection.
-            active[a] = True
-            bias[a] = max(g, 0.0) / h_theta
+        un = _local_velocity(h_cand, h_ant, a, 1, c, b, v_begin) if kind == _RESTITUTION else 0.0
+        active[a], bias[a] = _law(kind, law_restitution[law[a]], gap[a], un, closed_gap,
+                                  h_theta)
 
 
 @nb.njit(cache=True)
 def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
+    """v += M^-1 H R (the warm start); inactive contacts' R = 0."""
     for a in range(count):
         if not active[a]:
             impulse[a, :] = 0.0
@@ -141,14 +165,113 @@ def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
 
 
 @nb.njit(cache=True)
-def _statistics(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h_w, h, theta):
+def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin, law_kind,
+                 law_friction, law_restitution, h, theta, closed_gap, impulse, v, h_cand, h_ant,
+                 delassus, bias, friction, active):
+    """rigid2d.contact_jacobians, _assemble and _apply in one pass, written out for 3 dof, in
+    the same order of operations (the same numbers bit for bit)."""
+    h_theta = h * theta
+    for a in range(count):
+        c = cand[a]
+        b = ant[a]
+        tx = frame[a, 0, 0]
+        ty = frame[a, 0, 1]
+        nx = frame[a, 1, 0]
+        ny = frame[a, 1, 1]
+        lcx, lcy, lax, lay = rigid2d.lever_arms(q, c, b, point, frame, gap, a)
+        ct = lcx * ty - lcy * tx
+        cn = lcx * ny - lcy * nx
+        at = -(lax * ty - lay * tx)
+        an = -(lax * ny - lay * nx)
+        h_cand[a, 0, 0] = tx
+        h_cand[a, 0, 1] = ty
+        h_cand[a, 0, 2] = ct
+        h_cand[a, 1, 0] = nx
+        h_cand[a, 1, 1] = ny
+        h_cand[a, 1, 2] = cn
+        h_ant[a, 0, 0] = -tx
+        h_ant[a, 0, 1] = -ty
+        h_ant[a, 0, 2] = at
+        h_ant[a, 1, 0] = -nx
+        h_ant[a, 1, 1] = -ny
+        h_ant[a, 1, 2] = an
+        mc0, mc1, mc2 = inv_mass[c, 0], inv_mass[c, 1], inv_mass[c, 2]
+        mb0, mb1, mb2 = inv_mass[b, 0], inv_mass[b, 1], inv_mass[b, 2]
+        # (-x) m (-y) == x m y exactly, so the antagonist's rows enter with either sign
+        wtt = 0.0 + (tx * mc0 * tx + tx * mb0 * tx)
+        wtt += ty * mc1 * ty + ty * mb1 * ty
+        wtt += ct * mc2 * ct + at * mb2 * at
+        wtn = 0.0 + (tx * mc0 * nx + tx * mb0 * nx)
+        wtn += ty * mc1 * ny + ty * mb1 * ny
+        wtn += ct * mc2 * cn + at * mb2 * an
+        wnt = 0.0 + (nx * mc0 * tx + nx * mb0 * tx)
+        wnt += ny * mc1 * ty + ny * mb1 * ty
+        wnt += cn * mc2 * ct + an * mb2 * at
+        wnn = 0.0 + (nx * mc0 * nx + nx * mb0 * nx)
+        wnn += ny * mc1 * ny + ny * mb1 * ny
+        wnn += cn * mc2 * cn + an * mb2 * an
+        delassus[a, 0, 0] = wtt
+        delassus[a, 0, 1] = wtn
+        delassus[a, 1, 0] = wnt
+        delassus[a, 1, 1] = wnn
+        kind = law_kind[law[a]]
+        friction[a] = law_friction[law[a]]
+        un = 0.0
+        if kind == _RESTITUTION:
+            un = 0.0 + (nx * v_begin[c, 0] + -nx * v_begin[b, 0])
+            un += ny * v_begin[c, 1] + -ny * v_begin[b, 1]
+            un += cn * v_begin[c, 2] + an * v_begin[b, 2]
+        on, bias[a] = _law(kind, law_restitution[law[a]], gap[a], un, closed_gap, h_theta)
+        active[a] = on
+        if not on:
+            impulse[a, 0] = 0.0
+            impulse[a, 1] = 0.0
+            continue
+        rt = impulse[a, 0]
+        rn = impulse[a, 1]
+        v[c, 0] += mc0 * (tx * rt + nx * rn)
+        v[b, 0] += mb0 * (-tx * rt + -nx * rn)
+        v[c, 1] += mc1 * (ty * rt + ny * rn)
+        v[b, 1] += mb1 * (-ty * rt + -ny * rn)
+        v[c, 2] += mc2 * (ct * rt + cn * rn)
+        v[b, 2] += mb2 * (at * rt + an * rn)
+
+
+@nb.njit(cache=True)
+def _end_gaps(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h_w, h, theta, gap_end):
     loaded = 0
     worst = 0.0
     for a in range(count):
-        if impulse[a, 1] > 0.0:
-            loaded += 1
-        g_end = gap[a] + theta * h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
+        g = gap[a] + theta * h * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], v)
         if h_w != 0.0:
-            g_end += h_w * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], w)
-        worst = max(worst, -g_end)
+            g += h_w * _local_velocity(h_cand, h_ant, a, 1, cand[a], ant[a], w)
+        gap_end[a] = g
+        loaded += impulse[a, 1] > 0.0
+        worst = max(worst, -g)
+    return loaded, worst
+
+
+@nb.njit(inline="always")
+def _normal_velocity_2d(h_cand, h_ant, a, c, b, v):
+    """_local_velocity(h_cand, h_ant, a, 1, c, b, v) written out for 3 dof."""
+    u = 0.0 + (h_cand[a, 1, 0] * v[c, 0] + h_ant[a, 1, 0] * v[b, 0])
+    u += h_cand[a, 1, 1] * v[c, 1] + h_ant[a, 1, 1] * v[b, 1]
+    u += h_cand[a, 1, 2] * v[c, 2] + h_ant[a, 1, 2] * v[b, 2]
+    return u
+
+
+@nb.njit(cache=True)
+def _end_gaps_2d(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h_w, h, theta, gap_end):
+    """_end_gaps written out for 3 dof (the same numbers bit for bit)."""
+    loaded = 0
+    worst = 0.0
+    for a in range(count):
+        c = cand[a]
+        b = ant[a]
+        g = gap[a] + theta * h * _normal_velocity_2d(h_cand, h_ant, a, c, b, v)
+        if h_w != 0.0:
+            g += h_w * _normal_velocity_2d(h_cand, h_ant, a, c, b, w)
+        gap_end[a] = g
+        loaded += impulse[a, 1] > 0.0
+        worst = max(worst, -g)
     return loaded, worst

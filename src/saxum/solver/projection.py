@@ -64,18 +64,21 @@ class PositionProjection:
         self._active = np.zeros(capacity, dtype=np.bool_)
         self._impulse = np.zeros((capacity, self.model.dim))
 
-    def project(self, problem: ContactProblem, solver: ContactSolver, v: np.ndarray,
-                h: float, theta: float) -> SolverReport | None:
+    def project(self, problem: ContactProblem, solver: ContactSolver, h: float,
+                depth: float) -> SolverReport | None:
         """Fill `pseudo_velocity` (zero when no gap-law contact is interpenetrated beyond the
-        tolerance) from the end-of-step velocity v; returns the solver's report, or None when
-        no projection was needed. The caller adds h * pseudo_velocity to the positions."""
+        tolerance) from the end-of-step gaps g+ of `problem` (ContactProblem.end_gaps, which
+        returns the largest interpenetration `depth` [m] of all contacts), h [s] the step;
+        returns the solver's report, or None when no projection was needed. The caller adds
+        h * pseudo_velocity to the positions."""
         self.pseudo_velocity[:] = 0.0
+        if depth <= self.tolerance:
+            return None
         k = problem.count
         if k > len(self._bias):
             self._allocate(max(k, 2 * len(self._bias)))
         c = problem.contacts
-        worst = _projection_targets(c.candidate, c.antagonist, c.law, c.gap, k, problem.h_cand,
-                                    problem.h_ant, self.model.law_kind, v, h, theta,
+        worst = _projection_targets(c.law, problem.gap_end, k, self.model.law_kind, h,
                                     self._bias, self._active)
         if worst <= self.tolerance:
             return None
@@ -87,8 +90,7 @@ class PositionProjection:
 
 
 @nb.njit(cache=True)
-def _projection_targets(cand, ant, law, gap, count, h_cand, h_ant, law_kind, v, h, theta, bias,
-                        active):
+def _projection_targets(law, gap_end, count, law_kind, h, bias, active):
     """bias = g+ / h [m/s] for gap-law contacts (the others inactive); returns the largest
     end-of-step interpenetration -g+ [m] among them (0 if none)."""
     worst = 0.0
@@ -97,10 +99,6 @@ def _projection_targets(cand, ant, law, gap, count, h_cand, h_ant, law_kind, v, 
         if not active[a]:
             bias[a] = 0.0
             continue
-        un = 0.0
-        for d in range(v.shape[1]):
-            un += h_cand[a, 1, d] * v[cand[a], d] + h_ant[a, 1, d] * v[ant[a], d]
-        g_end = gap[a] + theta * h * un
-        bias[a] = g_end / h
-        worst = max(worst, -g_end)
+        bias[a] = gap_end[a] / h
+        worst = max(worst, -gap_end[a])
     return worst

@@ -4,6 +4,7 @@ around openings and arches), courses of blocks, and default contact laws.
 Polygons are float arrays (n, 2) [m], counter-clockwise.
 """
 
+import inspect
 import itertools
 import math
 from collections.abc import Callable, Sequence
@@ -70,6 +71,38 @@ def finalize(builder: ModelBuilder, groups: Sequence[str], friction: float,
     for a, b in itertools.combinations_with_replacement(groups, 2):
         builder.set_law(a, b, contact)
     return builder.finalize()
+
+
+def model_form(add: Callable[..., "Assembly"], name: str, doc: str,
+               **preset) -> Callable[..., Model]:
+    """The form `name` of a generator add(builder, ...) -> Assembly that returns a Model:
+    the same arguments without the builder (those in `preset` fixed), plus friction mu [-]
+    and law (one ContactLaw between every pair of the assembly's groups) and gravity [m/s^2];
+    `doc` is its docstring."""
+    params = inspect.signature(add).parameters
+    passes_gravity = "gravity" in params
+
+    def build(*args, friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+              gravity: tuple[float, float] = (0.0, -9.81), **kwargs) -> Model:
+        builder = ModelBuilder(gravity=gravity)
+        if passes_gravity:
+            kwargs["gravity"] = gravity
+        asm = add(builder, *args, **preset, **kwargs)
+        return finalize(builder, asm.groups, friction, law)
+
+    kept = [p for name, p in params.items() if name not in ("builder", "gravity", *preset)]
+    extra = [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=default,
+                               annotation=kind)
+             for name, default, kind in (("friction", 0.6, float),
+                                         ("law", LawKind.GAP_SIGNORINI_COULOMB, LawKind),
+                                         ("gravity", (0.0, -9.81), tuple[float, float]))]
+    split = next((i for i, p in enumerate(kept) if p.kind == p.VAR_KEYWORD), len(kept))
+    build.__signature__ = inspect.Signature(kept[:split] + extra + kept[split:],
+                                            return_annotation=Model)
+    build.__name__ = build.__qualname__ = name
+    build.__doc__ = inspect.cleandoc(doc)
+    build.__module__ = add.__module__
+    return build
 
 
 def check_positive(**values: float) -> None:
@@ -237,10 +270,18 @@ def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, 
 
 
 def add_ground(builder: ModelBuilder, asm: Assembly, x0: float, x1: float, top: float,
-               depth: float) -> int:
-    """A fixed "ground" block from x0 to x1 [m], its top at `top` [m], `depth` [m] deep."""
-    return asm.add_block(builder, "ground", rectangle(x0, top - depth, x1, top), group="ground",
-                         kind=BodyKind.FIXED, name="ground")
+               depth: float, splits: Sequence[float] = ()) -> int:
+    """A fixed "ground" block from x0 to x1 [m], its top at `top` [m], `depth` [m] deep; cut
+    at the abscissae `splits` [m] (increasing, inside (x0, x1)) into "ground 1", "ground 2",
+    ... from the left, so that one part can settle. Returns the first block's index."""
+    edges = [x0, *splits, x1]
+    if any(b <= a for a, b in itertools.pairwise(edges)):
+        raise InputError(f"ground_splits must increase strictly inside ({x0:g}, {x1:g}) m, "
+                         f"got {list(splits)}")
+    names = ["ground"] if not splits else [f"ground {k + 1}" for k in range(len(edges) - 1)]
+    return [asm.add_block(builder, "ground", rectangle(a, top - depth, b, top), group="ground",
+                          kind=BodyKind.FIXED, name=name)
+            for (a, b), name in zip(itertools.pairwise(edges), names, strict=True)][0]
 
 
 def check_convex(polygons: Sequence[np.ndarray], names: Sequence[str], hint: str) -> None:

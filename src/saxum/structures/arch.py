@@ -24,7 +24,7 @@ from ._common import (
     check_count,
     check_positive,
     clean,
-    finalize,
+    model_form,
 )
 from .piers import pier_polygons
 
@@ -51,11 +51,12 @@ def add_semicircular_arch(
     joints; intrados and extrados are chords between joint ends. The springings lie on the
     horizontal line through `centre`.
     """
-    if not (radius > 0.0 and 0.0 < thickness < 2.0 * radius):
-        raise InputError(f"arch needs radius > 0 and 0 < thickness < 2 radius, got "
-                         f"radius={radius}, thickness={thickness}")
-    if voussoirs < 1:
-        raise InputError(f"arch needs at least 1 voussoir, got {voussoirs}")
+    check_positive(radius=radius, thickness=thickness)
+    if not thickness < 2.0 * radius:
+        raise InputError(f"thickness must be less than 2 radius (the mean radius R = "
+                         f"{radius:g} m: the intrados radius R - t/2 must stay > 0), got "
+                         f"thickness={thickness:g}")
+    check_count("voussoirs", voussoirs)
     cx, cy = centre
     r_in, r_out = radius - 0.5 * thickness, radius + 0.5 * thickness
     phi = np.linspace(0.0, math.pi, voussoirs + 1)
@@ -468,29 +469,12 @@ def add_supported_arch(
     return asm
 
 
-def arch(
-    shape: ArchShape,
-    *,
-    voussoirs: int,
-    joints: str = "radial",
-    density: float = 2000.0,
-    pier_width: float | None = None,
-    pier_height: float | None = None,
-    pier_courses: int = 1,
-    pier_kind: BodyKind = BodyKind.FIXED,
-    friction: float = 0.6,
-    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """An arch on its piers and the ground (add_supported_arch; body 0 is the ground, then
-    the piers, then the voussoirs from the left), friction mu [-] on every joint.
+arch = model_form(
+    add_supported_arch, "arch",
+    """An arch on its piers and the ground (add_supported_arch; body 0 is the ground, then the
+    piers, then the voussoirs from the left), friction mu [-] on every joint.
 
     >>> model = arch(ArchShape.segmental(span=4.0, rise=1.0, thickness=0.3), voussoirs=9)
     >>> model.body_count
     12
-    """
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_supported_arch(builder, shape, voussoirs=voussoirs, joints=joints, density=density,
-                             pier_width=pier_width, pier_height=pier_height,
-                             pier_courses=pier_courses, pier_kind=pier_kind)
-    return finalize(builder, asm.groups, friction, law)
+""")

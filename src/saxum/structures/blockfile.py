@@ -10,8 +10,11 @@ are consecutive, in order around the polygon.
 
 DXF (read with ezdxf, an optional dependency: pip install ezdxf): every closed LWPOLYLINE or
 2D/3D POLYLINE of the model space is a block (an open one whose last point repeats its first
-counts as closed; other open ones are ignored); its layer is its group, and layers named in
-`fixed_layers` hold fixed blocks. Arc segments (bulges) are refused.
+counts as closed); its layer is its group, and layers named in `fixed_layers` hold fixed
+blocks. Anything else in the model space (an open polyline, a LINE, TEXT, a dimension...) is an
+error naming it, unless it is on a layer named in `ignore_layers` (notes, dimensions): a block
+drawn with lines or left open would otherwise be lost without a word. Arc segments (bulges)
+are refused.
 
 In all formats kind is "free" or "fixed" (any case), the group defaults to `group`, and a
 free block without a density takes `density` (a number, or a mapping from group to number).
@@ -30,9 +33,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry2d import normalize_polygon
-from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
-from ._common import Assembly, finalize
+from ._common import Assembly, model_form
 
 __all__ = ["BlockSpec", "add_blocks_from_file", "blocks_model", "read_blocks", "write_blocks"]
 
@@ -176,7 +178,8 @@ def _read_csv(path: Path, defaults: _Defaults) -> list[BlockSpec]:
     return specs
 
 
-def _read_dxf(path: Path, defaults: _Defaults, fixed_layers: Iterable[str]) -> list[BlockSpec]:
+def _read_dxf(path: Path, defaults: _Defaults, fixed_layers: Iterable[str],
+              ignore_layers: Iterable[str]) -> list[BlockSpec]:
     try:
         import ezdxf
     except ImportError:
@@ -187,24 +190,30 @@ def _read_dxf(path: Path, defaults: _Defaults, fixed_layers: Iterable[str]) -> l
     except (OSError, ezdxf.DXFError) as err:
         raise InputError(f"{path}: cannot read the DXF drawing: {err}") from None
     fixed = {layer.upper() for layer in fixed_layers}
+    ignored = {layer.upper() for layer in ignore_layers}
+    hint = "or put it on a layer listed in ignore_layers"
     specs = []
-    for entity in doc.modelspace().query("LWPOLYLINE POLYLINE"):
-        layer, kind = entity.dxf.layer, entity.dxftype()
+    for entity in doc.modelspace():
+        layer, kind = entity.dxf.get("layer", "0"), entity.dxftype()
+        if layer.upper() in ignored:
+            continue
         where = f"{path}: {kind} handle {entity.dxf.handle} on layer {layer!r}"
         if kind == "LWPOLYLINE":
             bulges = [b for *_, b in entity.get_points("xyb")]
             points = [(v.x, v.y) for v in entity.vertices_in_wcs()]
             closed = entity.closed
-        else:
-            if not (entity.is_2d_polyline or entity.is_3d_polyline):
-                continue
+        elif kind == "POLYLINE" and (entity.is_2d_polyline or entity.is_3d_polyline):
             bulges = [v.dxf.bulge for v in entity.vertices]
             points = [(v.x, v.y) for v in entity.points_in_wcs()]
             closed = entity.is_closed
+        else:
+            raise InputError(f"{where}: not a block (a block is a closed LWPOLYLINE or "
+                             f"POLYLINE); redraw it as one, delete it, {hint}")
         if len(points) > 3 and points[0] == points[-1]:
             points, bulges, closed = points[:-1], bulges[:-1], True
         if not closed:
-            continue
+            raise InputError(f"{where}: an open polyline ({len(points)} points); a block "
+                             f"must be closed: close it, {hint}")
         if any(bulges):
             raise InputError(f"{where}: has arc segments (bulges); a block is a polygon of "
                              "straight edges, so replace the arcs by chords")
@@ -224,9 +233,11 @@ def read_blocks(
     group: str = "block",
     fixed_layers: Iterable[str] = ("FIXED",),
     scale: float = 1.0,
+    ignore_layers: Iterable[str] = (),
 ) -> list[BlockSpec]:
     """The blocks of a JSON, CSV or DXF file (format from the extension unless given); see
-    the module's description for the formats, defaults and `scale`."""
+    the module's description for the formats, defaults, `scale` and the DXF layers
+    (`fixed_layers`, `ignore_layers`, any case)."""
     path = Path(path)
     fmt = _format(path, format)
     if not path.is_file():
@@ -236,7 +247,7 @@ def read_blocks(
         return _read_json(path, defaults)
     if fmt == "csv":
         return _read_csv(path, defaults)
-    return _read_dxf(path, defaults, fixed_layers)
+    return _read_dxf(path, defaults, fixed_layers, ignore_layers)
 
 
 def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -> None:
@@ -279,12 +290,7 @@ def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> 
     return asm
 
 
-def blocks_model(
-    path: str | Path, *, friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81), **options,
-) -> Model:
-    """A model of the blocks of a file (add_blocks_from_file), friction mu [-] between every
-    pair of groups."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_blocks_from_file(builder, path, **options)
-    return finalize(builder, asm.groups, friction, law)
+blocks_model = model_form(
+    add_blocks_from_file, "blocks_model",
+    """A model of the blocks of a file (add_blocks_from_file), friction mu [-] between every pair
+    of groups.""")

@@ -7,8 +7,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry2d import normalize_polygon, polygon_properties
-from ..laws import LawKind
-from ..model import BodyKind, Model, ModelBuilder
+from ..model import BodyKind, ModelBuilder
 from ._common import (
     Assembly,
     Force,
@@ -16,9 +15,9 @@ from ._common import (
     check_convex,
     check_count,
     check_positive,
-    finalize,
     fit_edges,
     lay_courses,
+    model_form,
 )
 from .arch import ArchShape, arch_ring
 from .piers import pier_polygons
@@ -188,44 +187,14 @@ def add_arch_bridge(
     return asm
 
 
-def arch_bridge(
-    shape: ArchShape,
-    *,
-    spans: int,
-    voussoirs: int,
-    pier_width: float,
-    pier_height: float,
-    abutment_width: float,
-    joints: str = "radial",
-    pier_courses: int = 1,
-    pier_kind: BodyKind = BodyKind.FREE,
-    spandrel_height: float | None = None,
-    fill: str = "surcharge",
-    fill_depth: float = 0.5,
-    course_height: float = 0.5,
-    block_length: float = 1.0,
-    min_piece: float = 0.1,
-    density: float = 2200.0,
-    fill_density: float = 1800.0,
-    friction: float = 0.6,
-    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A multi-span arch bridge (add_arch_bridge; body 0 is the ground), friction mu [-] on
-    every joint.
+arch_bridge = model_form(
+    add_arch_bridge, "arch_bridge",
+    """A multi-span arch bridge (add_arch_bridge; body 0 is the ground), friction mu [-] on every
+    joint.
 
     >>> shape = ArchShape.segmental(span=6.0, rise=2.0, thickness=0.5)
     >>> model = arch_bridge(shape, spans=3, voussoirs=11, pier_width=1.5, pier_height=3.0,
     ...                     abutment_width=2.0)
     >>> len(model.forces) > 0
     True
-    """
-    builder = ModelBuilder(gravity=gravity)
-    asm = add_arch_bridge(
-        builder, shape, spans=spans, voussoirs=voussoirs, pier_width=pier_width,
-        pier_height=pier_height, abutment_width=abutment_width, joints=joints,
-        pier_courses=pier_courses, pier_kind=pier_kind, spandrel_height=spandrel_height,
-        fill=fill, fill_depth=fill_depth, course_height=course_height,
-        block_length=block_length, min_piece=min_piece, density=density,
-        fill_density=fill_density, gravity=gravity)
-    return finalize(builder, asm.groups, friction, law)
+""")

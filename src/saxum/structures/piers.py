@@ -3,17 +3,16 @@
 import numpy as np
 
 from ..errors import InputError
-from ..laws import LawKind
-from ..model import BodyKind, Model, ModelBuilder
+from ..model import BodyKind, ModelBuilder
 from ._common import (
     Assembly,
     add_ground,
     check_count,
     check_positive,
     clean,
-    finalize,
     fit_edges,
     lay_courses,
+    model_form,
     rectangle,
 )
 
@@ -65,31 +64,29 @@ def add_pier(
     origin: tuple[float, float] = (0.0, 0.0),
     kind: BodyKind = BodyKind.FREE,
     group: str = "pier",
+    ground: bool = False,
 ) -> Assembly:
     """A pier: a column of `courses` equal blocks, width x height [m] in all, its lower-left
-    corner at `origin` [m]; part "piers", bottom block first, named "pier c1", ...."""
+    corner at `origin` [m]; part "piers", bottom block first, named "pier c1", ....
+    ground: first add a fixed "ground" block (part and group "ground") 3 widths wide and
+    width deep, under the pier's middle."""
     check_positive(width=width, height=height)
     check_count("courses", courses)
     x0, y0 = origin
     asm = Assembly()
+    if ground:
+        add_ground(builder, asm, x0 - width, x0 + 2.0 * width, y0, width)
     for c, poly in enumerate(pier_polygons(x0, x0 + width, y0, y0 + height, courses)):
         asm.add_block(builder, "piers", poly, group=group, density=density, kind=kind,
                       name=f"pier c{c + 1}")
     return asm
 
 
-def pier(
-    *, width: float, height: float, courses: int = 1, density: float = 2000.0,
-    friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A free pier (add_pier) standing on a fixed ground block 3 widths wide and width deep
-    (body 0, group "ground"), friction mu [-] on every joint."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    add_ground(builder, asm, -width, 2.0 * width, 0.0, width)
-    asm.merge(add_pier(builder, width=width, height=height, courses=courses, density=density))
-    return finalize(builder, asm.groups, friction, law)
+pier = model_form(
+    add_pier, "pier",
+    """A free pier (add_pier) standing on a fixed ground block 3 widths wide and width deep (body
+    0, group "ground"), friction mu [-] on every joint.""",
+    ground=True)
 
 
 def add_buttressed_wall(
@@ -105,6 +102,7 @@ def add_buttressed_wall(
     density: float = 2000.0,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "wall",
+    ground: bool = False,
 ) -> Assembly:
     """A wall in cross-section with a stepped buttress on its right, as courses of blocks.
 
@@ -115,7 +113,8 @@ def add_buttressed_wall(
     `block_length` [m] long (default: the wall thickness); courses at least two blocks wide are
     laid in running bond (every other one starts with a half block), so that the buttress is
     bonded to the wall. Returns part "blocks", course by course from the left, named
-    "wall c<course>b<block>".
+    "wall c<course>b<block>". ground: first add a fixed "ground" block (part and group
+    "ground") three section widths wide and `thickness` deep, under the section's middle.
     """
     buttress_height = height if buttress_height is None else buttress_height
     block_length = thickness if block_length is None else block_length
@@ -143,25 +142,16 @@ def add_buttressed_wall(
 
     levels = [y0 + c * course for c in range(courses + 1)]
     asm = Assembly()
+    if ground:
+        width = thickness + buttress_width
+        add_ground(builder, asm, x0 - width, x0 + 2.0 * width, y0, thickness)
     lay_courses(builder, asm, part="blocks", group=group, density=density, levels=levels,
                 edges=edges, name="wall")
     return asm
 
 
-def buttressed_wall(
-    *, height: float, thickness: float, courses: int, buttress_width: float,
-    buttress_height: float | None = None, setbacks: int = 1, block_length: float | None = None,
-    density: float = 2000.0, friction: float = 0.6,
-    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB, gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A buttressed wall (add_buttressed_wall) on a fixed ground (body 0, group "ground",
-    three section widths wide), friction mu [-] on every joint."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    width = thickness + buttress_width
-    add_ground(builder, asm, -width, 2.0 * width, 0.0, thickness)
-    asm.merge(add_buttressed_wall(
-        builder, height=height, thickness=thickness, courses=courses,
-        buttress_width=buttress_width, buttress_height=buttress_height, setbacks=setbacks,
-        block_length=block_length, density=density))
-    return finalize(builder, asm.groups, friction, law)
+buttressed_wall = model_form(
+    add_buttressed_wall, "buttressed_wall",
+    """A buttressed wall (add_buttressed_wall) on a fixed ground (body 0, group "ground", three
+    section widths wide), friction mu [-] on every joint.""",
+    ground=True)

@@ -3,6 +3,7 @@ windows) spanned by a lintel or an arch."""
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,8 +16,8 @@ from ._common import (
     add_ground,
     check_count,
     check_positive,
-    finalize,
     lay_courses,
+    model_form,
     rectangle,
     separated,
 )
@@ -76,12 +77,15 @@ def _opening_blocks(op: Opening, i: int, origin: np.ndarray, brick_length: float
     elif op.head != "none":
         depth = brick_length if op.head_depth is None else op.head_depth
         check_positive(**{f"{where}.head_depth": depth})
-        if op.head == "flat_arch":
-            shape = ArchShape.flat(span=op.width, depth=depth, skewback=op.skewback)
-        else:
-            rise = 0.25 * op.width if op.rise is None else op.rise
-            shape = ArchShape.segmental(span=op.width, rise=rise, thickness=depth)
-        cut = arch_ring(shape, op.voussoirs, origin=(x0 + 0.5 * op.width, top))
+        try:
+            if op.head == "flat_arch":
+                shape = ArchShape.flat(span=op.width, depth=depth, skewback=op.skewback)
+            else:
+                rise = 0.25 * op.width if op.rise is None else op.rise
+                shape = ArchShape.segmental(span=op.width, rise=rise, thickness=depth)
+            cut = arch_ring(shape, op.voussoirs, origin=(x0 + 0.5 * op.width, top))
+        except InputError as err:
+            raise InputError(f"{where} ({op.head}): {err}") from None
         holes.append(cut.outline)
         heads += [("voussoirs", v, "voussoir", f"opening {i + 1} voussoir {k + 1}")
                   for k, v in enumerate(cut.voussoirs)]
@@ -102,6 +106,8 @@ def add_wall(
     density: float = 1800.0,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "brick",
+    ground: bool = False,
+    ground_splits: Sequence[float] = (),
 ) -> Assembly:
     """A wall of `courses` courses of `bricks` bricks, brick_length x brick_height [m], its
     lower-left corner at `origin` [m]; head and bed joints are exact (bricks touch).
@@ -113,7 +119,9 @@ def add_wall(
     spans it, and a piece smaller than min_piece [-] of a brick is left out.
     Parts "bricks" (course by course from the left, named "brick c<course>b<brick>", a cut
     brick's pieces ".1", ".2"), "lintels" and "voussoirs" (group "lintel", "voussoir"); all of
-    density [kg/m^3].
+    density [kg/m^3]. ground: first add a fixed "ground" block (part and group "ground") three
+    wall lengths wide and one course deep, under the wall's middle, cut at ground_splits [m]
+    (from the wall's left end) into "ground 1", "ground 2", ... so that a part can settle.
     """
     check_count("courses", courses)
     check_count("bricks", bricks)
@@ -126,6 +134,12 @@ def add_wall(
     length, height = bricks * brick_length, courses * brick_height
     holes, heads, owner = [], [], []
     for i, op in enumerate(openings):
+        for size, name, bound in ((op.width, "width", length), (op.height, "height", height)):
+            if isinstance(size, int | float) and size > bound:
+                raise InputError(
+                    f"openings[{i}].{name} = {size:g} m is larger than the wall's {name} "
+                    f"({bound:g} m); make the opening smaller or add "
+                    f"{'bricks' if name == 'width' else 'courses'}")
         more, spans = _opening_blocks(op, i, np.array(origin, dtype=np.float64), brick_length,
                                       brick_height)
         lo = np.min([h.min(axis=0) for h in more], axis=0)
@@ -153,6 +167,11 @@ def add_wall(
         return [x0] + inner + [x0 + bricks * brick_length] if half_bricks else inner
 
     asm = Assembly()
+    if ground:
+        add_ground(builder, asm, x0 - length, x0 + 2.0 * length, y0, brick_height,
+                   [x0 + x for x in ground_splits])
+    elif len(ground_splits):
+        raise InputError("ground_splits needs ground=True")
     lay_courses(builder, asm, part="bricks", group=group, density=density,
                 levels=[y0 + c * brick_height for c in range(courses + 1)], edges=edges,
                 holes=holes, min_piece=min_piece)
@@ -161,32 +180,12 @@ def add_wall(
     return asm
 
 
-def wall(
-    *,
-    courses: int,
-    bricks: int,
-    bond: str = "running",
-    brick_length: float = 0.25,
-    brick_height: float = 0.065,
-    half_bricks: bool = True,
-    openings: tuple[Opening, ...] | list[Opening] = (),
-    min_piece: float = 0.1,
-    density: float = 1800.0,
-    friction: float = 0.6,
-    law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
-    gravity: tuple[float, float] = (0.0, -9.81),
-) -> Model:
-    """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep
-    (body 0, group "ground"), friction mu [-] on every joint."""
-    builder = ModelBuilder(gravity=gravity)
-    asm = Assembly()
-    length = bricks * brick_length
-    add_ground(builder, asm, -length, 2.0 * length, 0.0, brick_height)
-    asm.merge(add_wall(builder, courses=courses, bricks=bricks, bond=bond,
-                       brick_length=brick_length, brick_height=brick_height,
-                       half_bricks=half_bricks, openings=openings, min_piece=min_piece,
-                       density=density))
-    return finalize(builder, asm.groups, friction, law)
+wall = model_form(
+    add_wall, "wall",
+    """A wall (add_wall) on a fixed ground three wall lengths wide and one course deep (body 0,
+    group "ground"; cut at ground_splits [m] from the wall's left end into "ground 1",
+    "ground 2", ...), friction mu [-] on every joint.""",
+    ground=True)
 
 
 def add_running_bond_wall(
