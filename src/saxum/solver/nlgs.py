@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
-from .local3d import solve_contact_3d
+from .local3d import open_or_stick_3d, solve_contact_3d
 from .problem import ContactProblem
 
 __all__ = ["NLGS"]
@@ -65,8 +65,9 @@ class NLGS(ContactSolver):
                                    where=inv_mass > 0.0)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
-        if len(self._work) < problem.count:
-            self._work = np.empty((max(problem.count, 2 * len(self._work)), 18))
+        width = 18 if problem.model.dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
+        if len(self._work) < problem.count or self._work.shape[1] != width:
+            self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
         sweep = nlgs_3d if problem.model.dim == 3 else nlgs_2d
         iterations, error = sweep(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
@@ -195,16 +196,32 @@ def _relative_change(v, v_prev, v_free, mass):
 @nb.njit(cache=True)
 def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
             v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
-    """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)): the single-contact problem on the
-    Coulomb cone is solved exactly by saxum.solver.local3d.solve_contact_3d."""
+    """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)); the single-contact problem on the
+    Coulomb cone is solved exactly by saxum.solver.local3d (its open and stick cases inlined
+    here on scalars, solve_contact_3d called for slides).
+
+    Written out like nlgs_2d: before the sweeps each active contact's rows of H* go into one
+    row of `work` (at least count x 38): the candidate's three rows (6 dof each), the
+    antagonist's rotational parts (its translational rows are minus the candidate's, as for
+    any rigid 3D contact: saxum.rigid3d.contact_jacobians), W, b_n and mu."""
     nactive = 0
     for a in range(count):
-        nactive += active[a]
+        if active[a]:
+            nactive += 1
+            row = work[a]
+            for r in range(3):
+                for d in range(6):
+                    row[6 * r + d] = h_cand[a, r, d]
+                for d in range(3):
+                    row[18 + 3 * r + d] = h_ant[a, r, 3 + d]
+                for s in range(3):
+                    row[27 + 3 * r + s] = delassus[a, r, s]
+            row[36] = bias[a]
+            row[37] = friction[a]
     if nactive == 0:
         return 0, 0.0
     u = np.empty(3)
-    r = np.empty(3)
-    r0 = np.empty(3)
+    rr = np.empty(3)
     error = np.inf
     it = 0
     v_prev[:] = v
@@ -216,33 +233,52 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                 continue
             c = cand[a]
             b = ant[a]
-            w = delassus[a]
-            for i in range(3):
-                r0[i] = impulse[a, i]
-            for i in range(3):
-                ui = 0.0
-                for d in range(6):
-                    ui += h_cand[a, i, d] * v[c, d] + h_ant[a, i, d] * v[b, d]
-                u[i] = ui - (w[i, 0] * r0[0] + w[i, 1] * r0[1] + w[i, 2] * r0[2])
-                r[i] = r0[i]
-            u[1] += bias[a]
-            solve_contact_3d(w, u, friction[a], r)
+            row = work[a]
+            vc3, vc4, vc5 = v[c, 3], v[c, 4], v[c, 5]
+            vb3, vb4, vb5 = v[b, 3], v[b, 4], v[b, 5]
+            dx = v[c, 0] - v[b, 0]
+            dy = v[c, 1] - v[b, 1]
+            dz = v[c, 2] - v[b, 2]
+            rt0 = impulse[a, 0]
+            rn0 = impulse[a, 1]
+            rs0 = impulse[a, 2]
+            for r in range(3):
+                o = 6 * r
+                p = 18 + 3 * r
+                q = 27 + 3 * r
+                u[r] = (((row[o] * dx + row[o + 1] * dy + row[o + 2] * dz)
+                         + (row[o + 3] * vc3 + row[o + 4] * vc4 + row[o + 5] * vc5))
+                        + (row[p] * vb3 + row[p + 1] * vb4 + row[p + 2] * vb5)) - (
+                    row[q] * rt0 + row[q + 1] * rn0 + row[q + 2] * rs0)
+            u[1] += row[36]
+            case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+                row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
+                row[35], u[0], u[1], u[2], row[37])
+            if case < 0:  # a slide: the full solve, from the current impulse
+                rr[0] = rt0
+                rr[1] = rn0
+                rr[2] = rs0
+                solve_contact_3d(delassus[a], u, row[37], rr)
             if relaxation != 1.0:
-                for i in range(3):
-                    r[i] = relaxation * r[i] + (1.0 - relaxation) * r0[i]
-            d0 = r[0] - r0[0]
-            d1 = r[1] - r0[1]
-            d2 = r[2] - r0[2]
-            if d0 != 0.0 or d1 != 0.0 or d2 != 0.0:
-                # v += M^-1 H_a dR on the candidate c and the antagonist b
-                for d in range(6):
-                    v[c, d] += inv_mass[c, d] * (h_cand[a, 0, d] * d0 + h_cand[a, 1, d] * d1
-                                                 + h_cand[a, 2, d] * d2)
-                    v[b, d] += inv_mass[b, d] * (h_ant[a, 0, d] * d0 + h_ant[a, 1, d] * d1
-                                                 + h_ant[a, 2, d] * d2)
-            impulse[a, 0] = r[0]
-            impulse[a, 1] = r[1]
-            impulse[a, 2] = r[2]
+                rr[0] = relaxation * rr[0] + (1.0 - relaxation) * rt0
+                rr[1] = relaxation * rr[1] + (1.0 - relaxation) * rn0
+                rr[2] = relaxation * rr[2] + (1.0 - relaxation) * rs0
+            dt = rr[0] - rt0
+            dn = rr[1] - rn0
+            ds = rr[2] - rs0
+            # v += M^-1 H_a dR on the candidate c and the antagonist b
+            mc = inv_mass[c]
+            mb = inv_mass[b]
+            for d in range(3):
+                f = row[d] * dt + row[6 + d] * dn + row[12 + d] * ds
+                v[c, d] += mc[d] * f
+                v[b, d] -= mb[d] * f
+                v[c, 3 + d] += mc[3 + d] * (row[3 + d] * dt + row[9 + d] * dn + row[15 + d] * ds)
+                v[b, 3 + d] += mb[3 + d] * (row[18 + d] * dt + row[21 + d] * dn
+                                            + row[24 + d] * ds)
+            impulse[a, 0] = rr[0]
+            impulse[a, 1] = rr[1]
+            impulse[a, 2] = rr[2]
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
