@@ -23,6 +23,8 @@ import math
 
 import numba as nb
 
+from .linalg3 import solve3
+
 __all__ = [
     "angular_velocity_to_body",
     "contact_jacobians",
@@ -185,28 +187,12 @@ def gyroscopic_torques(q, v, inertia, inv_mass, h, force):
                 break
             # J_F = diag(J) + h/2 (skew(a) diag(J) - skew(J a))
             k = 0.5 * h
-            c00 = j0
-            c01 = k * (-a2 * j1 + l2)
-            c02 = k * (a1 * j2 - l1)
-            c10 = k * (a2 * j0 - l2)
-            c11 = j1
-            c12 = k * (-a0 * j2 + l0)
-            c20 = k * (-a1 * j0 + l1)
-            c21 = k * (a0 * j1 - l0)
-            c22 = j2
-            i00 = c11 * c22 - c12 * c21
-            i01 = c02 * c21 - c01 * c22
-            i02 = c01 * c12 - c02 * c11
-            i10 = c12 * c20 - c10 * c22
-            i11 = c00 * c22 - c02 * c20
-            i12 = c02 * c10 - c00 * c12
-            i20 = c10 * c21 - c11 * c20
-            i21 = c01 * c20 - c00 * c21
-            i22 = c00 * c11 - c01 * c10
-            det = c00 * i00 + c01 * i10 + c02 * i20
-            x0 -= (i00 * f0 + i01 * f1 + i02 * f2) / det
-            x1 -= (i10 * f0 + i11 * f1 + i12 * f2) / det
-            x2 -= (i20 * f0 + i21 * f1 + i22 * f2) / det
+            s0, s1, s2 = solve3(j0, k * (-a2 * j1 + l2), k * (a1 * j2 - l1),
+                                k * (a2 * j0 - l2), j1, k * (-a0 * j2 + l0),
+                                k * (-a1 * j0 + l1), k * (a0 * j1 - l0), j2, f0, f1, f2)
+            x0 -= s0
+            x1 -= s1
+            x2 -= s2
         force[b, 3] = m0 + g0
         force[b, 4] = m1 + g1
         force[b, 5] = m2 + g2

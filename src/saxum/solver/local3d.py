@@ -26,6 +26,8 @@ import math
 import numba as nb
 import numpy as np
 
+from ..linalg3 import solve3
+
 __all__ = ["open_or_stick_3d", "solve_contact_3d"]
 
 _NEWTON = 50  # iteration cap of a Newton solve in phi (converges in a few from a good guess)
@@ -158,19 +160,8 @@ def open_or_stick_3d(w00, w01, w02, w10, w11, w12, w20, w21, w22, ut, un, us, mu
     (-1, stick R) otherwise (a slide, or mu = 0)."""
     if un >= 0.0:
         return 0, 0.0, 0.0, 0.0
-    c00 = w11 * w22 - w12 * w21
-    c01 = w02 * w21 - w01 * w22
-    c02 = w01 * w12 - w02 * w11
-    c10 = w12 * w20 - w10 * w22
-    c11 = w00 * w22 - w02 * w20
-    c12 = w02 * w10 - w00 * w12
-    c20 = w10 * w21 - w11 * w20
-    c21 = w01 * w20 - w00 * w21
-    c22 = w00 * w11 - w01 * w10
-    det = w00 * c00 + w01 * c10 + w02 * c20
-    st = -(c00 * ut + c01 * un + c02 * us) / det
-    sn = -(c10 * ut + c11 * un + c12 * us) / det
-    ss = -(c20 * ut + c21 * un + c22 * us) / det
+    st, sn, ss = solve3(w00, w01, w02, w10, w11, w12, w20, w21, w22, ut, un, us)
+    st, sn, ss = -st, -sn, -ss
     if mu > 0.0 and sn > 0.0 and math.hypot(st, ss) <= mu * sn:
         return 1, st, sn, ss
     return -1, st, sn, ss
