@@ -32,8 +32,7 @@ __all__ = [
     "kinetic_energy",
     "predict_positions",
     "update_positions",
-    "world_directions",
-    "world_vertices",
+    "world_geometry",
 ]
 
 _NEWTON = 30  # cap of the midpoint solve per body (converges in 2-4 steps for h |omega| << 1)
@@ -51,32 +50,26 @@ def _rotation(q, b):
             2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y))
 
 
+@nb.njit(inline="always")
+def _rotate(r, lx, ly, lz):
+    return (r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz,
+            r[6] * lx + r[7] * ly + r[8] * lz)
+
+
 @nb.njit(cache=True)
-def world_vertices(q, vertex_start, vertex_local, out):
-    """out[k] = x_b + R_b vertex_local[k] [m] for every vertex k of every body b."""
+def world_geometry(q, vertex_start, vertex_local, face_start, normal_local, wv, wn):
+    """wv[k] = x_b + R_b vertex_local[k] [m] for every vertex k of every body b, and
+    wn[f] = R_b normal_local[f] for its faces (the rotation computed once per body)."""
     for b in range(q.shape[0]):
-        r00, r01, r02, r10, r11, r12, r20, r21, r22 = _rotation(q, b)
+        r = _rotation(q, b)
         for k in range(vertex_start[b], vertex_start[b + 1]):
-            lx = vertex_local[k, 0]
-            ly = vertex_local[k, 1]
-            lz = vertex_local[k, 2]
-            out[k, 0] = q[b, 0] + r00 * lx + r01 * ly + r02 * lz
-            out[k, 1] = q[b, 1] + r10 * lx + r11 * ly + r12 * lz
-            out[k, 2] = q[b, 2] + r20 * lx + r21 * ly + r22 * lz
-
-
-@nb.njit(cache=True)
-def world_directions(q, start, direction_local, out):
-    """out[k] = R_b direction_local[k] for the rows start[b]:start[b+1] of every body b."""
-    for b in range(q.shape[0]):
-        r00, r01, r02, r10, r11, r12, r20, r21, r22 = _rotation(q, b)
-        for k in range(start[b], start[b + 1]):
-            lx = direction_local[k, 0]
-            ly = direction_local[k, 1]
-            lz = direction_local[k, 2]
-            out[k, 0] = r00 * lx + r01 * ly + r02 * lz
-            out[k, 1] = r10 * lx + r11 * ly + r12 * lz
-            out[k, 2] = r20 * lx + r21 * ly + r22 * lz
+            x, y, z = _rotate(r, vertex_local[k, 0], vertex_local[k, 1], vertex_local[k, 2])
+            wv[k, 0] = q[b, 0] + x
+            wv[k, 1] = q[b, 1] + y
+            wv[k, 2] = q[b, 2] + z
+        for f in range(face_start[b], face_start[b + 1]):
+            wn[f, 0], wn[f, 1], wn[f, 2] = _rotate(r, normal_local[f, 0], normal_local[f, 1],
+                                                   normal_local[f, 2])
 
 
 @nb.njit(inline="always")

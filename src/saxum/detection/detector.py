@@ -232,8 +232,8 @@ class PolyhedronDetector(Detector):
 
     def _world_geometry(self, q: np.ndarray) -> None:
         m = self.model
-        rigid3d.world_vertices(q, m.body_vertex_start, m.vertex_local, self._wv)
-        rigid3d.world_directions(q, m.body_face_start, m.face_normal_local, self._wn)
+        rigid3d.world_geometry(q, m.body_vertex_start, m.vertex_local, m.body_face_start,
+                               m.face_normal_local, self._wv, self._wn)
 
     def _motion_since_refresh(self, q: np.ndarray) -> float:
         return _largest_motion_3d(q, self._q_ref, self.model.body_radius)
