@@ -11,7 +11,7 @@ Run: python examples/flood_bridge.py    (writes the blocks, finds by bisection t
                                           the velocity at failure in four cases, prints the
                                           mechanisms, draws docs/img/flood-bridge.png)
 or:  saxum collapse examples/flood_bridge.toml --vary loads.flood.level --stands 4
-         --collapses 9 --per-block
+         --collapses 9
 """
 
 import itertools
@@ -114,10 +114,10 @@ CASES = {
         "level", 4.5, 16.0, {"tailwater": PIER_HEIGHT}, False),
 }
 
-# At rest means every block at rest (per_block): the default rest test (net force over the
-# forces on the whole structure, saxum.collapse) would call a parapet that starts to
-# overturn slowly "at rest", its net force being tiny next to the forces on the pier.
-CRITERION = CollapseCriterion(duration=1.0, per_block=True)
+# At rest means every block at rest (the default, per_block): a rest test on the whole
+# structure's net force would call a parapet that starts to overturn slowly "at rest", its net
+# force being tiny next to the forces on the pier.
+CRITERION = CollapseCriterion(duration=1.0)
 
 
 def main(tolerance: float = 0.005, cases=tuple(CASES), picture: Path | None = None) -> dict:

@@ -131,3 +131,17 @@ def test_harmonic_motion_of_growing_amplitude_reports_the_amplitude_at_collapse(
     line = next(x for x in out.splitlines() if x.startswith("harmonic amplitude"))
     began, at = (float(x) for x in re.findall(r"([0-9.]+) m/s\^2", line))
     assert 9.81 * 0.2 < began <= at <= 6.0
+
+
+def test_collapse_curve_keeps_the_periods_whose_bracket_holds(block, capsys):
+    """A 0.1 s pulse of 6 m/s^2 does not overturn the block: that period is reported, the
+    other one is computed and drawn."""
+    assert main(["collapse-curve", str(block), "--periods", "0.1,1.0", "--stands", "1",
+                 "--collapses", "6", "--tolerance", "0.3", "--duration", "0.5",
+                 "--processes", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "0.1  not found: the structure still stands at 6; widen the bracket" in out
+    assert out.count("hinge between ground and pier") == 1
+    with open(block.with_name("block-curve.csv")) as f:
+        rows = list(csv.DictReader(f))
+    assert rows[0]["note"].startswith("the structure still stands") and rows[1]["note"] == ""

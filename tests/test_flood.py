@@ -221,7 +221,7 @@ def test_bad_flood_parameters_in_python_are_named():
 
 
 def test_cli_collapse_on_the_flood_level_draws_the_water(tmp_path, capsys):
-    """`saxum collapse --vary loads.flood.level --per-block` on the bundled bridge section
+    """`saxum collapse --vary loads.flood.level` on the bundled bridge section
     (examples/flood_bridge.toml, 3 m/s): the upstream parapet (0.4 x 1 m on the deck at 7 m)
     slides off where mu g (rho_s t h - rho_w t d) = 1/2 rho_w C_d U^2 d (statics, as in
     tests/test_examples.py); the picture shows the water."""
@@ -236,7 +236,7 @@ def test_cli_collapse_on_the_flood_level_draws_the_water(tmp_path, capsys):
     out = tmp_path / "collapse.h5"
     assert main(["collapse", str(tmp_path / "flood_bridge.toml"), "--vary", "loads.flood.level",
                  "--stands", "7.4", "--collapses", "7.9", "--tolerance", "0.002",
-                 "--per-block", "-o", str(out)]) == 0
+                 "-o", str(out)]) == 0
     text = capsys.readouterr().out
     stands, collapses = (float(v) for v in
                          text.split("stands at ")[1].split(" (")[0].split(", collapses at "))

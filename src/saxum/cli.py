@@ -63,7 +63,7 @@ def _collapse(args) -> None:
         args.scenario, args.vary, args.stands, args.collapses, overrides=tuple(args.set),
         tolerance=args.tolerance, criterion=CollapseCriterion(duration=args.duration,
                                                               fraction=args.fraction,
-                                                              per_block=args.per_block))
+                                                              per_block=not args.structure_ratio))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
@@ -74,20 +74,20 @@ def _collapse(args) -> None:
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     trial = result.collapse()
     motion = scenario.loads.ground_motion
-    if motion is not None:  # the state when a block moved past the limit
-        at = trial.at_collapse
+    if motion is not None:  # the state when the collapsing motion began
+        at, when = trial.at_collapse, "when the collapsing motion began"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size; the ground motion ends at "
               f"{float(motion.motion(dim).time[-1]):.4g} s)")
     else:
         trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
-        at = trial.state
+        at, when = trial.state, "0.05 s after the verdict"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size)")
     mech = None
     if dim == 2:  # the mechanism report is made for 2D models
-        print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s (when "
-              "the collapsing motion began):")
+        print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s "
+              f"({when}):")
         mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
         print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
@@ -119,13 +119,17 @@ def _collapse_curve(args) -> None:
     print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
           "  collapse at [s]")
     for p in rows:
+        if p.note:
+            print(f"{p.period:10.4g}  not found: {p.note}")
+            continue
         print(f"{p.period:10.4g}  {p.amplitude:26.4g}  ({p.stands:.4g} .. {p.collapses:.4g})"
               f"  {p.amplitude / g:7.4f}  {p.trials:6d}  {p.collapse_time:15.4g}")
     for p in rows:
-        if p.mechanism is not None:  # (2D models)
-            print(f"\nmechanism at T_p = {p.period:g} s, amplitude {p.collapses:.4g} m/s^2, "
-                  f"collapsing from t = {p.mechanism_time:.4g} s:")
-            print("  " + p.mechanism.text().replace("\n", "\n  "))
+        if p.note or p.mechanism is None:  # (no collapse, or a 3D model)
+            continue
+        print(f"\nmechanism at T_p = {p.period:g} s, amplitude {p.collapses:.4g} m/s^2, "
+              f"collapsing from t = {p.mechanism_time:.4g} s:")
+        print("  " + p.mechanism.text().replace("\n", "\n  "))
     picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                            + "-curve.png")
     plot_collapse_curve(rows, picture, g=g, title=f"{Path(args.scenario).stem}: collapse "
@@ -133,15 +137,15 @@ def _collapse_curve(args) -> None:
     table = picture.with_suffix(".csv")
     with open(table, "w") as f:
         f.write("period_s,stands_m_s2,collapses_m_s2,amplitude_g,trials,collapse_time_s,"
-                "hinges,sliding_joints,moving_blocks\n")
+                "hinges,sliding_joints,moving_blocks,note\n")
         for p in rows:
             m = p.mechanism
             joints = [" | ".join(j.bodies) for j in m.hinges] if m else []
             slides = [" | ".join(j.bodies) for j in m.sliding] if m else []
-            moving = m.moving if m else []
             f.write(f"{p.period!r},{p.stands!r},{p.collapses!r},{p.amplitude / g:.6g},"
                     f"{p.trials},{p.collapse_time!r},\"{'; '.join(joints)}\","
-                    f"\"{'; '.join(slides)}\",\"{'; '.join(moving)}\"\n")
+                    f"\"{'; '.join(slides)}\",\"{'; '.join(m.moving if m else [])}\","
+                    f"\"{p.note}\"\n")
     print(f"\npicture: {picture.resolve()}\ntable: {table.resolve()}")
 
 
@@ -329,10 +333,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
                         "has ended)")
-    p.add_argument("--per-block", action="store_true",
-                   help="at rest means every block at rest (its own net force small next to "
-                        "the forces on it), not the structure as a whole: for a small part "
-                        "(a parapet) that may fail slowly on a large structure")
+    p.add_argument("--structure-ratio", action="store_true",
+                   help="judge rest by the unbalanced force ratio of the structure as a "
+                        "whole instead of every block's own (docs/collapse.md): hides a small "
+                        "part (a parapet) that starts to fail slowly on a large structure")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
     p.add_argument("-o", "--output", type=Path,

@@ -4,12 +4,15 @@ critical value of a load parameter found by bisection.
 A trial runs a simulation of the structure under a fixed value of the parameter (a horizontal
 load factor, a point load, a settlement, a thickness...) from rest, and decides:
 
-- **at rest** when, for `settle` seconds in a row, the unbalanced force ratio
-      UFR = sum_b |m_b (v_b+ - v_b-) / h| / sum_b (|F_ext,b| + sum_(alpha at b) |R_alpha| / h)
-  (net force on the free blocks over the forces acting on them: weight and loads plus contact
-  forces) stays below `force_ratio`, and the kinetic energy below `energy` times the potential
-  energy scale m g L (L the structure's height). A mechanism that has started, however slowly,
-  has a net force m a on its blocks, so UFR = a/g-ish stays above the threshold;
+- **at rest** when, for `settle` seconds in a row, the unbalanced force ratio of every free
+  block b,
+      UFR_b = |m_b (v_b+ - v_b-) / h| / (|F_ext,b| + sum_(alpha at b) |R_alpha| / h)
+  (its net force over the forces acting on it: weight and loads plus contact forces), stays
+  below `force_ratio`, and the kinetic energy below `energy` times the potential energy scale
+  m g L (L the structure's height). A mechanism that has started, however slowly, has a net
+  force m a on its blocks, so UFR = a/g-ish stays above the threshold. (The ratio of the sums
+  over the whole structure, `per_block=False`, hides a small part, a parapet, that starts to
+  move slowly on a large structure: its net force is tiny next to the forces on the rest.)
 - **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
   initial position;
 - after `duration` seconds with neither (counted from `not_before`, the end of a pulse),
@@ -56,9 +59,9 @@ from .model import BodyKind
 from .simulation import Simulation
 from .state import State
 
-__all__ = ["DYNAMIC_FRACTION", "ONSET", "CollapseCriterion", "CollapseEvent", "CriticalValue",
-           "CurvePoint", "Trial", "collapse_curve", "critical_value", "find_collapse",
-           "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
+__all__ = ["DYNAMIC_FRACTION", "ONSET", "BracketError", "CollapseCriterion", "CollapseEvent",
+           "CriticalValue", "CurvePoint", "Trial", "collapse_curve", "critical_value",
+           "find_collapse", "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
 
 DYNAMIC_FRACTION = 0.5
 """Under ground motion a block may rock far and come back: a structure has collapsed when a
@@ -82,9 +85,9 @@ class CollapseCriterion:
     fast as after a free fall by the displacement threshold; after it, displacements count
     from the configuration at not_before instead of the initial one (module doc);
     per_block: the force ratio is the largest over the free blocks of each block's own (its
-    net force over the forces acting on it) instead of the structure's: a small part (a
-    parapet) that starts to move slowly on a large structure is then not called at rest,
-    its net force being tiny next to the forces on the rest."""
+    net force over the forces acting on it, the default) or, if False, the structure's (sums
+    over all free blocks), which calls a small part that starts to move slowly on a large
+    structure (a parapet) at rest, its net force being tiny next to the forces on the rest."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -94,7 +97,7 @@ class CollapseCriterion:
     energy: float = 1e-9
     not_before: float = 0.0
     after_motion: bool = False
-    per_block: bool = False
+    per_block: bool = True
 
     def __post_init__(self) -> None:
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
@@ -235,6 +238,11 @@ def _block_energy(model, v: np.ndarray) -> np.ndarray:
     return 0.5 * (model.body_mass * np.sum(v[:, :d] ** 2, axis=1) + spin.sum(axis=1))
 
 
+class BracketError(InputError):
+    """The bracket of a bisection does not hold the critical value: the structure collapses
+    at the value where it should stand, or stands where it should collapse."""
+
+
 @dataclass
 class CriticalValue:
     """The critical value of a parameter, bracketed: the value closest to it at which the
@@ -272,10 +280,10 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
         return trial.collapsed
 
     if collapsed(stands):
-        raise InputError(f"the structure already collapses at {stands:g}; start the bracket "
+        raise BracketError(f"the structure already collapses at {stands:g}; start the bracket "
                          "at a value where it stands")
     if not collapsed(collapses):
-        raise InputError(f"the structure still stands at {collapses:g}; widen the bracket")
+        raise BracketError(f"the structure still stands at {collapses:g}; widen the bracket")
     while abs(collapses - stands) > tolerance * max(abs(stands), abs(collapses)):
         mid = 0.5 * (stands + collapses)
         if collapsed(mid):
@@ -315,7 +323,9 @@ class CurvePoint(NamedTuple):
     """One period of a collapse curve: the period [s], the amplitudes [m/s^2] at which the
     structure stood and collapsed (the bracket of the critical amplitude), the number of
     trials, and for the collapsing amplitude the time of collapse [s], the time the
-    collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism)."""
+    collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism). When the
+    bracket did not hold the critical amplitude at this period, the amplitudes and times are
+    nan, the mechanism None and `note` says why (the other periods are kept)."""
 
     period: float
     stands: float
@@ -324,6 +334,7 @@ class CurvePoint(NamedTuple):
     collapse_time: float
     mechanism_time: float
     mechanism: object
+    note: str = ""
 
     @property
     def amplitude(self) -> float:
@@ -333,10 +344,14 @@ class CurvePoint(NamedTuple):
 
 def _curve_point(args) -> CurvePoint:
     path, period, stands, collapses, overrides, tolerance, criterion = args
-    result = scenario_critical_value(
-        path, "loads.ground_motion.amplitude", stands, collapses,
-        overrides=(*overrides, f"loads.ground_motion.period={period!r}"), tolerance=tolerance,
-        criterion=criterion)
+    try:
+        result = scenario_critical_value(
+            path, "loads.ground_motion.amplitude", stands, collapses,
+            overrides=(*overrides, f"loads.ground_motion.period={period!r}"),
+            tolerance=tolerance, criterion=criterion)
+    except BracketError as err:
+        nan = math.nan
+        return CurvePoint(period, nan, nan, 0, nan, nan, None, str(err))
     trial = result.collapse()
     return CurvePoint(period, result.stands, result.collapses, len(result.trials),
                       trial.collapse_time, trial.at_collapse.time, trial.mechanism())

@@ -184,7 +184,9 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     `model` (a Model, or anything with its body_kind, body_q0, body_size, body_radius and
     body_name, such as the bodies of a results file: frame_mechanism).
     gap_tolerance [m]: a point is open beyond it (default 0.1 % of the smallest free block's
-    size); threshold [m]: a block moves when displaced by more (default 10 % of the largest
+    size, or 10 % of the largest displacement of a free block if smaller: a mechanism caught
+    at its onset has opened its joints by a fraction of that; at least 1e-6 of that size);
+    threshold [m]: a block moves when displaced by more (default 10 % of the largest
     displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
     early has moved little, a structure at rest only by round-off);
     slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
@@ -195,9 +197,10 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
                          "2D models; export 3D results to ParaView (saxum export-vtk)")
     free = model.body_kind == BodyKind.FREE
     size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
-    gap_tol = gap_tolerance if gap_tolerance is not None else 1e-3 * size
     moved = np.hypot(*(state.body_q[:, :2] - model.body_q0[:, :2]).T)
     largest = float(moved[free].max(initial=0.0))
+    gap_tol = (gap_tolerance if gap_tolerance is not None
+               else max(min(1e-3 * size, 0.1 * largest), 1e-6 * size))
     moved_by = threshold if threshold is not None else max(0.1 * largest, 1e-6 * size)
     c = state.contacts
     k = c.count

@@ -493,12 +493,16 @@ def _draw_block_histories(axes, results, h: dict) -> None:
 
 
 def plot_collapse_curve(points, path: str | PathLike | None = None, *, g: float = 9.81,
-                        title: str = "", figsize: tuple[float, float] = (7.0, 4.5),
-                        dpi: int = 150) -> Figure:
+                        static: float | None = None, title: str = "",
+                        figsize: tuple[float, float] = (7.0, 4.5), dpi: int = 150) -> Figure:
     """The collapse curve of saxum.collapse.collapse_curve: the critical pulse amplitude
     [g] against the pulse period [s], each point with its bisection bracket (stood at the
-    lower end, collapsed at the upper); the region above the curve collapses."""
-    pts = sorted(points, key=lambda p: p.period)
+    lower end, collapsed at the upper; periods whose bracket failed are left out); the region
+    above the curve collapses. `static`: the static horizontal load factor [-], drawn as the
+    long-period limit."""
+    pts = sorted((p for p in points if np.isfinite(p.collapses)), key=lambda p: p.period)
+    if not pts:
+        raise InputError("no period of the collapse curve has a critical amplitude to draw")
     t = np.array([p.period for p in pts])
     lo = np.array([p.stands for p in pts]) / g
     hi = np.array([p.collapses for p in pts]) / g
@@ -509,8 +513,11 @@ def plot_collapse_curve(points, path: str | PathLike | None = None, *, g: float 
                     label="collapses")
     ax.errorbar(t, mid, yerr=(mid - lo, hi - mid), fmt="o-", color="k", ms=4, lw=1.2,
                 capsize=3, label="critical amplitude (bracket)")
-    ax.set_xlabel("pulse period $T_p$ [s]")
-    ax.set_ylabel("pulse amplitude [g]")
+    if static is not None:
+        ax.axhline(static, color="#1f5fa8", ls="--", lw=1.0,
+                   label=f"static load factor {static:.3g}")
+    ax.set_xlabel("period of the ground motion $T_p$ [s]")
+    ax.set_ylabel("amplitude [g]")
     ax.set_ylim(0.0, max(hi.max(), 1e-9) * 1.15)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")

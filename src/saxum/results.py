@@ -33,6 +33,7 @@ reader trusts only rows that every dataset of a group has.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 from dataclasses import fields
 from pathlib import Path
@@ -380,15 +381,6 @@ class Results:
         self.body_name = [s.decode() for s in m["body_name"][:]]
         self.group_names = [s.decode() for s in m["group_names"][:]]
         self.model = {k: m[k][()] for k in m if k not in ("body_name", "group_names")}
-        polys = np.split(self.model["vertex_local"], self.model["body_vertex_start"][1:-1])
-        if "body_size" in self.model:  # 3D files store them
-            self.body_size = self.model.pop("body_size")
-        else:
-            self.body_size = np.array([np.sqrt(polygon_properties(p).area) for p in polys])
-        """Square root of each body's area (3D: cube root of its volume) [m] (as
-        saxum.model.Model.body_size)."""
-        self.body_radius = np.array([np.linalg.norm(p, axis=1).max() for p in polys])
-        """Largest distance from a body's centre of mass to its vertices [m]."""
         fr = self.file["frames"]
         self.frame_count = min(fr[k].shape[0] for k in ("time", "step", "body_q", "body_v",
                                                          "contact_count"))
@@ -415,6 +407,22 @@ class Results:
                       **_STEP_UNITS}
         if self.dim == 3:
             self.units["kinetic_energy"] = "J"
+
+    @functools.cached_property
+    def body_size(self) -> np.ndarray:
+        """Square root of each body's area (3D: cube root of its volume, stored in the file)
+        [m] (as saxum.model.Model.body_size)."""
+        if "body_size" in self.model:
+            return self.model["body_size"]
+        return np.array([np.sqrt(polygon_properties(p).area) for p in self._polygons()])
+
+    @functools.cached_property
+    def body_radius(self) -> np.ndarray:
+        """Largest distance from each body's centre of mass to its vertices [m]."""
+        return np.array([np.linalg.norm(p, axis=1).max() for p in self._polygons()])
+
+    def _polygons(self) -> list[np.ndarray]:
+        return np.split(self.model["vertex_local"], self.model["body_vertex_start"][1:-1])
 
     def _read_histories(self) -> dict[str, np.ndarray] | None:
         """{"body": indices, "name": names, "time", "step", "body_q", "body_v" and, under a
