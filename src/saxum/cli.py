@@ -198,7 +198,7 @@ def info_text(r) -> str:
             f"contacts: up to {s['contacts'].max()} ({s['active_contacts'].max()} loaded); "
             f"largest interpenetration {s['max_interpenetration'].max():.3g} m; "
             f"projection used at {int(np.count_nonzero(s['projection_iterations']))} step(s); "
-            f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} J/m")
+            f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} {r.units['kinetic_energy']}")
     lines += _collapse_lines(r, sc.loads.ground_motion if r.scenario_json else None)
     return "\n".join(lines)
 
