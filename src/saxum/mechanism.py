@@ -31,7 +31,7 @@ import numpy as np
 
 from .contacts import Contacts
 from .errors import InputError
-from .model import BodyKind, Model
+from .model import BodyKind, Model, body_vertices
 from .state import State
 
 __all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "joint_resultants",
@@ -132,7 +132,7 @@ class Joint:
             where = f"head joint in course {self.courses[0]}"
         else:
             where = f"bed joint between courses {min(self.courses)} and {max(self.courses)}"
-        return f"{where}, {self.along:.3g} m along"
+        return f"{where}, {_mm(self.along)} m along"
 
 
 @dataclass(frozen=True)
@@ -166,7 +166,7 @@ class Mechanism:
             x, y = j.hinge_point
             where = f": {j.location}" if j.location else ""
             lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} at "
-                         f"({x:.4g}, {y:.4g}) m{where}")
+                         f"({_mm(x)}, {_mm(y)}) m{where}")
         for j in self.sliding:
             where = f": {j.location}" if j.location else ""
             lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
@@ -176,6 +176,11 @@ class Mechanism:
             lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
                                                       (j.bodies for j in opened)))
         return "\n".join(lines)
+
+
+def _mm(x: float) -> str:
+    """A coordinate [m] to the millimetre, without round-off digits (2.15, not 2.15000001)."""
+    return f"{round(x, 3) + 0.0:g}"
 
 
 def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | None = None,
@@ -257,6 +262,13 @@ class _Bodies(NamedTuple):
     body_radius: np.ndarray
     body_name: list[str]
     dim: int
+    body_vertex_start: np.ndarray
+    vertex_local: np.ndarray
+
+    def vertices(self, b: int) -> np.ndarray:
+        """Initial world vertices [m] of body b, as Model.vertices."""
+        return body_vertices(self.body_q0[b], self.vertex_local[
+            self.body_vertex_start[b]:self.body_vertex_start[b + 1]])
 
 
 def frame_mechanism(results, frame: int, **options) -> Mechanism:
@@ -265,7 +277,7 @@ def frame_mechanism(results, frame: int, **options) -> Mechanism:
     k = range(results.frame_count)[frame]
     m = results.model
     bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
-                     results.body_name, results.dim)
+                     results.body_name, results.dim, m["body_vertex_start"], m["vertex_local"])
     stored = results.contacts(k)
     contacts = Contacts(results.dim, max(1, stored["gap"].size))
     contacts.count = stored["gap"].size

@@ -157,14 +157,20 @@ class Model:
 
     def vertices(self, b: int, q: np.ndarray | None = None) -> np.ndarray:
         """World vertices [m] of body b at coordinates q (default: initial), shape (n, dim)."""
-        qb = (self.body_q0 if q is None else q)[b]
-        loc = self.vertex_local[self.body_vertex_start[b] : self.body_vertex_start[b + 1]]
-        if self.dim == 3:
-            return qb[:3] + loc @ rotation_matrix(qb[3:]).T
-        x, y, th = qb
-        c, s = math.cos(th), math.sin(th)
-        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
-                                y + s * loc[:, 0] + c * loc[:, 1]))
+        return body_vertices((self.body_q0 if q is None else q)[b],
+                             self.vertex_local[self.body_vertex_start[b]:
+                                               self.body_vertex_start[b + 1]])
+
+
+def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """World vertices [m], shape (n, dim), of a body at coordinates qb ((x, y, theta), or in 3D
+    (x, y, z, qw, qx, qy, qz)) from its vertices in the body frame `local` [m]."""
+    if local.shape[1] == 3:
+        return qb[:3] + local @ rotation_matrix(qb[3:]).T
+    x, y, th = qb
+    c, s = math.cos(th), math.sin(th)
+    return np.column_stack((x + c * local[:, 0] - s * local[:, 1],
+                            y + s * local[:, 0] + c * local[:, 1]))
 
 
 @dataclass

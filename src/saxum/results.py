@@ -43,7 +43,6 @@ import numpy as np
 
 from .errors import InputError
 from .geometry2d import polygon_properties
-from .geometry3d import rotation_matrix
 from .steplog import STEP_DTYPES, StepReport
 
 __all__ = ["Results", "ResultsWriter", "STATUS"]
@@ -450,15 +449,11 @@ class Results:
 
     def vertices(self, body: int, frame: int) -> np.ndarray:
         """World vertices [m] of `body` at output frame `frame`, shape (n, dim)."""
+        from .model import body_vertices
+
         vs = self.model["body_vertex_start"]
-        loc = self.model["vertex_local"][vs[body]:vs[body + 1]]
-        if self.dim == 3:
-            q = self.body_q[frame, body]
-            return q[:3] + loc @ rotation_matrix(q[3:]).T
-        x, y, th = self.body_q[frame, body]
-        c, s = np.cos(th), np.sin(th)
-        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
-                                y + s * loc[:, 0] + c * loc[:, 1]))
+        return body_vertices(self.body_q[frame, body],
+                             self.model["vertex_local"][vs[body]:vs[body + 1]])
 
     def checkpoint(self, index: int = -1) -> dict:
         """The arrays of one checkpoint (for restart)."""
