@@ -158,6 +158,9 @@ def test_cli_run_and_info(tmp_path, capsys):
     assert main(["info", str(results)]) == 0
     out = capsys.readouterr().out
     assert "status: finished" in out and "thin arch" in out and "steps: 50" in out
+    assert main(["resume", str(results), "--quiet"]) == 0
+    assert "already finished at t = 0.05 s (step 50): nothing to resume" in (
+        capsys.readouterr().out)
 
 
 def test_cli_pictures_animation_and_paraview(tmp_path, capsys):
@@ -196,6 +199,16 @@ def test_cli_exit_codes(tmp_path, capsys):
     with pytest.raises(SystemExit) as info:
         main(["frobnicate"])
     assert info.value.code == 2
+    good = tmp_path / "good.toml"
+    good.write_text(SCENARIO)
+    with pytest.raises(SystemExit) as info:  # argparse's own error: usage, exit code 2
+        main(["collapse-curve", str(good), "--periods", "0.5,a", "--stands", "1",
+              "--collapses", "2"])
+    assert info.value.code == 2 and "give periods in seconds" in capsys.readouterr().err
+    assert main(["collapse-curve", str(good), "--periods", "0.5", "--stands", "1",
+                 "--collapses", "2"]) == 2
+    assert "varies the period of a pulse, and this scenario has none" in (
+        capsys.readouterr().err)
 
 
 def test_cli_collapse_finds_the_overturning_load_of_a_block(tmp_path, capsys):

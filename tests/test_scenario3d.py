@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import saxum as sx
+from saxum.cli import main
 from saxum.errors import InputError
 from saxum.plot import animate, plot_frame, plot_histories
 from saxum.results import Results, ResultsWriter
@@ -236,6 +237,7 @@ def test_3d_run_results_picture_paraview_and_resume(tmp_path, monkeypatch):
         plot_frame(r, -1, picture, dpi=40)
         assert picture.stat().st_size > 0
         plot_histories(r, tmp_path / "histories.png", dpi=40)
+        assert main(["plot", str(one_go), "--thrust-line"]) == 2  # a 2D picture's option
         with pytest.raises(InputError, match="export the frames to ParaView"):
             animate(r, tmp_path / "wall.gif")
         pvd = export_vtk(r, tmp_path / "vtk")

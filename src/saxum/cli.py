@@ -1,15 +1,19 @@
 """saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input.
+SI units throughout; in 2D, forces and masses are per metre of depth.
 
     saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--quiet]
     saxum resume RESULTS [--quiet]
-    saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
-    saxum collapse SCENARIO --vary KEY --stands A --collapses B
+    saxum demo NAME [-o PICTURE] [--duration T]      (NAME: arch, wall)
+    saxum collapse SCENARIO --vary KEY --stands A --collapses B [--set KEY=VALUE ...]
     saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B [-o PNG]
     saxum fclib solve FILE...
     saxum info RESULTS
-    saxum plot RESULTS [--frame K | --collapse] [--histories] [-o PNG]
+    saxum plot RESULTS [--frame K | --collapse | --histories [--body NAME]] [--thrust-line]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
+
+`saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
+source repository.
 """
 
 import argparse
@@ -109,8 +113,7 @@ def _collapse_curve(args) -> None:
     from .collapse import CollapseCriterion, collapse_curve
     from .plot import plot_collapse_curve
 
-    periods = [float(p) for p in args.periods.split(",")]
-    rows = collapse_curve(args.scenario, periods, args.stands, args.collapses,
+    rows = collapse_curve(args.scenario, args.periods, args.stands, args.collapses,
                           overrides=tuple(args.set), tolerance=args.tolerance,
                           criterion=CollapseCriterion(duration=args.duration,
                                                       fraction=args.fraction),
@@ -249,6 +252,9 @@ def _plot(args) -> None:
     from .results import Results
 
     with Results(args.results) as r:
+        if args.thrust_line and r.dim != 2:
+            raise InputError(f"{args.results}: --thrust-line is drawn for 2D results (an arch "
+                             "in section) and this is a 3D model: leave out --thrust-line")
         if args.histories:
             out = args.output or Path(args.results).with_suffix(".histories.png")
             plot_histories(r, out, body=args.body)
@@ -287,6 +293,18 @@ def _export_vtk(args) -> None:
     print(f"ParaView collection: {Path(pvd).resolve()} (open it in ParaView)")
 
 
+def _periods(text: str) -> list[float]:
+    """--periods T1,T2,...: pulse periods [s], each > 0."""
+    try:
+        periods = [float(p) for p in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give periods in seconds separated by "
+                                         "commas, e.g. 0.5,1,2") from None
+    if not all(p > 0.0 for p in periods):
+        raise argparse.ArgumentTypeError(f"{text!r}: every period must be > 0 [s]")
+    return periods
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="saxum", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -304,7 +322,7 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("resume", help="continue a killed, interrupted or finished run from "
                                       "its last checkpoint")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5) of saxum run")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_resume)
 
@@ -319,16 +337,19 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
                                         "thickness...) by bisection, and the mechanism")
-    p.add_argument("scenario", type=Path)
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
     p.add_argument("--vary", required=True, metavar="KEY",
                    help="scenario key to vary, e.g. loads.horizontal_acceleration [m/s^2] or "
                         "structure.thickness [m]")
-    p.add_argument("--stands", type=float, required=True, help="a value at which it stands")
+    p.add_argument("--stands", type=float, required=True,
+                   help="a value at which it stands (in the key's unit)")
     p.add_argument("--collapses", type=float, required=True,
-                   help="a value at which it collapses")
+                   help="a value at which it collapses (in the key's unit)")
     p.add_argument("--tolerance", type=float, default=0.005,
                    help="relative width of the final bracket (default 0.005)")
-    p.add_argument("--duration", type=float, default=1.0, help="longest trial [s]")
+    p.add_argument("--duration", type=float, default=1.0,
+                   help="longest trial [s] (default 1; under a ground motion or a settlement, "
+                        "counted from its end)")
     p.add_argument("--fraction", type=float, default=None,
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
@@ -346,14 +367,16 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("collapse-curve", help="smallest pulse amplitude that collapses the "
                                               "structure, per pulse period (in parallel)")
     p.add_argument("scenario", type=Path, help="a scenario with [loads.ground_motion] pulse")
-    p.add_argument("--periods", required=True, help="pulse periods [s], comma separated")
+    p.add_argument("--periods", required=True, type=_periods, metavar="T1,T2,...",
+                   help="pulse periods [s], comma separated")
     p.add_argument("--stands", type=float, required=True,
                    help="an amplitude [m/s^2] at which it stands for every period")
     p.add_argument("--collapses", type=float, required=True,
                    help="an amplitude [m/s^2] at which it collapses for every period")
-    p.add_argument("--tolerance", type=float, default=0.01, help="relative bracket width")
+    p.add_argument("--tolerance", type=float, default=0.01,
+                   help="relative width of the final bracket (default 0.01)")
     p.add_argument("--duration", type=float, default=2.0,
-                   help="longest trial after the pulse has ended [s]")
+                   help="longest trial after the pulse has ended [s] (default 2)")
     p.add_argument("--fraction", type=float, default=0.5,
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size once the pulse is over (default 0.5; a block that is still "
@@ -374,17 +397,20 @@ def _parser() -> argparse.ArgumentParser:
     q.add_argument("files", type=Path, nargs="+", help="FCLIB .hdf5 files")
     q.add_argument("--tolerance", type=float, default=1e-8,
                    help="target natural-map error ||F_nat(r)||/||q|| (default 1e-8)")
-    q.add_argument("--max-iterations", type=int, default=100_000, help="NLGS sweeps at most")
-    q.add_argument("--relaxation", type=float, default=1.0, help="NLGS relaxation omega")
+    q.add_argument("--max-iterations", type=int, default=100_000,
+                   help="NLGS sweeps at most (default 100000)")
+    q.add_argument("--relaxation", type=float, default=1.0,
+                   help="NLGS relaxation omega in (0, 1] (default 1)")
     q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5)")
     p.set_defaults(func=_info)
 
     p = sub.add_parser("plot", help="picture of an output frame, or the time histories")
-    p.add_argument("results", type=Path)
-    p.add_argument("--frame", type=int, default=-1, help="output frame (default: the last)")
+    p.add_argument("results", type=Path, help="results file (HDF5)")
+    p.add_argument("--frame", type=int, default=-1,
+                   help="output frame, from 0 (default: the last; saxum info gives the count)")
     p.add_argument("--collapse", action="store_true",
                    help="the frame at which the collapse began, with its hinges (saxum info)")
     p.add_argument("--histories", action="store_true",
@@ -399,13 +425,14 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("animate", help="animation of the output frames (GIF, or MP4 with "
                                        "ffmpeg)")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5) of a 2D model")
     p.add_argument("-o", "--output", type=Path, help="GIF or MP4 file (default: RESULTS.gif)")
-    p.add_argument("--fps", type=int, default=20, help="frames per second")
+    p.add_argument("--fps", type=int, default=20,
+                   help="animation frames per second (default 20; one per output frame)")
     p.set_defaults(func=_animate)
 
     p = sub.add_parser("export-vtk", help="ParaView time series (.pvd + .vtu) of the frames")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5)")
     p.add_argument("-o", "--output", type=Path,
                    help="folder for NAME.pvd and NAME/*.vtu (default: the results' folder)")
     p.set_defaults(func=_export_vtk)

@@ -365,6 +365,14 @@ def collapse_curve(path, periods, stands: float, collapses: float, *,
     T_p [s], the smallest pulse amplitude [m/s^2] that collapses the structure, bracketed by
     bisection between `stands` and `collapses`; the periods run in parallel processes.
     Returns a CurvePoint per period (with the mechanism at collapse), in the order given."""
+    from .scenario import load_scenario
+
+    motion = load_scenario(path, list(overrides)).loads.ground_motion
+    if motion is None or motion.pulse is None:
+        raise InputError(f"{path}: a collapse curve varies the period of a pulse, and this "
+                         "scenario has none: give it a [loads.ground_motion] table with pulse "
+                         "= \"one_sine\" (or another pulse, docs/ground-motion.md), as in "
+                         "examples/shake_table_arch.toml")
     jobs = [(str(path), float(p), stands, collapses, tuple(overrides), tolerance, criterion)
             for p in periods]
     if processes == 1 or len(jobs) == 1:

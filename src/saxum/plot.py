@@ -363,8 +363,9 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     if results.dim == 3:
         if thrust_line or mechanism is not None or ax is not None or colour_by != (
                 "displacement"):
-            raise InputError("a 3D picture is coloured by displacement, in its own figure, "
-                             "without a thrust line or mechanism")
+            raise InputError("a 3D picture is drawn in its own figure, coloured by "
+                             "displacement: thrust_line, mechanism, ax and colour_by are for "
+                             "2D results; leave them out")
         from .plot3d import plot_frame_3d
 
         return plot_frame_3d(results, k, path, forces=forces, title=title, figsize=figsize,
