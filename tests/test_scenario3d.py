@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import saxum as sx
-from saxum.cli import main
+from saxum.cli import info_text, main
 from saxum.errors import InputError
 from saxum.plot import animate, plot_frame, plot_histories
 from saxum.results import Results, ResultsWriter
@@ -274,3 +274,33 @@ def test_3d_run_results_picture_paraview_and_resume(tmp_path, monkeypatch):
         assert np.array_equal(a.body_q, b.body_q) and np.array_equal(a.body_v, b.body_v)
         for name in a.steps:
             assert np.array_equal(a.steps[name], b.steps[name]), name
+
+
+def test_info_of_a_3d_collapse_under_a_growing_harmonic_motion(tmp_path):
+    """saxum info reports the amplitude at collapse with |g| of a 3-component gravity (it
+    once failed on 3D results)."""
+    path = tmp_path / "pier.toml"
+    path.write_text(_scenario("""
+        [structure]
+        type = "pier_3d"
+        width = 0.3
+        depth = 0.3
+        courses = 2
+        course_height = 0.5
+    """, groups=("pier", "ground"), extra="""
+        [loads.ground_motion]
+        pulse = "harmonic"
+        amplitude = 12.0
+        period = 1.0
+        cycles = 2
+        ramp = 2.0
+        [solver]
+        dt = 2e-3
+    """, duration=1.6))
+    assert main(["run", str(path), "-q"]) == 0
+    with Results(tmp_path / "pier.h5") as r:
+        text = info_text(r)
+    assert "collapse at t = " in text and "made for 2D models" in text
+    g = 9.81  # the amplitude grows as 12 t / 2 m/s^2: 0.6 g at t = 1 s
+    began = float(text.split("motion began, t = ")[1].split(" s")[0])
+    assert f"{6.0 * began:.4g} m/s^2 ({6.0 * began / g:.3g} g) when the collapsing" in text

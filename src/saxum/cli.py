@@ -234,7 +234,7 @@ def _collapse_lines(r, ground) -> list[str]:
              f"mechanism at collapse (when the collapsing motion began, t = {began:.4g} s, "
              f"frame {event.onset_frame}):\n  " + text]
     if ground is not None and ground.pulse == "harmonic" and ground.ramp > 0.0:
-        g = float(np.hypot(*r.model["gravity"]))
+        g = float(np.linalg.norm(r.model["gravity"]))
 
         def amplitude(t):
             return ground.scale * ground.amplitude * min(1.0, (t + ground.start) / ground.ramp)
