@@ -11,6 +11,7 @@ frame's time, with the flow velocity.
 """
 
 import dataclasses
+import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -92,11 +93,13 @@ def _model_blocks(model: Model) -> _Blocks:
 # -- units ----------------------------------------------------------------------------------
 
 
-def _length_unit(largest: float) -> tuple[float, str]:
+def length_unit(largest: float) -> tuple[float, str]:
     """(factor from metres, unit) that shows lengths up to `largest` [m] with few digits."""
     if largest >= 1.0:
         return 1.0, "m"
-    return (1e3, "mm") if largest >= 1e-3 else (1e6, "µm")
+    if largest >= 1e-3:
+        return 1e3, "mm"
+    return (1e6, "µm") if largest >= 1e-6 else (1e9, "nm")
 
 
 def _force_unit(largest: float) -> tuple[float, str]:
@@ -110,9 +113,6 @@ def _nice_ceil(value: float) -> float:
     """The smallest of 1, 2, 5 times a power of ten that is >= value > 0."""
     power = 10.0 ** np.floor(np.log10(value))
     return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= value * (1 - 1e-12))
-
-
-# -- joints ---------------------------------------------------------------------------------
 
 
 # -- drawing --------------------------------------------------------------------------------
@@ -158,7 +158,7 @@ def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
         values = np.abs(_colour_values(blocks, qs, colour_by)[:, blocks.kind == BodyKind.FREE])
         top = float(values.max(initial=0.0))
         if colour_by == "displacement":
-            factor, unit = _length_unit(top)
+            factor, unit = length_unit(top)
             norm = Normalize(0.0, top * factor or 1.0)
             mappable = ScalarMappable(norm, "YlGnBu")
             label = f"displacement [{unit}]"
@@ -290,8 +290,14 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
         _draw_contacts(ax, look, results.contacts(k), slides)
-    heading = title if title is not None else results.path.stem
+    heading = title if title is not None else results_heading(results)
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
+
+
+def results_heading(results) -> str:
+    """The scenario's title and the results file's name, or the name alone."""
+    title = json.loads(results.scenario_json).get("title") if results.scenario_json else ""
+    return f"{title} ({results.path.name})" if title else results.path.stem
 
 
 def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None:
@@ -441,7 +447,7 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     ax_it.legend(fontsize=8, loc="upper right")
     ax_it.set_ylabel("NLGS iterations [-]")
 
-    factor, unit = _length_unit(float(s["max_interpenetration"].max(initial=0.0)))
+    factor, unit = length_unit(float(s["max_interpenetration"].max(initial=0.0)))
     ax_pen.plot(s["time"], factor * s["max_interpenetration"], lw=1.0, color="C4")
     ax_pen.set_ylabel(f"largest interpenetration [{unit}]")
     ax_pen.set_xlabel("time [s]")
@@ -456,7 +462,7 @@ def _draw_block_displacement(ax, results, b: int) -> None:
     d = results.dim
     u = results.body_q[:, b, :d] - results.model["body_q0"][b, :d]
     magnitude = np.linalg.norm(u, axis=1)
-    factor, unit = _length_unit(float(magnitude.max()))
+    factor, unit = length_unit(float(magnitude.max()))
     for values, label in (*((u[:, i], f"$u_{'xyz'[i]}$") for i in range(d)),
                           (magnitude, "$|u|$")):
         ax.plot(results.time, factor * values, label=label, lw=1.2)
@@ -474,7 +480,7 @@ def _draw_block_histories(axes, results, h: dict) -> None:
     else:  # the angle of the rotation from the initial orientation
         turned = np.degrees(np.linalg.norm(rotation_vectors(h["body_q"][:, :, 3:],
                                                             q0[None, :, 3:]), axis=-1))
-    factor, unit = _length_unit(float(np.abs(ux).max(initial=0.0)))
+    factor, unit = length_unit(float(np.abs(ux).max(initial=0.0)))
     for j, name in enumerate(h["name"]):
         axes[0].plot(h["time"], factor * ux[:, j], lw=1.0, label=name)
         axes[1].plot(h["time"], turned[:, j], lw=1.0)
@@ -564,10 +570,11 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     ax = fig.add_subplot()
     _colourbar(ax, look)
     path.parent.mkdir(parents=True, exist_ok=True)
+    heading = results_heading(results)
     with writer.saving(fig, str(path), dpi):
         for k in ks:
             ax.clear()
-            _draw_frame(ax, results, k, look, blocks, forces, None, floods)
+            _draw_frame(ax, results, k, look, blocks, forces, heading, floods)
             writer.grab_frame()
             # Laid out once, on the first frame: the axes then stay put while titles change,
             # and each frame is drawn once instead of twice (layout, then picture).

@@ -17,6 +17,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from .geometry3d import world_points
 from .model import BodyKind
+from .plot import length_unit, results_heading
 
 __all__ = ["plot_frame_3d"]
 
@@ -42,7 +43,7 @@ def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
     moved = np.linalg.norm(q[:, :3] - m["body_q0"][:, :3], axis=1)
     largest = float(moved[free].max(initial=0.0))
-    factor, unit = (1.0, "m") if largest >= 1.0 else (1e3, "mm")
+    factor, unit = length_unit(largest)
     mappable = ScalarMappable(Normalize(0.0, factor * largest or 1.0), "viridis")
     colours = np.where(free[owner[keep], None], mappable.to_rgba(factor * moved[owner[keep]]),
                        (0.85, 0.85, 0.85, 1.0))
@@ -74,7 +75,7 @@ def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
-    heading = title if title is not None else results.path.stem
+    heading = title if title is not None else results_heading(results)
     ax.set_title(f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})",
                  fontsize=10)
     fig.colorbar(mappable, ax=ax, shrink=0.6, label=f"displacement [{unit}]")
