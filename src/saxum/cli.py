@@ -17,6 +17,7 @@ source repository.
 """
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
@@ -173,15 +174,18 @@ def _info(args) -> None:
 def info_text(r) -> str:
     """What the run was and what the solver did, for `saxum info`."""
     s = r.steps
-    lines = [f"results: {r.path} (saxum {r.version})",
-             f"status: {r.status}" + (f" - {r.message}" if r.message else "")]
+    status = r.message if r.message.startswith(r.status) else (
+        r.status + (f" - {r.message}" if r.message else ""))
+    lines = [f"results: {r.path} (saxum {r.version})", f"status: {status}"]
+    sc = None
     if r.scenario_json:
         from .scenario import Scenario
 
         sc = Scenario.model_validate_json(r.scenario_json)
         st = sc.structure
         lines.append(f"scenario: {sc.title or '(untitled)'}; structure {st.type} "
-                     + ", ".join(f"{k}={v}" for k, v in st.model_dump().items() if k != "type"))
+                     + ", ".join(f"{k}={v}" for k, v in st.model_dump().items()
+                                 if k != "type" and v is not None))
         lines.append(f"duration {sc.output.duration:g} s, output every {sc.output.interval:g} s,"
                      f" checkpoints every {sc.output.checkpoint_interval:g} s")
     n_bodies = len(r.body_name)
@@ -193,16 +197,22 @@ def info_text(r) -> str:
                  + (" (last 5)" if r.checkpoint_steps.size > 5 else ""))
     if s["step"].size:
         bad = s["step"][~s["converged"]]
+        nlgs = (f" (tolerance {sc.solver.tolerance:g}, at most {sc.solver.max_iterations} "
+                "sweeps)" if sc else "")
         lines.append(
             f"steps: {s['step'].size}; NLGS sweeps mean {s['iterations'].mean():.1f}, max "
             f"{s['iterations'].max()}; not converged at {bad.size} step(s)"
-            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else ""))
+            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs)
+        free = r.model["body_kind"] == 0
+        size = float(r.body_size[free].min()) if free.any() else math.nan
+        worst = float(s["max_interpenetration"].max())
         lines.append(
             f"contacts: up to {s['contacts'].max()} ({s['active_contacts'].max()} loaded); "
-            f"largest interpenetration {s['max_interpenetration'].max():.3g} m; "
-            f"projection used at {int(np.count_nonzero(s['projection_iterations']))} step(s); "
-            f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} {r.units['kinetic_energy']}")
-    lines += _collapse_lines(r, sc.loads.ground_motion if r.scenario_json else None)
+            f"largest interpenetration {worst:.3g} m ({100.0 * worst / size:.2g} % of the "
+            f"smallest block's size); position projection used at "
+            f"{int(np.count_nonzero(s['projection_iterations']))} step(s); kinetic energy at the "
+            f"end {s['kinetic_energy'][-1]:.3g} {r.units['kinetic_energy']}")
+    lines += _collapse_lines(r, sc.loads.ground_motion if sc else None)
     return "\n".join(lines)
 
 
