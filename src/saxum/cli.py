@@ -100,13 +100,14 @@ def _collapse(args) -> None:
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
         update={"duration": at.time, "interval": at.time / 20})})
     run_scenario(scenario, output, quiet=True)
+    title = f"{scenario.title or Path(args.scenario).stem}, {args.vary} = {result.collapses:.6g}"
     with Results(output) as r:
         picture = output.with_suffix(".png")
         if mech is None:
-            plot_frame(r, -1, picture)
+            plot_frame(r, -1, picture, title=title)
         else:
             wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
-            plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech)
+            plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech, title=title)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 

@@ -303,8 +303,8 @@ class ModelBuilder:
         self._accelerations.append(acceleration)
 
     def add_force(self, bodies: Sequence[int], force: TimeVector) -> None:
-        """Apply force(t) = (fx [N], fy [N], torque [N m]) at the centre of mass of each body;
-        in 3D (fx, fy, fz [N], mx, my, mz [N m]) in the world frame."""
+        """Apply force(t) = (fx, fy [N/m], torque [N m/m]) at the centre of mass of each body
+        (2D: per metre of depth); in 3D (fx, fy, fz [N], mx, my, mz [N m]) in the world frame."""
         idx = np.atleast_1d(np.asarray(bodies, dtype=np.int64))
         bad = idx[(idx < 0) | (idx >= len(self._blocks))]
         if bad.size:

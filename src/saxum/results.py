@@ -355,7 +355,15 @@ class Results:
     """Reads a results file (also one still being written, or left by a killed run).
 
     Arrays are numpy; `units` maps each name to its unit. Frames are the output times;
-    `steps` holds the solver's per-step figures."""
+    `steps` holds the solver's per-step figures.
+
+        with Results("arch.h5") as r:
+            r.time, r.body_q[-1]          # frame times [s]; coordinates at the last frame
+            r.body_name.index("voussoir 8")
+            r.contacts(-1)["force"]       # (tangential, normal) contact forces [N/m; 3D: N]
+            r.steps["converged"]          # per step: iterations, error, interpenetration...
+            r.status, r.message           # finished, interrupted or failed, and why
+    """
 
     def __init__(self, path: str | os.PathLike) -> None:
         self.path = Path(path)
