@@ -19,12 +19,13 @@ source repository.
 import argparse
 import math
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ._version import __version__
-from .errors import InputError
+from .errors import InputError, SolverWarning
 
 __all__ = ["main"]
 
@@ -71,6 +72,17 @@ def _collapse(args) -> None:
                                                               per_block=not args.structure_ratio))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
+    logs = [t.simulation.log for t in result.trials]
+    failed = [int(np.count_nonzero(~log.converged)) for log in logs]
+    if any(failed):
+        worst = max(float(log.error[~log.converged].max(initial=0.0)) for log in logs)
+        solver = load_scenario(args.scenario, args.set).solver
+        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
+                      f"converging at {sum(failed)} step(s) in {sum(map(bool, failed))} of the "
+                      f"{len(failed)} trials (largest error there {worst:.2g}, tolerance "
+                      f"{solver.tolerance:g}); if that is far above the tolerance, the verdicts "
+                      "may be wrong: raise solver.max_iterations or lower solver.dt",
+                      SolverWarning, stacklevel=1)
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
     dim = scenario.structure.dim
     if args.vary == "loads.horizontal_acceleration":
@@ -450,10 +462,18 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings (a step where NLGS did not converge...) as one line, without Python's
+    file and source line."""
+    print(f"saxum: warning: {message}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
-        args.func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            args.func(args)
     except InputError as err:
         print(f"saxum: bad input: {err}", file=sys.stderr)
         return 2
