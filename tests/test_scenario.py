@@ -300,6 +300,18 @@ def test_bad_block_in_a_blocks_file_is_named(tmp_path):
 def test_bad_override_is_named():
     assert "expected KEY=VALUE" in _error(ARCH, overrides=["solver.dt"])
     assert "--set solver.dt" in _error(ARCH, overrides=["solver.dt=0"])
+    assert "loads.point_loads has 0 entries, so no [0] (counted from 0)" in _error(
+        ARCH, overrides=["loads.point_loads[0].magnitude=5"])
+    assert "laws has 2 entries, so no [2]" in _error(ARCH, overrides=["laws[2].friction=1"])
+    assert "title is not a table with keys, so it has no 'x'" in _error(
+        ARCH, overrides=["title.x=1"])
+
+
+def test_a_results_file_given_as_scenario_is_named(tmp_path):
+    binary = tmp_path / "run.h5"
+    binary.write_bytes(b"\x89HDF\r\n\x1a\n\x00\x00")
+    with pytest.raises(sx.InputError, match="run.h5 is not a scenario .* saxum info"):
+        load_scenario(binary)
 
 
 def test_python_and_toml_arch_are_the_same_scenario():

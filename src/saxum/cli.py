@@ -37,7 +37,7 @@ def _run(args) -> None:
     scenario = load_scenario(args.scenario, args.set)
     output = args.output or Path(args.scenario).with_suffix(".h5")
     summary = run_scenario(scenario, output, quiet=args.quiet,
-                           scenario_text=Path(args.scenario).read_text())
+                           scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
     print(describe(summary))
 
 

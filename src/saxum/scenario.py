@@ -850,8 +850,12 @@ def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ())
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no scenario file at {path}")
-    return parse_scenario(path.read_text(), base_dir=path.parent, overrides=overrides,
-                          source=str(path))
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"{path} is not a scenario (a TOML text file, docs/scenario.md); for "
+                         "a results file use saxum info, plot or resume") from None
+    return parse_scenario(text, base_dir=path.parent, overrides=overrides, source=str(path))
 
 
 def parse_scenario(text: str, *, base_dir: str | Path = ".",
@@ -894,6 +898,7 @@ def _apply_override(data: dict, item: str) -> None:
         path.append(name)
         path.extend(int(i) for i in re.findall(r"(\d+)\]", "[" + rest) if rest)
     node = data
+    done = ""  # the key up to `here`
     for here, nxt in zip(path[:-1], path[1:], strict=True):
         try:
             if isinstance(here, int):
@@ -901,11 +906,23 @@ def _apply_override(data: dict, item: str) -> None:
             else:
                 node = node.setdefault(here, [] if isinstance(nxt, int) else {})
         except (IndexError, TypeError, AttributeError):
-            raise InputError(f"--set {item!r}: no {here!r} in the scenario") from None
+            raise _missing(item, done, here, node) from None
+        done += f"[{here}]" if isinstance(here, int) else f"{'.' if done else ''}{here}"
     try:
         node[path[-1]] = value
     except (IndexError, TypeError):
-        raise InputError(f"--set {item!r}: no {path[-1]!r} in the scenario") from None
+        raise _missing(item, done, path[-1], node) from None
+
+
+def _missing(item: str, done: str, key: str | int, node) -> InputError:
+    """The error of an override whose key `done` + `key` is not in the scenario."""
+    if isinstance(key, int) and isinstance(node, list):
+        return InputError(f"--set {item!r}: {done or 'the scenario'} has {len(node)} "
+                          f"entr{'y' if len(node) == 1 else 'ies'}, so no [{key}] (counted from "
+                          f"0): add it to the scenario file, or set the whole list, e.g. "
+                          f"--set '{done}=[...]'")
+    return InputError(f"--set {item!r}: {done or 'the scenario'} is not a table with keys, "
+                      f"so it has no {key!r}")
 
 
 def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
