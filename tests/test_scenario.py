@@ -303,8 +303,8 @@ def test_bad_override_is_named():
     assert "loads.point_loads has 0 entries, so no [0] (counted from 0)" in _error(
         ARCH, overrides=["loads.point_loads[0].magnitude=5"])
     assert "laws has 2 entries, so no [2]" in _error(ARCH, overrides=["laws[2].friction=1"])
-    assert "title is not a table with keys, so it has no 'x'" in _error(
-        ARCH, overrides=["title.x=1"])
+    assert "output.duration is not a table with keys, so it has no 'x'" in _error(
+        ARCH, overrides=["output.duration.x=1"])
 
 
 def test_a_results_file_given_as_scenario_is_named(tmp_path):
@@ -381,7 +381,7 @@ def test_bad_loads_are_named():
     message = _error(unknown)
     assert "loads.point_loads[0].size: unknown key; allowed keys here: block, magnitude" in message
     assert "line 20" in message
-    assert "--set 'laws[5].friction=1': no 5 in the scenario" in _error(
+    assert "--set 'laws[5].friction=1': laws has 2 entries, so no [5]" in _error(
         ARCH, overrides=["laws[5].friction=1"])
 
 
