@@ -199,6 +199,9 @@ def test_cli_exit_codes(tmp_path, capsys):
     with pytest.raises(SystemExit) as info:
         main(["frobnicate"])
     assert info.value.code == 2
+    module = subprocess.run([sys.executable, "-m", "saxum", "info", str(bad)],
+                            capture_output=True, text=True, timeout=60)
+    assert module.returncode == 2 and "saxum: bad input" in module.stderr  # python -m saxum
     good = tmp_path / "good.toml"
     good.write_text(SCENARIO)
     with pytest.raises(SystemExit) as info:  # argparse's own error: usage, exit code 2
