@@ -126,13 +126,15 @@ def _collapse(args) -> None:
 def _collapse_curve(args) -> None:
     from .collapse import CollapseCriterion, collapse_curve
     from .plot import plot_collapse_curve
+    from .scenario import load_scenario
 
     rows = collapse_curve(args.scenario, args.periods, args.stands, args.collapses,
                           overrides=tuple(args.set), tolerance=args.tolerance,
                           criterion=CollapseCriterion(duration=args.duration,
                                                       fraction=args.fraction),
                           processes=args.processes)
-    g = 9.81
+    scenario = load_scenario(args.scenario, args.set)
+    g = float(np.linalg.norm(scenario.loads.gravity_for(scenario.structure.dim)))  # [m/s^2]
     print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
           "  collapse at [s]")
     for p in rows:
