@@ -161,6 +161,12 @@ def test_cli_run_and_info(tmp_path, capsys):
     assert main(["resume", str(results), "--quiet"]) == 0
     assert "already finished at t = 0.05 s (step 50): nothing to resume" in (
         capsys.readouterr().out)
+    # saxum info RESULTS | head: the reader has gone before saxum writes; no error for that
+    proc = subprocess.Popen([sys.executable, "-m", "saxum", "info", str(results)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc.stdout.close()
+    err = proc.stderr.read()
+    assert proc.wait(timeout=60) == 0 and "Broken" not in err, err
 
 
 def test_cli_pictures_animation_and_paraview(tmp_path, capsys):

@@ -18,6 +18,7 @@ source repository.
 
 import argparse
 import math
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -479,6 +480,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"saxum: bad input: {err}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into a program that stopped reading (| head)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
+        return 0
     except Exception as err:  # noqa: BLE001 - any failure is reported as exit code 1
         print(f"saxum: failed: {type(err).__name__}: {err}", file=sys.stderr)
         return 1
