@@ -93,3 +93,27 @@ def test_arches_keep_their_report():
     mech = mechanism(model, state, 1e-3)
     assert mech.hinges and all(j.courses is None and j.location is None for j in mech.joints)
     assert "along" not in mech.text() and "course" not in mech.text()
+
+
+def test_mechanism_of_a_results_frame_locates_wall_joints_by_course(tmp_path):
+    """frame_mechanism reads a wall's results file as mechanism() reads the model (it once
+    failed on blocks named by course: the results' bodies had no vertices)."""
+    from saxum.mechanism import frame_mechanism, mechanism
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import Scenario
+
+    scenario = Scenario.model_validate({
+        "structure": {"type": "running_bond_wall", "courses": 12, "bricks": 2},
+        "laws": [{"groups": ["*", "*"], "friction": 1.0}],
+        "loads": {"horizontal_acceleration": 9.81},
+        "output": {"duration": 0.15, "interval": 0.05}})
+    run_scenario(scenario, tmp_path / "wall.h5", quiet=True)
+    with Results(tmp_path / "wall.h5") as r:
+        from_file = frame_mechanism(r, -1)
+    sim = scenario.build_simulation()
+    state = sim.initial_state()
+    sim.run(state, 0.15)
+    direct = mechanism(sim.model, state, sim.integrator.dt)
+    assert any(j.courses == (1,) for j in from_file.hinges)
+    assert from_file.text() == direct.text()

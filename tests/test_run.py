@@ -158,6 +158,15 @@ def test_cli_run_and_info(tmp_path, capsys):
     assert main(["info", str(results)]) == 0
     out = capsys.readouterr().out
     assert "status: finished" in out and "thin arch" in out and "steps: 50" in out
+    assert main(["resume", str(results), "--quiet"]) == 0
+    assert "already finished at t = 0.05 s (step 50): nothing to resume" in (
+        capsys.readouterr().out)
+    # saxum info RESULTS | head: the reader has gone before saxum writes; no error for that
+    proc = subprocess.Popen([sys.executable, "-m", "saxum", "info", str(results)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc.stdout.close()
+    err = proc.stderr.read()
+    assert proc.wait(timeout=60) == 0 and "Broken" not in err, err
 
 
 def test_cli_pictures_animation_and_paraview(tmp_path, capsys):
@@ -196,6 +205,19 @@ def test_cli_exit_codes(tmp_path, capsys):
     with pytest.raises(SystemExit) as info:
         main(["frobnicate"])
     assert info.value.code == 2
+    module = subprocess.run([sys.executable, "-m", "saxum", "info", str(bad)],
+                            capture_output=True, text=True, timeout=60)
+    assert module.returncode == 2 and "saxum: bad input" in module.stderr  # python -m saxum
+    good = tmp_path / "good.toml"
+    good.write_text(SCENARIO)
+    with pytest.raises(SystemExit) as info:  # argparse's own error: usage, exit code 2
+        main(["collapse-curve", str(good), "--periods", "0.5,a", "--stands", "1",
+              "--collapses", "2"])
+    assert info.value.code == 2 and "give periods in seconds" in capsys.readouterr().err
+    assert main(["collapse-curve", str(good), "--periods", "0.5", "--stands", "1",
+                 "--collapses", "2"]) == 2
+    assert "varies the period of a pulse, and this scenario has none" in (
+        capsys.readouterr().err)
 
 
 def test_cli_collapse_finds_the_overturning_load_of_a_block(tmp_path, capsys):
@@ -225,6 +247,14 @@ def test_cli_collapse_finds_the_overturning_load_of_a_block(tmp_path, capsys):
     assert factor == pytest.approx(0.5, rel=0.01)
     assert "hinge between ground and pier at (0.5" in out
     assert Image.open(tmp_path / "block-collapse.png").format == "PNG"
+    assert "NLGS" not in capsys.readouterr().err  # converged at every step of every trial
+    # an NLGS that cannot converge in 2 sweeps is reported (in one line, no Python source)
+    assert main(["collapse", str(tmp_path / "block.toml"), "--vary",
+                 "loads.horizontal_acceleration", "--stands", "1", "--collapses", "8",
+                 "--tolerance", "0.2", "--set", "solver.max_iterations=2"]) == 0
+    err = capsys.readouterr().err
+    assert "saxum: warning: NLGS stopped at its cap of 2 sweeps without converging" in err
+    assert "warnings.warn" not in err and ".py:" not in err
 
 
 def test_cli_fclib_solve(capsys):

@@ -194,11 +194,12 @@ def test_frame_selection(exported, tmp_path):
         Path(ds.get("file")).name for ds in sets)
 
 
-def test_only_2d_results(exported, tmp_path):
+def test_only_2d_and_3d_results(exported, tmp_path):
+    """(3D export: tests/test_scenario3d.py.)"""
     res, _ = exported
-    res.dim = 3
+    res.dim = 4
     try:
-        with pytest.raises(sx.InputError, match="2D results only"):
+        with pytest.raises(sx.InputError, match="neither 2 nor 3"):
             export_vtk(res, tmp_path)
     finally:
         res.dim = 2

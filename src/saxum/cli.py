@@ -1,25 +1,32 @@
 """saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input.
+SI units throughout; in 2D, forces and masses are per metre of depth.
 
     saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--quiet]
     saxum resume RESULTS [--quiet]
-    saxum demo NAME [-o PICTURE]           (NAME: arch, wall)
-    saxum collapse SCENARIO --vary KEY --stands A --collapses B
+    saxum demo NAME [-o PICTURE] [--duration T]      (NAME: arch, wall)
+    saxum collapse SCENARIO --vary KEY --stands A --collapses B [--set KEY=VALUE ...]
     saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B [-o PNG]
     saxum fclib solve FILE...
     saxum info RESULTS
-    saxum plot RESULTS [--frame K | --collapse] [--histories] [-o PNG]
+    saxum plot RESULTS [--frame K | --collapse | --histories [--body NAME]] [--thrust-line]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
+
+`saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
+source repository.
 """
 
 import argparse
+import math
+import os
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ._version import __version__
-from .errors import InputError
+from .errors import InputError, SolverWarning
 
 __all__ = ["main"]
 
@@ -31,7 +38,7 @@ def _run(args) -> None:
     scenario = load_scenario(args.scenario, args.set)
     output = args.output or Path(args.scenario).with_suffix(".h5")
     summary = run_scenario(scenario, output, quiet=args.quiet,
-                           scenario_text=Path(args.scenario).read_text())
+                           scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
     print(describe(summary))
 
 
@@ -66,9 +73,21 @@ def _collapse(args) -> None:
                                                               per_block=not args.structure_ratio))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
+    logs = [t.simulation.log for t in result.trials]
+    failed = [int(np.count_nonzero(~log.converged)) for log in logs]
+    if any(failed):
+        worst = max(float(log.error[~log.converged].max(initial=0.0)) for log in logs)
+        solver = load_scenario(args.scenario, args.set).solver
+        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
+                      f"converging at {sum(failed)} step(s) in {sum(map(bool, failed))} of the "
+                      f"{len(failed)} trials (largest error there {worst:.2g}, tolerance "
+                      f"{solver.tolerance:g}); if that is far above the tolerance, the verdicts "
+                      "may be wrong: raise solver.max_iterations or lower solver.dt",
+                      SolverWarning, stacklevel=1)
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
+    dim = scenario.structure.dim
     if args.vary == "loads.horizontal_acceleration":
-        g = float(np.hypot(*scenario.loads.gravity))
+        g = float(np.linalg.norm(scenario.loads.gravity_for(dim)))
         print(f"horizontal load factor lambda = a/g: {result.value / g:.4g} "
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     trial = result.collapse()
@@ -77,38 +96,46 @@ def _collapse(args) -> None:
         at, when = trial.at_collapse, "when the collapsing motion began"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size; the ground motion ends at "
-              f"{float(motion.motion().time[-1]):.4g} s)")
+              f"{float(motion.motion(dim).time[-1]):.4g} s)")
     else:
         trial.simulation.run(trial.state, 0.05)  # let the mechanism develop so hinges show
         at, when = trial.state, "0.05 s after the verdict"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size)")
-    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s ({when}):")
-    mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
-    print(mech.text())
+    mech = None
+    if dim == 2:  # the mechanism report is made for 2D models
+        print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s "
+              f"({when}):")
+        mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
+        print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
         update={"duration": at.time, "interval": at.time / 20})})
     run_scenario(scenario, output, quiet=True)
+    title = f"{scenario.title or Path(args.scenario).stem}, {args.vary} = {result.collapses:.6g}"
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
-        plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech)
+        if mech is None:
+            plot_frame(r, -1, picture, title=title)
+        else:
+            wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
+            plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech, title=title)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
 def _collapse_curve(args) -> None:
     from .collapse import CollapseCriterion, collapse_curve
     from .plot import plot_collapse_curve
+    from .scenario import load_scenario
 
-    periods = [float(p) for p in args.periods.split(",")]
-    rows = collapse_curve(args.scenario, periods, args.stands, args.collapses,
+    rows = collapse_curve(args.scenario, args.periods, args.stands, args.collapses,
                           overrides=tuple(args.set), tolerance=args.tolerance,
                           criterion=CollapseCriterion(duration=args.duration,
                                                       fraction=args.fraction),
                           processes=args.processes)
-    g = 9.81
+    scenario = load_scenario(args.scenario, args.set)
+    g = float(np.linalg.norm(scenario.loads.gravity_for(scenario.structure.dim)))  # [m/s^2]
     print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
           "  collapse at [s]")
     for p in rows:
@@ -118,7 +145,7 @@ def _collapse_curve(args) -> None:
         print(f"{p.period:10.4g}  {p.amplitude:26.4g}  ({p.stands:.4g} .. {p.collapses:.4g})"
               f"  {p.amplitude / g:7.4f}  {p.trials:6d}  {p.collapse_time:15.4g}")
     for p in rows:
-        if p.note:
+        if p.note or p.mechanism is None:  # (no collapse, or a 3D model)
             continue
         print(f"\nmechanism at T_p = {p.period:g} s, amplitude {p.collapses:.4g} m/s^2, "
               f"collapsing from t = {p.mechanism_time:.4g} s:")
@@ -163,15 +190,18 @@ def _info(args) -> None:
 def info_text(r) -> str:
     """What the run was and what the solver did, for `saxum info`."""
     s = r.steps
-    lines = [f"results: {r.path} (saxum {r.version})",
-             f"status: {r.status}" + (f" - {r.message}" if r.message else "")]
+    status = r.message if r.message.startswith(r.status) else (
+        r.status + (f" - {r.message}" if r.message else ""))
+    lines = [f"results: {r.path} (saxum {r.version})", f"status: {status}"]
+    sc = None
     if r.scenario_json:
         from .scenario import Scenario
 
         sc = Scenario.model_validate_json(r.scenario_json)
         st = sc.structure
         lines.append(f"scenario: {sc.title or '(untitled)'}; structure {st.type} "
-                     + ", ".join(f"{k}={v}" for k, v in st.model_dump().items() if k != "type"))
+                     + ", ".join(f"{k}={v}" for k, v in st.model_dump().items()
+                                 if k != "type" and v is not None))
         lines.append(f"duration {sc.output.duration:g} s, output every {sc.output.interval:g} s,"
                      f" checkpoints every {sc.output.checkpoint_interval:g} s")
     n_bodies = len(r.body_name)
@@ -183,16 +213,22 @@ def info_text(r) -> str:
                  + (" (last 5)" if r.checkpoint_steps.size > 5 else ""))
     if s["step"].size:
         bad = s["step"][~s["converged"]]
+        nlgs = (f" (tolerance {sc.solver.tolerance:g}, at most {sc.solver.max_iterations} "
+                "sweeps)" if sc else "")
         lines.append(
             f"steps: {s['step'].size}; NLGS sweeps mean {s['iterations'].mean():.1f}, max "
             f"{s['iterations'].max()}; not converged at {bad.size} step(s)"
-            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else ""))
+            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs)
+        free = r.model["body_kind"] == 0
+        size = float(r.body_size[free].min()) if free.any() else math.nan
+        worst = float(s["max_interpenetration"].max())
         lines.append(
             f"contacts: up to {s['contacts'].max()} ({s['active_contacts'].max()} loaded); "
-            f"largest interpenetration {s['max_interpenetration'].max():.3g} m; "
-            f"projection used at {int(np.count_nonzero(s['projection_iterations']))} step(s); "
-            f"kinetic energy at the end {s['kinetic_energy'][-1]:.3g} J/m")
-    lines += _collapse_lines(r, sc.loads.ground_motion if r.scenario_json else None)
+            f"largest interpenetration {worst:.3g} m ({100.0 * worst / size:.2g} % of the "
+            f"smallest block's size); position projection used at "
+            f"{int(np.count_nonzero(s['projection_iterations']))} step(s); kinetic energy at the "
+            f"end {s['kinetic_energy'][-1]:.3g} {r.units['kinetic_energy']}")
+    lines += _collapse_lines(r, sc.loads.ground_motion if sc else None)
     return "\n".join(lines)
 
 
@@ -205,8 +241,9 @@ def _collapse_lines(r, ground) -> list[str]:
     free = r.model["body_kind"] == 0
     if r.frame_count == 0 or not free.any():
         return []
-    moved = np.hypot(*np.moveaxis(r.body_q[:, free, :2] - r.model["body_q0"][free, :2], -1,
-                                  0)).max(axis=1)
+    d = r.dim
+    moved = np.linalg.norm(r.body_q[:, free, :d] - r.model["body_q0"][free, :d],
+                           axis=-1).max(axis=1)
     peak = int(np.argmax(moved))
     event = find_collapse(r)
     if event is None:
@@ -214,7 +251,8 @@ def _collapse_lines(r, ground) -> list[str]:
                 f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
                 f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
                 f"{moved[-1]:.3g} m at the end"]
-    text = frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ")
+    text = (frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ") if d == 2
+            else "(the mechanism report is made for 2D models)")
     began = float(r.time[event.onset_frame])
     lines = [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
              f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
@@ -222,7 +260,7 @@ def _collapse_lines(r, ground) -> list[str]:
              f"mechanism at collapse (when the collapsing motion began, t = {began:.4g} s, "
              f"frame {event.onset_frame}):\n  " + text]
     if ground is not None and ground.pulse == "harmonic" and ground.ramp > 0.0:
-        g = float(np.hypot(*r.model["gravity"]))
+        g = float(np.linalg.norm(r.model["gravity"]))
 
         def amplitude(t):
             return ground.scale * ground.amplitude * min(1.0, (t + ground.start) / ground.ramp)
@@ -240,6 +278,9 @@ def _plot(args) -> None:
     from .results import Results
 
     with Results(args.results) as r:
+        if args.thrust_line and r.dim != 2:
+            raise InputError(f"{args.results}: --thrust-line is drawn for 2D results (an arch "
+                             "in section) and this is a 3D model: leave out --thrust-line")
         if args.histories:
             out = args.output or Path(args.results).with_suffix(".histories.png")
             plot_histories(r, out, body=args.body)
@@ -278,6 +319,18 @@ def _export_vtk(args) -> None:
     print(f"ParaView collection: {Path(pvd).resolve()} (open it in ParaView)")
 
 
+def _periods(text: str) -> list[float]:
+    """--periods T1,T2,...: pulse periods [s], each > 0."""
+    try:
+        periods = [float(p) for p in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give periods in seconds separated by "
+                                         "commas, e.g. 0.5,1,2") from None
+    if not all(p > 0.0 for p in periods):
+        raise argparse.ArgumentTypeError(f"{text!r}: every period must be > 0 [s]")
+    return periods
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="saxum", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -295,7 +348,7 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("resume", help="continue a killed, interrupted or finished run from "
                                       "its last checkpoint")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5) of saxum run")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_resume)
 
@@ -310,16 +363,19 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
                                         "thickness...) by bisection, and the mechanism")
-    p.add_argument("scenario", type=Path)
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
     p.add_argument("--vary", required=True, metavar="KEY",
                    help="scenario key to vary, e.g. loads.horizontal_acceleration [m/s^2] or "
                         "structure.thickness [m]")
-    p.add_argument("--stands", type=float, required=True, help="a value at which it stands")
+    p.add_argument("--stands", type=float, required=True,
+                   help="a value at which it stands (in the key's unit)")
     p.add_argument("--collapses", type=float, required=True,
-                   help="a value at which it collapses")
+                   help="a value at which it collapses (in the key's unit)")
     p.add_argument("--tolerance", type=float, default=0.005,
                    help="relative width of the final bracket (default 0.005)")
-    p.add_argument("--duration", type=float, default=1.0, help="longest trial [s]")
+    p.add_argument("--duration", type=float, default=1.0,
+                   help="longest trial [s] (default 1; under a ground motion or a settlement, "
+                        "counted from its end)")
     p.add_argument("--fraction", type=float, default=None,
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
@@ -337,14 +393,16 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("collapse-curve", help="smallest pulse amplitude that collapses the "
                                               "structure, per pulse period (in parallel)")
     p.add_argument("scenario", type=Path, help="a scenario with [loads.ground_motion] pulse")
-    p.add_argument("--periods", required=True, help="pulse periods [s], comma separated")
+    p.add_argument("--periods", required=True, type=_periods, metavar="T1,T2,...",
+                   help="pulse periods [s], comma separated")
     p.add_argument("--stands", type=float, required=True,
                    help="an amplitude [m/s^2] at which it stands for every period")
     p.add_argument("--collapses", type=float, required=True,
                    help="an amplitude [m/s^2] at which it collapses for every period")
-    p.add_argument("--tolerance", type=float, default=0.01, help="relative bracket width")
+    p.add_argument("--tolerance", type=float, default=0.01,
+                   help="relative width of the final bracket (default 0.01)")
     p.add_argument("--duration", type=float, default=2.0,
-                   help="longest trial after the pulse has ended [s]")
+                   help="longest trial after the pulse has ended [s] (default 2)")
     p.add_argument("--fraction", type=float, default=0.5,
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size once the pulse is over (default 0.5; a block that is still "
@@ -365,17 +423,20 @@ def _parser() -> argparse.ArgumentParser:
     q.add_argument("files", type=Path, nargs="+", help="FCLIB .hdf5 files")
     q.add_argument("--tolerance", type=float, default=1e-8,
                    help="target natural-map error ||F_nat(r)||/||q|| (default 1e-8)")
-    q.add_argument("--max-iterations", type=int, default=100_000, help="NLGS sweeps at most")
-    q.add_argument("--relaxation", type=float, default=1.0, help="NLGS relaxation omega")
+    q.add_argument("--max-iterations", type=int, default=100_000,
+                   help="NLGS sweeps at most (default 100000)")
+    q.add_argument("--relaxation", type=float, default=1.0,
+                   help="NLGS relaxation omega in (0, 1] (default 1)")
     q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5)")
     p.set_defaults(func=_info)
 
     p = sub.add_parser("plot", help="picture of an output frame, or the time histories")
-    p.add_argument("results", type=Path)
-    p.add_argument("--frame", type=int, default=-1, help="output frame (default: the last)")
+    p.add_argument("results", type=Path, help="results file (HDF5)")
+    p.add_argument("--frame", type=int, default=-1,
+                   help="output frame, from 0 (default: the last; saxum info gives the count)")
     p.add_argument("--collapse", action="store_true",
                    help="the frame at which the collapse began, with its hinges (saxum info)")
     p.add_argument("--histories", action="store_true",
@@ -390,26 +451,38 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("animate", help="animation of the output frames (GIF, or MP4 with "
                                        "ffmpeg)")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5) of a 2D model")
     p.add_argument("-o", "--output", type=Path, help="GIF or MP4 file (default: RESULTS.gif)")
-    p.add_argument("--fps", type=int, default=20, help="frames per second")
+    p.add_argument("--fps", type=int, default=20,
+                   help="animation frames per second (default 20; one per output frame)")
     p.set_defaults(func=_animate)
 
     p = sub.add_parser("export-vtk", help="ParaView time series (.pvd + .vtu) of the frames")
-    p.add_argument("results", type=Path)
+    p.add_argument("results", type=Path, help="results file (HDF5)")
     p.add_argument("-o", "--output", type=Path,
                    help="folder for NAME.pvd and NAME/*.vtu (default: the results' folder)")
     p.set_defaults(func=_export_vtk)
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings (a step where NLGS did not converge...) as one line, without Python's
+    file and source line."""
+    print(f"saxum: warning: {message}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
-        args.func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            args.func(args)
     except InputError as err:
         print(f"saxum: bad input: {err}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into a program that stopped reading (| head)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
+        return 0
     except Exception as err:  # noqa: BLE001 - any failure is reported as exit code 1
         print(f"saxum: failed: {type(err).__name__}: {err}", file=sys.stderr)
         return 1

@@ -133,10 +133,11 @@ class Trial:
     at_collapse: State | None = field(default=None, repr=False)
 
     def mechanism(self):
-        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood)."""
+        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood, and for
+        a 3D model: the mechanism report is made for 2D ones)."""
         from .mechanism import mechanism
 
-        if self.at_collapse is None:
+        if self.at_collapse is None or self.simulation.model.dim != 2:
             return None
         return mechanism(self.simulation.model, self.at_collapse, self.simulation.integrator.dt)
 
@@ -145,16 +146,18 @@ def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, 
                            per_block: bool = False) -> float:
     """UFR of the last step (module doc): net force over acting forces on the free blocks
     (per_block: the largest of each block's own ratio); v_before: the velocities at the
-    start of the step [m/s, m/s, rad/s]."""
+    start of the step [m/s, rad/s]."""
     m = sim.model
     h = sim.integrator.dt
+    d = m.dim
     free = m.body_kind == BodyKind.FREE
-    net = np.hypot(*((state.body_v[free, :2] - v_before[free, :2]).T)) * m.body_mass[free] / h
+    net = np.linalg.norm(state.body_v[free, :d] - v_before[free, :d], axis=1) * m.body_mass[
+        free] / h
     force = np.empty_like(state.body_v)
     sim.external_force(state.time, force, state.body_q)
-    applied = np.hypot(*force[free, :2].T)
+    applied = np.linalg.norm(force[free, :d], axis=1)
     c = state.contacts
-    r = np.hypot(*c.impulse[: c.count].T) / h
+    r = np.linalg.norm(c.impulse[: c.count], axis=1) / h
     contact = (np.bincount(c.candidate[: c.count], r, m.body_count)
                + np.bincount(c.antagonist[: c.count], r, m.body_count))[free]
     if per_block:
@@ -174,8 +177,9 @@ def run_trial(sim: Simulation, value: float = math.nan,
         raise InputError("a collapse trial needs at least one free block")
     limit = crit.displacement or crit.fraction * float(m.body_size[free].min())
     h = sim.integrator.dt
-    height = float(np.ptp(m.vertex_local[:, 1]) + np.ptp(m.body_q0[:, 1]))
-    g = float(np.hypot(*m.gravity)) or 1.0
+    up = m.dim - 1  # the vertical axis: y in 2D, z in 3D
+    height = float(np.ptp(m.vertex_local[:, up]) + np.ptp(m.body_q0[:, up]))
+    g = float(np.linalg.norm(m.gravity)) or 1.0
     energy_scale = float(m.body_mass[free].sum()) * g * height
     state = sim.initial_state()
     steps = round((crit.not_before + crit.duration) / h)
@@ -188,15 +192,15 @@ def run_trial(sim: Simulation, value: float = math.nan,
     crossed = math.nan  # when a block last moved past the limit
     onset: State | None = None  # the state when a block last moved past ONSET * limit
     v_before = np.empty_like(state.body_v)
-    reference, anchored = m.body_q0[free, :2], not crit.after_motion
+    reference, anchored = m.body_q0[free, : m.dim], not crit.after_motion
     fall = m.body_mass[free] * g * limit  # [J/m] the energy of a free fall by `limit`
     for k in range(steps):
         v_before[:] = state.body_v
         report = sim.step(state)
         energies[k] = report.kinetic_energy
         if not anchored and state.time >= crit.not_before:
-            reference, anchored = state.body_q[free, :2].copy(), True
-        moved = float(np.hypot(*(state.body_q[free, :2] - reference).T).max())
+            reference, anchored = state.body_q[free, : m.dim].copy(), True
+        moved = float(np.linalg.norm(state.body_q[free, : m.dim] - reference, axis=1).max())
         displacements[k] = moved
         thrown = not anchored and bool(np.any(_block_energy(m, state.body_v)[free] > fall))
         if thrown:  # during a settlement the displacements say nothing: collapse now
@@ -228,9 +232,10 @@ def run_trial(sim: Simulation, value: float = math.nan,
 
 
 def _block_energy(model, v: np.ndarray) -> np.ndarray:
-    """Kinetic energy of each body, 1/2 (m |v|^2 + I omega^2) [J/m]."""
-    return 0.5 * (model.body_mass * (v[:, 0] ** 2 + v[:, 1] ** 2)
-                  + model.body_inertia * v[:, 2] ** 2)
+    """Kinetic energy of each body, 1/2 (m |v|^2 + sum_k J_k omega_k^2) [J/m; 3D: J]."""
+    d = model.dim
+    spin = model.body_inertia.reshape(model.body_count, -1) * v[:, d:] ** 2
+    return 0.5 * (model.body_mass * np.sum(v[:, :d] ** 2, axis=1) + spin.sum(axis=1))
 
 
 class BracketError(InputError):
@@ -302,10 +307,12 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
         return load_scenario(path, [*overrides, f"{key}={x!r}"]).build_simulation()
 
     crit = criterion or CollapseCriterion()
-    loads = load_scenario(path, list(overrides)).loads
+    scenario = load_scenario(path, list(overrides))
+    loads = scenario.loads
     if loads.ground_motion is not None:
         crit = dataclasses.replace(crit, not_before=max(
-            crit.not_before, float(loads.ground_motion.motion().time[-1])))
+            crit.not_before, float(loads.ground_motion.motion(scenario.structure.dim)
+                                   .time[-1])))
     if loads.settlements:
         crit = dataclasses.replace(crit, after_motion=True, not_before=max(
             crit.not_before, *(s.time for s in loads.settlements)))
@@ -358,6 +365,14 @@ def collapse_curve(path, periods, stands: float, collapses: float, *,
     T_p [s], the smallest pulse amplitude [m/s^2] that collapses the structure, bracketed by
     bisection between `stands` and `collapses`; the periods run in parallel processes.
     Returns a CurvePoint per period (with the mechanism at collapse), in the order given."""
+    from .scenario import load_scenario
+
+    motion = load_scenario(path, list(overrides)).loads.ground_motion
+    if motion is None or motion.pulse is None:
+        raise InputError(f"{path}: a collapse curve varies the period of a pulse, and this "
+                         "scenario has none: give it a [loads.ground_motion] table with pulse "
+                         "= \"one_sine\" (or another pulse, docs/ground-motion.md), as in "
+                         "examples/shake_table_arch.toml")
     jobs = [(str(path), float(p), stands, collapses, tuple(overrides), tolerance, criterion)
             for p in periods]
     if processes == 1 or len(jobs) == 1:
@@ -390,8 +405,9 @@ def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent 
     if not free.any() or results.frame_count == 0:
         return None
     limit = fraction * float(results.body_size[free].min())
-    moved = np.hypot(*np.moveaxis(results.body_q[:, free, :2]
-                                  - results.model["body_q0"][free, :2], -1, 0))
+    d = results.dim
+    moved = np.linalg.norm(results.body_q[:, free, :d] - results.model["body_q0"][free, :d],
+                           axis=-1)
     largest = moved.max(axis=1)
     if largest[-1] <= limit:
         return None

@@ -42,7 +42,7 @@ def arch_demo(output: Path, *, duration: float | None = None, echo=print) -> dic
     self-weight: t/R = 0.15 stands, t/R = 0.09 is thinner than Milankovitch's minimum
     (t/R = 0.1075) and collapses. Writes both final states side by side to `output` (PNG) and
     returns the crown voussoir's displacement [m] for each."""
-    fig = Figure(figsize=(13, 4.8), layout="constrained")
+    fig = Figure(figsize=(13, 3.9), layout="constrained")
     crown_moves = {}
     for ax, case in zip(fig.subplots(1, 2), ("stands", "collapses"), strict=True):
         name = f"arch-{case}"
@@ -77,7 +77,7 @@ def wall_demo(output: Path, *, duration: float | None = None, echo=print) -> flo
     with Results(path) as r:
         moved = _largest_motion(r)
         failing = np.flatnonzero(moved > 0.01 * height)
-        g = float(np.hypot(*r.model["gravity"]))
+        g = float(np.linalg.norm(r.model["gravity"]))
         rate = scenario.loads.load_factor_rate
         if failing.size:
             k = int(failing[0])

@@ -14,6 +14,10 @@ Application (documented in docs/ground-motion.md):
   constant acceleration v_g(end)/duration, after which the ground ends at rest.
 The two give the same motion of the blocks relative to the ground for the same GroundMotion
 (a uniform translation of the frame adds no force; tests/test_ground.py).
+
+Components: a 2D model takes (horizontal, vertical), a 3D model (x, y, z) with z vertical; a
+record with one horizontal component is put along any horizontal direction of a 3D model by
+`in_3d(azimuth)`.
 """
 
 from __future__ import annotations
@@ -39,7 +43,8 @@ _UNITS = {"g": G_STANDARD, "m/s^2": 1.0, "m/s2": 1.0, "cm/s^2": 0.01, "cm/s2": 0
 @dataclass(frozen=True)
 class GroundMotion:
     """A ground acceleration history: times [s] (increasing) and acceleration [m/s^2], shape
-    (n, 2) (horizontal, vertical); between samples it is linear, outside it is zero."""
+    (n, 2) (horizontal, vertical; one column: horizontal only) or (n, 3) (x, y, z, z
+    vertical: for 3D models); between samples it is linear, outside it is zero."""
 
     time: np.ndarray
     acceleration: np.ndarray
@@ -52,9 +57,10 @@ class GroundMotion:
             a = a[:, 0]
         if a.ndim == 1:  # horizontal only
             a = np.column_stack((a, np.zeros_like(a)))
-        if t.ndim != 1 or len(t) < 2 or a.shape != (len(t), 2):
-            raise InputError(f"ground motion {self.name!r}: need >= 2 samples of time and "
-                             f"acceleration of the same length, got {t.shape} and {a.shape}")
+        if t.ndim != 1 or len(t) < 2 or a.ndim != 2 or a.shape[0] != len(t) or a.shape[
+                1] not in (2, 3):
+            raise InputError(f"ground motion {self.name!r}: need >= 2 samples of time and of "
+                             f"2 or 3 acceleration components, got {t.shape} and {a.shape}")
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
             raise InputError(f"ground motion {self.name!r}: NaN or infinite values")
         if np.any(np.diff(t) <= 0.0):
@@ -68,6 +74,20 @@ class GroundMotion:
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])
 
+    @property
+    def components(self) -> int:
+        """2: (horizontal, vertical), for 2D models; 3: (x, y, z), for 3D models."""
+        return int(self.acceleration.shape[1])
+
+    def in_3d(self, azimuth: float = 0.0) -> GroundMotion:
+        """A (horizontal, vertical) record as (x, y, z): the horizontal component along the
+        direction at `azimuth` [rad] from the x axis towards y, the vertical one along z."""
+        if self.components != 2:
+            raise InputError(f"ground motion {self.name!r} already has 3 components")
+        h, v = self.acceleration[:, 0], self.acceleration[:, 1]
+        return GroundMotion(self.time, np.column_stack((math.cos(azimuth) * h,
+                                                        math.sin(azimuth) * h, v)), self.name)
+
     def scaled(self, factor: float) -> GroundMotion:
         """The record times `factor` (both components)."""
         return GroundMotion(self.time, factor * self.acceleration, self.name)
@@ -80,12 +100,11 @@ class GroundMotion:
                              f"{end:g} s (record spans {self.time[0]:g} .. {self.time[-1]:g} s)")
         return GroundMotion(self.time[keep] - start, self.acceleration[keep], self.name)
 
-    def acceleration_at(self, t: float) -> tuple[float, float]:
+    def acceleration_at(self, t: float) -> tuple[float, ...]:
         """a_g(t) [m/s^2], linear between samples, 0 outside the record."""
         if t < self.time[0] or t > self.time[-1]:
-            return 0.0, 0.0
-        return (float(np.interp(t, self.time, self.acceleration[:, 0])),
-                float(np.interp(t, self.time, self.acceleration[:, 1])))
+            return (0.0,) * self.components
+        return tuple(float(np.interp(t, self.time, a)) for a in self.acceleration.T)
 
     def velocity(self) -> np.ndarray:
         """Ground velocity [m/s] at the samples: trapezoidal integral of the acceleration."""
@@ -95,7 +114,7 @@ class GroundMotion:
     def _velocity(self) -> np.ndarray:
         # computed once: velocity_at is called twice per time step
         dt = np.diff(self.time)[:, None]
-        return np.vstack((np.zeros((1, 2)),
+        return np.vstack((np.zeros((1, self.components)),
                           np.cumsum(0.5 * dt * (self.acceleration[1:] + self.acceleration[:-1]),
                                     axis=0)))
 
@@ -110,7 +129,7 @@ class GroundMotion:
         acceleration (0 before the record, its final value after)."""
         v = self._velocity
         if t <= self.time[0]:
-            return np.zeros(2)
+            return np.zeros(self.components)
         if t >= self.time[-1]:
             return v[-1].copy()
         k = int(np.searchsorted(self.time, t, side="right")) - 1
@@ -126,18 +145,28 @@ class GroundMotion:
         with jumps are applied with their exact impulse."""
         return _InertialLoad(self)
 
+    def _check_dim(self, builder) -> None:
+        if self.components != builder.dim:
+            raise InputError(
+                f"ground motion {self.name!r} has {self.components} components, the model is "
+                f"{builder.dim}D: a 2D model takes (horizontal, vertical), a 3D model (x, y, z)"
+                + ("; GroundMotion.in_3d(azimuth) turns a 2D record into one"
+                   if builder.dim == 3 else ""))
+
     def apply_as_inertial_forces(self, builder) -> None:
         """Add -m a_g(t) to every free block of a saxum.ModelBuilder (ground frame)."""
+        self._check_dim(builder)
         builder.add_acceleration(self.inertial_load())
 
     def apply_as_driven_supports(self, builder, names: Sequence[str]) -> None:
         """Drive the fixed blocks `names` with the ground velocity (absolute frame)."""
+        self._check_dim(builder)
         velocity = self.velocity()
+        turning = (0.0,) * (3 * (builder.dim - 1) - builder.dim)  # no rotation
 
         def motion(t: float):
             # np.interp holds the end values outside the record: 0 before, v_g(end) after
-            return (float(np.interp(t, self.time, velocity[:, 0])),
-                    float(np.interp(t, self.time, velocity[:, 1])), 0.0)
+            return tuple(float(np.interp(t, self.time, v)) for v in velocity.T) + turning
 
         for name in names:
             builder.drive(name, motion)
@@ -149,13 +178,12 @@ class _InertialLoad:
     def __init__(self, motion: GroundMotion) -> None:
         self.motion = motion
 
-    def __call__(self, t: float) -> tuple[float, float]:
-        ax, ay = self.motion.acceleration_at(t)
-        return -ax, -ay
+    def __call__(self, t: float) -> tuple[float, ...]:
+        return tuple(-a for a in self.motion.acceleration_at(t))
 
-    def mean_over(self, t0: float, t1: float) -> tuple[float, float]:
+    def mean_over(self, t0: float, t1: float) -> tuple[float, ...]:
         dv = self.motion.velocity_at(t1) - self.motion.velocity_at(t0)
-        return -float(dv[0]) / (t1 - t0), -float(dv[1]) / (t1 - t0)
+        return tuple(-float(x) / (t1 - t0) for x in dv)
 
 
 def _pulse(name: str, duration: float, shape: Callable[[np.ndarray], np.ndarray],
@@ -164,7 +192,7 @@ def _pulse(name: str, duration: float, shape: Callable[[np.ndarray], np.ndarray]
         raise InputError(f"{name}: duration must be > 0 [s], got {duration}")
     t = np.linspace(0.0, duration, samples)
     d = np.asarray(direction, dtype=float)
-    return GroundMotion(t, shape(t)[:, None] * d[None, :] / np.hypot(*d), name)
+    return GroundMotion(t, shape(t)[:, None] * d[None, :] / np.linalg.norm(d), name)
 
 
 def one_sine(amplitude: float, period: float, *, symmetric: bool = False,
@@ -217,7 +245,7 @@ def rectangular(amplitude: float, duration: float, *, direction=(1.0, 0.0)) -> G
     """A rectangular acceleration pulse: A [m/s^2] for `duration` [s] (Newmark 1965)."""
     eps = 1e-9 * duration
     t = np.array([0.0, eps, duration - eps, duration])
-    d = np.asarray(direction, dtype=float) / np.hypot(*direction)
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     return GroundMotion(t, np.outer([0.0, amplitude, amplitude, 0.0], d), "rectangular pulse")
 
 
@@ -281,11 +309,11 @@ def read_at2(path: str | Path) -> GroundMotion:
 
 
 def read_csv(path: str | Path, *, units: str | None = None) -> GroundMotion:
-    """Two columns, time [s] and acceleration (three with a vertical component), comma or
-    whitespace separated; lines starting with # are comments. A comment "# units: g" (or
-    m/s^2, cm/s^2, gal) gives the units unless `units` does; a comment "# dt: 0.01" states
-    the time step [s], which the time column must then follow (to 1e-6 relative).
-    Every error names the line."""
+    """Two columns, time [s] and acceleration (three with a vertical component; four: x, y, z
+    for a 3D model), comma or whitespace separated; lines starting with # are comments. A
+    comment "# units: g" (or m/s^2, cm/s^2, gal) gives the units unless `units` does; a
+    comment "# dt: 0.01" states the time step [s], which the time column must then follow
+    (to 1e-6 relative). Every error names the line."""
     path = Path(path)
     rows, lines = [], []
     stated: dict[str, tuple[str, int]] = {}  # "units"/"dt" -> (value, line)
@@ -302,8 +330,8 @@ def read_csv(path: str | Path, *, units: str | None = None) -> GroundMotion:
         if not rows and not any(_is_number(f) for f in fields):
             continue  # a header line of column names
         row = _numbers(path, n, fields, line)
-        if len(row) not in (2, 3) or (rows and len(row) != len(rows[0])):
-            expected = len(rows[0]) if rows else "2 or 3"
+        if len(row) not in (2, 3, 4) or (rows and len(row) != len(rows[0])):
+            expected = len(rows[0]) if rows else "2, 3 or 4"
             raise InputError(f"{path} line {n}: expected {expected} columns (time [s], "
                              f"acceleration[s]), got {len(row)}: {line!r}")
         if rows and not row[0] > rows[-1][0]:

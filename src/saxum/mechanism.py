@@ -30,7 +30,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .contacts import Contacts
-from .model import BodyKind, Model
+from .errors import InputError
+from .model import BodyKind, Model, body_vertices
 from .state import State
 
 __all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "joint_resultants",
@@ -131,7 +132,7 @@ class Joint:
             where = f"head joint in course {self.courses[0]}"
         else:
             where = f"bed joint between courses {min(self.courses)} and {max(self.courses)}"
-        return f"{where}, {self.along:.3g} m along"
+        return f"{where}, {_mm(self.along)} m along"
 
 
 @dataclass(frozen=True)
@@ -165,7 +166,7 @@ class Mechanism:
             x, y = j.hinge_point
             where = f": {j.location}" if j.location else ""
             lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} at "
-                         f"({x:.4g}, {y:.4g}) m{where}")
+                         f"({_mm(x)}, {_mm(y)}) m{where}")
         for j in self.sliding:
             where = f": {j.location}" if j.location else ""
             lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
@@ -175,6 +176,11 @@ class Mechanism:
             lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
                                                       (j.bodies for j in opened)))
         return "\n".join(lines)
+
+
+def _mm(x: float) -> str:
+    """A coordinate [m] to the millimetre, without round-off digits (2.15, not 2.15000001)."""
+    return f"{round(x, 3) + 0.0:g}"
 
 
 def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | None = None,
@@ -189,7 +195,11 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
     early has moved little, a structure at rest only by round-off);
     slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
-    0.1 % of the smallest block size per second)."""
+    0.1 % of the smallest block size per second). 2D models only (hinges are points of
+    polygon joints); for 3D results, look at the mechanism in ParaView."""
+    if model.dim != 2:
+        raise InputError("the mechanism report (hinges, sliding and open joints) is made for "
+                         "2D models; export 3D results to ParaView (saxum export-vtk)")
     free = model.body_kind == BodyKind.FREE
     size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
     moved = np.hypot(*(state.body_q[:, :2] - model.body_q0[:, :2]).T)
@@ -251,6 +261,14 @@ class _Bodies(NamedTuple):
     body_size: np.ndarray
     body_radius: np.ndarray
     body_name: list[str]
+    dim: int
+    body_vertex_start: np.ndarray
+    vertex_local: np.ndarray
+
+    def vertices(self, b: int) -> np.ndarray:
+        """Initial world vertices [m] of body b, as Model.vertices."""
+        return body_vertices(self.body_q0[b], self.vertex_local[
+            self.body_vertex_start[b]:self.body_vertex_start[b + 1]])
 
 
 def frame_mechanism(results, frame: int, **options) -> Mechanism:
@@ -259,7 +277,7 @@ def frame_mechanism(results, frame: int, **options) -> Mechanism:
     k = range(results.frame_count)[frame]
     m = results.model
     bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
-                     results.body_name)
+                     results.body_name, results.dim, m["body_vertex_start"], m["vertex_local"])
     stored = results.contacts(k)
     contacts = Contacts(results.dim, max(1, stored["gap"].size))
     contacts.count = stored["gap"].size

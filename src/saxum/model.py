@@ -7,6 +7,12 @@ Where the structure is now (positions, velocities, impulses) lives in `saxum.sta
 2D conventions: generalized coordinates q = (x, y, theta) of the centre of mass [m, m, rad],
 velocities v = (vx, vy, omega) [m/s, m/s, rad/s]; a block has unit out-of-plane depth, so its
 density [kg/m^3] times its area [m^2] is its mass per metre of depth [kg].
+
+3D conventions (`ModelBuilder(dim=3)`): a block is a convex polyhedron whose body frame is its
+principal frame (saxum.geometry3d), so its inertia tensor there is diagonal and constant;
+q = (x, y, z, qw, qx, qy, qz): the centre of mass [m] and the unit quaternion of the body-to-world
+rotation; v = (vx, vy, vz, wx, wy, wz): the velocity of the centre of mass in the world frame
+[m/s] and the angular velocity in the BODY frame [rad/s] (NSCD.md), so that M stays diagonal.
 """
 
 import math
@@ -19,12 +25,20 @@ import numpy as np
 
 from .errors import InputError
 from .geometry2d import normalize_polygon, polygon_properties
+from .geometry3d import (
+    Polyhedron,
+    convex_polyhedron,
+    polyhedron_properties,
+    quaternion_from_matrix,
+    rotation_matrix,
+)
 from .laws import ContactLaw
 
 __all__ = ["BodyKind", "FieldLoad", "Model", "ModelBuilder"]
 
 Motion = Callable[[float], Sequence[float]]
-"""Imposed velocity of a driven body: t [s] -> (vx [m/s], vy [m/s], omega [rad/s])."""
+"""Imposed velocity of a driven body: t [s] -> (vx [m/s], vy [m/s], omega [rad/s]) in 2D,
+(vx, vy, vz [m/s], wx, wy, wz [rad/s]) in 3D with the angular velocity in the world frame."""
 TimeVector = Callable[[float], Sequence[float]]
 
 
@@ -54,7 +68,8 @@ class BodyKind(IntEnum):
 
 @dataclass(frozen=True)
 class Model:
-    """A frozen 2D model as structure-of-arrays. Build it with `ModelBuilder`."""
+    """A frozen model as structure-of-arrays. Build it with `ModelBuilder`. Shapes are given
+    for 2D; 3D differences are noted (and 3D adds the face and edge arrays at the end)."""
 
     body_count: int
     body_name: tuple[str, ...]
@@ -66,26 +81,29 @@ class Model:
     body_density: np.ndarray
     """Density [kg/m^3], shape [body_count], float64 (0 for fixed and driven bodies)."""
     body_mass: np.ndarray
-    """Mass per metre of depth [kg], shape [body_count], float64."""
+    """Mass per metre of depth [kg] (3D: mass [kg]), shape [body_count], float64."""
     body_inertia: np.ndarray
-    """Polar moment of inertia about the centre of mass [kg m^2], shape [body_count], float64."""
+    """Polar moment of inertia about the centre of mass [kg m^2], shape [body_count], float64
+    (3D: principal moments J_1, J_2, J_3 [kg m^2], shape [body_count, 3])."""
     body_inv_mass: np.ndarray
-    """Diagonal of M^-1 per dof [1/kg, 1/kg, 1/(kg m^2)], shape [body_count, 3]; 0 unless FREE."""
+    """Diagonal of M^-1 per dof [1/kg, 1/kg, 1/(kg m^2)], shape [body_count, dof]; 0 unless
+    FREE."""
     body_q0: np.ndarray
-    """Initial coordinates (x, y, theta) [m, m, rad], shape [body_count, 3], float64."""
+    """Initial coordinates (x, y, theta) [m, m, rad], shape [body_count, 3], float64 (3D:
+    (x, y, z, qw, qx, qy, qz), shape [body_count, 7])."""
     body_radius: np.ndarray
     """Largest distance from centre of mass to a vertex [m], shape [body_count], float64."""
     body_size: np.ndarray
-    """Square root of the area [m], shape [body_count], float64."""
+    """Square root of the area (3D: cube root of the volume) [m], shape [body_count]."""
     body_vertex_start: np.ndarray
     """Body b owns vertices body_vertex_start[b]:body_vertex_start[b+1], shape [body_count+1]."""
     vertex_local: np.ndarray
-    """Polygon vertices in the body frame, CCW, [m], shape [vertex_count, 2], float64."""
+    """Vertices in the body frame [m], shape [vertex_count, dim], float64 (2D: CCW)."""
     edge_normal_local: np.ndarray
-    """Outward unit normal of the edge from vertex k to the next, body frame, shape
-    [vertex_count, 2], float64."""
+    """2D: outward unit normal of the edge from vertex k to the next, body frame, shape
+    [vertex_count, 2], float64 (3D: empty)."""
     edge_length: np.ndarray
-    """Length of the edge from vertex k to the next [m], shape [vertex_count], float64."""
+    """2D: length of the edge from vertex k to the next [m], shape [vertex_count], float64."""
     body_motion: np.ndarray
     """Index into `motions` for DRIVEN bodies, -1 otherwise, shape [body_count], int32."""
     motions: tuple[Motion, ...]
@@ -109,6 +127,22 @@ class Model:
     """Loads that depend on the blocks' positions (FieldLoad), e.g. a flood."""
     dim: int = 2
     dof: int = 3
+    body_face_start: np.ndarray = field(default_factory=lambda: np.zeros(1, np.int32))
+    """3D: body b owns faces body_face_start[b]:body_face_start[b+1], shape [body_count+1]."""
+    face_vertex_start: np.ndarray = field(default_factory=lambda: np.zeros(1, np.int32))
+    """3D: face f has the vertices face_vertex[face_vertex_start[f]:face_vertex_start[f+1]],
+    shape [face_count+1], int32."""
+    face_vertex: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int32))
+    """3D: indices into vertex_local, CCW seen from outside, per face, int32."""
+    face_normal_local: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """3D: outward unit normal of each face in the body frame, shape [face_count, 3]."""
+    body_edge_start: np.ndarray = field(default_factory=lambda: np.zeros(1, np.int32))
+    """3D: body b owns edges body_edge_start[b]:body_edge_start[b+1], shape [body_count+1]."""
+    edge_vertex: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int32))
+    """3D: the two vertices (indices into vertex_local) of each edge, shape [edge_count, 2]."""
+    edge_face: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int32))
+    """3D: the faces left and right of each edge (from its first vertex to its second, seen
+    from outside), indices into the face arrays, shape [edge_count, 2], int32."""
     max_vertices: int = field(init=False)
 
     def __post_init__(self) -> None:
@@ -122,18 +156,27 @@ class Model:
             raise KeyError(f"no body named {name!r}") from None
 
     def vertices(self, b: int, q: np.ndarray | None = None) -> np.ndarray:
-        """World vertices [m] of body b at coordinates q (default: initial), shape (n, 2)."""
-        x, y, th = (self.body_q0 if q is None else q)[b]
-        loc = self.vertex_local[self.body_vertex_start[b] : self.body_vertex_start[b + 1]]
-        c, s = math.cos(th), math.sin(th)
-        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
-                                y + s * loc[:, 0] + c * loc[:, 1]))
+        """World vertices [m] of body b at coordinates q (default: initial), shape (n, dim)."""
+        return body_vertices((self.body_q0 if q is None else q)[b],
+                             self.vertex_local[self.body_vertex_start[b]:
+                                               self.body_vertex_start[b + 1]])
+
+
+def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """World vertices [m], shape (n, dim), of a body at coordinates qb ((x, y, theta), or in 3D
+    (x, y, z, qw, qx, qy, qz)) from its vertices in the body frame `local` [m]."""
+    if local.shape[1] == 3:
+        return qb[:3] + local @ rotation_matrix(qb[3:]).T
+    x, y, th = qb
+    c, s = math.cos(th), math.sin(th)
+    return np.column_stack((x + c * local[:, 0] - s * local[:, 1],
+                            y + s * local[:, 0] + c * local[:, 1]))
 
 
 @dataclass
 class _Block:
     name: str
-    vertices: np.ndarray
+    vertices: np.ndarray | Polyhedron
     density: float
     group: str
     kind: BodyKind
@@ -152,17 +195,27 @@ class ModelBuilder:
     >>> model = b.finalize()
     >>> round(float(model.body_mass[stone]), 6)
     200.0
+
+    dim=3 builds a 3D model of convex polyhedra (gravity default (0, 0, -9.81) m/s^2);
+    add_block then takes (x, y, z) points and the block is their convex hull.
     """
 
-    def __init__(self, *, gravity: Sequence[float] = (0.0, -9.81)) -> None:
+    def __init__(self, *, gravity: Sequence[float] | None = None, dim: int = 2) -> None:
+        if dim not in (2, 3):
+            raise InputError(f"dim must be 2 or 3, got {dim}")
+        self.dim = dim
         self._blocks: list[_Block] = []
         self._laws: dict[frozenset[str], ContactLaw] = {}
         self._accelerations: list[TimeVector] = []
         self._forces: list[tuple[np.ndarray, TimeVector]] = []
         self._field_loads: list[FieldLoad] = []
+        if gravity is None:
+            gravity = (0.0, -9.81) if dim == 2 else (0.0, 0.0, -9.81)
         g = np.array(gravity, dtype=np.float64)
-        if g.shape != (2,) or not np.all(np.isfinite(g)):
-            raise InputError(f"gravity must be two finite numbers (gx, gy) [m/s^2], got {gravity}")
+        if g.shape != (dim,) or not np.all(np.isfinite(g)):
+            names = "(gx, gy)" if dim == 2 else "(gx, gy, gz)"
+            raise InputError(f"gravity must be {dim} finite numbers {names} [m/s^2], got "
+                             f"{gravity}")
         self._gravity = g
 
     @property
@@ -170,9 +223,9 @@ class ModelBuilder:
         return len(self._blocks)
 
     @property
-    def gravity(self) -> tuple[float, float]:
-        """Gravity (gx, gy) [m/s^2] of the model being built."""
-        return float(self._gravity[0]), float(self._gravity[1])
+    def gravity(self) -> tuple[float, ...]:
+        """Gravity (gx, gy) (3D: (gx, gy, gz)) [m/s^2] of the model being built."""
+        return tuple(float(g) for g in self._gravity)
 
     @property
     def groups(self) -> list[str]:
@@ -189,16 +242,21 @@ class ModelBuilder:
         motion: Motion | None = None,
         name: str | None = None,
     ) -> int:
-        """Add a convex polygon block; returns its body index.
+        """Add a convex block; returns its body index.
 
-        vertices: (x, y) pairs [m] in world coordinates, either orientation.
+        vertices: 2D: (x, y) pairs [m] in world coordinates, either orientation, of a convex
+        polygon; 3D: (x, y, z) points [m] whose convex hull is the block (a point strictly
+        inside the hull means a non-convex block, which is refused).
         density [kg/m^3]: required (> 0) for FREE blocks, ignored otherwise.
-        motion: for DRIVEN blocks, t [s] -> (vx, vy, omega) of the centre of mass.
+        motion: for DRIVEN blocks, t [s] -> velocity of the centre of mass (see `Motion`).
         """
         index = len(self._blocks)
         name = name if name is not None else f"block {index}"
         kind = BodyKind(kind)
-        verts = normalize_polygon(vertices, name=name)
+        if self.dim == 3:
+            verts = convex_polyhedron(vertices, name=name)
+        else:
+            verts = normalize_polygon(vertices, name=name)
         if kind == BodyKind.FREE and not (math.isfinite(density) and density > 0.0):
             raise InputError(f"{name}: density must be a finite number > 0 [kg/m^3], got {density}")
         if kind == BodyKind.DRIVEN and motion is None:
@@ -214,8 +272,8 @@ class ModelBuilder:
         return index
 
     def drive(self, name: str, motion: Motion) -> int:
-        """Make the FIXED block called `name` (a support) DRIVEN by motion: t [s] ->
-        (vx, vy, omega) of its centre of mass, e.g. a settlement; returns its index."""
+        """Make the FIXED block called `name` (a support) DRIVEN by motion: t [s] -> velocity
+        of its centre of mass (see `Motion`), e.g. a settlement; returns its index."""
         index = self.index(name)
         block = self._blocks[index]
         if block.kind != BodyKind.FIXED:
@@ -240,11 +298,13 @@ class ModelBuilder:
         self._laws[frozenset((group_a, group_b))] = law
 
     def add_acceleration(self, acceleration: TimeVector) -> None:
-        """Apply m a(t) to every free body; a: t [s] -> (ax, ay) [m/s^2] (e.g. a load factor)."""
+        """Apply m a(t) to every free body; a: t [s] -> (ax, ay) [m/s^2] ((ax, ay, az) in 3D),
+        e.g. a load factor."""
         self._accelerations.append(acceleration)
 
     def add_force(self, bodies: Sequence[int], force: TimeVector) -> None:
-        """Apply force(t) = (fx [N], fy [N], torque [N m]) at the centre of mass of each body."""
+        """Apply force(t) = (fx, fy [N/m], torque [N m/m]) at the centre of mass of each body
+        (2D: per metre of depth); in 3D (fx, fy, fz [N], mx, my, mz [N m]) in the world frame."""
         idx = np.atleast_1d(np.asarray(bodies, dtype=np.int64))
         bad = idx[(idx < 0) | (idx >= len(self._blocks))]
         if bad.size:
@@ -277,51 +337,28 @@ class ModelBuilder:
 
         motions: list[Motion] = []
         body_motion = np.full(n, -1, dtype=np.int32)
-        kind = np.empty(n, dtype=np.int8)
-        density, mass, inertia, radius, size = (np.zeros(n) for _ in range(5))
-        q0 = np.zeros((n, 3))
-        starts = np.zeros(n + 1, dtype=np.int32)
-        local = []
         for b, blk in enumerate(self._blocks):
-            props = polygon_properties(blk.vertices)
-            kind[b] = blk.kind
-            density[b] = blk.density
-            mass[b] = blk.density * props.area
-            inertia[b] = blk.density * props.polar_moment
-            q0[b, :2] = props.centroid
-            rel = blk.vertices - props.centroid
-            local.append(rel)
-            radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
-            size[b] = math.sqrt(props.area)
-            starts[b + 1] = starts[b] + len(rel)
             if blk.motion is not None:
                 if blk.motion not in motions:
                     motions.append(blk.motion)
                 body_motion[b] = motions.index(blk.motion)
-        vertex_local = np.ascontiguousarray(np.concatenate(local))
-        following = np.concatenate([np.roll(rel, -1, axis=0) for rel in local]) - vertex_local
-        edge_length = np.hypot(following[:, 0], following[:, 1])
-        edge_normal = np.column_stack((following[:, 1], -following[:, 0])) / edge_length[:, None]
-        inv_mass = np.zeros((n, 3))
+        kind = np.array([blk.kind for blk in self._blocks], dtype=np.int8)
+        geometry = self._geometry_2d() if self.dim == 2 else self._geometry_3d()
+        mass = geometry.pop("body_mass")
+        inertia = geometry["body_inertia"]
+        dof = 3 * (self.dim - 1)
+        inv_mass = np.zeros((n, dof))
         free = kind == BodyKind.FREE
-        inv_mass[free, 0] = inv_mass[free, 1] = 1.0 / mass[free]
-        inv_mass[free, 2] = 1.0 / inertia[free]
+        inv_mass[free, : self.dim] = 1.0 / mass[free, None]
+        inv_mass[free, self.dim :] = 1.0 / inertia[free].reshape(-1, dof - self.dim)
         model = Model(
             body_count=n,
             body_name=tuple(blk.name for blk in self._blocks),
             body_kind=kind,
             body_group=np.array([gidx[blk.group] for blk in self._blocks], dtype=np.int32),
-            body_density=density,
+            body_density=np.array([blk.density for blk in self._blocks]),
             body_mass=mass,
-            body_inertia=inertia,
             body_inv_mass=inv_mass,
-            body_q0=q0,
-            body_radius=radius,
-            body_size=size,
-            body_vertex_start=starts,
-            vertex_local=vertex_local,
-            edge_normal_local=np.ascontiguousarray(edge_normal),
-            edge_length=edge_length,
             body_motion=body_motion,
             motions=tuple(motions),
             group_names=tuple(groups),
@@ -334,10 +371,79 @@ class ModelBuilder:
             accelerations=tuple(self._accelerations),
             forces=tuple(self._forces),
             field_loads=tuple(self._field_loads),
+            dim=self.dim,
+            dof=dof,
+            **geometry,
         )
         for load in model.field_loads:
             load.check(model)
         return model
+
+    def _geometry_2d(self) -> dict:
+        """Mass properties and the polygons' vertex and edge arrays, body frame = world axes
+        through the centroid."""
+        n = len(self._blocks)
+        mass, inertia, radius, size = (np.zeros(n) for _ in range(4))
+        q0 = np.zeros((n, 3))
+        starts = np.zeros(n + 1, dtype=np.int32)
+        local = []
+        for b, blk in enumerate(self._blocks):
+            props = polygon_properties(blk.vertices)
+            mass[b] = blk.density * props.area
+            inertia[b] = blk.density * props.polar_moment
+            q0[b, :2] = props.centroid
+            rel = blk.vertices - props.centroid
+            local.append(rel)
+            radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
+            size[b] = math.sqrt(props.area)
+            starts[b + 1] = starts[b] + len(rel)
+        vertex_local = np.ascontiguousarray(np.concatenate(local))
+        following = np.concatenate([np.roll(rel, -1, axis=0) for rel in local]) - vertex_local
+        edge_length = np.hypot(following[:, 0], following[:, 1])
+        edge_normal = np.column_stack((following[:, 1], -following[:, 0])) / edge_length[:, None]
+        return dict(body_mass=mass, body_inertia=inertia, body_q0=q0, body_radius=radius,
+                    body_size=size, body_vertex_start=starts, vertex_local=vertex_local,
+                    edge_normal_local=np.ascontiguousarray(edge_normal), edge_length=edge_length)
+
+    def _geometry_3d(self) -> dict:
+        """Mass properties and the polyhedra's vertex, face and edge arrays in the principal
+        frame of each block (saxum.geometry3d)."""
+        n = len(self._blocks)
+        mass, radius, size = (np.zeros(n) for _ in range(3))
+        inertia = np.zeros((n, 3))
+        q0 = np.zeros((n, 7))
+        vstart, fstart, estart = (np.zeros(n + 1, dtype=np.int32) for _ in range(3))
+        local, normals, rings, edges, edge_faces = [], [], [], [], []
+        for b, blk in enumerate(self._blocks):
+            poly = blk.vertices
+            props = polyhedron_properties(poly)
+            mass[b] = blk.density * props.volume
+            inertia[b] = blk.density * props.moments
+            q0[b, :3] = props.centroid
+            q0[b, 3:] = quaternion_from_matrix(props.axes)
+            rel = (poly.vertices - props.centroid) @ props.axes
+            local.append(rel)
+            normals.append(poly.normals @ props.axes)
+            rings.extend(ring + vstart[b] for ring in poly.faces)
+            edges.append(poly.edges + vstart[b])
+            edge_faces.append(poly.edge_faces + fstart[b])
+            radius[b] = np.linalg.norm(rel, axis=1).max()
+            size[b] = props.volume ** (1.0 / 3.0)
+            vstart[b + 1] = vstart[b] + len(rel)
+            fstart[b + 1] = fstart[b] + len(poly.faces)
+            estart[b + 1] = estart[b] + len(poly.edges)
+        face_vertex_start = np.zeros(len(rings) + 1, dtype=np.int32)
+        face_vertex_start[1:] = np.cumsum([len(r) for r in rings])
+        return dict(body_mass=mass, body_inertia=inertia, body_q0=q0, body_radius=radius,
+                    body_size=size, body_vertex_start=vstart,
+                    vertex_local=np.ascontiguousarray(np.concatenate(local)),
+                    edge_normal_local=np.zeros((0, 3)), edge_length=np.zeros(0),
+                    body_face_start=fstart, face_vertex_start=face_vertex_start,
+                    face_vertex=np.concatenate(rings).astype(np.int32),
+                    face_normal_local=np.ascontiguousarray(np.concatenate(normals)),
+                    body_edge_start=estart,
+                    edge_vertex=np.concatenate(edges).astype(np.int32),
+                    edge_face=np.concatenate(edge_faces).astype(np.int32))
 
     def _check_laws(self, groups: list[str]) -> None:
         mobile = {blk.group for blk in self._blocks if blk.kind == BodyKind.FREE}

@@ -11,6 +11,7 @@ frame's time, with the flow velocity.
 """
 
 import dataclasses
+import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -29,6 +30,7 @@ from matplotlib.transforms import offset_copy
 
 from .errors import InputError
 from .flood import FloodLoad
+from .geometry3d import rotation_vectors
 from .mechanism import Mechanism, course_of, joint_states, thrust_line
 from .model import BodyKind, Model
 
@@ -91,11 +93,13 @@ def _model_blocks(model: Model) -> _Blocks:
 # -- units ----------------------------------------------------------------------------------
 
 
-def _length_unit(largest: float) -> tuple[float, str]:
+def length_unit(largest: float) -> tuple[float, str]:
     """(factor from metres, unit) that shows lengths up to `largest` [m] with few digits."""
     if largest >= 1.0:
         return 1.0, "m"
-    return (1e3, "mm") if largest >= 1e-3 else (1e6, "µm")
+    if largest >= 1e-3:
+        return 1e3, "mm"
+    return (1e6, "µm") if largest >= 1e-6 else (1e9, "nm")
 
 
 def _force_unit(largest: float) -> tuple[float, str]:
@@ -109,9 +113,6 @@ def _nice_ceil(value: float) -> float:
     """The smallest of 1, 2, 5 times a power of ten that is >= value > 0."""
     power = 10.0 ** np.floor(np.log10(value))
     return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= value * (1 - 1e-12))
-
-
-# -- joints ---------------------------------------------------------------------------------
 
 
 # -- drawing --------------------------------------------------------------------------------
@@ -157,7 +158,7 @@ def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
         values = np.abs(_colour_values(blocks, qs, colour_by)[:, blocks.kind == BodyKind.FREE])
         top = float(values.max(initial=0.0))
         if colour_by == "displacement":
-            factor, unit = _length_unit(top)
+            factor, unit = length_unit(top)
             norm = Normalize(0.0, top * factor or 1.0)
             mappable = ScalarMappable(norm, "YlGnBu")
             label = f"displacement [{unit}]"
@@ -289,8 +290,14 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
         _draw_contacts(ax, look, results.contacts(k), slides)
-    heading = title if title is not None else results.path.stem
+    heading = title if title is not None else results_heading(results)
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
+
+
+def results_heading(results) -> str:
+    """The scenario's title and the results file's name, or the name alone."""
+    title = json.loads(results.scenario_json).get("title") if results.scenario_json else ""
+    return f"{title} ({results.path.name})" if title else results.path.stem
 
 
 def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None:
@@ -356,8 +363,19 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     sliding joints (at their centres of pressure) and, for a wall, the course numbers in the
     left margin. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
-    when given (figsize * dpi pixels)."""
+    when given (figsize * dpi pixels). 3D results: a perspective picture
+    (saxum.plot3d.plot_frame_3d), coloured by displacement."""
     k = _frame_index(results, frame)
+    if results.dim == 3:
+        if thrust_line or mechanism is not None or ax is not None or colour_by != (
+                "displacement"):
+            raise InputError("a 3D picture is drawn in its own figure, coloured by "
+                             "displacement: thrust_line, mechanism, ax and colour_by are for "
+                             "2D results; leave them out")
+        from .plot3d import plot_frame_3d
+
+        return plot_frame_3d(results, k, path, forces=forces, title=title, figsize=figsize,
+                             dpi=dpi)
     blocks = _results_blocks(results)
     floods = _results_floods(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
@@ -381,7 +399,8 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
 def _body_index(results, body: int | str | None) -> int:
     """The block named or numbered `body`; None: the free block that moved most."""
     if body is None:
-        moved = np.linalg.norm(results.body_q[..., :2] - results.model["body_q0"][:, :2],
+        d = results.dim
+        moved = np.linalg.norm(results.body_q[..., :d] - results.model["body_q0"][:, :d],
                                axis=-1).max(axis=0)
         moved[results.model["body_kind"] != BodyKind.FREE] = -1.0
         return int(np.argmax(moved))
@@ -419,7 +438,7 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     ax_e, ax_it, ax_pen = axes[top:]
 
     ax_e.plot(s["time"], s["kinetic_energy"], lw=1.0, color="C3")
-    ax_e.set_ylabel("kinetic energy [J/m]")
+    ax_e.set_ylabel(f"kinetic energy [{results.units['kinetic_energy']}]")
 
     ax_it.plot(s["time"], s["iterations"], lw=0.7, color="0.3")
     bad = ~s["converged"]
@@ -428,7 +447,7 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     ax_it.legend(fontsize=8, loc="upper right")
     ax_it.set_ylabel("NLGS iterations [-]")
 
-    factor, unit = _length_unit(float(s["max_interpenetration"].max(initial=0.0)))
+    factor, unit = length_unit(float(s["max_interpenetration"].max(initial=0.0)))
     ax_pen.plot(s["time"], factor * s["max_interpenetration"], lw=1.0, color="C4")
     ax_pen.set_ylabel(f"largest interpenetration [{unit}]")
     ax_pen.set_xlabel("time [s]")
@@ -440,33 +459,42 @@ def plot_histories(results, path: str | PathLike | None = None, *,
 
 
 def _draw_block_displacement(ax, results, b: int) -> None:
-    u = results.body_q[:, b, :2] - results.model["body_q0"][b, :2]
+    d = results.dim
+    u = results.body_q[:, b, :d] - results.model["body_q0"][b, :d]
     magnitude = np.linalg.norm(u, axis=1)
-    factor, unit = _length_unit(float(magnitude.max()))
-    for values, label in ((u[:, 0], "$u_x$"), (u[:, 1], "$u_y$"), (magnitude, "$|u|$")):
+    factor, unit = length_unit(float(magnitude.max()))
+    for values, label in (*((u[:, i], f"$u_{'xyz'[i]}$") for i in range(d)),
+                          (magnitude, "$|u|$")):
         ax.plot(results.time, factor * values, label=label, lw=1.2)
     ax.set_ylabel(f"displacement [{unit}]")
     ax.set_title(f"block {results.body_name[b]!r} (index {b})", fontsize=10)
-    ax.legend(fontsize=8, ncol=3)
+    ax.legend(fontsize=8, ncol=d + 1)
 
 
 def _draw_block_histories(axes, results, h: dict) -> None:
     """Horizontal displacement and rotation of each history block, and a_g(t)."""
     q0 = results.model["body_q0"][h["body"]]
     ux = h["body_q"][:, :, 0] - q0[:, 0]
-    factor, unit = _length_unit(float(np.abs(ux).max(initial=0.0)))
+    if results.dim == 2:
+        turned = np.degrees(h["body_q"][:, :, 2] - q0[:, 2])
+    else:  # the angle of the rotation from the initial orientation
+        turned = np.degrees(np.linalg.norm(rotation_vectors(h["body_q"][:, :, 3:],
+                                                            q0[None, :, 3:]), axis=-1))
+    factor, unit = length_unit(float(np.abs(ux).max(initial=0.0)))
     for j, name in enumerate(h["name"]):
         axes[0].plot(h["time"], factor * ux[:, j], lw=1.0, label=name)
-        axes[1].plot(h["time"], np.degrees(h["body_q"][:, j, 2] - q0[j, 2]), lw=1.0)
+        axes[1].plot(h["time"], turned[:, j], lw=1.0)
     axes[0].set_ylabel(f"$u_x$ [{unit}]")
     axes[0].legend(fontsize=8, ncol=min(4, len(h["name"])))
     axes[0].set_title("blocks of output.histories, every step", fontsize=10)
-    axes[1].set_ylabel("rotation [deg]")
+    axes[1].set_ylabel("rotation [deg]" if results.dim == 2 else "rotation angle [deg]")
     if len(axes) > 2:
-        axes[2].plot(h["time"], h["ground_acceleration"][:, 0], lw=0.8, color="0.2",
-                     label="horizontal")
-        if np.any(h["ground_acceleration"][:, 1]):
-            axes[2].plot(h["time"], h["ground_acceleration"][:, 1], lw=0.8, label="vertical")
+        a = h["ground_acceleration"]
+        names = ("horizontal", "vertical") if results.dim == 2 else ("x", "y", "z")
+        for k, name in enumerate(names):
+            if k == 0 or np.any(a[:, k]):
+                axes[2].plot(h["time"], a[:, k], lw=0.8, label=name,
+                             color="0.2" if k == 0 else None)
         axes[2].set_ylabel("ground acc. [m/s$^2$]")
         axes[2].legend(fontsize=8)
 
@@ -516,6 +544,9 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     even pixels). Axes limits, colour scale and force scale are the same on every frame.
     Returns the path."""
     path = Path(path)
+    if results.dim == 3:
+        raise InputError(f"{results.path}: animations are drawn for 2D results; for 3D, "
+                         "export the frames to ParaView (saxum export-vtk) and animate there")
     suffix = path.suffix.lower()
     if suffix == ".mp4":
         if not animation.writers.is_available("ffmpeg"):
@@ -539,10 +570,11 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     ax = fig.add_subplot()
     _colourbar(ax, look)
     path.parent.mkdir(parents=True, exist_ok=True)
+    heading = results_heading(results)
     with writer.saving(fig, str(path), dpi):
         for k in ks:
             ax.clear()
-            _draw_frame(ax, results, k, look, blocks, forces, None, floods)
+            _draw_frame(ax, results, k, look, blocks, forces, heading, floods)
             writer.grab_frame()
             # Laid out once, on the first frame: the axes then stay put while titles change,
             # and each frame is drawn once instead of twice (layout, then picture).
@@ -561,7 +593,10 @@ def plot_model(model: Model, path: str | PathLike | None = None, *, ax=None, tit
     """The blocks of `model` at their initial positions, free blocks filled by group (named
     in the legend), fixed and driven ones hatched grey, framed on the free blocks (a wide
     ground is cut at the edges): what a generator or a scenario built, before any run.
-    Draws into `ax` if given; saved to `path` at dpi when given."""
+    Draws into `ax` if given; saved to `path` at dpi when given. 2D models only."""
+    if model.dim != 2:
+        raise InputError("plot_model draws 2D models; for a 3D one, run it for a step and "
+                         "use saxum plot, or export to ParaView")
     blocks = _model_blocks(model)
     look = _look(blocks, blocks.q0[None], None)
     free = model.body_kind == BodyKind.FREE

@@ -9,7 +9,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            applied and paths resolved: what `saxum resume` rebuilds the run from
     /model/...             body_name, body_kind, body_group, group_names, body_mass [kg/m],
                            body_inertia [kg m^2/m], body_q0, body_vertex_start, vertex_local [m],
-                           law_kind, law_friction, law_restitution, group_law, gravity [m/s^2]
+                           law_kind, law_friction, law_restitution, group_law, gravity [m/s^2];
+                           3D also body_face_start, face_vertex_start, face_vertex (faces)
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
@@ -62,6 +63,10 @@ _CONTACT_FIELDS = {
     "impulse": (np.float64, lambda d: (d,), "N s/m"),
 }
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
+_UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
+          3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
+              "m/s, m/s, m/s, rad/s, rad/s, rad/s (vx, vy, vz world; wx, wy, wz body frame)")}
+"""Units of body_q and body_v by dimension."""
 _STEP_FIELDS = [f.name for f in fields(StepReport)]
 
 
@@ -95,6 +100,8 @@ class ResultsWriter:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = f = h5py.File(self.path, "w", libver="latest")
         dim, dof = model.dim, model.dof
+        nq = model.body_q0.shape[1]
+        q_units, v_units = _UNITS[dim]
         f.attrs.update(format=FORMAT, format_version=FORMAT_VERSION, saxum_version=version,
                        dim=dim, dof=dof, dt=dt, theta=theta)
         f.create_dataset("scenario", data=scenario, dtype=h5py.string_dtype())
@@ -104,8 +111,8 @@ class ResultsWriter:
         frames = f.create_group("frames")
         n = model.body_count
         _grow(frames, "step", np.int64, (), "-")
-        _grow(frames, "body_q", np.float64, (n, dof), "m, m, rad")
-        _grow(frames, "body_v", np.float64, (n, dof), "m/s, m/s, rad/s")
+        _grow(frames, "body_q", np.float64, (n, nq), q_units)
+        _grow(frames, "body_v", np.float64, (n, dof), v_units)
         _grow(frames, "contact_count", np.int64, (), "-")
         _contact_datasets(frames.create_group("contacts"), dim)
         _grow(frames, "time", np.float64, (), "s")
@@ -119,17 +126,17 @@ class ResultsWriter:
             hist.attrs["body"] = np.asarray(histories, dtype=np.int64)
             k = len(histories)
             _grow(hist, "step", np.int64, (), "-", chunk=1024)
-            _grow(hist, "body_q", np.float64, (k, dof), "m, m, rad", chunk=1024)
-            _grow(hist, "body_v", np.float64, (k, dof), "m/s, m/s, rad/s", chunk=1024)
+            _grow(hist, "body_q", np.float64, (k, nq), q_units, chunk=1024)
+            _grow(hist, "body_v", np.float64, (k, dof), v_units, chunk=1024)
             if ground:
-                _grow(hist, "ground_acceleration", np.float64, (2,), "m/s^2", chunk=1024)
+                _grow(hist, "ground_acceleration", np.float64, (dim,), "m/s^2", chunk=1024)
             _grow(hist, "time", np.float64, (), "s", chunk=1024)
 
         cp = f.create_group("checkpoints")
         _grow(cp, "time", np.float64, (), "s", chunk=16)
-        _grow(cp, "body_q", np.float64, (n, dof), "m, m, rad", chunk=1)
-        _grow(cp, "body_v", np.float64, (n, dof), "m/s, m/s, rad/s", chunk=1)
-        _grow(cp, "q_ref", np.float64, (n, dof), "m, m, rad", chunk=1)
+        _grow(cp, "body_q", np.float64, (n, nq), q_units, chunk=1)
+        _grow(cp, "body_v", np.float64, (n, dof), v_units, chunk=1)
+        _grow(cp, "q_ref", np.float64, (n, nq), q_units, chunk=1)
         for name in ("contact_count", "pair_count", "since_refresh", "refresh_count",
                      "steps_logged"):
             _grow(cp, name, np.int64, (), "-", chunk=16)
@@ -196,7 +203,7 @@ class ResultsWriter:
         """Buffer one step's report; written at the next frame, checkpoint or flush."""
         self._steps_buffer.append(report)
 
-    def log_history(self, state, ground: tuple[float, float] | None = None) -> None:
+    def log_history(self, state, ground: tuple[float, ...] | None = None) -> None:
         """Buffer the chosen blocks' coordinates and velocities after a step, and the ground
         acceleration a_g(t) [m/s^2] when the run has a ground motion."""
         if self._history_bodies.size:
@@ -282,18 +289,25 @@ class ResultsWriter:
 def _write_model(g: h5py.Group, model) -> None:
     g.create_dataset("body_name", data=_strings(model.body_name))
     g.create_dataset("group_names", data=_strings(model.group_names))
-    for name, units in (("body_kind", "-"), ("body_group", "-"), ("body_mass", "kg/m"),
-                        ("body_inertia", "kg m^2/m"), ("body_q0", "m, m, rad"),
-                        ("body_vertex_start", "-"), ("vertex_local", "m"), ("law_kind", "-"),
-                        ("law_friction", "-"), ("law_restitution", "-"), ("group_law", "-"),
-                        ("gravity", "m/s^2")):
+    per_depth = "/m" if model.dim == 2 else ""
+    fields = [("body_kind", "-"), ("body_group", "-"), ("body_mass", "kg" + per_depth),
+              ("body_inertia", "kg m^2" + per_depth), ("body_q0", _UNITS[model.dim][0]),
+              ("body_vertex_start", "-"), ("vertex_local", "m"), ("law_kind", "-"),
+              ("law_friction", "-"), ("law_restitution", "-"), ("group_law", "-"),
+              ("gravity", "m/s^2")]
+    if model.dim == 3:
+        fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-"),
+                   ("body_size", "m")]
+    for name, units in fields:
         ds = g.create_dataset(name, data=np.asarray(getattr(model, name)))
         ds.attrs["units"] = units
 
 
 def _contact_datasets(g: h5py.Group, dim: int) -> None:
     for name, (dtype, tail, units) in _CONTACT_FIELDS.items():
-        _grow(g, name, dtype, tail(dim), units, chunk=4096)
+        # 2D quantities are per metre of depth, 3D ones are not
+        _grow(g, name, dtype, tail(dim), units if dim == 2 else units.replace("/m", ""),
+              chunk=4096)
 
 
 def _append_contacts(g: h5py.Group, c) -> None:
@@ -341,7 +355,15 @@ class Results:
     """Reads a results file (also one still being written, or left by a killed run).
 
     Arrays are numpy; `units` maps each name to its unit. Frames are the output times;
-    `steps` holds the solver's per-step figures."""
+    `steps` holds the solver's per-step figures.
+
+        with Results("arch.h5") as r:
+            r.time, r.body_q[-1]          # frame times [s]; coordinates at the last frame
+            r.body_name.index("voussoir 8")
+            r.contacts(-1)["force"]       # (tangential, normal) contact forces [N/m; 3D: N]
+            r.steps["converged"]          # per step: iterations, error, interpenetration...
+            r.status, r.message           # finished, interrupted or failed, and why
+    """
 
     def __init__(self, path: str | os.PathLike) -> None:
         self.path = Path(path)
@@ -385,19 +407,26 @@ class Results:
         self.histories = self._read_histories()
         self.status = STATUS[int(self.file["run/status"][0])]
         self.message = self.file["run/message"][0].decode().strip()
-        self.units = {"time": "s", "body_q": "m, m, rad", "body_v": "m/s, m/s, rad/s",
-                      "point": "m", "gap": "m", "impulse": "N s/m", "force": "N/m",
+        per_depth = "/m" if self.dim == 2 else ""
+        self.units = {"time": "s", "body_q": _UNITS[self.dim][0],
+                      "body_v": _UNITS[self.dim][1], "point": "m", "gap": "m",
+                      "impulse": "N s" + per_depth, "force": "N" + per_depth,
                       **_STEP_UNITS}
+        if self.dim == 3:
+            self.units["kinetic_energy"] = "J"
 
     @functools.cached_property
     def body_size(self) -> np.ndarray:
-        """Square root of each body's area [m] (as saxum.model.Model.body_size)."""
+        """Square root of each body's area (3D: cube root of its volume, stored in the file)
+        [m] (as saxum.model.Model.body_size)."""
+        if "body_size" in self.model:
+            return self.model["body_size"]
         return np.array([np.sqrt(polygon_properties(p).area) for p in self._polygons()])
 
     @functools.cached_property
     def body_radius(self) -> np.ndarray:
         """Largest distance from each body's centre of mass to its vertices [m]."""
-        return np.array([np.hypot(*p.T).max() for p in self._polygons()])
+        return np.array([np.linalg.norm(p, axis=1).max() for p in self._polygons()])
 
     def _polygons(self) -> list[np.ndarray]:
         return np.split(self.model["vertex_local"], self.model["body_vertex_start"][1:-1])
@@ -417,7 +446,8 @@ class Results:
 
     def contacts(self, frame: int) -> dict[str, np.ndarray]:
         """The contacts of output frame `frame`: the stored fields and `force` = impulse / dt
-        [N/m], the mean contact force over the step, in the contact frame (t, n)."""
+        [N/m; 3D: N], the mean contact force over the step, in the contact frame (t, n) (3D:
+        (t, n, s))."""
         k = range(self.frame_count)[frame]
         lo, hi = self._contact_start[k], self._contact_start[k + 1]
         g = self.file["frames/contacts"]
@@ -426,13 +456,12 @@ class Results:
         return out
 
     def vertices(self, body: int, frame: int) -> np.ndarray:
-        """World vertices [m] of `body` at output frame `frame`, shape (n, 2)."""
-        x, y, th = self.body_q[frame, body]
+        """World vertices [m] of `body` at output frame `frame`, shape (n, dim)."""
+        from .model import body_vertices
+
         vs = self.model["body_vertex_start"]
-        loc = self.model["vertex_local"][vs[body]:vs[body + 1]]
-        c, s = np.cos(th), np.sin(th)
-        return np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
-                                y + s * loc[:, 0] + c * loc[:, 1]))
+        return body_vertices(self.body_q[frame, body],
+                             self.model["vertex_local"][vs[body]:vs[body + 1]])
 
     def checkpoint(self, index: int = -1) -> dict:
         """The arrays of one checkpoint (for restart)."""
@@ -456,11 +485,18 @@ class Results:
         (requires xarray)."""
         import xarray as xr
 
-        coords = {"time": ("time", self.time, {"units": "s"}), "body": self.body_name,
-                  "dof": ["x", "y", "theta"][: self.dof]}
+        if self.dim == 3:
+            coords = {"time": ("time", self.time, {"units": "s"}), "body": self.body_name,
+                      "coordinate": ["x", "y", "z", "qw", "qx", "qy", "qz"],
+                      "dof": ["x", "y", "z", "wx", "wy", "wz"]}
+            q_dims = ("time", "body", "coordinate")
+        else:
+            coords = {"time": ("time", self.time, {"units": "s"}), "body": self.body_name,
+                      "dof": ["x", "y", "theta"][: self.dof]}
+            q_dims = ("time", "body", "dof")
         return xr.Dataset({
-            "body_q": (("time", "body", "dof"), self.body_q, {"units": "m, m, rad"}),
-            "body_v": (("time", "body", "dof"), self.body_v, {"units": "m/s, m/s, rad/s"}),
+            "body_q": (q_dims, self.body_q, {"units": self.units["body_q"]}),
+            "body_v": (("time", "body", "dof"), self.body_v, {"units": self.units["body_v"]}),
         }, coords=coords)
 
     def close(self) -> None:

@@ -28,8 +28,9 @@ __all__ = ["RunSummary", "resume_run", "run_scenario"]
 
 @dataclass(frozen=True)
 class RunSummary:
-    """What a run did: results path, status ("finished" or "interrupted"), steps done, the
-    simulated time reached [s], steps that did not converge, wall time [s]."""
+    """What a run did: results path, status ("finished" or "interrupted"), the step reached,
+    the simulated time reached [s], steps that did not converge, wall time [s], and the step
+    this call started from (0, or the checkpoint of a resumed run)."""
 
     path: Path
     status: str
@@ -37,6 +38,7 @@ class RunSummary:
     time: float
     non_converged: int
     wall_time: float
+    first_step: int = 0
 
 
 def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
@@ -80,7 +82,8 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
     frame_every = _every(out.interval, dt)
     checkpoint_every = _every(out.checkpoint_interval, dt)
     spec = scenario.loads.ground_motion
-    ground = spec.motion().acceleration_at if spec is not None else None
+    ground = (spec.motion(scenario.structure.dim).acceleration_at if spec is not None
+              else None)
     stop = {"now": False}
 
     def on_sigint(signum, frame):
@@ -127,13 +130,18 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
         signal.signal(signal.SIGINT, previous)
         writer.close()
     return RunSummary(Path(writer.path), status, state.step, state.time, bad,
-                      time.perf_counter() - start)
+                      time.perf_counter() - start, first)
 
 
 def describe(summary: RunSummary) -> str:
     """A line for the user: what happened and where the results are."""
-    rate = summary.steps / summary.wall_time if summary.wall_time > 0 else math.inf
-    text = (f"{summary.status}: {summary.steps} steps, t = {summary.time:g} s, "
+    done = summary.steps - summary.first_step
+    if done == 0 and summary.status == "finished":
+        return (f"already finished at t = {summary.time:g} s (step {summary.steps}): nothing "
+                f"to resume; results: {summary.path}")
+    rate = done / summary.wall_time if summary.wall_time > 0 else math.inf
+    resumed = f" (from step {summary.first_step})" if summary.first_step else ""
+    text = (f"{summary.status}: {summary.steps} steps{resumed}, t = {summary.time:g} s, "
             f"{summary.wall_time:.1f} s wall ({rate:.0f} steps/s); results: {summary.path}")
     if summary.non_converged:
         text += f"; NLGS did not converge at {summary.non_converged} step(s) (saxum info)"

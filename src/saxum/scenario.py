@@ -17,7 +17,7 @@ import re
 import tomllib
 import typing
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 from pydantic import (
@@ -40,19 +40,27 @@ from .structures import (
     Opening,
     add_arch_bridge,
     add_blocks_from_file,
+    add_blocks_from_mesh,
+    add_bridge3d,
     add_buttressed_wall,
+    add_ground_slab,
     add_grounded_running_bond_wall,
     add_pier,
+    add_pier3d,
+    add_semicircular_arch3d,
     add_supported_arch,
     add_supported_semicircular_arch,
     add_wall,
+    add_wall3d,
 )
 
-__all__ = ["ArchBridgeStructure", "ArchStructure", "BlocksStructure", "BondedWallStructure",
+__all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
+           "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
            "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "FloodSpec",
-           "GroundMotionSpec", "LawSpec", "Loads", "OpeningSpec", "OutputSpec", "PierStructure",
-           "PointLoad", "Scenario", "Settlement", "ShapedArchStructure", "SolverSpec",
-           "WallStructure", "load_scenario", "parse_scenario"]
+           "GroundMotionSpec", "LawSpec", "Loads", "MeshStructure", "OpeningSpec", "OutputSpec",
+           "Pier3dStructure", "PierStructure", "PointLoad", "Scenario", "Settlement",
+           "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
+           "load_scenario", "parse_scenario"]
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -60,6 +68,9 @@ Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+    dim: ClassVar[int] = 2
+    """Spatial dimension of a structure's model."""
 
 
 class ArchStructure(_Strict):
@@ -325,11 +336,128 @@ class ArchBridgeStructure(_Shaped):
             gravity=builder.gravity)
 
 
+
+class Arch3dStructure(_Strict):
+    """The semicircular arch of "semicircular_arch" given a depth (3D): its voussoirs and its
+    support block are prisms through the depth (groups "voussoir" and "support")."""
+
+    dim: ClassVar[int] = 3
+    type: Literal["semicircular_arch_3d"] = "semicircular_arch_3d"
+    radius: Positive = Field(description="mean radius R [m]")
+    thickness: Positive = Field(description="ring thickness t [m], < 2 R")
+    voussoirs: int = Field(ge=1, description="number of equal voussoirs")
+    depth: Positive = Field(description="depth of the barrel [m]")
+    pieces: int = Field(1, ge=1, description="pieces of each voussoir along the depth")
+    stagger: bool = Field(False, description="shift every other voussoir's joints by half")
+    density: Positive = Field(2000.0, description="density [kg/m^3]")
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        add_semicircular_arch3d(builder, radius=self.radius, thickness=self.thickness,
+                                voussoirs=self.voussoirs, depth=self.depth, pieces=self.pieces,
+                                stagger=self.stagger, density=self.density)
+
+
+class Wall3dStructure(_Strict):
+    """A 3D wall one brick thick in running bond on a fixed ground slab, with an optional
+    return wall at an interlocking L corner (groups "brick" and "ground")."""
+
+    dim: ClassVar[int] = 3
+    type: Literal["wall_3d"] = "wall_3d"
+    courses: int = Field(ge=1, description="number of courses")
+    length: Positive = Field(description="length of the wall along x [m]")
+    return_length: Positive | None = Field(None, description="length of the return wall [m]")
+    thickness: Positive = Field(0.12, description="[m]")
+    brick_length: Positive = Field(0.25, description="[m]")
+    brick_height: Positive = Field(0.065, description="[m]")
+    density: Positive = Field(1800.0, description="[kg/m^3]")
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        add_ground_slab(builder, (0.0, 0.0), (self.length, self.return_length or
+                                              self.thickness), 0.0)
+        add_wall3d(builder, courses=self.courses, length=self.length,
+                   return_length=self.return_length, thickness=self.thickness,
+                   brick_length=self.brick_length, brick_height=self.brick_height,
+                   density=self.density)
+
+
+class Pier3dStructure(_Strict):
+    """A 3D pier of courses of two crossed blocks on a fixed ground slab (groups "pier" and
+    "ground")."""
+
+    dim: ClassVar[int] = 3
+    type: Literal["pier_3d"] = "pier_3d"
+    width: Positive = Field(description="along x [m]")
+    depth: Positive = Field(description="along y [m]")
+    courses: int = Field(ge=1, description="number of courses")
+    course_height: Positive = Field(description="[m]")
+    density: Positive = Field(2200.0, description="[kg/m^3]")
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        add_ground_slab(builder, (0.0, 0.0), (self.width, self.depth), 0.0)
+        add_pier3d(builder, width=self.width, depth=self.depth, courses=self.courses,
+                   course_height=self.course_height, density=self.density)
+
+
+class Bridge3dStructure(_Strict):
+    """A single-span stone bridge with spandrel walls (3D): a segmental barrel on two
+    abutments, spandrel walls at both faces, fill blocks between them or none (groups
+    "ground", "pier", "voussoir", "spandrel", "fill")."""
+
+    dim: ClassVar[int] = 3
+    type: Literal["bridge_3d"] = "bridge_3d"
+    span: Positive = Field(description="clear span [m]")
+    rise: Positive = Field(description="rise of the intrados [m]")
+    thickness: Positive = Field(description="ring thickness [m]")
+    voussoirs: int = Field(ge=1, description="number of voussoirs")
+    width: Positive = Field(description="width of the bridge along y [m]")
+    spandrel_thickness: Positive = Field(description="thickness of each spandrel wall [m]")
+    abutment_width: Positive = Field(description="[m]")
+    abutment_height: Positive = Field(description="[m], from the ground to the springing")
+    fill: Literal["blocks", "none"] = "blocks"
+    course_height: Positive = Field(0.5, description="spandrel courses [m]")
+    block_length: Positive = Field(1.0, description="spandrel blocks [m]")
+    pieces: int = Field(1, ge=1, description="pieces of each voussoir along the width")
+    stagger: bool = Field(False, description="shift every other voussoir's joints by half")
+    density: Positive = Field(2200.0, description="[kg/m^3]")
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        shape = ArchShape.segmental(span=self.span, rise=self.rise, thickness=self.thickness)
+        add_bridge3d(builder, shape, voussoirs=self.voussoirs, width=self.width,
+                     spandrel_thickness=self.spandrel_thickness,
+                     abutment_width=self.abutment_width, pier_height=self.abutment_height,
+                     fill=self.fill, pieces=self.pieces, stagger=self.stagger,
+                     course_height=self.course_height, block_length=self.block_length,
+                     density=self.density)
+
+
+class MeshStructure(_Strict):
+    """3D blocks from a mesh file (OBJ, STL, PLY, OFF, VTU...; saxum.structures.meshfile):
+    each closed convex part is a block of group `group`; with `ground`, a fixed slab (group
+    "ground") under them, its top at their lowest point. A relative path is taken from the
+    scenario file's folder."""
+
+    dim: ClassVar[int] = 3
+    type: Literal["mesh"] = "mesh"
+    file: Path
+    density: Positive = Field(description="[kg/m^3]")
+    group: str = "block"
+    ground: bool = True
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        asm = add_blocks_from_mesh(builder, self.file, density=self.density, group=self.group)
+        if self.ground:
+            pts = np.concatenate(list(asm.outlines.values()))
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            add_ground_slab(builder, lo[:2], hi[:2], float(lo[2]))
+
+
 _KIND = {"fixed": BodyKind.FIXED, "free": BodyKind.FREE}
 
 Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedArchStructure
                       | BondedWallStructure | PierStructure | ButtressedWallStructure
-                      | ArchBridgeStructure, Field(discriminator="type")]
+                      | ArchBridgeStructure | Arch3dStructure | Wall3dStructure
+                      | Pier3dStructure | Bridge3dStructure | MeshStructure,
+                      Field(discriminator="type")]
 
 
 class LawSpec(_Strict):
@@ -347,42 +475,48 @@ class LawSpec(_Strict):
                           restitution=self.restitution)
 
 
+Vector = tuple[Finite, Finite] | tuple[Finite, Finite, Finite]
+"""A direction or vector: 2 components in 2D, 3 in 3D (z vertical)."""
+
+
 class PointLoad(_Strict):
-    """A constant force of `magnitude` [N/m] along `direction` (normalized) at the centre of
-    mass of the block called `block`."""
+    """A constant force of `magnitude` [N/m; 3D: N] along `direction` (normalized; default
+    downward) at the centre of mass of the block called `block`."""
 
     block: str
     magnitude: Finite
-    direction: tuple[Finite, Finite] = (0.0, -1.0)
+    direction: Vector | None = None
 
 
 class Settlement(_Strict):
     """The fixed block called `block` (a support) moves by `magnitude` [m] along `direction`
-    (normalized) and turns by `rotation` [rad] about its centre of mass over `time` [s] from
-    the start, then stays: at a constant rate (profile "linear") or with the rate
-    (pi / 2) sin(pi t / time) times the mean one (profile "smooth": starts and stops with no
-    jerk, for quasi-static settlements)."""
+    (normalized; default downward) and turns by `rotation` [rad] about its centre of mass (3D:
+    a rotation vector, world axes) over `time` [s] from the start, then stays: at a constant
+    rate (profile "linear") or with the rate (pi / 2) sin(pi t / time) times the mean one
+    (profile "smooth": starts and stops with no jerk, for quasi-static settlements)."""
 
     block: str
     magnitude: Finite
-    direction: tuple[Finite, Finite] = (0.0, -1.0)
-    rotation: Finite = 0.0
+    direction: Vector | None = None
+    rotation: Finite | tuple[Finite, Finite, Finite] = 0.0
     time: Positive = 1.0
     profile: Literal["linear", "smooth"] = "linear"
 
-    def motion(self, direction: np.ndarray):
-        """t [s] -> (vx [m/s], vy [m/s], omega [rad/s]) of the support."""
-        vx, vy = self.magnitude / self.time * direction
-        mean = (vx, vy, self.rotation / self.time)
+    def motion(self, direction: np.ndarray, rotation: np.ndarray):
+        """t [s] -> the support's velocity: (vx [m/s], vy [m/s], omega [rad/s]) in 2D,
+        (vx, vy, vz, wx, wy, wz) in 3D; direction: unit vector, rotation [rad]: the angle
+        (2D) or rotation vector (3D)."""
+        mean = (*(self.magnitude / self.time * direction), *(rotation / self.time))
         end = self.time
+        still = (0.0,) * len(mean)
         if self.profile == "linear":
-            return lambda t: mean if t < end else (0.0, 0.0, 0.0)
+            return lambda t: mean if t < end else still
 
-        def smooth(t: float) -> tuple[float, float, float]:
+        def smooth(t: float) -> tuple[float, ...]:
             if t >= end:
-                return 0.0, 0.0, 0.0
+                return still
             rate = 0.5 * math.pi * math.sin(math.pi * t / end)
-            return mean[0] * rate, mean[1] * rate, mean[2] * rate
+            return tuple(x * rate for x in mean)
         return smooth
 
 
@@ -415,7 +549,8 @@ class GroundMotionSpec(_Strict):
     nu: Finite = 0.0
     cycles: Positive = 5.0
     ramp: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
-    direction: tuple[Finite, Finite] = (1.0, 0.0)
+    direction: Vector | None = None
+    azimuth: Finite = 0.0
     scale: Finite = 1.0
     start: Annotated[float, Field(ge=0.0)] = 0.0
     end: Positive | None = None
@@ -431,11 +566,14 @@ class GroundMotionSpec(_Strict):
             raise ValueError('apply = "driven" needs the names of the supports to drive')
         return self
 
-    def motion(self):
-        """The saxum.ground.GroundMotion described."""
+    def motion(self, dim: int = 2):
+        """The saxum.ground.GroundMotion described, with the components of a dim-D model: a
+        pulse along `direction` (default x), a record of (horizontal, vertical) components in
+        3D with its horizontal one at `azimuth` [deg] from x towards y."""
         from . import ground
 
-        d = _unit(self.direction, "ground_motion.direction")
+        default = (1.0, 0.0) if dim == 2 else (1.0, 0.0, 0.0)
+        d = _unit(self.direction or default, "ground_motion.direction", dim)
         if self.fema_p695 is not None:
             from .records import read_fema_p695
 
@@ -466,6 +604,8 @@ class GroundMotionSpec(_Strict):
             record = record.trimmed(self.start, self.end if self.end is not None
                                     else float(record.time[-1]))
         record = record.scaled(self.scale)
+        if dim == 3 and record.components == 2:
+            record = record.in_3d(math.radians(self.azimuth))
         return record.baseline_corrected() if self.baseline_correction else record
 
 
@@ -508,44 +648,81 @@ class FloodSpec(_Strict):
 
 
 class Loads(_Strict):
-    """Gravity [m/s^2]; a horizontal inertial load a_x(t) = (horizontal_acceleration +
-    load_factor_rate * g * t) on every free block [m/s^2], g = |gravity| (a tilting table);
-    point loads; settlements of supports; ground motion; a flood."""
+    """Gravity [m/s^2] (default downward: (0, -9.81), 3D (0, 0, -9.81)); a horizontal
+    inertial load a(t) = (horizontal_acceleration + load_factor_rate * g * t) on every free
+    block [m/s^2], g = |gravity| (a tilting table), along x, in 3D along the horizontal
+    direction at horizontal_azimuth [deg] from x towards y; point loads; settlements of
+    supports; ground motion; a flood (2D)."""
 
-    gravity: tuple[Finite, Finite] = (0.0, -9.81)
+    gravity: Vector | None = None
     horizontal_acceleration: Finite = 0.0
+    horizontal_azimuth: Finite = 0.0
     load_factor_rate: Finite = 0.0
     point_loads: list[PointLoad] = []
     settlements: list[Settlement] = []
     ground_motion: GroundMotionSpec | None = None
     flood: FloodSpec | None = None
 
+    def gravity_for(self, dim: int) -> tuple[float, ...]:
+        """The gravity vector of a dim-D model [m/s^2]."""
+        if self.gravity is None:
+            return (0.0, -9.81) if dim == 2 else (0.0, 0.0, -9.81)
+        if len(self.gravity) != dim:
+            raise InputError(f"loads.gravity has {len(self.gravity)} components, the model is "
+                             f"{dim}D: give {dim}")
+        return tuple(self.gravity)
+
     def add_to(self, builder: ModelBuilder) -> None:
         """Apply these loads to the blocks in `builder`."""
+        dim = builder.dim
+        down = np.eye(dim)[-1] * -1.0
         ax0, rate = self.horizontal_acceleration, self.load_factor_rate
+        if dim == 2 and self.horizontal_azimuth != 0.0:
+            raise InputError("loads.horizontal_azimuth is for 3D models; in 2D the horizontal "
+                             "load is along x (use a negative horizontal_acceleration for -x)")
         if ax0 != 0.0 or rate != 0.0:
-            g = math.hypot(*self.gravity)
-            builder.add_acceleration(lambda t: (ax0 + rate * g * t, 0.0))
-        for load in self.point_loads:
-            fx, fy = load.magnitude * _unit(load.direction, "point_loads.direction")
-            builder.add_force([builder.index(load.block)], lambda t, f=(fx, fy): (*f, 0.0))
-        for s in self.settlements:
-            builder.drive(s.block, s.motion(_unit(s.direction, "settlements.direction")))
+            g = float(np.linalg.norm(self.gravity_for(dim)))
+            phi = math.radians(self.horizontal_azimuth)
+            h = (1.0, 0.0) if dim == 2 else (math.cos(phi), math.sin(phi), 0.0)
+            builder.add_acceleration(lambda t: tuple((ax0 + rate * g * t) * c for c in h))
+        turning = 3 * (dim - 1) - dim  # rotational dof: 1 in 2D, 3 in 3D
+        for k, load in enumerate(self.point_loads):
+            f = load.magnitude * _unit(load.direction or down, f"point_loads[{k}].direction",
+                                       dim)
+            builder.add_force([builder.index(load.block)],
+                              lambda t, f=tuple(f): (*f, *(0.0,) * turning))
+        for k, s in enumerate(self.settlements):
+            direction = _unit(s.direction or down, f"settlements[{k}].direction", dim)
+            rotation = np.atleast_1d(np.asarray(s.rotation, dtype=np.float64))
+            if rotation.size == 1 and dim == 3 and rotation[0] == 0.0:
+                rotation = np.zeros(3)
+            if rotation.size != turning:
+                raise InputError(f"loads.settlements[{k}].rotation: a {dim}D model turns "
+                                 + ("by an angle [rad]" if dim == 2 else
+                                    "by a rotation vector [rad] of 3 components"))
+            builder.drive(s.block, s.motion(direction, rotation))
         if self.ground_motion is not None:
-            motion = self.ground_motion.motion()
+            motion = self.ground_motion.motion(dim)
             if self.ground_motion.apply == "inertial":
                 motion.apply_as_inertial_forces(builder)
             else:
                 motion.apply_as_driven_supports(builder, self.ground_motion.supports)
         if self.flood is not None:
+            if dim != 2:
+                raise InputError("loads.flood is made for 2D models (a section of the "
+                                 "structure across the flow)")
             builder.add_field_load(self.flood.load())
 
 
-def _unit(direction: tuple[float, float], key: str):
-    norm = math.hypot(*direction)
+def _unit(direction, key: str, dim: int | None = None):
+    d = np.asarray(direction, dtype=np.float64)
+    if dim is not None and d.size != dim:
+        raise InputError(f"loads.{key} has {d.size} components, the model is {dim}D: give "
+                         f"{dim}")
+    norm = float(np.linalg.norm(d))
     if norm == 0.0:
-        raise InputError(f"loads.{key} must not be (0, 0)")
-    return np.array(direction) / norm
+        raise InputError(f"loads.{key} must not be zero")
+    return d / norm
 
 
 class SolverSpec(_Strict):
@@ -620,7 +797,8 @@ class Scenario(_Strict):
 
     def build_model(self) -> Model:
         """The Model this scenario describes."""
-        builder = ModelBuilder(gravity=self.loads.gravity)
+        dim = self.structure.dim
+        builder = ModelBuilder(dim=dim, gravity=self.loads.gravity_for(dim))
         self.structure.add_to(builder)
         _set_laws(builder, self.laws)
         self.loads.add_to(builder)
@@ -674,8 +852,12 @@ def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ())
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no scenario file at {path}")
-    return parse_scenario(path.read_text(), base_dir=path.parent, overrides=overrides,
-                          source=str(path))
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"{path} is not a scenario (a TOML text file, docs/scenario.md); for "
+                         "a results file use saxum info, plot or resume") from None
+    return parse_scenario(text, base_dir=path.parent, overrides=overrides, source=str(path))
 
 
 def parse_scenario(text: str, *, base_dir: str | Path = ".",
@@ -718,6 +900,7 @@ def _apply_override(data: dict, item: str) -> None:
         path.append(name)
         path.extend(int(i) for i in re.findall(r"(\d+)\]", "[" + rest) if rest)
     node = data
+    done = ""  # the key up to `here`
     for here, nxt in zip(path[:-1], path[1:], strict=True):
         try:
             if isinstance(here, int):
@@ -725,11 +908,23 @@ def _apply_override(data: dict, item: str) -> None:
             else:
                 node = node.setdefault(here, [] if isinstance(nxt, int) else {})
         except (IndexError, TypeError, AttributeError):
-            raise InputError(f"--set {item!r}: no {here!r} in the scenario") from None
+            raise _missing(item, done, here, node) from None
+        done += f"[{here}]" if isinstance(here, int) else f"{'.' if done else ''}{here}"
     try:
         node[path[-1]] = value
     except (IndexError, TypeError):
-        raise InputError(f"--set {item!r}: no {path[-1]!r} in the scenario") from None
+        raise _missing(item, done, path[-1], node) from None
+
+
+def _missing(item: str, done: str, key: str | int, node) -> InputError:
+    """The error of an override whose key `done` + `key` is not in the scenario."""
+    if isinstance(key, int) and isinstance(node, list):
+        return InputError(f"--set {item!r}: {done or 'the scenario'} has {len(node)} "
+                          f"entr{'y' if len(node) == 1 else 'ies'}, so no [{key}] (counted from "
+                          f"0): add it to the scenario file, or set the whole list, e.g. "
+                          f"--set '{done}=[...]'")
+    return InputError(f"--set {item!r}: {done or 'the scenario'} is not a table with keys, "
+                      f"so it has no {key!r}")
 
 
 def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
@@ -753,7 +948,9 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
 _TAGS = {"semicircular_arch": ArchStructure, "running_bond_wall": WallStructure,
          "blocks": BlocksStructure, "arch": ShapedArchStructure, "wall": BondedWallStructure,
          "pier": PierStructure, "buttressed_wall": ButtressedWallStructure,
-         "arch_bridge": ArchBridgeStructure}
+         "arch_bridge": ArchBridgeStructure, "semicircular_arch_3d": Arch3dStructure,
+         "wall_3d": Wall3dStructure, "pier_3d": Pier3dStructure, "bridge_3d": Bridge3dStructure,
+         "mesh": MeshStructure}
 _TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
            "detection": DetectionSpec, "output": OutputSpec}
 

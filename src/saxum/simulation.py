@@ -14,9 +14,9 @@ import warnings
 
 import numpy as np
 
-from . import rigid2d
+from . import rigid2d, rigid3d
 from .contacts import Contacts
-from .detection import DetectionSettings, Detector
+from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean, free_velocity
 from .model import BodyKind, Model
@@ -26,7 +26,7 @@ from .steplog import StepLog, StepReport
 
 __all__ = ["KINEMATICS", "Simulation"]
 
-KINEMATICS = {2: rigid2d}
+KINEMATICS = {2: rigid2d, 3: rigid3d}
 """Kinematics module per spatial dimension."""
 
 
@@ -50,7 +50,7 @@ class Simulation:
         self.kinematics = KINEMATICS[model.dim]
         self.integrator = MoreauJean(dt, theta)
         self.solver = solver if solver is not None else NLGS()
-        self.detector = Detector(model, detection)
+        self.detector = detector_for(model, detection)
         self.problem = ContactProblem(model)
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
@@ -59,15 +59,16 @@ class Simulation:
         self._force = np.zeros((n, dof))
         self._v = np.zeros((n, dof))
         self._v_free = np.zeros((n, dof))
-        self._q_pred = np.zeros((n, dof))
+        self._q_pred = np.zeros_like(model.body_q0)
         self._spare = Contacts(model.dim)
         free = model.body_kind == BodyKind.FREE
         self._free_mass = np.where(free, model.body_mass, 0.0)
-        self._weight = self._free_mass[:, None] * np.append(model.gravity, 0.0)[None, :]
+        gravity = np.concatenate((model.gravity, np.zeros(dof - model.dim)))
+        self._weight = self._free_mass[:, None] * gravity[None, :]
         self._driven = [np.flatnonzero(model.body_motion == k) for k in range(len(model.motions))]
 
     def _check_step(self) -> None:
-        g = float(np.hypot(*self.model.gravity))
+        g = float(np.linalg.norm(self.model.gravity))
         h = self.integrator.dt
         alert = self.detector.alert
         if g * h * h > alert:
@@ -110,8 +111,9 @@ class Simulation:
                      step=int(saved["step"]))
 
     def external_force(self, t: float, out: np.ndarray, q: np.ndarray | None = None) -> None:
-        """out = F(t) [N, N, N m] per body: weight, uniform accelerations, applied forces and
-        field loads at coordinates q (default: the initial ones)."""
+        """out = F(t) [N, N m] per body and dof: weight, uniform accelerations, applied forces
+        (3D: moments in the world frame) and field loads at coordinates q (default: the
+        initial ones)."""
         self._step_force(t, t, out, self.model.body_q0 if q is None else q)
 
     def _step_force(self, t0: float, t1: float, out: np.ndarray, q: np.ndarray) -> None:
@@ -124,13 +126,12 @@ class Simulation:
         out[:] = self._weight
         for acc in self.model.accelerations:
             if t1 > t0 and hasattr(acc, "mean_over"):
-                ax, ay = acc.mean_over(t0, t1)
+                a = acc.mean_over(t0, t1)
             else:
                 a0, a1 = acc(t0), acc(t1)
-                ax = (1.0 - theta) * a0[0] + theta * a1[0]
-                ay = (1.0 - theta) * a0[1] + theta * a1[1]
-            out[:, 0] += self._free_mass * ax
-            out[:, 1] += self._free_mass * ay
+                a = [(1.0 - theta) * a0[d] + theta * a1[d] for d in range(self.model.dim)]
+            for d in range(self.model.dim):
+                out[:, d] += self._free_mass * a[d]
         for bodies, force in self.model.forces:
             f0 = np.asarray(force(t0), dtype=np.float64)
             f1 = np.asarray(force(t1), dtype=np.float64)
@@ -149,9 +150,14 @@ class Simulation:
             self._step_force(state.time, t1, self._force, state.body_q)
         else:
             self._force[:] = self._weight
+        if m.dim == 3:
+            rigid3d.gyroscopic_torques(state.body_q, state.body_v, m.body_inertia,
+                                       m.body_inv_mass, h, self._force)
         free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v_free)
         for k, bodies in enumerate(self._driven):
             self._v_free[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
+            if m.dim == 3:
+                rigid3d.angular_velocity_to_body(state.body_q, bodies, self._v_free)
         self._v[:] = self._v_free
         kin = self.kinematics
         kin.predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)

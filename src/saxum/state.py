@@ -4,6 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import rigid3d
 from .contacts import Contacts
 from .model import Model
 
@@ -13,7 +14,8 @@ __all__ = ["State"]
 @dataclass
 class State:
     """Time [s], body_q (x, y, theta) [m, m, rad] and body_v (vx, vy, omega) [m/s, m/s, rad/s],
-    both shape [body_count, 3], and the contacts of the last step with their impulses."""
+    both shape [body_count, 3] (3D: body_q [body_count, 7], body_v [body_count, 6], see
+    saxum.model), and the contacts of the last step with their impulses."""
 
     time: float
     body_q: np.ndarray
@@ -25,9 +27,12 @@ class State:
     def initial(cls, model: Model, *, time: float = 0.0) -> "State":
         """The model in its initial position, at rest except driven bodies, which move with
         their imposed velocity at `time` [s]."""
-        body_v = np.zeros_like(model.body_q0)
+        body_v = np.zeros((model.body_count, model.dof))
         for k, motion in enumerate(model.motions):
             body_v[model.body_motion == k] = np.asarray(motion(time), dtype=np.float64)
+        if model.dim == 3:
+            rigid3d.angular_velocity_to_body(model.body_q0, np.flatnonzero(model.body_motion >= 0),
+                                             body_v)
         return cls(time=time, body_q=model.body_q0.copy(), body_v=body_v,
                    contacts=Contacts(model.dim))
 

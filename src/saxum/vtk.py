@@ -13,6 +13,12 @@ data: displacement [m] of the centre of mass from its initial position, velocity
 1 fixed, 2 driven). Contacts carry point data: normal_force and tangential_force [N/m] (mean
 over the step, impulse / dt), force [N/m] (world vector R_t t + R_n n), normal (unit, world),
 gap [m], candidate and antagonist (body indices); use ParaView's Glyph filter on force.
+
+3D results: each block is written as its polygonal faces (one polygon cell per face, every face
+carrying its block's data, so that ParaView's Threshold on body_index picks whole blocks);
+rotation is the rotation vector [rad] (world frame, length: the angle) from the initial
+orientation, angular_velocity is in the world frame, forces are in N (not per metre), and
+tangential_force is the magnitude of the friction force (R_t, R_s).
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ import meshio
 import numpy as np
 
 from .errors import InputError
+from .geometry3d import rotation_matrix, rotation_vectors, world_points
 from .results import Results
 
 __all__ = ["export_vtk"]
@@ -39,12 +46,9 @@ def export_vtk(results: Results | str | os.PathLike, directory: str | os.PathLik
     if not isinstance(results, Results):
         with Results(results) as res:
             return export_vtk(res, directory, frames=frames)
-    # The one dimension check: what is 2D-specific is the polygon cells and the scalar rotation
-    # in _blocks and the single tangential component in _contacts; 3D results would need
-    # polyhedron cells, rotation vectors and two tangential components there.
-    if results.dim != 2:
-        raise InputError(f"{results.path}: VTK export handles 2D results only, this file has "
-                         f"dim {results.dim}")
+    if results.dim not in (2, 3):
+        raise InputError(f"{results.path}: dim {results.dim} is neither 2 nor 3")
+    blocks = _blocks if results.dim == 2 else _faces
     directory = Path(directory)
     stem = results.path.stem
     (directory / stem).mkdir(parents=True, exist_ok=True)
@@ -54,7 +58,7 @@ def export_vtk(results: Results | str | os.PathLike, directory: str | os.PathLik
                             byte_order="LittleEndian")
     datasets = ET.SubElement(collection, "Collection")
     for k in selected:
-        for part, (name, mesh) in enumerate((("blocks", _blocks(results, k)),
+        for part, (name, mesh) in enumerate((("blocks", blocks(results, k)),
                                              ("contacts", _contacts(results, k)))):
             file = f"{stem}/{name}_{k:06d}.vtu"
             # A frame without contacts goes uncompressed: meshio's zlib header for 0 bytes
@@ -104,15 +108,45 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
     return meshio.Mesh(points, cells, cell_data=cell_data)
 
 
+def _faces(res: Results, k: int) -> meshio.Mesh:
+    """3D blocks at output frame k: their faces as polygon cells over the world vertices."""
+    m = res.model
+    q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
+    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
+    rot = rotation_matrix(q[:, 3:])
+    body_data = {
+        "displacement": q[:, :3] - q0[:, :3],
+        "velocity": v[:, :3],
+        "rotation": rotation_vectors(q[:, 3:], q0[:, 3:]),
+        "angular_velocity": np.einsum("bij,bj->bi", rot, v[:, 3:]),
+        "body_index": np.arange(len(q), dtype=np.int32),
+        "body_kind": m["body_kind"].astype(np.int32),
+    }
+    # faces as runs of the face_vertex list, each with its block's data
+    face_start = m["body_face_start"]
+    owner = np.repeat(np.arange(len(q)), np.diff(face_start))
+    fvs = m["face_vertex_start"]
+    order = np.argsort(np.diff(fvs), kind="stable")  # group equal sizes, keep face order
+    count = np.diff(fvs)
+    cells = []
+    data: dict[str, list] = {name: [] for name in body_data}
+    for n in np.unique(count):
+        faces = order[count[order] == n]
+        cells.append(("polygon", m["face_vertex"][fvs[faces, None] + np.arange(n)]))
+        for name, a in body_data.items():
+            data[name].append(a[owner[faces]])
+    return meshio.Mesh(points, cells, cell_data=data)
+
+
 def _contacts(res: Results, k: int) -> meshio.Mesh:
     """The contacts at output frame k: one vertex cell at each contact point [m]."""
     c = res.contacts(k)
-    f = c["force"]  # (t, n) components [N/m]
+    f = c["force"]  # (t, n) or (t, n, s) components [N/m; 3D: N]
     point_data = {
-        "normal_force": f[:, -1],
-        "tangential_force": f[:, 0],
+        "normal_force": f[:, 1],
+        "tangential_force": f[:, 0] if res.dim == 2 else np.hypot(f[:, 0], f[:, 2]),
         "force": _pad3(np.einsum("ki,kij->kj", f, c["frame"])),
-        "normal": _pad3(c["frame"][:, -1]),
+        "normal": _pad3(c["frame"][:, 1]),
         "gap": c["gap"],
         "candidate": c["candidate"],
         "antagonist": c["antagonist"],

@@ -1,5 +1,6 @@
-"""Contact detection: a broad phase on bounding boxes and a narrow phase between polygons."""
+"""Contact detection: a broad phase on bounding boxes and a narrow phase between polygons (2D)
+or convex polyhedra (3D)."""
 
-from .detector import DetectionSettings, Detector
+from .detector import DetectionSettings, Detector, PolyhedronDetector, detector_for
 
-__all__ = ["DetectionSettings", "Detector"]
+__all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]

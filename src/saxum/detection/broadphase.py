@@ -1,9 +1,10 @@
 """Broad phase: pairs of bodies whose padded bounding boxes overlap, on a uniform hashed grid.
 
-Cost O(N) in the number of bodies: each small body is entered in the (at most 4) cells its box
-covers; a pair is reported only from the cell that holds the lower corner of the two boxes'
-intersection, so it is reported once. Bodies much larger than the cell (grounds, long supports)
-are tested against all bodies directly, which costs O(N) per large body.
+Cost O(N) in the number of bodies: each small body is entered in the (at most 4 in 2D, 8 in 3D)
+cells its box covers; a pair is reported only from the cell that holds the lower corner of the
+two boxes' intersection, so it is reported once. The same kernel serves 2D and 3D boxes (in 2D
+every box lies in the layer of cells iz = 0). Bodies much larger than the cell (grounds, long
+supports) are tested against all bodies directly, which costs O(N) per large body.
 """
 
 import math
@@ -38,33 +39,36 @@ def _overlap(lo, hi, i, j):
 
 
 @nb.njit(inline="always")
-def _bucket(ix, iy, mask):
-    return ((ix * 73856093) ^ (iy * 19349663)) & mask
+def _bucket(ix, iy, iz, mask):
+    return ((ix * 73856093) ^ (iy * 19349663) ^ (iz * 83492791)) & mask
+
+
+@nb.njit(inline="always")
+def _cell(x, cell):
+    return math.floor(x / cell)
 
 
 @nb.njit(cache=True)
 def grid_pairs(lo, hi, mobile, large, cell, out):
     """Write the pairs (i < j) of overlapping boxes with at least one mobile body into out[:, 0:2].
 
-    lo, hi: boxes [m], shape [n, 2]; mobile, large: bool [n]; cell: grid spacing [m], not smaller
-    than any small body's box. Returns the number of pairs found, which may exceed len(out): the
-    caller then enlarges out and calls again.
+    lo, hi: boxes [m], shape [n, dim] (dim 2 or 3); mobile, large: bool [n]; cell: grid spacing
+    [m], not smaller than any small body's box. Returns the number of pairs found, which may
+    exceed len(out): the caller then enlarges out and calls again.
     """
     n = lo.shape[0]
     cap = out.shape[0]
-    ix0 = np.empty(n, np.int64)
-    iy0 = np.empty(n, np.int64)
-    ix1 = np.empty(n, np.int64)
-    iy1 = np.empty(n, np.int64)
+    i0 = np.zeros((n, 3), np.int64)
+    i1 = np.zeros((n, 3), np.int64)
     entries = 0
     for b in range(n):
         if large[b]:
             continue
-        ix0[b] = math.floor(lo[b, 0] / cell)
-        iy0[b] = math.floor(lo[b, 1] / cell)
-        ix1[b] = math.floor(hi[b, 0] / cell)
-        iy1[b] = math.floor(hi[b, 1] / cell)
-        entries += (ix1[b] - ix0[b] + 1) * (iy1[b] - iy0[b] + 1)
+        for d in range(lo.shape[1]):
+            i0[b, d] = _cell(lo[b, d], cell)
+            i1[b, d] = _cell(hi[b, d], cell)
+        entries += (i1[b, 0] - i0[b, 0] + 1) * (i1[b, 1] - i0[b, 1] + 1) * (i1[b, 2] - i0[b, 2]
+                                                                            + 1)
     size = 1
     while size < 2 * entries:
         size *= 2
@@ -72,45 +76,50 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
     start = np.zeros(size + 1, np.int64)
     for b in range(n):
         if not large[b]:
-            for ix in range(ix0[b], ix1[b] + 1):
-                for iy in range(iy0[b], iy1[b] + 1):
-                    start[_bucket(ix, iy, mask) + 1] += 1
+            for ix in range(i0[b, 0], i1[b, 0] + 1):
+                for iy in range(i0[b, 1], i1[b, 1] + 1):
+                    for iz in range(i0[b, 2], i1[b, 2] + 1):
+                        start[_bucket(ix, iy, iz, mask) + 1] += 1
     for k in range(size):
         start[k + 1] += start[k]
     fill = start[:-1].copy()
     e_body = np.empty(entries, np.int64)
-    e_ix = np.empty(entries, np.int64)
-    e_iy = np.empty(entries, np.int64)
+    e_cell = np.empty((entries, 3), np.int64)
     for b in range(n):
         if not large[b]:
-            for ix in range(ix0[b], ix1[b] + 1):
-                for iy in range(iy0[b], iy1[b] + 1):
-                    k = fill[_bucket(ix, iy, mask)]
-                    e_body[k] = b
-                    e_ix[k] = ix
-                    e_iy[k] = iy
-                    fill[_bucket(ix, iy, mask)] += 1
+            for ix in range(i0[b, 0], i1[b, 0] + 1):
+                for iy in range(i0[b, 1], i1[b, 1] + 1):
+                    for iz in range(i0[b, 2], i1[b, 2] + 1):
+                        k = fill[_bucket(ix, iy, iz, mask)]
+                        e_body[k] = b
+                        e_cell[k, 0] = ix
+                        e_cell[k, 1] = iy
+                        e_cell[k, 2] = iz
+                        fill[_bucket(ix, iy, iz, mask)] += 1
 
     count = 0
     for i in range(n):
         if large[i]:
             continue
-        for ix in range(ix0[i], ix1[i] + 1):
-            for iy in range(iy0[i], iy1[i] + 1):
-                bk = _bucket(ix, iy, mask)
-                for k in range(start[bk], start[bk + 1]):
-                    j = e_body[k]
-                    if j <= i or e_ix[k] != ix or e_iy[k] != iy:
-                        continue
-                    if not (mobile[i] or mobile[j]) or not _overlap(lo, hi, i, j):
-                        continue
-                    # the cell of the intersection's lower corner: floor(max(a, b) / cell) is
-                    # max(floor(a / cell), floor(b / cell)), both already known
-                    if max(ix0[i], ix0[j]) == ix and max(iy0[i], iy0[j]) == iy:
-                        if count < cap:
-                            out[count, 0] = i
-                            out[count, 1] = j
-                        count += 1
+        for ix in range(i0[i, 0], i1[i, 0] + 1):
+            for iy in range(i0[i, 1], i1[i, 1] + 1):
+                for iz in range(i0[i, 2], i1[i, 2] + 1):
+                    bk = _bucket(ix, iy, iz, mask)
+                    for k in range(start[bk], start[bk + 1]):
+                        j = e_body[k]
+                        if (j <= i or e_cell[k, 0] != ix or e_cell[k, 1] != iy
+                                or e_cell[k, 2] != iz):
+                            continue
+                        if not (mobile[i] or mobile[j]) or not _overlap(lo, hi, i, j):
+                            continue
+                        # the cell of the intersection's lower corner: floor(max(a, b) / cell)
+                        # is max(floor(a / cell), floor(b / cell)), both already known
+                        if (max(i0[i, 0], i0[j, 0]) == ix and max(i0[i, 1], i0[j, 1]) == iy
+                                and max(i0[i, 2], i0[j, 2]) == iz):
+                            if count < cap:
+                                out[count, 0] = i
+                                out[count, 1] = j
+                            count += 1
     for i in range(n):
         if not large[i]:
             continue

@@ -1,18 +1,21 @@
 """Detection stage of the time step: world geometry, broad phase (refreshed), narrow phase."""
 
+import math
 from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
 
+from .. import rigid3d
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
 from ..rigid2d import world_geometry
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .polygons import polygon_contacts
+from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
 
-__all__ = ["DetectionSettings", "Detector"]
+__all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]
 
 
 @dataclass(frozen=True)
@@ -72,17 +75,18 @@ class Detector:
         self._mobile = free
         self._wv = np.empty_like(model.vertex_local)
         self._wn = np.empty_like(model.vertex_local)
-        self._lo = np.empty((n, 2))
-        self._hi = np.empty((n, 2))
+        self._lo = np.empty((n, model.dim))
+        self._hi = np.empty((n, model.dim))
         self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
-        # A body's padded box, however it turns, fits in a square of side 2 (radius + pad):
+        # A body's padded box, however it turns, fits in a square (a cube in 3D) of side
+        # 2 (radius + pad):
         # bodies far larger than the median go through the broad phase's direct test, and
         # the grid's cell fits every other body's box.
         extent = 2.0 * (model.body_radius + 0.5 * (self.alert + self.margin))
         self._large = extent > 4.0 * np.median(extent)
         self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
-        self._q_ref = np.zeros((n, 3))
+        self._q_ref = np.zeros_like(model.body_q0)
         self._motion = np.zeros(n)
         self._turn = np.zeros(n)
         self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
@@ -95,14 +99,27 @@ class Detector:
 
     def detect(self, q: np.ndarray, contacts: Contacts) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
-        m = self.model
-        world_geometry(q, m.body_vertex_start, m.vertex_local, m.edge_normal_local, self._wv,
-                       self._wn)
-        moved = _motion_since(q, self._q_ref, m.body_radius, self._motion, self._turn)
+        self._world_geometry(q)
+        moved = self._motion_since_refresh(q)
         refresh = self._since_refresh >= self.refresh_every or moved > 0.5 * self.margin
         if refresh:
             self._refresh(q)
         self._since_refresh += 1
+        self._narrow_phase(q, contacts, refresh)
+
+    def _world_geometry(self, q: np.ndarray) -> None:
+        """World coordinates of what the narrow phase needs, for configuration q."""
+        m = self.model
+        world_geometry(q, m.body_vertex_start, m.vertex_local, m.edge_normal_local, self._wv,
+                       self._wn)
+
+    def _motion_since_refresh(self, q: np.ndarray) -> float:
+        """Upper bound of the displacement of any point since the last broad phase [m]."""
+        return _motion_since(q, self._q_ref, self.model.body_radius, self._motion, self._turn)
+
+    def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
+        """Contacts of the broad phase's pairs; refresh: the broad phase has just run."""
+        m = self.model
         contacts.reserve(2 * self.pair_count)
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
@@ -178,3 +195,62 @@ class Detector:
             f"({len(pairs)} overlapping pair(s) in all, tolerance {tol:.3g} m); "
             "move them apart or shrink them so that they only touch"
         )
+
+
+@nb.njit(cache=True)
+def _largest_motion_3d(q, q_ref, radius):
+    """Upper bound of the displacement of any point of any body since q_ref [m]: the centre's
+    displacement plus the rotation angle 2 acos |q . q_ref| times the body's radius."""
+    worst = 0.0
+    for b in range(q.shape[0]):
+        d = math.sqrt((q[b, 0] - q_ref[b, 0]) ** 2 + (q[b, 1] - q_ref[b, 1]) ** 2
+                      + (q[b, 2] - q_ref[b, 2]) ** 2)
+        dot = abs(q[b, 3] * q_ref[b, 3] + q[b, 4] * q_ref[b, 4] + q[b, 5] * q_ref[b, 5]
+                  + q[b, 6] * q_ref[b, 6])
+        d += 2.0 * math.acos(min(dot, 1.0)) * radius[b]
+        worst = max(worst, d)
+    return worst
+
+
+class PolyhedronDetector(Detector):
+    """The detection stage of 3D models: convex polyhedra (saxum.detection.polyhedra), same
+    broad phase, settings and checkpoints as in 2D."""
+
+    def __init__(self, model: Model, settings: DetectionSettings | None = None) -> None:
+        super().__init__(model, settings)
+        self._wn = np.empty_like(model.face_normal_local)
+        self._max_faces = int(np.diff(model.body_face_start).max())
+        self._max_edges = int(np.diff(model.body_edge_start).max())
+        self._max_face_vertices = int(np.diff(model.face_vertex_start).max())
+        features = self._max_faces + self._max_edges
+        if float(model.body_count) ** 2 * 2 * features**2 * SLOTS >= 2.0**62:
+            raise InputError(
+                f"{model.body_count} blocks with up to {self._max_faces} faces and "
+                f"{self._max_edges} edges are too many to number their contacts in 64 bits; "
+                "use blocks with fewer faces"
+            )
+
+    def _world_geometry(self, q: np.ndarray) -> None:
+        m = self.model
+        rigid3d.world_geometry(q, m.body_vertex_start, m.vertex_local, m.body_face_start,
+                               m.face_normal_local, self._wv, self._wn)
+
+    def _motion_since_refresh(self, q: np.ndarray) -> float:
+        return _largest_motion_3d(q, self._q_ref, self.model.body_radius)
+
+    def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
+        m = self.model
+        contacts.reserve(MAX_POINTS * self.pair_count)
+        contacts.count = polyhedron_contacts(
+            self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
+            m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
+            m.edge_vertex, m.edge_face, m.body_group, m.group_law, self.alert,
+            self.reference_bias, self._max_faces, self._max_edges, self._max_face_vertices,
+            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap,
+        )
+
+
+def detector_for(model: Model, settings: DetectionSettings | None = None) -> Detector:
+    """The detector of the model's dimension."""
+    return PolyhedronDetector(model, settings) if model.dim == 3 else Detector(model, settings)

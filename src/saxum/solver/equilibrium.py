@@ -208,7 +208,8 @@ def _pattern(cand, ant, closed, slot, nfree):
     body is not free; entry (dr, dc) of a block at position + dc * 3 (blocks in its column) +
     dr), position of each free body's diagonal block)."""
     m = closed.shape[0]
-    # block rows of each block column: the body itself and the bodies it touches, sorted
+    # block rows of each block column: the body itself and the bodies it touches (in contact
+    # order, repeated for each contact)
     count = np.ones(nfree, dtype=np.int64)
     for k in range(m):
         i = slot[cand[closed[k]]]
@@ -232,26 +233,28 @@ def _pattern(cand, ant, closed, slot, nfree):
             fill[j] += 1
             rows[fill[i]] = j
             fill[i] += 1
+    # the same, sorted and without repeats: row r joins the columns of its neighbours, r in
+    # increasing order (the pattern is symmetric)
+    last = np.full(nfree, -1, dtype=np.int64)
     bptr = np.zeros(nfree + 1, dtype=np.int64)
-    for col in range(nfree):  # sort (insertion: a few neighbours) and drop repeats
-        lo, hi = first[col], first[col + 1]
-        for x in range(lo + 1, hi):
-            value = rows[x]
-            y = x - 1
-            while y >= lo and rows[y] > value:
-                rows[y + 1] = rows[y]
-                y -= 1
-            rows[y + 1] = value
-        kept = lo
-        for x in range(lo, hi):
-            if x == lo or rows[x] != rows[x - 1]:
-                rows[kept] = rows[x]
-                kept += 1
-        bptr[col + 1] = bptr[col] + (kept - lo)
-    blocks = np.empty(bptr[nfree], dtype=np.int64)
+    for r in range(nfree):
+        for x in range(first[r], first[r + 1]):
+            if last[rows[x]] != r:
+                last[rows[x]] = r
+                bptr[rows[x] + 1] += 1
     for col in range(nfree):
-        for x in range(bptr[col + 1] - bptr[col]):
-            blocks[bptr[col] + x] = rows[first[col] + x]
+        bptr[col + 1] += bptr[col]
+    blocks = np.empty(bptr[nfree], dtype=np.int64)
+    fill = bptr[:nfree].copy()
+    for col in range(nfree):
+        last[col] = -1
+    for r in range(nfree):
+        for x in range(first[r], first[r + 1]):
+            col = rows[x]
+            if last[col] != r:
+                last[col] = r
+                blocks[fill[col]] = r
+                fill[col] += 1
     indptr = np.zeros(3 * nfree + 1, dtype=np.int64)
     for col in range(nfree):
         per = 3 * (bptr[col + 1] - bptr[col])

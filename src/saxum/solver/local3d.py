@@ -26,7 +26,9 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = ["solve_contact_3d"]
+from ..linalg3 import solve3
+
+__all__ = ["open_or_stick_3d", "solve_contact_3d"]
 
 _NEWTON = 50  # iteration cap of a Newton solve in phi (converges in a few from a good guess)
 
@@ -150,41 +152,39 @@ def _set_slide(mu, rn, phi, r):
     r[2] = -mu * rn * math.sin(phi)
 
 
+@nb.njit(inline="always")
+def open_or_stick_3d(w00, w01, w02, w10, w11, w12, w20, w21, w22, ut, un, us, mu):
+    """The two first cases of solve_contact_3d on scalars (callers that solve many contacts
+    inline it and call solve_contact_3d only for the others): (0, 0, 0, 0) when u_n >= 0 (no
+    contact), (1, R_t, R_n, R_s) for a stick, R = -W^-1 u inside the cone (W by cofactors),
+    (-1, stick R) otherwise (a slide, or mu = 0)."""
+    if un >= 0.0:
+        return 0, 0.0, 0.0, 0.0
+    st, sn, ss = solve3(w00, w01, w02, w10, w11, w12, w20, w21, w22, ut, un, us)
+    st, sn, ss = -st, -sn, -ss
+    if mu > 0.0 and sn > 0.0 and math.hypot(st, ss) <= mu * sn:
+        return 1, st, sn, ss
+    return -1, st, sn, ss
+
+
 @nb.njit(cache=True)
 def solve_contact_3d(w, u, mu, r):
     """Impulse R [N s] of one contact, frame (t, n, s): W [1/kg] (3, 3), u [m/s] (3,).
     r (3,): on entry the current impulse (picks among several slides), on return the solution.
     Returns the case: 0 no contact, 1 stick, 2 slide, 3 fallback (see below)."""
     un = u[1]
-    if un >= 0.0:
-        r[0] = 0.0
-        r[1] = 0.0
-        r[2] = 0.0
-        return 0
+    case, st, sn, ss = open_or_stick_3d(w[0, 0], w[0, 1], w[0, 2], w[1, 0], w[1, 1], w[1, 2],
+                                        w[2, 0], w[2, 1], w[2, 2], u[0], un, u[2], mu)
+    if case >= 0:
+        r[0] = st
+        r[1] = sn
+        r[2] = ss
+        return case
     if mu == 0.0:
         r[0] = 0.0
         r[1] = -un / w[1, 1]
         r[2] = 0.0
         return 2
-    # stick: R = -W^-1 u by cofactors
-    c00 = w[1, 1] * w[2, 2] - w[1, 2] * w[2, 1]
-    c01 = w[0, 2] * w[2, 1] - w[0, 1] * w[2, 2]
-    c02 = w[0, 1] * w[1, 2] - w[0, 2] * w[1, 1]
-    c10 = w[1, 2] * w[2, 0] - w[1, 0] * w[2, 2]
-    c11 = w[0, 0] * w[2, 2] - w[0, 2] * w[2, 0]
-    c12 = w[0, 2] * w[1, 0] - w[0, 0] * w[1, 2]
-    c20 = w[1, 0] * w[2, 1] - w[1, 1] * w[2, 0]
-    c21 = w[0, 1] * w[2, 0] - w[0, 0] * w[2, 1]
-    c22 = w[0, 0] * w[1, 1] - w[0, 1] * w[1, 0]
-    det = w[0, 0] * c00 + w[0, 1] * c10 + w[0, 2] * c20
-    st = -(c00 * u[0] + c01 * u[1] + c02 * u[2]) / det
-    sn = -(c10 * u[0] + c11 * u[1] + c12 * u[2]) / det
-    ss = -(c20 * u[0] + c21 * u[1] + c22 * u[2]) / det
-    if sn > 0.0 and math.hypot(st, ss) <= mu * sn:
-        r[0] = st
-        r[1] = sn
-        r[2] = ss
-        return 1
     # slide: Newton from the current slip direction, else from the stick impulse's one
     if r[1] > 0.0 and (r[0] != 0.0 or r[2] != 0.0):
         phi0 = math.atan2(-r[2], -r[0])

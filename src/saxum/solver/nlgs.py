@@ -26,12 +26,12 @@ to 1.95, or symmetric sweeps do not change that order). The change per sweep is 
 times the distance to the solution, so the criterion can stop a distance tol / (1 - rho) away,
 or not stop within the cap: from a cold start, or after joints open and close, the tower's
 steps hit the cap, and the velocities their errors leave open and close joints again.
-A step that has not converged after rest_after sweeps therefore tries the rest solution
-(saxum.solver.equilibrium: every free body at rest relative to its supports, an exact
-solution of the step's problem when the impulses can balance the loads inside the Coulomb
-cones), and sweeps on from it: when it exists the next sweep changes nothing beyond round-off
-and the step converges by the same criterion; when it does not (a mechanism), the sweeps go on
-from where they were.
+A step of a 2D model that has not converged after rest_after sweeps therefore tries the rest
+solution (saxum.solver.equilibrium, written for 2D rigid blocks: every free body at rest
+relative to its supports, an exact solution of the step's problem when the impulses can
+balance the loads inside the Coulomb cones), and sweeps on from it: when it exists the next
+sweep changes nothing beyond round-off and the step converges by the same criterion; when it
+does not (a mechanism), the sweeps go on from where they were.
 """
 
 import math
@@ -44,6 +44,7 @@ from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .equilibrium import rest_solution
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
+from .local3d import open_or_stick_3d, solve_contact_3d
 from .problem import ContactProblem
 
 __all__ = ["NLGS"]
@@ -95,18 +96,19 @@ class NLGS(ContactSolver):
                                    where=inv_mass > 0.0)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
-        if len(self._work) < problem.count:
-            self._work = np.empty((max(problem.count, 2 * len(self._work)), 18))
+        width = 18 if problem.model.dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
+        if len(self._work) < problem.count or self._work.shape[1] != width:
+            self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
+        sweep = nlgs_3d if problem.model.dim == 3 else nlgs_2d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, problem.active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, self.tolerance)
         first = self.max_iterations
         if self.rest_after > 0 and problem.count > 0:
             first = min(max(self.rest_after, -(-_REST_WORK // problem.count)), first)
-        sweep = nlgs_2d
         iterations, error = sweep(*args, first, self.relaxation)
         if error > self.tolerance and iterations < self.max_iterations:
-            # slow (module doc): sweep on from the rest solution if there is one
+            # slow (module doc): sweep on from the rest solution if there is one (2D)
             self.rest_attempts += 1
             if rest_solution(problem, impulse, v_free, v):
                 self.rest_solutions += 1
@@ -228,3 +230,95 @@ def _relative_change(v, v_prev, v_free, mass):
     if den == 0.0:
         return np.inf
     return math.sqrt(num / den)
+
+
+@nb.njit(cache=True)
+def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
+            v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
+    """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)); the single-contact problem on the
+    Coulomb cone is solved exactly by saxum.solver.local3d (its open and stick cases inlined
+    here on scalars, solve_contact_3d called for slides).
+
+    Written out like nlgs_2d: before the sweeps each active contact's rows of H* go into one
+    row of `work` (at least count x 38): the candidate's three rows (6 dof each), the
+    antagonist's rotational parts (its translational rows are minus the candidate's, as for
+    any rigid 3D contact: saxum.rigid3d.contact_jacobians), W, b_n and mu."""
+    nactive = 0
+    for a in range(count):
+        if active[a]:
+            nactive += 1
+            row = work[a]
+            for r in range(3):
+                for d in range(6):
+                    row[6 * r + d] = h_cand[a, r, d]
+                for d in range(3):
+                    row[18 + 3 * r + d] = h_ant[a, r, 3 + d]
+                for s in range(3):
+                    row[27 + 3 * r + s] = delassus[a, r, s]
+            row[36] = bias[a]
+            row[37] = friction[a]
+    if nactive == 0:
+        return 0, 0.0
+    u = np.empty(3)
+    rr = np.empty(3)
+    error = np.inf
+    it = 0
+    v_prev[:] = v
+    while it < max_iterations:
+        it += 1
+        for k in range(count):
+            a = count - 1 - k
+            if not active[a]:
+                continue
+            c = cand[a]
+            b = ant[a]
+            row = work[a]
+            vc3, vc4, vc5 = v[c, 3], v[c, 4], v[c, 5]
+            vb3, vb4, vb5 = v[b, 3], v[b, 4], v[b, 5]
+            dx = v[c, 0] - v[b, 0]
+            dy = v[c, 1] - v[b, 1]
+            dz = v[c, 2] - v[b, 2]
+            rt0 = impulse[a, 0]
+            rn0 = impulse[a, 1]
+            rs0 = impulse[a, 2]
+            for r in range(3):
+                o = 6 * r
+                p = 18 + 3 * r
+                q = 27 + 3 * r
+                u[r] = (((row[o] * dx + row[o + 1] * dy + row[o + 2] * dz)
+                         + (row[o + 3] * vc3 + row[o + 4] * vc4 + row[o + 5] * vc5))
+                        + (row[p] * vb3 + row[p + 1] * vb4 + row[p + 2] * vb5)) - (
+                    row[q] * rt0 + row[q + 1] * rn0 + row[q + 2] * rs0)
+            u[1] += row[36]
+            case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+                row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
+                row[35], u[0], u[1], u[2], row[37])
+            if case < 0:  # a slide: the full solve, from the current impulse
+                rr[0] = rt0
+                rr[1] = rn0
+                rr[2] = rs0
+                solve_contact_3d(delassus[a], u, row[37], rr)
+            if relaxation != 1.0:
+                rr[0] = relaxation * rr[0] + (1.0 - relaxation) * rt0
+                rr[1] = relaxation * rr[1] + (1.0 - relaxation) * rn0
+                rr[2] = relaxation * rr[2] + (1.0 - relaxation) * rs0
+            dt = rr[0] - rt0
+            dn = rr[1] - rn0
+            ds = rr[2] - rs0
+            # v += M^-1 H_a dR on the candidate c and the antagonist b
+            mc = inv_mass[c]
+            mb = inv_mass[b]
+            for d in range(3):
+                f = row[d] * dt + row[6 + d] * dn + row[12 + d] * ds
+                v[c, d] += mc[d] * f
+                v[b, d] -= mb[d] * f
+                v[c, 3 + d] += mc[3 + d] * (row[3 + d] * dt + row[9 + d] * dn + row[15 + d] * ds)
+                v[b, 3 + d] += mb[3 + d] * (row[18 + d] * dt + row[21 + d] * dn
+                                            + row[24 + d] * ds)
+            impulse[a, 0] = rr[0]
+            impulse[a, 1] = rr[1]
+            impulse[a, 2] = rr[2]
+        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
+        if error <= tolerance:
+            break
+    return it, error

@@ -13,7 +13,7 @@ which give the same numbers bit for bit in a fraction of the time.
 import numba as nb
 import numpy as np
 
-from .. import rigid2d
+from .. import rigid2d, rigid3d
 from ..contacts import Contacts
 from ..laws import LawKind
 from ..model import Model
@@ -22,7 +22,7 @@ __all__ = ["ContactProblem"]
 
 _RESTITUTION = int(LawKind.RESTITUTION_COULOMB)
 
-_JACOBIANS = {2: rigid2d.contact_jacobians}
+_JACOBIANS = {2: rigid2d.contact_jacobians, 3: rigid3d.contact_jacobians}
 """Rows of H* per contact, by spatial dimension (the generic path of assembly)."""
 
 

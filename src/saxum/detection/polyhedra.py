@@ -1,0 +1,385 @@
+"""Narrow phase between convex polyhedra: separating axes, reference face, clipped contact points.
+
+For a pair of blocks the separating-axis test runs over three families of axes: the face normals
+of either block (separation of a face f: min over the other block's vertices p of
+n_f . (p - a_f)) and the cross products of pairs of edges, one of each block, that build a face
+of the Minkowski difference (their arcs on the Gauss map cross: D. Gregorius, "The separating
+axis test between convex polyhedra", GDC 2013). The largest separation is the common plane of
+the two blocks; beyond the alert distance there is no contact.
+
+- Face contact (a face separation is the largest, up to `ref_tol` in favour of faces): the face's
+  block becomes the antagonist and carries the frame, n the face's outward normal, t the
+  direction of its first edge and s = t x n, so that (t, n, s) is right-handed. The candidate's
+  face most opposed to n (the incident face) is clipped by the side planes of the reference face
+  (Sutherland-Hodgman); of the clipped polygon's points with gap n . (p - a) below the alert
+  distance, the extreme points in 16 directions of the reference face's plane (+-t +-s first,
+  then +-t and +-s, then the eight in between) are kept, each once, at most MAX_POINTS: four
+  for two rectangles side by side, all eight corners of two squares at 45 degrees, three for a
+  triangle (every corner whose exterior angle exceeds 22.5 degrees is kept), so that a joint
+  can open and rock about any edge of the contact surface; a vertex against a face gives one
+  point and an edge against a face two. Taking the points by direction, rather than by how the
+  clipping made them, keeps their identity when a corner of one face crosses an edge of the
+  other by round-off, as happens all the time in a wall built flush.
+- Edge-edge contact (an edge pair separates more than any face by more than `ref_tol`): one
+  point, the closest point of the candidate's edge to the antagonist's, n along the cross
+  product of the edges (pointing from the antagonist to the candidate), t along the
+  antagonist's edge.
+
+Contact identity (key): pair, which body is the antagonist, reference and incident features
+(faces, or edges numbered after the faces) and the slot (the direction that picked the point),
+written in increasing key order for pairs sorted by (i, j), as saxum.contacts needs.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+__all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
+
+MAX_POINTS = 8
+"""Contact points of one face-to-face contact, at most."""
+
+# directions of the reference face's plane that pick the kept points, as (t, s) components:
+# diagonals first (unique corners of rectangles aligned with the face), then axes, then between
+_C = math.cos(math.pi / 8)
+_S = math.sin(math.pi / 8)
+_DIRECTIONS = np.array([[1.0, 1.0], [1.0, -1.0], [-1.0, -1.0], [-1.0, 1.0],
+                        [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0], [0.0, 1.0],
+                        [_C, _S], [_S, -_C], [-_C, -_S], [-_S, _C],
+                        [_C, -_S], [-_S, -_C], [-_C, _S], [_S, _C]])
+SLOTS = len(_DIRECTIONS)
+"""Directions that pick contact points, and so the slots of a face contact's keys."""
+
+
+@nb.njit(inline="always")
+def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, alert):
+    """Largest over the faces f of `body` of min over the vertices p of `other` of
+    n_f . (p - a_f) [m], and that face; stops early once a face separates by more than alert."""
+    best = -np.inf
+    best_f = face_start[body]
+    p0 = vertex_start[other]
+    p1 = vertex_start[other + 1]
+    for f in range(face_start[body], face_start[body + 1]):
+        a = fv[fvs[f]]
+        nx = wn[f, 0]
+        ny = wn[f, 1]
+        nz = wn[f, 2]
+        off = nx * wv[a, 0] + ny * wv[a, 1] + nz * wv[a, 2]
+        s = np.inf
+        for k in range(p0, p1):
+            s = min(s, nx * wv[k, 0] + ny * wv[k, 1] + nz * wv[k, 2] - off)
+        if s > best:
+            best = s
+            best_f = f
+            if s > alert:
+                break
+    return best, best_f
+
+
+@nb.njit(inline="always")
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@nb.njit(inline="always")
+def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert):
+    """Largest separation along the cross products of edge pairs (one of i, one of j) that
+    build a face of the Minkowski difference of i and -j; returns (separation, edge of i,
+    edge of j, axis x, y, z) with the axis pointing from i to j. -inf when no pair qualifies."""
+    best = -np.inf
+    best_a = -1
+    best_b = -1
+    bx_ = by_ = bz_ = 0.0
+    for ea in range(edge_start[i], edge_start[i + 1]):
+        na = edge_face[ea, 0]
+        nb_ = edge_face[ea, 1]
+        ax, ay, az = wn[na, 0], wn[na, 1], wn[na, 2]
+        bx, by, bz = wn[nb_, 0], wn[nb_, 1], wn[nb_, 2]
+        bax, bay, baz = _cross(bx, by, bz, ax, ay, az)
+        pa0 = edge_vertex[ea, 0]
+        pa1 = edge_vertex[ea, 1]
+        dax = wv[pa1, 0] - wv[pa0, 0]
+        day = wv[pa1, 1] - wv[pa0, 1]
+        daz = wv[pa1, 2] - wv[pa0, 2]
+        for eb in range(edge_start[j], edge_start[j + 1]):
+            # the Gauss map of -j: normals negated
+            nc = edge_face[eb, 0]
+            nd = edge_face[eb, 1]
+            cx, cy, cz = -wn[nc, 0], -wn[nc, 1], -wn[nc, 2]
+            dx, dy, dz = -wn[nd, 0], -wn[nd, 1], -wn[nd, 2]
+            cba = cx * bax + cy * bay + cz * baz
+            dba = dx * bax + dy * bay + dz * baz
+            if cba * dba >= 0.0:
+                continue
+            dcx, dcy, dcz = _cross(dx, dy, dz, cx, cy, cz)
+            adc = ax * dcx + ay * dcy + az * dcz
+            bdc = bx * dcx + by * dcy + bz * dcz
+            if adc * bdc >= 0.0 or cba * bdc <= 0.0:
+                continue
+            pb0 = edge_vertex[eb, 0]
+            pb1 = edge_vertex[eb, 1]
+            ux, uy, uz = _cross(dax, day, daz, wv[pb1, 0] - wv[pb0, 0], wv[pb1, 1] - wv[pb0, 1],
+                                wv[pb1, 2] - wv[pb0, 2])
+            norm = math.sqrt(ux * ux + uy * uy + uz * uz)
+            len_a = math.sqrt(dax * dax + day * day + daz * daz)
+            if norm <= 1e-9 * len_a * len_a:
+                continue  # parallel edges: covered by the face axes
+            ux /= norm
+            uy /= norm
+            uz /= norm
+            # orient from i to j: away from i's centre of mass
+            if (ux * (wv[pa0, 0] - q[i, 0]) + uy * (wv[pa0, 1] - q[i, 1])
+                    + uz * (wv[pa0, 2] - q[i, 2])) < 0.0:
+                ux, uy, uz = -ux, -uy, -uz
+            s = (ux * (wv[pb0, 0] - wv[pa0, 0]) + uy * (wv[pb0, 1] - wv[pa0, 1])
+                 + uz * (wv[pb0, 2] - wv[pa0, 2]))
+            if s > best:
+                best = s
+                best_a = ea
+                best_b = eb
+                bx_, by_, bz_ = ux, uy, uz
+                if s > alert:
+                    return best, best_a, best_b, bx_, by_, bz_
+    return best, best_a, best_b, bx_, by_, bz_
+
+
+@nb.njit(cache=True)
+def polyhedron_contacts(
+    pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
+    edge_face, body_group, group_law, alert, ref_tol, max_faces, max_edges, max_face_vertices,
+    candidate, antagonist, key, law, point, frame, gap,
+):
+    """Contacts of the first npairs pairs of polyhedra (module doc), world vertices wv [m] and
+    outward unit face normals wn; q the configuration (centres of mass [m]).
+
+    alert: alert distance [m]; ref_tol [m]: a face of the first body of a pair stays the
+    reference unless the second body's best face separates more by ref_tol, and faces are
+    preferred to edge pairs unless these separate more by ref_tol (biases that keep contact
+    identities stable across steps). Output arrays need room for MAX_POINTS * npairs contacts.
+    Returns the number of contacts written, in increasing key order for pairs sorted by (i, j).
+    """
+    nbody = vertex_start.shape[0] - 1
+    features = max_faces + max_edges
+    size = 2 * max_face_vertices + 2
+    px = np.empty((2, size))
+    py = np.empty((2, size))
+    pz = np.empty((2, size))
+    dist = np.empty(size)
+    count = 0
+    for p in range(npairs):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j, alert)
+        if s_i > alert:
+            continue
+        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i, alert)
+        if s_j > alert:
+            continue
+        s_e, e_i, e_j, ux, uy, uz = _edge_separation(wv, wn, edge_start, edge_vertex, edge_face,
+                                                     q, i, j, alert)
+        if s_e > alert:
+            continue
+        law_index = group_law[body_group[i], body_group[j]]
+        pair_key = (i * nbody + j) * 2
+        if s_e > max(s_i, s_j) + ref_tol:
+            # edge-edge: i is the antagonist, the point on j's edge
+            a0 = edge_vertex[e_i, 0]
+            a1 = edge_vertex[e_i, 1]
+            b0 = edge_vertex[e_j, 0]
+            b1 = edge_vertex[e_j, 1]
+            cx, cy, cz, ox, oy, oz = _closest_points(wv, a0, a1, b0, b1)
+            tx = wv[a1, 0] - wv[a0, 0]
+            ty = wv[a1, 1] - wv[a0, 1]
+            tz = wv[a1, 2] - wv[a0, 2]
+            norm = math.sqrt(tx * tx + ty * ty + tz * tz)
+            ref = max_faces + e_i - edge_start[i]
+            inc = max_faces + e_j - edge_start[j]
+            _write(candidate, antagonist, key, law, point, frame, gap, count, j, i,
+                   ((pair_key * features + ref) * features + inc) * SLOTS, law_index,
+                   cx, cy, cz, tx / norm, ty / norm, tz / norm, ux, uy, uz,
+                   ux * (cx - ox) + uy * (cy - oy) + uz * (cz - oz))
+            count += 1
+            continue
+        flip = s_j > s_i + ref_tol
+        if flip:
+            ant, cand, ref_face = j, i, f_j
+        else:
+            ant, cand, ref_face = i, j, f_i
+        nx = wn[ref_face, 0]
+        ny = wn[ref_face, 1]
+        nz = wn[ref_face, 2]
+        # incident face: the candidate's face most opposed to n
+        inc_face = face_start[cand]
+        most = np.inf
+        for f in range(face_start[cand], face_start[cand + 1]):
+            d = wn[f, 0] * nx + wn[f, 1] * ny + wn[f, 2] * nz
+            if d < most:
+                most = d
+                inc_face = f
+        m = 0
+        for k in range(fvs[inc_face], fvs[inc_face + 1]):
+            px[0, m] = wv[fv[k], 0]
+            py[0, m] = wv[fv[k], 1]
+            pz[0, m] = wv[fv[k], 2]
+            m += 1
+        r0 = fvs[ref_face]
+        nr = fvs[ref_face + 1] - r0
+        a = fv[r0]
+        ax = wv[a, 0]
+        ay = wv[a, 1]
+        az = wv[a, 2]
+        tx = wv[fv[r0 + 1], 0] - ax
+        ty = wv[fv[r0 + 1], 1] - ay
+        tz = wv[fv[r0 + 1], 2] - az
+        norm = math.sqrt(tx * tx + ty * ty + tz * tz)
+        tx /= norm
+        ty /= norm
+        tz /= norm
+        src = 0
+        for k in range(nr):
+            # side plane of the reference edge k: outward normal (edge x n), through its start
+            e0 = fv[r0 + k]
+            e1 = fv[r0 + (k + 1) % nr]
+            ex = wv[e1, 0] - wv[e0, 0]
+            ey = wv[e1, 1] - wv[e0, 1]
+            ez = wv[e1, 2] - wv[e0, 2]
+            sx, sy, sz = _cross(ex, ey, ez, nx, ny, nz)
+            length = math.sqrt(sx * sx + sy * sy + sz * sz)
+            sx /= length
+            sy /= length
+            sz /= length
+            off = sx * wv[e0, 0] + sy * wv[e0, 1] + sz * wv[e0, 2]
+            m = _clip(px, py, pz, dist, src, m, sx, sy, sz, off, 1e-9 * length)
+            src = 1 - src
+            if m == 0:
+                break
+        if m == 0:
+            continue
+        # keep the points within the alert distance
+        kept = 0
+        for k in range(m):
+            g = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
+            if g <= alert:
+                px[src, kept] = px[src, k]
+                py[src, kept] = py[src, k]
+                pz[src, kept] = pz[src, k]
+                dist[kept] = g
+                kept += 1
+        if kept == 0:
+            continue
+        sx, sy, sz = _cross(tx, ty, tz, nx, ny, nz)
+        base = ((pair_key + flip) * features + ref_face - face_start[ant]) * features + (
+            inc_face - face_start[cand])
+        first = count
+        for slot in range(SLOTS):
+            if count - first == MAX_POINTS:
+                break
+            dt = _DIRECTIONS[slot, 0]
+            ds = _DIRECTIONS[slot, 1]
+            best = -np.inf
+            pick = 0
+            for k in range(kept):
+                h = (dt * (tx * px[src, k] + ty * py[src, k] + tz * pz[src, k])
+                     + ds * (sx * px[src, k] + sy * py[src, k] + sz * pz[src, k]))
+                if h > best:
+                    best = h
+                    pick = k
+            # Each point once, and past the diagonals only a point that extends the support
+            # appreciably in this direction: along a side that is straight up to round-off,
+            # the extreme point is noise (anywhere on the side), not a corner.
+            reach = -np.inf
+            fresh = True
+            for c in range(first, count):
+                if (abs(point[c, 0] - px[src, pick]) + abs(point[c, 1] - py[src, pick])
+                        + abs(point[c, 2] - pz[src, pick])) <= 1e-3 * alert:
+                    fresh = False
+                    break
+                reach = max(reach, dt * (tx * point[c, 0] + ty * point[c, 1] + tz * point[c, 2])
+                            + ds * (sx * point[c, 0] + sy * point[c, 1] + sz * point[c, 2]))
+            if slot >= 4 and best <= reach + 1e-3 * alert * math.hypot(dt, ds):
+                fresh = False
+            if fresh:
+                _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
+                       base * SLOTS + slot, law_index, px[src, pick], py[src, pick],
+                       pz[src, pick], tx, ty, tz, nx, ny, nz, dist[pick])
+                count += 1
+    return count
+
+
+@nb.njit(inline="always")
+def _clip(px, py, pz, dist, src, m, sx, sy, sz, off, tol):
+    """Sutherland-Hodgman: clip the polygon px[src, :m] by the half-space s . p <= off (points
+    within tol outside count as inside, so that flush faces are not cut by round-off) into
+    row 1 - src; returns the new point count."""
+    dst = 1 - src
+    for k in range(m):
+        dist[k] = sx * px[src, k] + sy * py[src, k] + sz * pz[src, k] - off
+    out = 0
+    for k in range(m):
+        k1 = (k + 1) % m
+        d0 = dist[k]
+        d1 = dist[k1]
+        if d0 <= tol:
+            px[dst, out] = px[src, k]
+            py[dst, out] = py[src, k]
+            pz[dst, out] = pz[src, k]
+            out += 1
+        if (d0 <= tol) != (d1 <= tol):
+            # the crossing of the plane, clamped to the side: with both ends within tol of
+            # the plane (one inside, one just outside) the line would cross it anywhere
+            f = min(max(d0 / (d0 - d1), 0.0), 1.0)
+            px[dst, out] = px[src, k] + f * (px[src, k1] - px[src, k])
+            py[dst, out] = py[src, k] + f * (py[src, k1] - py[src, k])
+            pz[dst, out] = pz[src, k] + f * (pz[src, k1] - pz[src, k])
+            out += 1
+    return out
+
+
+@nb.njit(inline="always")
+def _closest_points(wv, a0, a1, b0, b1):
+    """Closest points of the segments a0-a1 and b0-b1 (C. Ericson, "Real-time collision
+    detection", 2005, sec. 5.1.9): the one on the second, then the one on the first."""
+    d1x = wv[a1, 0] - wv[a0, 0]
+    d1y = wv[a1, 1] - wv[a0, 1]
+    d1z = wv[a1, 2] - wv[a0, 2]
+    d2x = wv[b1, 0] - wv[b0, 0]
+    d2y = wv[b1, 1] - wv[b0, 1]
+    d2z = wv[b1, 2] - wv[b0, 2]
+    rx = wv[a0, 0] - wv[b0, 0]
+    ry = wv[a0, 1] - wv[b0, 1]
+    rz = wv[a0, 2] - wv[b0, 2]
+    aa = d1x * d1x + d1y * d1y + d1z * d1z
+    ee = d2x * d2x + d2y * d2y + d2z * d2z
+    ff = d2x * rx + d2y * ry + d2z * rz
+    cc = d1x * rx + d1y * ry + d1z * rz
+    bb = d1x * d2x + d1y * d2y + d1z * d2z
+    den = aa * ee - bb * bb  # > 0: the edges are not parallel
+    s = min(max((bb * ff - cc * ee) / den, 0.0), 1.0)
+    t = min(max((bb * s + ff) / ee, 0.0), 1.0)
+    s = min(max((bb * t - cc) / aa, 0.0), 1.0)
+    return (wv[b0, 0] + t * d2x, wv[b0, 1] + t * d2y, wv[b0, 2] + t * d2z,
+            wv[a0, 0] + s * d1x, wv[a0, 1] + s * d1y, wv[a0, 2] + s * d1z)
+
+
+@nb.njit(inline="always")
+def _write(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k, law_index,
+           x, y, z, tx, ty, tz, nx, ny, nz, g):
+    """Row c of the contact arrays: frame rows t, n, s = t x n."""
+    candidate[c] = cand
+    antagonist[c] = ant
+    key[c] = k
+    law[c] = law_index
+    point[c, 0] = x
+    point[c, 1] = y
+    point[c, 2] = z
+    frame[c, 0, 0] = tx
+    frame[c, 0, 1] = ty
+    frame[c, 0, 2] = tz
+    frame[c, 1, 0] = nx
+    frame[c, 1, 1] = ny
+    frame[c, 1, 2] = nz
+    frame[c, 2, 0] = ty * nz - tz * ny
+    frame[c, 2, 1] = tz * nx - tx * nz
+    frame[c, 2, 2] = tx * ny - ty * nx
+    gap[c] = g
