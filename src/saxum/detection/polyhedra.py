@@ -53,9 +53,13 @@ SLOTS = len(_DIRECTIONS)
 
 
 @nb.njit(inline="always")
-def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, alert):
+def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, alert, tie):
     """Largest over the faces f of `body` of min over the vertices p of `other` of
-    n_f . (p - a_f) [m], and that face; stops early once a face separates by more than alert."""
+    n_f . (p - a_f) [m], to within tie [m]: the first face that reaches it (a face takes over
+    only if it separates more by tie), and that face; stops early once a face separates by
+    more than alert. Several faces separate equally where blocks meet corner to corner (at
+    the inside corner of an L wall): without the tie round-off would pick one or another
+    from step to step, and with it the contact's normal and identity."""
     best = -np.inf
     best_f = face_start[body]
     p0 = vertex_start[other]
@@ -69,7 +73,7 @@ def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, ale
         s = np.inf
         for k in range(p0, p1):
             s = min(s, nx * wv[k, 0] + ny * wv[k, 1] + nz * wv[k, 2] - off)
-        if s > best:
+        if s > best + tie:
             best = s
             best_f = f
             if s > alert:
@@ -83,10 +87,11 @@ def _cross(ax, ay, az, bx, by, bz):
 
 
 @nb.njit(inline="always")
-def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert):
+def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert, tie):
     """Largest separation along the cross products of edge pairs (one of i, one of j) that
-    build a face of the Minkowski difference of i and -j; returns (separation, edge of i,
-    edge of j, axis x, y, z) with the axis pointing from i to j. -inf when no pair qualifies."""
+    build a face of the Minkowski difference of i and -j, to within tie [m] (the first pair
+    that reaches it, as _face_separation); returns (separation, edge of i, edge of j, axis
+    x, y, z) with the axis pointing from i to j. -inf when no pair qualifies."""
     best = -np.inf
     best_a = -1
     best_b = -1
@@ -134,7 +139,7 @@ def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert)
                 ux, uy, uz = -ux, -uy, -uz
             s = (ux * (wv[pb0, 0] - wv[pa0, 0]) + uy * (wv[pb0, 1] - wv[pa0, 1])
                  + uz * (wv[pb0, 2] - wv[pa0, 2]))
-            if s > best:
+            if s > best + tie:
                 best = s
                 best_a = ea
                 best_b = eb
@@ -160,6 +165,7 @@ def polyhedron_contacts(
     Returns the number of contacts written, in increasing key order for pairs sorted by (i, j).
     """
     nbody = vertex_start.shape[0] - 1
+    tie = 1e-6 * alert  # the detector's closed_gap: separations closer than this are equal
     features = max_faces + max_edges
     size = 2 * max_face_vertices + 2
     px = np.empty((2, size))
@@ -170,14 +176,16 @@ def polyhedron_contacts(
     for p in range(npairs):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j, alert)
+        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j, alert,
+                                    tie)
         if s_i > alert:
             continue
-        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i, alert)
+        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i, alert,
+                                    tie)
         if s_j > alert:
             continue
         s_e, e_i, e_j, ux, uy, uz = _edge_separation(wv, wn, edge_start, edge_vertex, edge_face,
-                                                     q, i, j, alert)
+                                                     q, i, j, alert, tie)
         if s_e > alert:
             continue
         law_index = group_law[body_group[i], body_group[j]]

@@ -1,12 +1,12 @@
 """The rest solution of a step's contact problem, when there is one: impulses in the Coulomb
-cones that bring every free body to rest relative to its supports.
+cones that bring every free body to rest relative to its supports. 2D and 3D rigid blocks.
 
 Rest means: every free body ends the step with the velocity V of the supports (fixed and
 driven bodies) that it touches, which must share one translation (V = 0 for fixed supports;
 a driven ground moving as a whole). Every contact whose law asks U_n + b_n >= 0 with b_n = 0
 ("closed": Signorini and gap-based laws with a gap within closed_gap, restitution on a contact
 that does not approach) then has U = 0, which satisfies Signorini (U_n = 0) and Coulomb (stick)
-whatever impulse R_alpha in the cone |R_t| <= mu R_n it carries; every other contact must have
+whatever impulse R_alpha in the cone |R_T| <= mu R_n it carries; every other contact must have
 U_n + b_n >= 0 at rest, and carries nothing. So the rest solution exists exactly when the
 impulse balance of the free bodies
     sum_alpha H_alpha R_alpha = f = M (V - v_free)          (v = v_free + M^-1 H R = V)
@@ -17,21 +17,30 @@ need not be unique, and this one is the solution at rest). It takes a handful of
 factorizations where Gauss-Seidel needs as many sweeps as the slowest deformation mode of the
 assembly takes to relax: tens of thousands for a slender tower (saxum.solver.nlgs).
 
-Each cone is written with two nonnegative coordinates, s_1 = mu R_n - R_t, s_2 = mu R_n + R_t
-(R = B s: R_t = (s_2 - s_1) / 2, R_n = (s_1 + s_2) / (2 mu); for mu = 0, R_n = s_1 + s_2 and
-R_t = 0), and
-    minimize  (1 / 2 r0^2) sum |B s|^2 - sum log s   subject to   G s = f,  G = H B
-by the infeasible-start Newton method (S. Boyd and L. Vandenberghe, "Convex Optimization",
-2004, sec. 10.3): each step solves the KKT system through its Schur complement G P^-1 G^T
-(P the Hessian, 2 x 2 per contact), a body-space sparse matrix with a 3 x 3 block for each
-free body and each pair of free bodies in closed contact (scipy's SuperLU), and moves towards
-G s = f as far as s > 0 allows (0.99 of the way to the nearest s_i = 0). It stops at the
-first s > 0 with G s = f to round-off: any such s is a rest solution, and the barrier keeps it
-strictly inside every cone, so that Gauss-Seidel keeps it as it is (every contact sticks with a
-margin). Which of the many rest solutions of a statically indeterminate assembly it returns
-depends on the starting point (the caller's impulses) and r0 [N s], the largest impulse a free
-body needs; all give the same velocities. When there is none (a mechanism under the loads,
-e.g. an arch thinner than its limit), the steps shrink to nothing within a few iterations.
+Each closed contact's impulse is R = B x, x in a cone with a logarithmic barrier phi(x):
+- 2D (frame (t, n)): two nonnegative coordinates x_1 = mu R_n - R_t, x_2 = mu R_n + R_t
+  (R_t = (x_2 - x_1) / 2, R_n = (x_1 + x_2) / (2 mu); for mu = 0, R_n = x_1 + x_2 and R_t = 0),
+  phi = -log x_1 - log x_2;
+- 3D (frame (t, n, s)): the second-order cone |(x_t, x_s)| <= x_n with R_t = x_t, R_s = x_s,
+  R_n = x_n / mu (for mu = 0, R_n = x_n and R_t = R_s = 0), and its logarithmic barrier
+  phi = -log(x_n^2 - x_t^2 - x_s^2) (S. Boyd and L. Vandenberghe, "Convex Optimization", 2004,
+  sec. 11.6.1), whose Hessian has the inverse x x^T - (x_n^2 - x_t^2 - x_s^2) J / 2,
+  J = diag(-1, 1, -1) (Sherman-Morrison on -2 J / Q + 4 J x x^T J / Q^2); for mu = 0 the
+  barrier keeps x_t = x_s = 0 and is -2 log x_n.
+Then
+    minimize  (1 / 2 r0^2) sum |B x|^2 + sum phi(x)   subject to   G x = f,  G = H B
+by the infeasible-start Newton method (Boyd and Vandenberghe, sec. 10.3): each step solves the
+KKT system through its Schur complement G P^-1 G^T (P the Hessian, 2 x 2 or 3 x 3 per
+contact), a body-space sparse matrix with a 3 x 3 (2D) or 6 x 6 (3D) block for each free body
+and each pair of free bodies in closed contact (scipy's SuperLU), and moves towards G x = f as
+far as the cones allow (0.99 of the way to the nearest cone's boundary). It stops at the first
+x inside every cone with G x = f to round-off: any such x is a rest solution, and the barrier
+keeps it strictly inside every cone, so that Gauss-Seidel keeps it as it is (every contact
+sticks with a margin). Which of the many rest solutions of a statically indeterminate assembly
+it returns depends on the starting point (the caller's impulses) and r0 [N s], the largest
+impulse a free body needs; all give the same velocities. When there is none (a mechanism under
+the loads, e.g. an arch thinner than its limit), the steps shrink to nothing within a few
+iterations.
 """
 
 import math
@@ -39,19 +48,23 @@ import math
 import numba as nb
 import numpy as np
 
+from ..linalg3 import solve3
+
 __all__ = ["rest_solution"]
 
+_RIGID_DOF = {2: 3, 3: 6}
+"""Degrees of freedom of a rigid body by spatial dimension: the models this module serves."""
 _ITERATIONS = 40
 """Newton iterations before the rest solution is given up (none exists, or it is not found)."""
 _FEASIBLE = 1e-10
-"""Relative residual |G s - f|_M^-1 / |f|_M^-1 at which s counts as a solution (round-off is
+"""Relative residual |G x - f|_M^-1 / |f|_M^-1 at which x counts as a solution (round-off is
 about 1e-13: a rest solution leaves velocities of 1e-10 of those of one step of the loads)."""
 _FLOOR = 1e-8
 """... or at which it does, after a full Newton step that did not halve it (round-off of the
 factorization)."""
 _STALLED = 1e-3
 """Steps shorter than this, three in a row, mean no rest solution: the residual, which each
-step shrinks by its length, stops shrinking (the barrier holds s off the cones' edges that
+step shrinks by its length, stops shrinking (the barrier holds x off the cones' edges that
 the loads would have to cross)."""
 
 
@@ -64,7 +77,8 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     the starting point: among the solutions, it returns one near them."""
     count = problem.count
     v_begin = getattr(problem, "v_begin", None)
-    if count == 0 or v_begin is None or problem.model.dof != 3:  # written for 2D rigid bodies
+    dof = problem.model.dof
+    if count == 0 or v_begin is None or dof != _RIGID_DOF.get(problem.model.dim):
         return False
     c = problem.contacts
     inv_mass = problem.model.body_inv_mass
@@ -76,13 +90,14 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     if m <= 0:
         return False
     closed = closed[:m]
-    indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, closed, slot, nfree)
-    s, b, scale = _start(closed, problem.friction, impulse, force)
+    indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, closed, slot, nfree,
+                                                dof)
+    x, b, scale = _start(closed, problem.friction, impulse, force)
     data = np.zeros(len(indices))
-    rhs = np.empty((nfree, 3))
-    step = np.empty_like(s)
+    rhs = np.empty((nfree, dof))
+    step = np.empty_like(x)
     residual = _residual(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed, slot,
-                         b, s, force, inv_mass, rhs)
+                         b, x, force, inv_mass, rhs)
     size = _norm_m(force, slot, inv_mass)
     alpha = 0.0
     short = 0
@@ -93,33 +108,35 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
         if residual <= _FEASIBLE * size:
             break
         _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed, slot,
-                       b, s, scale, where, diagonal, indptr, rhs, data)
+                       b, x, scale, where, diagonal, indptr, rhs, data)
         try:
             # symmetric positive definite: a symmetric fill-reducing order, no pivoting
-            lu = splu(csc_matrix((data, indices, indptr), shape=(3 * nfree, 3 * nfree)),
+            lu = splu(csc_matrix((data, indices, indptr), shape=(dof * nfree, dof * nfree)),
                       permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                       options={"SymmetricMode": True})
         except RuntimeError:  # singular: a free body's motion that no contact resists
             return False
-        nu = lu.solve(rhs.reshape(-1)).reshape(nfree, 3)
+        nu = lu.solve(rhs.reshape(-1)).reshape(nfree, dof)
         if not np.all(np.isfinite(nu)):
             return False
         _newton_step(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed, slot, b,
-                     s, scale, nu, step)
-        alpha = _step_length(s, step)
+                     x, scale, nu, step)
+        alpha = _step_length(x, step)
         short = short + 1 if alpha < _STALLED else 0
         if short == 3:
             return False
-        s += alpha * step
+        x += alpha * step
+        if not _inside(x):  # round-off at a cone's boundary
+            return False
         before = residual
         residual = _residual(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed,
-                             slot, b, s, force, inv_mass, rhs)
+                             slot, b, x, force, inv_mass, rhs)
         if alpha == 1.0 and residual > 0.5 * before:
             break
     if not residual <= (_FLOOR if alpha == 1.0 else _FEASIBLE) * size:
         return False
     _apply(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.active, count,
-           closed, b, s, inv_mass, v_free, impulse, v)
+           closed, b, x, inv_mass, v_free, impulse, v)
     return True
 
 
@@ -135,6 +152,8 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
     relative to the supports (|v_begin - V|_M above |v_free - v_begin|_M, the velocity that
     one step of the loads gives: a structure in motion, which the contacts would have to stop
     within one step)."""
+    dim = h_cand.shape[1]
+    dof = inv_mass.shape[1]
     nfree = 0
     for b in range(inv_mass.shape[0]):
         if inv_mass[b, 0] > 0.0:
@@ -142,9 +161,9 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
             nfree += 1
         else:
             slot[b] = -1
-    force = np.zeros((nfree, 3))
+    force = np.zeros((nfree, dof))
     # V: the velocity of the supports in closed contact (a translation, the same for all)
-    frame = np.zeros(3)
+    frame = np.zeros(dof)
     framed = False
     for k in range(2 * count):
         a = k // 2
@@ -152,18 +171,20 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
         if active[a] and bias[a] == 0.0 and slot[body] < 0:
             if not framed:
                 framed = True
-                for d in range(3):
+                for d in range(dof):
                     frame[d] = v_free[body, d]
-            elif (v_free[body, 0] != frame[0] or v_free[body, 1] != frame[1]
-                  or v_free[body, 2] != frame[2]):
-                return -1, nfree, force
-    if frame[2] != 0.0:
-        return -1, nfree, force
+            else:
+                for d in range(dof):
+                    if v_free[body, d] != frame[d]:
+                        return -1, nfree, force
+    for d in range(dim, dof):  # the angular velocities
+        if frame[d] != 0.0:
+            return -1, nfree, force
     moving = 0.0
     loads = 0.0
     for b in range(inv_mass.shape[0]):
         if slot[b] >= 0:
-            for d in range(3):
+            for d in range(dof):
                 if not inv_mass[b, d] > 0.0:
                     return -1, nfree, force
                 force[slot[b], d] = (frame[d] - v_free[b, d]) / inv_mass[b, d]
@@ -188,25 +209,28 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
             continue
         # an open contact: U_n + b_n >= 0 at rest, free bodies moving with V
         un = bias[a]
-        for d in range(3):
+        for d in range(dof):
             vc = frame[d] if slot[c] >= 0 else v_free[c, d]
             vb = frame[d] if slot[b] >= 0 else v_free[b, d]
             un += h_cand[a, 1, d] * vc + h_ant[a, 1, d] * vb
         if un < 0.0:
             return -1, nfree, force
     for k in range(nfree):
-        if not held[k] and (force[k, 0] != 0.0 or force[k, 1] != 0.0 or force[k, 2] != 0.0):
-            return -1, nfree, force
+        if not held[k]:
+            for d in range(dof):
+                if force[k, d] != 0.0:
+                    return -1, nfree, force
     return m, nfree, force
 
 
 @nb.njit(cache=True)
-def _pattern(cand, ant, closed, slot, nfree):
-    """The body-space matrix in CSC form, a 3 x 3 block for each free body and each pair of
-    free bodies in closed contact: (indptr, row indices (int32), position in the data array of
-    each closed contact's blocks (cand, cand), (ant, cand), (cand, ant), (ant, ant) (-1 where a
-    body is not free; entry (dr, dc) of a block at position + dc * 3 (blocks in its column) +
-    dr), position of each free body's diagonal block)."""
+def _pattern(cand, ant, closed, slot, nfree, size):
+    """The body-space matrix in CSC form, a size x size block (size: a body's dof) for each
+    free body and each pair of free bodies in closed contact: (indptr, row indices (int32),
+    position in the data array of each closed contact's blocks (cand, cand), (ant, cand),
+    (cand, ant), (ant, ant) (-1 where a body is not free; entry (dr, dc) of a block at
+    position + dc * size * (blocks in its column) + dr), position of each free body's diagonal
+    block)."""
     m = closed.shape[0]
     # block rows of each block column: the body itself and the bodies it touches (in contact
     # order, repeated for each contact)
@@ -255,18 +279,18 @@ def _pattern(cand, ant, closed, slot, nfree):
                 last[col] = r
                 blocks[fill[col]] = r
                 fill[col] += 1
-    indptr = np.zeros(3 * nfree + 1, dtype=np.int64)
+    indptr = np.zeros(size * nfree + 1, dtype=np.int64)
     for col in range(nfree):
-        per = 3 * (bptr[col + 1] - bptr[col])
-        for dc in range(3):
-            indptr[3 * col + dc + 1] = indptr[3 * col + dc] + per
+        per = size * (bptr[col + 1] - bptr[col])
+        for dc in range(size):
+            indptr[size * col + dc + 1] = indptr[size * col + dc] + per
     indices = np.empty(indptr[-1], dtype=np.int32)
     for col in range(nfree):
-        for dc in range(3):
-            at = indptr[3 * col + dc]
+        for dc in range(size):
+            at = indptr[size * col + dc]
             for blk in range(bptr[col], bptr[col + 1]):
-                for dr in range(3):
-                    indices[at] = 3 * blocks[blk] + dr
+                for dr in range(size):
+                    indices[at] = size * blocks[blk] + dr
                     at += 1
     where = np.full((m, 4), -1, dtype=np.int64)
     for k in range(m):
@@ -280,61 +304,112 @@ def _pattern(cand, ant, closed, slot, nfree):
                     blk = bptr[col]
                     while blocks[blk] != row:
                         blk += 1
-                    where[k, 2 * q + r] = indptr[3 * col] + 3 * (blk - bptr[col])
+                    where[k, 2 * q + r] = indptr[size * col] + size * (blk - bptr[col])
     diagonal = np.empty(nfree, dtype=np.int64)
     for col in range(nfree):
         blk = bptr[col]
         while blocks[blk] != col:
             blk += 1
-        diagonal[col] = indptr[3 * col] + 3 * (blk - bptr[col])
+        diagonal[col] = indptr[size * col] + size * (blk - bptr[col])
     return indptr, indices, where, diagonal
 
 
 @nb.njit(cache=True)
 def _start(closed, friction, impulse, force):
-    """(s [N s] (m, 2) from the caller's impulses moved into the cones' interiors, B (m, 2, 2),
-    r0 [N s]: the largest impulse a free body needs)."""
+    """(x (m, k) from the caller's impulses moved into the cones' interiors (k = 2 in 2D, 3 in
+    3D: module doc), B (m, dim, k), r0 [N s]: the largest impulse a free body needs)."""
     m = closed.shape[0]
+    dim = impulse.shape[1]
     scale = 0.0
     for k in range(force.shape[0]):
-        scale = max(scale, math.hypot(force[k, 0], force[k, 1]))
+        size = abs(force[k, 0])
+        for d in range(1, dim):
+            size = math.hypot(size, force[k, d])
+        scale = max(scale, size)
     if scale == 0.0:
         scale = 1.0
-    s = np.empty((m, 2))
-    b = np.zeros((m, 2, 2))
+    x = np.empty((m, dim))
+    b = np.zeros((m, dim, dim))
     for k in range(m):
         a = closed[k]
-        mu = friction[a]
-        rt = impulse[a, 0]
-        rn = max(impulse[a, 1], 0.0)
-        if mu > 0.0:
-            b[k, 0, 0] = -0.5
-            b[k, 0, 1] = 0.5
-            b[k, 1, 0] = 0.5 / mu
-            b[k, 1, 1] = 0.5 / mu
-            s[k, 0] = max(mu * rn - rt, 0.0) + 0.1 * scale
-            s[k, 1] = max(mu * rn + rt, 0.0) + 0.1 * scale
+        if dim == 2:
+            _orthant_start(friction[a], impulse[a], 0.1 * scale, x[k], b[k])
         else:
-            b[k, 1, 0] = 1.0
-            b[k, 1, 1] = 1.0
-            s[k, 0] = 0.5 * rn + 0.1 * scale
-            s[k, 1] = 0.5 * rn + 0.1 * scale
-    return s, b, scale
+            _lorentz_start(friction[a], impulse[a], 0.1 * scale, x[k], b[k])
+    return x, b, scale
+
+
+@nb.njit(inline="always")
+def _orthant_start(mu, r, margin, x, b):
+    """2D: x = (mu R_n - R_t, mu R_n + R_t) clipped at 0, plus margin [N s]; B."""
+    rt = r[0]
+    rn = max(r[1], 0.0)
+    if mu > 0.0:
+        b[0, 0] = -0.5
+        b[0, 1] = 0.5
+        b[1, 0] = 0.5 / mu
+        b[1, 1] = 0.5 / mu
+        x[0] = max(mu * rn - rt, 0.0) + margin
+        x[1] = max(mu * rn + rt, 0.0) + margin
+    else:
+        b[1, 0] = 1.0
+        b[1, 1] = 1.0
+        x[0] = 0.5 * rn + margin
+        x[1] = 0.5 * rn + margin
+
+
+@nb.njit(inline="always")
+def _lorentz_start(mu, r, margin, x, b):
+    """3D: x = (R_t, mu R_n, R_s) projected onto the cone |(x_t, x_s)| <= x_n (R_n clipped at
+    0), x_n + margin [N s]; B = diag(1, 1 / mu, 1) (diag(0, 1, 0) for mu = 0)."""
+    rn = max(r[1], 0.0)
+    if mu > 0.0:
+        b[0, 0] = 1.0
+        b[1, 1] = 1.0 / mu
+        b[2, 2] = 1.0
+        xt = r[0]
+        xn = mu * rn
+        xs = r[2]
+        tangent = math.hypot(xt, xs)
+        if tangent > xn:  # the projection onto the cone's boundary
+            xn = 0.5 * (xn + tangent)
+            xt *= xn / tangent
+            xs *= xn / tangent
+        x[0] = xt
+        x[1] = xn + margin
+        x[2] = xs
+    else:
+        b[1, 1] = 1.0
+        x[0] = 0.0
+        x[1] = rn + margin
+        x[2] = 0.0
 
 
 @nb.njit(inline="always")
 def _columns(h, a, bk):
-    """G rows of one body: (H_body^T B)[d, i], 3 x 2."""
-    g = np.empty((3, 2))
-    for d in range(3):
-        for i in range(2):
-            g[d, i] = h[a, 0, d] * bk[0, i] + h[a, 1, d] * bk[1, i]
+    """G rows of one body: (H_body^T B)[d, i], dof x k."""
+    dim = bk.shape[0]
+    g = np.empty((h.shape[2], bk.shape[1]))
+    for d in range(h.shape[2]):
+        for i in range(bk.shape[1]):
+            acc = h[a, 0, d] * bk[0, i]
+            for r in range(1, dim):
+                acc += h[a, r, d] * bk[r, i]
+            g[d, i] = acc
     return g
 
 
 @nb.njit(inline="always")
-def _hessian_inverse(bk, sk, scale):
-    """(P^-1 (2 x 2), gradient (2)) of (1/2 r0^2) |B s|^2 - log s_1 - log s_2 at s."""
+def _hessian_inverse(bk, xk, scale):
+    """(P^-1 (k x k), gradient (k)) of (1/2 r0^2) |B x|^2 + phi(x) at x."""
+    if xk.shape[0] == 2:
+        return _orthant_hessian_inverse(bk, xk, scale)
+    return _lorentz_hessian_inverse(bk, xk, scale)
+
+
+@nb.njit(inline="always")
+def _orthant_hessian_inverse(bk, sk, scale):
+    """2D, phi = -log x_1 - log x_2."""
     t = 1.0 / (scale * scale)
     q00 = bk[0, 0] * bk[0, 0] + bk[1, 0] * bk[1, 0]
     q01 = bk[0, 0] * bk[0, 1] + bk[1, 0] * bk[1, 1]
@@ -354,95 +429,208 @@ def _hessian_inverse(bk, sk, scale):
     return inv, grad
 
 
+@nb.njit(inline="always")
+def _lorentz_hessian_inverse(bk, xk, scale):
+    """3D, phi = -log Q, Q = x_n^2 - x_t^2 - x_s^2 (module doc): P = t D + grad^2 phi with
+    t = 1 / r0^2, D = B^T B; P^-1 = Y (I + t D Y)^-1 from the barrier's closed-form inverse
+    Hessian Y, which stays accurate near the cone's boundary where grad^2 phi itself is
+    ill-conditioned (I + t D Y is similar to an SPD matrix with eigenvalues >= 1)."""
+    t = 1.0 / (scale * scale)
+    x0, x1, x2 = xk[0], xk[1], xk[2]
+    tangent = math.hypot(x0, x2)
+    q = (x1 - tangent) * (x1 + tangent)
+    y = np.empty((3, 3))  # x x^T - (Q / 2) J
+    for i in range(3):
+        for j in range(3):
+            y[i, j] = xk[i] * xk[j]
+    y[0, 0] += 0.5 * q
+    y[1, 1] = 0.5 * (x1 * x1 + tangent * tangent)
+    y[2, 2] += 0.5 * q
+    dd = np.empty((3, 3))  # D = B^T B
+    for i in range(3):
+        for j in range(3):
+            dd[i, j] = bk[0, i] * bk[0, j] + bk[1, i] * bk[1, j] + bk[2, i] * bk[2, j]
+    a = np.empty((3, 3))  # I + t D Y
+    for i in range(3):
+        for j in range(3):
+            a[i, j] = t * (dd[i, 0] * y[0, j] + dd[i, 1] * y[1, j] + dd[i, 2] * y[2, j])
+        a[i, i] += 1.0
+    inv = np.empty((3, 3))
+    for j in range(3):  # row j of Y A^-1 solves A^T z = (row j of Y)
+        inv[j, 0], inv[j, 1], inv[j, 2] = solve3(a[0, 0], a[1, 0], a[2, 0], a[0, 1], a[1, 1],
+                                                 a[2, 1], a[0, 2], a[1, 2], a[2, 2], y[j, 0],
+                                                 y[j, 1], y[j, 2])
+    for i in range(3):  # symmetric in exact arithmetic
+        for j in range(i + 1, 3):
+            mean = 0.5 * (inv[i, j] + inv[j, i])
+            inv[i, j] = mean
+            inv[j, i] = mean
+    grad = np.empty(3)
+    for i in range(3):
+        grad[i] = t * (dd[i, 0] * x0 + dd[i, 1] * x1 + dd[i, 2] * x2)
+    grad[0] += 2.0 * x0 / q
+    grad[1] -= 2.0 * x1 / q
+    grad[2] += 2.0 * x2 / q
+    return inv, grad
+
+
 @nb.njit(cache=True)
-def _newton_system(cand, ant, h_cand, h_ant, closed, slot, b, s, scale, where, diagonal, indptr,
+def _newton_system(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, where, diagonal, indptr,
                    rhs, data):
     """data = G P^-1 G^T in the CSC pattern of _pattern (1 on the diagonal of a free body in
     no closed contact, which has f = 0 there: _rest_contacts), and rhs -= G P^-1 grad
-    (rhs holds the residual G s - f on entry): the Schur complement of one Newton step."""
+    (rhs holds the residual G x - f on entry): the Schur complement of one Newton step."""
+    size = rhs.shape[1]
+    nk = x.shape[1]
     data[:] = 0.0
+    pg = np.empty(nk)
+    gp = np.empty((size, nk))  # G_r P^-1
     for k in range(closed.shape[0]):
         a = closed[k]
-        inv, grad = _hessian_inverse(b[k], s[k], scale)
+        inv, grad = _hessian_inverse(b[k], x[k], scale)
         gs = (_columns(h_cand, a, b[k]), _columns(h_ant, a, b[k]))
         bodies = (slot[cand[a]], slot[ant[a]])
-        pg0 = inv[0, 0] * grad[0] + inv[0, 1] * grad[1]
-        pg1 = inv[1, 0] * grad[0] + inv[1, 1] * grad[1]
+        for i in range(nk):
+            acc = inv[i, 0] * grad[0]
+            for j in range(1, nk):
+                acc += inv[i, j] * grad[j]
+            pg[i] = acc
         for r in range(2):
             row = bodies[r]
             if row < 0:
                 continue
             gr = gs[r]
-            for d in range(3):
-                rhs[row, d] -= gr[d, 0] * pg0 + gr[d, 1] * pg1
-            gp = np.empty((3, 2))  # G_r P^-1
-            for d in range(3):
-                gp[d, 0] = gr[d, 0] * inv[0, 0] + gr[d, 1] * inv[1, 0]
-                gp[d, 1] = gr[d, 0] * inv[0, 1] + gr[d, 1] * inv[1, 1]
+            for d in range(size):
+                acc = gr[d, 0] * pg[0]
+                for i in range(1, nk):
+                    acc += gr[d, i] * pg[i]
+                rhs[row, d] -= acc
+            for d in range(size):
+                for i in range(nk):
+                    acc = gr[d, 0] * inv[0, i]
+                    for j in range(1, nk):
+                        acc += gr[d, j] * inv[j, i]
+                    gp[d, i] = acc
             for q in range(2):
                 at = where[k, 2 * q + r]
                 if at < 0:
                     continue
                 col = bodies[q]
-                per = indptr[3 * col + 1] - indptr[3 * col]
+                per = indptr[size * col + 1] - indptr[size * col]
                 gq = gs[q]
-                for dc in range(3):
-                    for dr in range(3):
-                        data[at + dc * per + dr] += gp[dr, 0] * gq[dc, 0] + gp[dr, 1] * gq[dc, 1]
+                for dc in range(size):
+                    for dr in range(size):
+                        acc = gp[dr, 0] * gq[dc, 0]
+                        for i in range(1, nk):
+                            acc += gp[dr, i] * gq[dc, i]
+                        data[at + dc * per + dr] += acc
     for col in range(diagonal.shape[0]):
-        per = indptr[3 * col + 1] - indptr[3 * col]
-        for d in range(3):
+        per = indptr[size * col + 1] - indptr[size * col]
+        for d in range(size):
             at = diagonal[col] + d * per + d
             if data[at] == 0.0:
                 data[at] = 1.0
 
 
 @nb.njit(cache=True)
-def _newton_step(cand, ant, h_cand, h_ant, closed, slot, b, s, scale, nu, step):
+def _newton_step(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, nu, step):
     """step = -P^-1 (grad + G^T nu)."""
+    nk = x.shape[1]
+    w = np.empty(nk)
     for k in range(closed.shape[0]):
         a = closed[k]
-        inv, grad = _hessian_inverse(b[k], s[k], scale)
-        w0 = grad[0]
-        w1 = grad[1]
+        inv, grad = _hessian_inverse(b[k], x[k], scale)
+        for i in range(nk):
+            w[i] = grad[i]
         for h, body in ((h_cand, slot[cand[a]]), (h_ant, slot[ant[a]])):
             if body < 0:
                 continue
             g = _columns(h, a, b[k])
-            for d in range(3):
-                w0 += g[d, 0] * nu[body, d]
-                w1 += g[d, 1] * nu[body, d]
-        step[k, 0] = -(inv[0, 0] * w0 + inv[0, 1] * w1)
-        step[k, 1] = -(inv[1, 0] * w0 + inv[1, 1] * w1)
+            for d in range(nu.shape[1]):
+                for i in range(nk):
+                    w[i] += g[d, i] * nu[body, d]
+        for i in range(nk):
+            acc = inv[i, 0] * w[0]
+            for j in range(1, nk):
+                acc += inv[i, j] * w[j]
+            step[k, i] = -acc
 
 
 @nb.njit(cache=True)
-def _step_length(s, step):
-    """1, or 0.99 of the step to the nearest s_i = 0 if that is shorter."""
+def _step_length(x, step):
+    """1, or 0.99 of the step to the nearest cone's boundary if that is shorter."""
     alpha = 1.0
-    for k in range(s.shape[0]):
-        for i in range(2):
-            if step[k, i] < 0.0:
-                alpha = min(alpha, -0.99 * s[k, i] / step[k, i])
+    for k in range(x.shape[0]):
+        if x.shape[1] == 2:
+            for i in range(2):
+                if step[k, i] < 0.0:
+                    alpha = min(alpha, -0.99 * x[k, i] / step[k, i])
+        else:
+            alpha = min(alpha, 0.99 * _lorentz_exit(x[k], step[k]))
     return alpha
 
 
+@nb.njit(inline="always")
+def _lorentz_exit(x, dx):
+    """The least a > 0 with x + a dx on the boundary of the cone |(x_t, x_s)| <= x_n (inf if
+    none; x inside): the first positive root of Q(x + a dx) = A a^2 + 2 B a + C, C = Q(x) > 0,
+    from the numerically stable pair of roots q / A, C / q, q = -(B + sign(B) sqrt(B^2 - AC))."""
+    tangent = math.hypot(x[0], x[2])
+    c = (x[1] - tangent) * (x[1] + tangent)
+    aa = dx[1] * dx[1] - dx[0] * dx[0] - dx[2] * dx[2]
+    bb = x[1] * dx[1] - x[0] * dx[0] - x[2] * dx[2]
+    disc = bb * bb - aa * c
+    if disc < 0.0:  # no real root: the line stays inside
+        return math.inf
+    q = -(bb + math.copysign(math.sqrt(disc), bb))
+    exit_ = math.inf
+    if q != 0.0:
+        if c / q > 0.0:
+            exit_ = c / q
+        if aa != 0.0 and q / aa > 0.0:
+            exit_ = min(exit_, q / aa)
+    return exit_
+
+
 @nb.njit(cache=True)
-def _residual(cand, ant, h_cand, h_ant, closed, slot, b, s, force, inv_mass, out):
-    """out = G s - f [N s] per free body; returns its norm |.|_M^-1."""
+def _inside(x):
+    """Every contact's x strictly inside its cone."""
+    for k in range(x.shape[0]):
+        if x.shape[1] == 2:
+            if not (x[k, 0] > 0.0 and x[k, 1] > 0.0):
+                return False
+        elif not x[k, 1] > math.hypot(x[k, 0], x[k, 2]):
+            return False
+    return True
+
+
+@nb.njit(inline="always")
+def _impulse(bk, xk, out):
+    """out = B x [N s] of one contact."""
+    for i in range(bk.shape[0]):
+        acc = bk[i, 0] * xk[0]
+        for j in range(1, xk.shape[0]):
+            acc += bk[i, j] * xk[j]
+        out[i] = acc
+
+
+@nb.njit(cache=True)
+def _residual(cand, ant, h_cand, h_ant, closed, slot, b, x, force, inv_mass, out):
+    """out = G x - f [N s] per free body; returns its norm |.|_M^-1."""
+    dim = b.shape[1]
+    r = np.empty(dim)
     out[:, :] = 0.0
     for k in range(closed.shape[0]):
         a = closed[k]
-        rt = b[k, 0, 0] * s[k, 0] + b[k, 0, 1] * s[k, 1]
-        rn = b[k, 1, 0] * s[k, 0] + b[k, 1, 1] * s[k, 1]
-        c = slot[cand[a]]
-        if c >= 0:
-            for d in range(3):
-                out[c, d] += h_cand[a, 0, d] * rt + h_cand[a, 1, d] * rn
-        o = slot[ant[a]]
-        if o >= 0:
-            for d in range(3):
-                out[o, d] += h_ant[a, 0, d] * rt + h_ant[a, 1, d] * rn
+        _impulse(b[k], x[k], r)
+        for h, body in ((h_cand, slot[cand[a]]), (h_ant, slot[ant[a]])):
+            if body < 0:
+                continue
+            for d in range(out.shape[1]):
+                acc = h[a, 0, d] * r[0]
+                for i in range(1, dim):
+                    acc += h[a, i, d] * r[i]
+                out[body, d] += acc
     out -= force
     return _norm_m(out, slot, inv_mass)
 
@@ -454,32 +642,34 @@ def _norm_m(x, slot, inv_mass):
     for body in range(slot.shape[0]):
         k = slot[body]
         if k >= 0:
-            for d in range(3):
+            for d in range(x.shape[1]):
                 total += inv_mass[body, d] * x[k, d] * x[k, d]
     return math.sqrt(total)
 
 
 @nb.njit(cache=True)
-def _apply(cand, ant, h_cand, h_ant, active, count, closed, b, s, inv_mass, v_free, impulse,
+def _apply(cand, ant, h_cand, h_ant, active, count, closed, b, x, inv_mass, v_free, impulse,
            v):
-    """impulse = B s on the closed contacts, 0 on the others; v = v_free + M^-1 H R."""
+    """impulse = B x on the closed contacts, 0 on the others; v = v_free + M^-1 H R."""
+    dim = b.shape[1]
     for a in range(count):
-        impulse[a, 0] = 0.0
-        impulse[a, 1] = 0.0
+        for i in range(dim):
+            impulse[a, i] = 0.0
     for k in range(closed.shape[0]):
-        a = closed[k]
-        impulse[a, 0] = b[k, 0, 0] * s[k, 0] + b[k, 0, 1] * s[k, 1]
-        impulse[a, 1] = b[k, 1, 0] * s[k, 0] + b[k, 1, 1] * s[k, 1]
+        _impulse(b[k], x[k], impulse[closed[k]])
     for body in range(v.shape[0]):
-        for d in range(3):
+        for d in range(v.shape[1]):
             v[body, d] = v_free[body, d]
     for a in range(count):
         if not active[a]:
             continue
         c = cand[a]
         o = ant[a]
-        rt = impulse[a, 0]
-        rn = impulse[a, 1]
-        for d in range(3):
-            v[c, d] += inv_mass[c, d] * (h_cand[a, 0, d] * rt + h_cand[a, 1, d] * rn)
-            v[o, d] += inv_mass[o, d] * (h_ant[a, 0, d] * rt + h_ant[a, 1, d] * rn)
+        for d in range(v.shape[1]):
+            fc = h_cand[a, 0, d] * impulse[a, 0]
+            fo = h_ant[a, 0, d] * impulse[a, 0]
+            for i in range(1, dim):
+                fc += h_cand[a, i, d] * impulse[a, i]
+                fo += h_ant[a, i, d] * impulse[a, i]
+            v[c, d] += inv_mass[c, d] * fc
+            v[o, d] += inv_mass[o, d] * fo

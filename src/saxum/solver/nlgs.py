@@ -26,12 +26,12 @@ to 1.95, or symmetric sweeps do not change that order). The change per sweep is 
 times the distance to the solution, so the criterion can stop a distance tol / (1 - rho) away,
 or not stop within the cap: from a cold start, or after joints open and close, the tower's
 steps hit the cap, and the velocities their errors leave open and close joints again.
-A step of a 2D model that has not converged after rest_after sweeps therefore tries the rest
-solution (saxum.solver.equilibrium, written for 2D rigid blocks: every free body at rest
-relative to its supports, an exact solution of the step's problem when the impulses can
-balance the loads inside the Coulomb cones), and sweeps on from it: when it exists the next
-sweep changes nothing beyond round-off and the step converges by the same criterion; when it
-does not (a mechanism), the sweeps go on from where they were.
+A step that has not converged after rest_after sweeps therefore tries the rest solution
+(saxum.solver.equilibrium, for 2D and 3D rigid blocks: every free body at rest relative to its
+supports, an exact solution of the step's problem when the impulses can balance the loads
+inside the Coulomb cones), and sweeps on from it: when it exists the next sweep changes nothing
+beyond round-off and the step converges by the same criterion; when it does not (a mechanism),
+the sweeps go on from where they were.
 """
 
 import math
@@ -108,7 +108,7 @@ class NLGS(ContactSolver):
             first = min(max(self.rest_after, -(-_REST_WORK // problem.count)), first)
         iterations, error = sweep(*args, first, self.relaxation)
         if error > self.tolerance and iterations < self.max_iterations:
-            # slow (module doc): sweep on from the rest solution if there is one (2D)
+            # slow (module doc): sweep on from the rest solution if there is one
             self.rest_attempts += 1
             if rest_solution(problem, impulse, v_free, v):
                 self.rest_solutions += 1
