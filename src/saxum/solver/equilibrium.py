@@ -574,14 +574,17 @@ def _step_length(x, step):
 def _lorentz_exit(x, dx):
     """The least a > 0 with x + a dx on the boundary of the cone |(x_t, x_s)| <= x_n (inf if
     none; x inside): the first positive root of Q(x + a dx) = A a^2 + 2 B a + C, C = Q(x) > 0,
-    from the numerically stable pair of roots q / A, C / q, q = -(B + sign(B) sqrt(B^2 - AC))."""
+    from the numerically stable pair of roots q / A, C / q, q = -(B + sign(B) sqrt(B^2 - AC)).
+    A > 0 is dx inside the cone (the half-line stays inside) or inside its opposite (it leaves,
+    with real roots: B^2 - AC >= 0 but for round-off where the line passes through the apex);
+    A <= 0 gives B^2 - AC >= 0 anyway."""
     tangent = math.hypot(x[0], x[2])
     c = (x[1] - tangent) * (x[1] + tangent)
     aa = dx[1] * dx[1] - dx[0] * dx[0] - dx[2] * dx[2]
-    bb = x[1] * dx[1] - x[0] * dx[0] - x[2] * dx[2]
-    disc = bb * bb - aa * c
-    if disc < 0.0:  # no real root: the line stays inside
+    if aa > 0.0 and dx[1] > 0.0:
         return math.inf
+    bb = x[1] * dx[1] - x[0] * dx[0] - x[2] * dx[2]
+    disc = max(bb * bb - aa * c, 0.0)
     q = -(bb + math.copysign(math.sqrt(disc), bb))
     exit_ = math.inf
     if q != 0.0:
