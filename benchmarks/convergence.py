@@ -3,6 +3,7 @@ on structures at rest and one collapsing, from the cold start on.
 
     python benchmarks/convergence.py                  # every case (about a minute)
     python benchmarks/convergence.py --cases tower,arch --rest-after 0 --spectral --orders
+    python benchmarks/convergence.py --cases pier3d,wall3d --rest-after 0   # a few minutes
 
 Cases (dt = 1e-3 s, theta = 0.5, default law and NLGS: tolerance 1e-6, at most 5000 sweeps,
 unless --rest-after is given):
@@ -14,7 +15,15 @@ unless --rest-after is given):
   mu = 0.6, on fixed supports (it stands), 2 s;
 - arch-collapse: the same with t/R = 0.09 (it collapses), 2 s: a dynamic case;
 - wall512-shaken: the 512-brick wall under a horizontal acceleration of 0.7 g (it slides and
-  overturns), 0.3 s: a dynamic case on which the rest solution is looked for and not found.
+  overturns), 0.3 s: a dynamic case on which the rest solution is looked for and not found;
+- pier3d: a 3D pier of 40 courses 0.065 m high, each of two blocks 0.125 x 0.25 m crossed from
+  course to course (0.25 x 0.25 x 2.6 m), density 1800 kg/m^3, mu = 0.6, at rest, 1 s;
+- wall3d: a 3D L-shaped running-bond wall (saxum.structures.wall3d, 20 courses, two walls 3 m
+  long meeting at an interlocking corner, 480 bricks 0.25 x 0.12 x 0.065 m, 1800 kg/m^3,
+  mu = 0.6), at rest, 0.3 s (benchmarks/wall3d.py times the 1920-brick one);
+- wall3d-shaken: the L wall of tests/validation/test_wall_rest3d.py (8 courses, walls 1.5 and
+  0.75 m long, 72 bricks) under a horizontal acceleration of 0.7 g along x (the x wall slides
+  in its plane, the y wall overturns out of its plane), 0.3 s: the dynamic case in 3D.
 For each: the first step (a cold start from zero impulses: sweeps, error, converged, time),
 the steps after it (sweeps mean, median, 95th percentile, max; steps not converged; steps
 with more sweeps than rest_after), the steps whose contact set changed from the step before,
@@ -52,7 +61,7 @@ import numpy as np
 
 import saxum as sx
 from saxum.solver import SolverReport
-from saxum.structures import running_bond_wall, semicircular_arch, wall
+from saxum.structures import pier3d, running_bond_wall, semicircular_arch, wall, wall3d
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -70,13 +79,21 @@ CASES = {
     "arch-collapse": (lambda: semicircular_arch(radius=1.0, thickness=0.09, voussoirs=15,
                                                 density=2000.0, friction=0.6), 2.0),
     "wall512-shaken": (lambda: _shaken(running_bond_wall(courses=25, bricks=20)), 0.3),
+    "pier3d": (lambda: pier3d(width=0.25, depth=0.25, courses=40, course_height=0.065,
+                              density=1800.0), 1.0),
+    "wall3d": (lambda: wall3d(courses=20, length=3.0, return_length=3.0), 0.3),
+    "wall3d-shaken": (lambda: _shaken(wall3d(courses=8, length=1.5, return_length=0.75)), 0.3),
 }
 
 
 def _shaken(model):
-    """model under a constant horizontal acceleration of 0.7 g: it slides and overturns."""
-    g = float(np.hypot(*model.gravity))
-    return dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0)),))
+    """model under a constant horizontal acceleration of 0.7 g along x: it slides and
+    overturns."""
+    if model.dim == 2:
+        g = float(np.hypot(*model.gravity))
+        return dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0)),))
+    g = float(np.linalg.norm(model.gravity))
+    return dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
 
 
 def _solver(rest_after: int | None) -> sx.NLGS:
@@ -87,9 +104,10 @@ def _solver(rest_after: int | None) -> sx.NLGS:
 
 def _warm_up(rest_after: int | None) -> None:
     """Compile (or load) every kernel a step uses, the rest solution's included (a tower's
-    cold start needs it)."""
+    cold start needs it), in 2D and 3D."""
     for model in (wall(courses=10, bricks=2, bond="stack"),
-                  semicircular_arch(radius=1.0, thickness=0.09, voussoirs=5)):
+                  semicircular_arch(radius=1.0, thickness=0.09, voussoirs=5),
+                  pier3d(width=0.25, depth=0.25, courses=10, course_height=0.065)):
         sim = sx.Simulation(model, dt=DT, solver=_solver(rest_after))
         sim.run(sim.initial_state(), 0.01)
 
@@ -123,7 +141,8 @@ def run_case(name: str, rest_after: int | None) -> dict:
     converged = np.asarray(log.converged)
     later = sweeps[1:]
     free = model.body_kind == sx.BodyKind.FREE
-    moved = np.hypot(*(state.body_q[free, :2] - model.body_q0[free, :2]).T)
+    moved = np.linalg.norm(state.body_q[free, :model.dim] - model.body_q0[free, :model.dim],
+                           axis=1)
     threshold = getattr(solver, "rest_after", 0) or None
     out = {
         "case": name,

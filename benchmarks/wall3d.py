@@ -6,7 +6,8 @@ kernels were compiled or loaded on a tiny wall):
 1. An L-shaped wall (two walls one brick thick meeting at an interlocking corner; bricks
    0.25 x 0.12 x 0.065 m, 1800 kg/m^3, mu = 0.6, default gap-based law and NLGS, dt = 1e-3 s)
    standing on a fixed ground slab: time per step (step 1 apart: a cold start of the solver
-   from zero impulses), NLGS sweeps per step, the time inside the NLGS solve per
+   from zero impulses), NLGS sweeps per step, rest-solution attempts and successes
+   (saxum.solver.equilibrium; --rest-after 0: NLGS alone), the time inside the NLGS solve per
    single-contact update (solve time / sum of sweeps x active contacts: an upper bound of the
    update kernel's cost, as in benchmarks/wall.py), the time inside detection per step, peak
    memory (ru_maxrss, and the numpy arrays the model and simulation hold), drift and
@@ -18,6 +19,7 @@ kernels were compiled or loaded on a tiny wall):
 
     python benchmarks/wall3d.py                       # about 2 minutes on 2 cores
     python benchmarks/wall3d.py --duration 0.5 --json /tmp/wall3d.json
+    python benchmarks/wall3d.py --rest-after 0        # NLGS alone
 """
 
 import argparse
@@ -47,26 +49,34 @@ def _wall(courses: int, length: float):
     return wall3d(courses=courses, length=length, return_length=length)
 
 
-def _warm_up() -> float:
+def _solver(rest_after: int | None):
+    import saxum as sx
+
+    return sx.NLGS() if rest_after is None else sx.NLGS(rest_after=rest_after)
+
+
+def _warm_up(rest_after: int | None) -> float:
+    """Compile (or load) the kernels a step uses, the rest solution's included (the cold
+    start of a 10-course wall needs it)."""
     import saxum as sx
 
     t0 = time.perf_counter()
-    sim = sx.Simulation(_wall(2, 0.75), dt=1e-3)
+    sim = sx.Simulation(_wall(10, 0.75), dt=1e-3, solver=_solver(rest_after))
     state = sim.initial_state()
     for _ in range(3):
         sim.step(state)
     return time.perf_counter() - t0
 
 
-def run_wall(duration: float, dt: float) -> dict:
+def run_wall(duration: float, dt: float, rest_after: int | None = None) -> dict:
     import saxum as sx
     from saxum.model import BodyKind
 
-    warm = _warm_up()
+    warm = _warm_up(rest_after)
     rss_before = wall2d._peak_rss_mib()
     t0 = time.perf_counter()
     model = _wall(COURSES, LENGTH)
-    sim = sx.Simulation(model, dt=dt)
+    sim = sx.Simulation(model, dt=dt, solver=_solver(rest_after))
     state = sim.initial_state()
     t_build = time.perf_counter() - t0
     detect = sim.detector.detect = wall2d._Timed(sim.detector.detect)
@@ -106,6 +116,9 @@ def run_wall(duration: float, dt: float) -> dict:
         "nlgs_time_s": wall2d._stats(solve_time[rest].tolist()),
         "iterations": wall2d._stats(iterations[rest].tolist()),
         "non_converged_steps": int((~log.converged).sum()),
+        "rest_after": getattr(sim.solver, "rest_after", None),
+        "rest_attempts": getattr(sim.solver, "rest_attempts", None),
+        "rest_solutions": getattr(sim.solver, "rest_solutions", None),
         "ns_per_contact_update": ns_per_update(rest),
         "ns_per_contact_update_incl_first_step": ns_per_update(slice(None)),
         "drift_m": float(drift.max()),
@@ -154,6 +167,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
     parser.add_argument("--detect-target", type=float, default=0.5,
                         help="seconds of repeated detection calls per size and mode")
+    parser.add_argument("--rest-after", type=int, default=None,
+                        help="NLGS rest_after (0: NLGS alone); default: saxum's default")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON, help="output JSON file")
     args = parser.parse_args(argv)
 
@@ -163,7 +178,7 @@ def main(argv: list[str] | None = None) -> int:
         "machine": wall2d.machine_info(),
     }
     print("3D wall ...", flush=True)
-    w = result["wall"] = run_wall(args.duration, args.dt)
+    w = result["wall"] = run_wall(args.duration, args.dt, args.rest_after)
     print(f"  {w['bricks']} bricks, {w['contacts']['median']:.0f} contacts, {w['steps']} steps "
           f"of {w['dt_s']:g} s")
     print(f"  first step (cold start): {w['first_step']['time_s']:.2f} s, "
@@ -172,7 +187,8 @@ def main(argv: list[str] | None = None) -> int:
           f"{w['step_time_s']['median'] * 1e3:.1f} ms")
     print(f"  NLGS sweeps per step: mean {w['iterations']['mean']:.1f}, median "
           f"{w['iterations']['median']:.0f}, max {w['iterations']['max']}; not converged: "
-          f"{w['non_converged_steps']} step(s)")
+          f"{w['non_converged_steps']} step(s); rest solutions {w['rest_solutions']} of "
+          f"{w['rest_attempts']} attempts")
     print(f"  single-contact update: {w['ns_per_contact_update']:.0f} ns "
           f"({w['ns_per_contact_update_incl_first_step']:.0f} ns with the first step)")
     print(f"  detection per step: mean {w['detection_time_s']['mean'] * 1e3:.2f} ms, median "

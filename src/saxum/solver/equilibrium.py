@@ -20,7 +20,8 @@ assembly takes to relax: tens of thousands for a slender tower (saxum.solver.nlg
 Each closed contact's impulse is R = B x, x in a cone with a logarithmic barrier phi(x):
 - 2D (frame (t, n)): two nonnegative coordinates x_1 = mu R_n - R_t, x_2 = mu R_n + R_t
   (R_t = (x_2 - x_1) / 2, R_n = (x_1 + x_2) / (2 mu); for mu = 0, R_n = x_1 + x_2 and R_t = 0),
-  phi = -log x_1 - log x_2;
+  phi = -log x_1 - log x_2 (= -log(mu^2 R_n^2 - R_t^2), the 3D barrier's 2D case, in
+  coordinates where the cone is a quadrant);
 - 3D (frame (t, n, s)): the second-order cone |(x_t, x_s)| <= x_n with R_t = x_t, R_s = x_s,
   R_n = x_n / mu (for mu = 0, R_n = x_n and R_t = R_s = 0), and its logarithmic barrier
   phi = -log(x_n^2 - x_t^2 - x_s^2) (S. Boyd and L. Vandenberghe, "Convex Optimization", 2004,
