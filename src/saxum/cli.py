@@ -56,7 +56,12 @@ def _demo(args) -> None:
 
 
 def _collapse(args) -> None:
-    from .collapse import DYNAMIC_FRACTION, CollapseCriterion, scenario_critical_value
+    from .collapse import (
+        DYNAMIC_FRACTION,
+        CollapseCriterion,
+        scenario_critical_value,
+        solver_failures,
+    )
     from .mechanism import mechanism
     from .plot import plot_frame
     from .results import Results
@@ -73,17 +78,8 @@ def _collapse(args) -> None:
                                                               per_block=not args.structure_ratio))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
-    logs = [t.simulation.log for t in result.trials]
-    failed = [int(np.count_nonzero(~log.converged)) for log in logs]
-    if any(failed):
-        worst = max(float(log.error[~log.converged].max(initial=0.0)) for log in logs)
-        solver = load_scenario(args.scenario, args.set).solver
-        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
-                      f"converging at {sum(failed)} step(s) in {sum(map(bool, failed))} of the "
-                      f"{len(failed)} trials (largest error there {worst:.2g}, tolerance "
-                      f"{solver.tolerance:g}); if that is far above the tolerance, the verdicts "
-                      "may be wrong: raise solver.max_iterations or lower solver.dt",
-                      SolverWarning, stacklevel=1)
+    _warn_failures(solver_failures(result.trials), len(result.trials),
+                   load_scenario(args.scenario, args.set).solver)
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
     dim = scenario.structure.dim
     if args.vary == "loads.horizontal_acceleration":
@@ -124,6 +120,18 @@ def _collapse(args) -> None:
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
+def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
+    """A SolverWarning when some trial steps did not converge (saxum.collapse.SolverFailures);
+    solver: the scenario's SolverSpec."""
+    if failures.steps:
+        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
+                      f"converging at {failures.steps} step(s) in {failures.trials} of the "
+                      f"{trials} trials{where} (largest error there {failures.worst_error:.2g}, "
+                      f"tolerance {solver.tolerance:g}); if that is far above the tolerance, "
+                      "the verdicts may be wrong: raise solver.max_iterations or lower "
+                      "solver.dt", SolverWarning, stacklevel=1)
+
+
 def _collapse_curve(args) -> None:
     from .collapse import CollapseCriterion, collapse_curve
     from .plot import plot_collapse_curve
@@ -135,6 +143,8 @@ def _collapse_curve(args) -> None:
                                                       fraction=args.fraction),
                           processes=args.processes)
     scenario = load_scenario(args.scenario, args.set)
+    for p in rows:
+        _warn_failures(p.failures, p.trials, scenario.solver, f" at T_p = {p.period:g} s")
     g = float(np.linalg.norm(scenario.loads.gravity_for(scenario.structure.dim)))  # [m/s^2]
     print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
           "  collapse at [s]")
