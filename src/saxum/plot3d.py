@@ -4,7 +4,8 @@ more, export to ParaView: saxum export-vtk).
 The blocks' faces are filled by the block's displacement from its initial position (fixed and
 driven bodies light grey; a support much larger than the structure, such as a ground slab, is
 shown as a floor under it), and the contact points carrying load are drawn on top as red dots
-whose area is proportional to the normal force.
+whose area is proportional to the normal force. Flood water (saxum.flood) is its surface at
+the frame's time, translucent, drawn under the blocks, with the flow's direction and speed.
 """
 
 from os import PathLike
@@ -17,7 +18,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from .geometry3d import world_points
 from .model import BodyKind
-from .plot import length_unit, results_heading
+from .plot import _results_floods, length_unit, results_heading
 
 __all__ = ["plot_frame_3d"]
 
@@ -58,6 +59,8 @@ def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces
         ax.add_collection3d(Poly3DCollection([[(x0, y0, z), (x1, y0, z), (x1, y1, z),
                                                (x0, y1, z)]], facecolors="0.92",
                                              edgecolors="0.6", zorder=0))
+    for flood in _results_floods(results):
+        _draw_water(ax, flood, float(results.time[k]), shown, centre, half)
     ax.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors="0.25",
                                          linewidths=0.3, zorder=1))
     if forces:
@@ -82,3 +85,22 @@ def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces
     if path is not None:
         fig.savefig(path, dpi=dpi)
     return fig
+
+
+def _draw_water(ax, flood, t: float, points: np.ndarray, centre: np.ndarray,
+                half: float) -> None:
+    """The water surface z = H(s) [m] at time t [s] over the square drawn (centre, half
+    width [m]), s along the flow's azimuth from the free blocks' extent `points` [m]; the
+    flow's speed and direction in a corner."""
+    a = np.radians(flood.azimuth)
+    e = np.array([np.cos(a), np.sin(a)])
+    s = points[:, :2] @ e
+    x, y = np.meshgrid(*(np.linspace(c - half, c + half, 25) for c in centre[:2]))
+    z = flood.surface(x * e[0] + y * e[1], t, (float(s.min()), float(s.max())))
+    ax.plot_surface(x, y, z, color="#9cc8e8", alpha=0.45, linewidth=0, shade=False,
+                    zorder=0.5)
+    u = flood.velocity.at(t)
+    if u != 0.0:
+        heading = flood.azimuth if u > 0 else flood.azimuth + 180.0
+        ax.text2D(0.99, 0.98, f"flow {abs(u):.3g} m/s towards {heading % 360:g}° from x",
+                  transform=ax.transAxes, ha="right", va="top", fontsize=8, color="#2a6fa8")

@@ -621,6 +621,7 @@ class FloodSpec(_Strict):
     tailwater: Finite | None = None
     water_density: Positive = 1000.0
     drag_coefficient: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 1.4
+    azimuth: Finite = 0.0
 
     @field_validator("level_series", "velocity_series")
     @classmethod
@@ -652,7 +653,7 @@ class Loads(_Strict):
     inertial load a(t) = (horizontal_acceleration + load_factor_rate * g * t) on every free
     block [m/s^2], g = |gravity| (a tilting table), along x, in 3D along the horizontal
     direction at horizontal_azimuth [deg] from x towards y; point loads; settlements of
-    supports; ground motion; a flood (2D)."""
+    supports; ground motion; a flood."""
 
     gravity: Vector | None = None
     horizontal_acceleration: Finite = 0.0
@@ -708,9 +709,6 @@ class Loads(_Strict):
             else:
                 motion.apply_as_driven_supports(builder, self.ground_motion.supports)
         if self.flood is not None:
-            if dim != 2:
-                raise InputError("loads.flood is made for 2D models (a section of the "
-                                 "structure across the flow)")
             builder.add_field_load(self.flood.load())
 
 
