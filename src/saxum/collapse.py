@@ -134,11 +134,10 @@ class Trial:
     at_collapse: State | None = field(default=None, repr=False)
 
     def mechanism(self):
-        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood, and for
-        a 3D model: the mechanism report is made for 2D ones)."""
+        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood)."""
         from .mechanism import mechanism
 
-        if self.at_collapse is None or self.simulation.model.dim != 2:
+        if self.at_collapse is None:
             return None
         return mechanism(self.simulation.model, self.at_collapse, self.simulation.integrator.dt)
 
