@@ -98,12 +98,10 @@ def _collapse(args) -> None:
         at, when = trial.state, "0.05 s after the verdict"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size)")
-    mech = None
-    if dim == 2:  # the mechanism report is made for 2D models
-        print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s "
-              f"({when}):")
-        mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
-        print(mech.text())
+    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s "
+          f"({when}):")
+    mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
+    print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
@@ -112,11 +110,9 @@ def _collapse(args) -> None:
     title = f"{scenario.title or Path(args.scenario).stem}, {args.vary} = {result.collapses:.6g}"
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        if mech is None:
-            plot_frame(r, -1, picture, title=title)
-        else:
-            wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
-            plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech, title=title)
+        wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's (in section)
+        plot_frame(r, -1, picture, thrust_line=not wall and dim == 2, mechanism=mech,
+                   title=title)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
@@ -261,8 +257,7 @@ def _collapse_lines(r, ground) -> list[str]:
                 f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
                 f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
                 f"{moved[-1]:.3g} m at the end"]
-    text = (frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ") if d == 2
-            else "(the mechanism report is made for 2D models)")
+    text = frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ")
     began = float(r.time[event.onset_frame])
     lines = [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
              f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
@@ -296,13 +291,17 @@ def _plot(args) -> None:
             plot_histories(r, out, body=args.body)
         elif args.collapse:
             from .collapse import find_collapse
+            from .mechanism import frame_mechanism
 
             event = find_collapse(r)
             if event is None:
                 raise InputError(f"{args.results}: no collapse (saxum info says why)")
             out = args.output or Path(args.results).with_suffix(".collapse.png")
+            # 3D: the mechanism's sliding joints too (2D pictures show hinges and open points)
+            mech = frame_mechanism(r, event.onset_frame) if r.dim == 3 else None
             plot_frame(r, event.onset_frame, out, thrust_line=args.thrust_line,
-                       title=f"{Path(args.results).stem}: mechanism at collapse")
+                       title=f"{Path(args.results).stem}: mechanism at collapse",
+                       mechanism=mech)
         else:
             out = args.output or Path(args.results).with_suffix(".png")
             plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
@@ -461,7 +460,7 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("animate", help="animation of the output frames (GIF, or MP4 with "
                                        "ffmpeg)")
-    p.add_argument("results", type=Path, help="results file (HDF5) of a 2D model")
+    p.add_argument("results", type=Path, help="results file (HDF5)")
     p.add_argument("-o", "--output", type=Path, help="GIF or MP4 file (default: RESULTS.gif)")
     p.add_argument("--fps", type=int, default=20,
                    help="animation frames per second (default 20; one per output frame)")

@@ -41,8 +41,8 @@ from .geometry3d import rotation_matrix
 from .model import BodyKind, Model, body_vertices
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "joint_resultants",
-           "joint_states", "mechanism", "thrust_line"]
+__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "hinge_lines",
+           "joint_resultants", "joint_states", "mechanism", "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
 _COURSED = re.compile(r"\bc(\d+)[ab]\d+")  # "brick c3b5" (3D walls: "c3a5" too): course 3
@@ -78,6 +78,24 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
         hinged[j] = (_line_of(point[rows & loaded], gap_tolerance) is not None
                      and (opened or _line_of(point[touching], gap_tolerance) is not None))
     return np.where(is_open, "open", np.where(loaded & hinged[joint], "hinge", "closed"))
+
+
+def hinge_lines(contacts: dict, gap_tolerance: float) -> np.ndarray:
+    """The lines the hinged joints of a 3D contacts dict turn about (module doc): their ends
+    [m], shape (hinges, 2, 3) (a pivot: the same point twice)."""
+    labels = joint_states(contacts, gap_tolerance)
+    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    return np.array([_hinge_line(contacts["point"], labels, joint == j, gap_tolerance)
+                     for j in np.unique(joint[labels == "hinge"])]).reshape(-1, 2, 3)
+
+
+def _hinge_line(point: np.ndarray, labels: np.ndarray, rows: np.ndarray, tolerance: float):
+    """The ends [m] of the line a hinged 3D joint (its contacts: the mask `rows`) turns
+    about: the line of its touching points if they lie on one (an edge, though only some of
+    its points carry load), else that of its loaded points."""
+    touching = _line_of(point[rows & (labels != "open")], tolerance)
+    return touching if touching is not None else _line_of(point[rows & (labels == "hinge")],
+                                                          tolerance)
 
 
 def _line_of(p: np.ndarray, tolerance: float):
@@ -284,7 +302,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
         coursed = tuple(course[i] for i in (a, b) if i in course)
         line = None
         if hinge_rows.size and d == 3:
-            ends = _line_of(point[hinge_rows], gap_tol)
+            ends = _hinge_line(point, labels, joint == j, gap_tol)
             line = tuple(tuple(map(float, e)) for e in ends)
             at = 0.5 * (ends[0] + ends[1])
         elif hinge_rows.size:
