@@ -52,6 +52,7 @@ from .structures import (
     add_supported_semicircular_arch,
     add_wall,
     add_wall3d,
+    block_file_dim,
 )
 
 __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
@@ -107,8 +108,9 @@ class WallStructure(_Strict):
 class BlocksStructure(_Strict):
     """Blocks listed in a file (saxum.structures.read_blocks): JSON {"blocks": [{"vertices":
     [[x, y], ...], "density": ..., "group": ..., "kind": "free" | "fixed", "name": ...}, ...]},
-    a CSV list of vertices, or the closed polylines of a DXF drawing (layers are groups); a
-    relative path is taken from the scenario file's folder."""
+    a CSV list of vertices, or the closed polylines of a DXF drawing (layers are groups); with
+    [x, y, z] vertices (a z column in CSV) a 3D model of convex polyhedra; a relative path is
+    taken from the scenario file's folder."""
 
     type: Literal["blocks"] = "blocks"
     file: Path
@@ -118,6 +120,11 @@ class BlocksStructure(_Strict):
     fixed_layers: list[str] = ["FIXED"]
     ignore_layers: list[str] = []
     scale: Positive = 1.0
+
+    @property
+    def dim(self) -> int:
+        """2, or 3 for a file of 3D blocks (saxum.structures.block_file_dim)."""
+        return block_file_dim(self.file, format=self.format)
 
     def add_to(self, builder: ModelBuilder) -> None:
         if not self.file.is_file():
