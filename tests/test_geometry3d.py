@@ -209,3 +209,18 @@ def test_builder_3d_bad_parameters():
         b.add_block(_box(1, 1, 1), density=-1.0, name="brick 3")
     with pytest.raises(InputError, match="brick 4: flat"):
         b.add_block(_box(1, 1, 0), density=1.0, name="brick 4")
+
+
+def test_clip_polyhedron_keeps_the_part_below_a_plane():
+    from saxum.geometry3d import clip_polyhedron
+
+    cube = convex_polyhedron([(x, y, z) for x in (0, 1) for y in (0, 2) for z in (0, 1)])
+    part = polyhedron_properties(clip_polyhedron(cube, (0.0, 0.0, 1.0), 0.3))
+    assert part.volume == pytest.approx(0.6) and part.centroid == pytest.approx([0.5, 1, 0.15])
+    # a slanted plane through the diagonal x + z = 1 halves the cube
+    half = clip_polyhedron(cube, np.array([1.0, 0.0, 1.0]) / np.sqrt(2), 1 / np.sqrt(2))
+    assert polyhedron_properties(half).volume == pytest.approx(1.0)
+    assert clip_polyhedron(cube, (0.0, 0.0, 1.0), -0.1) is None  # all above
+    assert clip_polyhedron(cube, (0.0, 0.0, 1.0), 0.0) is None  # a face only: flat
+    whole = clip_polyhedron(cube, (0.0, 0.0, 1.0), 5.0)
+    assert polyhedron_properties(whole).volume == pytest.approx(2.0)

@@ -117,3 +117,42 @@ def test_mechanism_of_a_results_frame_locates_wall_joints_by_course(tmp_path):
     direct = mechanism(sim.model, state, sim.integrator.dt)
     assert any(j.courses == (1,) for j in from_file.hinges)
     assert from_file.text() == direct.text()
+
+
+def _contacts_3d(joints):
+    """Hand-made 3D contacts: joints of (pair, [(point, gap, normal force), ...]), frame
+    t = x, n = z, s = y."""
+    rows = [(pair, p, g, rn) for pair, points in joints for p, g, rn in points]
+    k = len(rows)
+    frame = np.tile(np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]]), (k, 1, 1))
+    return {"candidate": np.array([r[0][0] for r in rows]),
+            "antagonist": np.array([r[0][1] for r in rows]),
+            "point": np.array([r[1] for r in rows], float).reshape(k, 3), "frame": frame,
+            "gap": np.array([r[2] for r in rows], float),
+            "force": np.column_stack((np.zeros(k), [r[3] for r in rows], np.zeros(k)))}
+
+
+def test_3d_joint_states_and_hinge_lines():
+    from saxum.mechanism import hinge_lines, joint_states
+
+    square = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+    c = _contacts_3d([
+        ((1, 0), list(zip(square, [0, 0, 0, 0], [1, 1, 1, 1], strict=True))),  # closed
+        ((2, 0), list(zip(square, [0, 0, 1e-3, 1e-3], [1, 2, 0, 0], strict=True))),  # edge
+        ((3, 0), list(zip(square, [0, 0, 0, 1e-3], [1, 1, 1, 0], strict=True))),  # 3 loaded
+        ((4, 0), [((0, 0, 0), 0, 1), ((0, 1, 0), 0, 1)]),  # an edge on a face, no point open
+        ((5, 0), list(zip(square, [0, 1e-3, 1e-3, 1e-3], [3, 0, 0, 0], strict=True))),  # pivot
+        ((6, 0), list(zip(square, [0, 0, 1e-3, 1e-3], [1, 0, 0, 0], strict=True))),
+    ])
+    labels = joint_states(c, gap_tolerance=1e-4).reshape(-1)
+    assert labels[:4].tolist() == ["closed"] * 4
+    assert labels[4:8].tolist() == ["hinge", "hinge", "open", "open"]
+    assert labels[8:12].tolist() == ["closed", "closed", "closed", "open"]  # not on a line
+    assert labels[12:14].tolist() == ["hinge", "hinge"]
+    assert labels[14:18].tolist() == ["hinge", "open", "open", "open"]
+    # one loaded point of a joint open on one side, touching along the edge y = 0: a hinge
+    assert labels[18:22].tolist() == ["hinge", "closed", "open", "open"]
+    lines = hinge_lines(c, 1e-4)
+    assert lines.shape == (4, 2, 3)  # the edges y = 0 (twice), x = 0, and the pivot
+    assert sorted(map(tuple, np.sort(lines, axis=1).reshape(4, 6))) == [
+        (0, 0, 0, 0, 0, 0), (0, 0, 0, 0, 1, 0), (0, 0, 0, 1, 0, 0), (0, 0, 0, 1, 0, 0)]

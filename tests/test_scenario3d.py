@@ -8,6 +8,7 @@ import textwrap
 
 import meshio
 import numpy as np
+import PIL.Image
 import pytest
 
 import saxum as sx
@@ -238,8 +239,9 @@ def test_3d_run_results_picture_paraview_and_resume(tmp_path, monkeypatch):
         assert picture.stat().st_size > 0
         plot_histories(r, tmp_path / "histories.png", dpi=40)
         assert main(["plot", str(one_go), "--thrust-line"]) == 2  # a 2D picture's option
-        with pytest.raises(InputError, match="export the frames to ParaView"):
-            animate(r, tmp_path / "wall.gif")
+        gif = animate(r, tmp_path / "wall.gif", frames=[0, 3, 6], figsize=(3.0, 3.0), dpi=30)
+        with PIL.Image.open(gif) as image:
+            assert image.n_frames == 3 and image.size == (90, 90)
         pvd = export_vtk(r, tmp_path / "vtk")
         blocks = meshio.read(pvd.parent / "one" / "blocks_000006.vtu")
         faces = sum(len(c.data) for c in blocks.cells)
@@ -276,18 +278,22 @@ def test_3d_run_results_picture_paraview_and_resume(tmp_path, monkeypatch):
             assert np.array_equal(a.steps[name], b.steps[name]), name
 
 
+PIER = """
+    title = "pier"
+    [structure]
+    type = "pier_3d"
+    width = 0.3
+    depth = 0.3
+    courses = 2
+    course_height = 0.5
+"""
+
+
 def test_info_of_a_3d_collapse_under_a_growing_harmonic_motion(tmp_path):
     """saxum info reports the amplitude at collapse with |g| of a 3-component gravity (it
     once failed on 3D results)."""
     path = tmp_path / "pier.toml"
-    path.write_text(_scenario("""
-        [structure]
-        type = "pier_3d"
-        width = 0.3
-        depth = 0.3
-        courses = 2
-        course_height = 0.5
-    """, groups=("pier", "ground"), extra="""
+    path.write_text(_scenario(PIER, groups=("pier", "ground"), extra="""
         [loads.ground_motion]
         pulse = "harmonic"
         amplitude = 12.0
@@ -300,7 +306,39 @@ def test_info_of_a_3d_collapse_under_a_growing_harmonic_motion(tmp_path):
     assert main(["run", str(path), "-q"]) == 0
     with Results(tmp_path / "pier.h5") as r:
         text = info_text(r)
-    assert "collapse at t = " in text and "made for 2D models" in text
+    assert "collapse at t = " in text and "mechanism at collapse" in text
+    assert "moving blocks (" in text and "hinge between ground and pier c1b" in text
+    picture = tmp_path / "collapse.png"
+    assert main(["plot", str(tmp_path / "pier.h5"), "--collapse", "-o", str(picture)]) == 0
+    assert picture.stat().st_size > 10_000
     g = 9.81  # the amplitude grows as 12 t / 2 m/s^2: 0.6 g at t = 1 s
     began = float(text.split("motion began, t = ")[1].split(" s")[0])
     assert f"{6.0 * began:.4g} m/s^2 ({6.0 * began / g:.3g} g) when the collapsing" in text
+
+
+
+def test_collapse_of_a_3d_pier_reports_its_hinge_lines(tmp_path, capsys):
+    """`saxum collapse` on a 3D pier 0.3 x 0.3 x 1 m under a horizontal load along y
+    (azimuth 90): it overturns as one block at lambda = b/h = 0.3 (statics of a rigid block),
+    turning about the far edge of its base, y = 0.3 m, which the report gives as hinge lines
+    and the picture draws."""
+    path = tmp_path / "pier.toml"
+    path.write_text(_scenario(PIER, groups=("pier", "ground"), extra="""
+        [loads]
+        horizontal_azimuth = 90.0
+    """))
+    out = tmp_path / "collapse.h5"
+    assert main(["collapse", str(path), "--vary", "loads.horizontal_acceleration",
+                 "--stands", "2.0", "--collapses", "4.0", "--tolerance", "0.03",
+                 "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    factor = float(text.split("lambda = a/g: ")[1].split()[0])
+    assert factor == pytest.approx(0.3, rel=0.03)
+    hinges = [line for line in text.splitlines() if line.startswith("hinge between ground")]
+    assert len(hinges) == 2 and all(", 0.3, 0)-(" in h and h.endswith(", 0.3, 0) m: course 1 "
+                                                                      "against ground")
+                                    for h in hinges)
+    with Results(out) as r:
+        ax = plot_frame(r, -1).axes[0]
+    assert any(line.get_linewidth() == 3.0 for line in ax.lines)  # the hinge lines
+    assert out.with_suffix(".png").stat().st_size > 10_000

@@ -336,6 +336,61 @@ def test_block_files_round_trip(tmp_path, suffix):
     _starts(again)
 
 
+@pytest.mark.parametrize("suffix", [".json", ".csv"])
+def test_3d_block_files_round_trip(tmp_path, suffix):
+    """3D blocks ([x, y, z] vertices, a z column in CSV): written and read back as the same
+    polyhedra, built into a 3D model (blocks_model), also by a scenario of type "blocks"."""
+    from saxum.scenario import parse_scenario
+    from saxum.structures import pier3d
+
+    model = pier3d(width=0.4, depth=0.3, courses=2, course_height=0.25)
+    path = tmp_path / f"pier{suffix}"
+    write_blocks(path, model)
+    again = blocks_model(path)
+    assert again.dim == 3 and again.body_name == model.body_name
+    assert again.group_names == model.group_names
+    assert np.array_equal(again.body_kind, model.body_kind)
+    assert again.body_mass == pytest.approx(model.body_mass, rel=1e-12)
+    for b in range(model.body_count):
+        assert np.allclose(np.sort(again.vertices(b), axis=0), np.sort(model.vertices(b), axis=0),
+                           rtol=0, atol=1e-12)
+    scenario = parse_scenario(f"""
+        [structure]
+        type = "blocks"
+        file = "{path}"
+        [[laws]]
+        groups = ["*", "*"]
+        friction = 0.6
+        [output]
+        duration = 0.01
+    """.replace("\n        ", "\n"))
+    assert scenario.structure.dim == 3 and scenario.build_model().dim == 3
+
+
+@pytest.mark.parametrize("name, text, words", [
+    ("a.json", '{"blocks": [{"vertices": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]], "density": 1},'
+               ' {"vertices": [[0,0],[1,0],[0,1]], "density": 1}]}',
+     ["blocks[1]", "vertices of 2 coordinates, but the blocks above have 3"]),
+    ("b.csv", "block,x,y,z,density\nA,0,0,0,1\nA,1,0,0,\nA,0,1,0,\nA,1,1,0,\n",
+     ["block 'A' (lines 2-5)", "flat"]),
+    ("c.csv", "block,x,y,z\nA,0,0,0\nA,1,0,0\nA,0,1,\nA,0,0,1\n", ["line 4", "z [m]"]),
+])
+def test_bad_3d_block_files_name_the_block_or_line(tmp_path, name, text, words):
+    with pytest.raises(sx.InputError) as info:
+        read_blocks(_write(tmp_path / name, text), density=1000.0)
+    assert all(w in str(info.value) for w in words), str(info.value)
+
+
+def test_3d_block_file_needs_a_3d_builder(tmp_path):
+    from saxum.structures import add_blocks_from_file
+
+    path = _write(tmp_path / "t.json", '{"blocks": [{"vertices": '
+                                       '[[0,0,0],[1,0,0],[0,1,0],[0,0,1]], "density": 1}]}')
+    with pytest.raises(sx.InputError, match="holds 3D blocks and the model is 2D: build it "
+                                            r"with ModelBuilder\(dim=3\)"):
+        add_blocks_from_file(sx.ModelBuilder(), path)
+
+
 def _write(path, text):
     path.write_text(text, encoding="utf-8")
     return path

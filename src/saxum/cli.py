@@ -56,7 +56,12 @@ def _demo(args) -> None:
 
 
 def _collapse(args) -> None:
-    from .collapse import DYNAMIC_FRACTION, CollapseCriterion, scenario_critical_value
+    from .collapse import (
+        DYNAMIC_FRACTION,
+        CollapseCriterion,
+        scenario_critical_value,
+        solver_failures,
+    )
     from .mechanism import mechanism
     from .plot import plot_frame
     from .results import Results
@@ -73,17 +78,8 @@ def _collapse(args) -> None:
                                                               per_block=not args.structure_ratio))
     print(f"{args.vary}: stands at {result.stands:.6g}, collapses at {result.collapses:.6g} "
           f"(critical value {result.value:.6g}, {len(result.trials)} trials)")
-    logs = [t.simulation.log for t in result.trials]
-    failed = [int(np.count_nonzero(~log.converged)) for log in logs]
-    if any(failed):
-        worst = max(float(log.error[~log.converged].max(initial=0.0)) for log in logs)
-        solver = load_scenario(args.scenario, args.set).solver
-        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
-                      f"converging at {sum(failed)} step(s) in {sum(map(bool, failed))} of the "
-                      f"{len(failed)} trials (largest error there {worst:.2g}, tolerance "
-                      f"{solver.tolerance:g}); if that is far above the tolerance, the verdicts "
-                      "may be wrong: raise solver.max_iterations or lower solver.dt",
-                      SolverWarning, stacklevel=1)
+    _warn_failures(solver_failures(result.trials), len(result.trials),
+                   load_scenario(args.scenario, args.set).solver)
     scenario = load_scenario(args.scenario, [*args.set, f"{args.vary}={result.collapses!r}"])
     dim = scenario.structure.dim
     if args.vary == "loads.horizontal_acceleration":
@@ -102,12 +98,10 @@ def _collapse(args) -> None:
         at, when = trial.state, "0.05 s after the verdict"
         print(f"time of collapse: t = {trial.collapse_time:.4g} s (a block moved by more "
               f"than {args.fraction:g} x the smallest block's size)")
-    mech = None
-    if dim == 2:  # the mechanism report is made for 2D models
-        print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s "
-              f"({when}):")
-        mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
-        print(mech.text())
+    print(f"mechanism at {args.vary} = {result.collapses:.6g}, t = {at.time:.4g} s "
+          f"({when}):")
+    mech = mechanism(trial.simulation.model, at, trial.simulation.integrator.dt)
+    print(mech.text())
     output = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
@@ -116,12 +110,22 @@ def _collapse(args) -> None:
     title = f"{scenario.title or Path(args.scenario).stem}, {args.vary} = {result.collapses:.6g}"
     with Results(output) as r:
         picture = output.with_suffix(".png")
-        if mech is None:
-            plot_frame(r, -1, picture, title=title)
-        else:
-            wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's
-            plot_frame(r, -1, picture, thrust_line=not wall, mechanism=mech, title=title)
+        wall = any(j.courses for j in mech.joints)  # a thrust line is an arch's (in section)
+        plot_frame(r, -1, picture, thrust_line=not wall and dim == 2, mechanism=mech,
+                   title=title)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
+
+
+def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
+    """A SolverWarning when some trial steps did not converge (saxum.collapse.SolverFailures);
+    solver: the scenario's SolverSpec."""
+    if failures.steps:
+        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
+                      f"converging at {failures.steps} step(s) in {failures.trials} of the "
+                      f"{trials} trials{where} (largest error there {failures.worst_error:.2g}, "
+                      f"tolerance {solver.tolerance:g}); if that is far above the tolerance, "
+                      "the verdicts may be wrong: raise solver.max_iterations or lower "
+                      "solver.dt", SolverWarning, stacklevel=1)
 
 
 def _collapse_curve(args) -> None:
@@ -135,6 +139,8 @@ def _collapse_curve(args) -> None:
                                                       fraction=args.fraction),
                           processes=args.processes)
     scenario = load_scenario(args.scenario, args.set)
+    for p in rows:
+        _warn_failures(p.failures, p.trials, scenario.solver, f" at T_p = {p.period:g} s")
     g = float(np.linalg.norm(scenario.loads.gravity_for(scenario.structure.dim)))  # [m/s^2]
     print("period [s]  collapse amplitude [m/s^2]  (stands .. collapses)   [g]      trials"
           "  collapse at [s]")
@@ -251,8 +257,7 @@ def _collapse_lines(r, ground) -> list[str]:
                 f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
                 f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
                 f"{moved[-1]:.3g} m at the end"]
-    text = (frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ") if d == 2
-            else "(the mechanism report is made for 2D models)")
+    text = frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ")
     began = float(r.time[event.onset_frame])
     lines = [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
              f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
@@ -286,13 +291,17 @@ def _plot(args) -> None:
             plot_histories(r, out, body=args.body)
         elif args.collapse:
             from .collapse import find_collapse
+            from .mechanism import frame_mechanism
 
             event = find_collapse(r)
             if event is None:
                 raise InputError(f"{args.results}: no collapse (saxum info says why)")
             out = args.output or Path(args.results).with_suffix(".collapse.png")
+            # 3D: the mechanism's sliding joints too (2D pictures show hinges and open points)
+            mech = frame_mechanism(r, event.onset_frame) if r.dim == 3 else None
             plot_frame(r, event.onset_frame, out, thrust_line=args.thrust_line,
-                       title=f"{Path(args.results).stem}: mechanism at collapse")
+                       title=f"{Path(args.results).stem}: mechanism at collapse",
+                       mechanism=mech)
         else:
             out = args.output or Path(args.results).with_suffix(".png")
             plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
@@ -451,7 +460,7 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("animate", help="animation of the output frames (GIF, or MP4 with "
                                        "ffmpeg)")
-    p.add_argument("results", type=Path, help="results file (HDF5) of a 2D model")
+    p.add_argument("results", type=Path, help="results file (HDF5)")
     p.add_argument("-o", "--output", type=Path, help="GIF or MP4 file (default: RESULTS.gif)")
     p.add_argument("--fps", type=int, default=20,
                    help="animation frames per second (default 20; one per output frame)")

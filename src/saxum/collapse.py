@@ -60,8 +60,9 @@ from .simulation import Simulation
 from .state import State
 
 __all__ = ["DYNAMIC_FRACTION", "ONSET", "BracketError", "CollapseCriterion", "CollapseEvent",
-           "CriticalValue", "CurvePoint", "Trial", "collapse_curve", "critical_value",
-           "find_collapse", "run_trial", "scenario_critical_value", "unbalanced_force_ratio"]
+           "CriticalValue", "CurvePoint", "SolverFailures", "Trial", "collapse_curve",
+           "critical_value", "find_collapse", "run_trial", "scenario_critical_value",
+           "solver_failures", "unbalanced_force_ratio"]
 
 DYNAMIC_FRACTION = 0.5
 """Under ground motion a block may rock far and come back: a structure has collapsed when a
@@ -133,11 +134,10 @@ class Trial:
     at_collapse: State | None = field(default=None, repr=False)
 
     def mechanism(self):
-        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood, and for
-        a 3D model: the mechanism report is made for 2D ones)."""
+        """The saxum.mechanism.Mechanism at the time of collapse (None when it stood)."""
         from .mechanism import mechanism
 
-        if self.at_collapse is None or self.simulation.model.dim != 2:
+        if self.at_collapse is None:
             return None
         return mechanism(self.simulation.model, self.at_collapse, self.simulation.integrator.dt)
 
@@ -319,13 +319,31 @@ def scenario_critical_value(path, key: str, stands: float, collapses: float, *,
     return critical_value(make, stands, collapses, tolerance=tolerance, criterion=crit)
 
 
+class SolverFailures(NamedTuple):
+    """Steps of a set of trials at which NLGS stopped at its sweep cap without converging:
+    how many, in how many trials, and the largest final error there [-]."""
+
+    steps: int = 0
+    trials: int = 0
+    worst_error: float = 0.0
+
+
+def solver_failures(trials: list[Trial]) -> SolverFailures:
+    """The non-converged steps of `trials` (each trial's Simulation.log)."""
+    failed = [int(np.count_nonzero(~t.simulation.log.converged)) for t in trials]
+    worst = max((float(t.simulation.log.error[~t.simulation.log.converged].max(initial=0.0))
+                 for t in trials), default=0.0)
+    return SolverFailures(sum(failed), sum(map(bool, failed)), worst)
+
+
 class CurvePoint(NamedTuple):
     """One period of a collapse curve: the period [s], the amplitudes [m/s^2] at which the
     structure stood and collapsed (the bracket of the critical amplitude), the number of
     trials, and for the collapsing amplitude the time of collapse [s], the time the
     collapsing motion began [s] and the mechanism then (saxum.mechanism.Mechanism). When the
     bracket did not hold the critical amplitude at this period, the amplitudes and times are
-    nan, the mechanism None and `note` says why (the other periods are kept)."""
+    nan, the mechanism None and `note` says why (the other periods are kept). `failures`:
+    the steps of this period's trials at which NLGS did not converge."""
 
     period: float
     stands: float
@@ -335,6 +353,7 @@ class CurvePoint(NamedTuple):
     mechanism_time: float
     mechanism: object
     note: str = ""
+    failures: SolverFailures = SolverFailures()
 
     @property
     def amplitude(self) -> float:
@@ -354,7 +373,8 @@ def _curve_point(args) -> CurvePoint:
         return CurvePoint(period, nan, nan, 0, nan, nan, None, str(err))
     trial = result.collapse()
     return CurvePoint(period, result.stands, result.collapses, len(result.trials),
-                      trial.collapse_time, trial.at_collapse.time, trial.mechanism())
+                      trial.collapse_time, trial.at_collapse.time, trial.mechanism(),
+                      failures=solver_failures(result.trials))
 
 
 def collapse_curve(path, periods, stands: float, collapses: float, *,

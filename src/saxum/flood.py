@@ -33,6 +33,8 @@ Both loads depend on where the blocks are: they are field loads (Model.field_loa
 explicitly in the force stage of each step at the beginning-of-step configuration q_i and at
 the time t_i + theta h (saxum.simulation.Simulation._step_force). Loads are per metre of depth
 [N/m, N m/m]. Scenario keys: [loads.flood] (docs/scenario.md); write-up: docs/flood.md.
+3D models (polyhedral blocks, the flow at any horizontal azimuth, drag on exposed projected
+areas) run the kernels of saxum.flood3d behind the same FloodLoad.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from collections.abc import Sequence
 import numba as nb
 import numpy as np
 
+from . import flood3d
 from .errors import InputError
 from .model import BodyKind
 
@@ -331,7 +334,10 @@ class FloodLoad:
     the structure. velocity [m/s] or velocity_series: the flow along +x (negative: along -x);
     water_density [kg/m^3]; drag_coefficient C_d [-]. Levels are heights along -gravity from
     the origin; none may lie below the lowest point of the free blocks (the ground they stand
-    on). `name` prefixes the parameters in error messages (e.g. "loads.flood").
+    on). 3D models: the flow runs along the horizontal direction at `azimuth` [deg] from x
+    towards y (upstream, downstream and the sign of the velocity as +x and -x in 2D); 2D
+    models flow along x (azimuth 0). `name` prefixes the parameters in error messages (e.g.
+    "loads.flood").
     """
 
     def __init__(self, *, level: float | None = None,
@@ -341,6 +347,7 @@ class FloodLoad:
                  tailwater: float | None = None,
                  water_density: float = 1000.0,
                  drag_coefficient: float = DRAG_COEFFICIENT,
+                 azimuth: float = 0.0,
                  name: str = "flood") -> None:
         self.name = name
         self.level = _Series(f"{name}.level", level, level_series, "m")
@@ -355,6 +362,9 @@ class FloodLoad:
                              f"(1.4 for a square-ended pier), got {drag_coefficient}")
         if tailwater is not None and not math.isfinite(tailwater):
             raise InputError(f"{name}.tailwater must be a finite number [m], got {tailwater}")
+        if not math.isfinite(azimuth):
+            raise InputError(f"{name}.azimuth must be a finite number [deg], got {azimuth}")
+        self.azimuth = float(azimuth)
         self.tailwater = None if tailwater is None else float(tailwater)
         self.water_density = float(water_density)
         self.drag_coefficient = float(drag_coefficient)
@@ -373,9 +383,11 @@ class FloodLoad:
 
     def check(self, model) -> None:
         """InputError if this load cannot act on `model` (ModelBuilder.finalize calls it)."""
-        if model.dim != 2:
-            raise InputError(f"{self.name}: floods are implemented for 2D models only")
+        if model.dim == 2 and self.azimuth != 0.0:
+            raise InputError(f"{self.name}.azimuth is for 3D models; in 2D the river flows "
+                             "along x (give a negative velocity for -x)")
         up = self._up(model)
+        self.along(model)
         free = np.flatnonzero(model.body_kind == BodyKind.FREE)
         if not free.size:
             return
@@ -394,22 +406,42 @@ class FloodLoad:
     @staticmethod
     def _up(model) -> np.ndarray:
         g = np.asarray(model.gravity, dtype=np.float64)
-        norm = float(np.hypot(*g))
+        norm = float(np.linalg.norm(g))
         if norm == 0.0:
             raise InputError("a flood needs gravity: hydrostatic pressure is rho_w g depth")
         return -g / norm
 
-    def add(self, model, q: np.ndarray, t: float, out: np.ndarray) -> None:
-        """out [N, N, N m] per body += the water's forces on the free blocks at coordinates q
-        [m, m, rad] and time t [s]."""
+    def along(self, model) -> np.ndarray:
+        """Unit vector of the flow's direction (horizontal: normal to gravity): +x for gravity
+        along -y in 2D; in 3D (cos a, sin a, 0) at the azimuth a, made normal to gravity."""
         up = self._up(model)
-        g = float(np.hypot(*model.gravity))
-        along = np.array([up[1], -up[0]])  # horizontal, +x for gravity along -y
+        if model.dim == 2:
+            return np.array([up[1], -up[0]])
+        a = math.radians(self.azimuth)
+        e = np.array([math.cos(a), math.sin(a), 0.0])
+        e -= (e @ up) * up
+        norm = float(np.linalg.norm(e))
+        if norm < 1e-6:
+            raise InputError(f"{self.name}.azimuth: the direction at {self.azimuth:g} degrees "
+                             "is vertical under this gravity; give gravity along -z")
+        return e / norm
+
+    def add(self, model, q: np.ndarray, t: float, out: np.ndarray) -> None:
+        """out [N, N, N m] per body (3D: force [N] and moment [N m], world frame) += the
+        water's forces on the free blocks at coordinates q (model.body_q layout) and time
+        t [s]."""
+        up = self._up(model)
+        g = float(np.linalg.norm(model.gravity))
+        along = self.along(model)
         h_up, h_down = self.heads(t)
         s_a, s_b = 0.0, 1.0
         if h_down != h_up:
-            s_a, s_b = _extent(q, model.body_kind, model.body_vertex_start, model.vertex_local,
-                               along)
+            extent = _extent if model.dim == 2 else flood3d.extent_3d
+            s_a, s_b = extent(q, model.body_kind, model.body_vertex_start, model.vertex_local,
+                              along)
+        if model.dim == 3:
+            self._add_3d(model, q, t, out, up, g, along, h_up, h_down, s_a, s_b)
+            return
         hydrostatic_forces(q, model.body_kind, model.body_radius, model.body_vertex_start,
                            model.vertex_local, model.edge_normal_local, self.water_density * g,
                            up, h_up, h_down, s_a, s_b, out)
@@ -425,9 +457,28 @@ class FloodLoad:
                     model.edge_normal_local, pressure, math.copysign(1.0, u) * along, up,
                     h_up, h_down, s_a, s_b, *self._scratch, out)
 
+    def _add_3d(self, model, q, t, out, up, g, along, h_up, h_down, s_a, s_b) -> None:
+        """add() for 3D models: the kernels of saxum.flood3d."""
+        geometry = (model.body_kind, model.body_radius, model.body_vertex_start,
+                    model.vertex_local, model.body_face_start, model.face_vertex_start,
+                    model.face_vertex, model.face_normal_local)
+        flood3d.hydrostatic_forces_3d(q, *geometry, self.water_density * g, up, along, h_up,
+                                      h_down, s_a, s_b, out)
+        u = self.velocity.at(t)
+        pressure = 0.5 * self.water_density * self.drag_coefficient * u * u
+        if pressure == 0.0:
+            return
+        status = flood3d.drag_forces_3d(q, *geometry, pressure, math.copysign(1.0, u) * along,
+                                        up, along, h_up, h_down, s_a, s_b, out)
+        if status == flood3d.DRAG_OVERFLOW:
+            raise RuntimeError(f"{self.name}: at t = {t:g} s a face's part exposed to the flow "
+                               "was cut into more pieces than saxum.flood3d holds; its drag "
+                               "would be incomplete")
+
     def forces(self, model, q: np.ndarray | None = None, t: float = 0.0) -> np.ndarray:
-        """The water's forces alone [N, N, N m] per body, shape (bodies, 3), at q (default: the
-        initial coordinates) and time t [s]."""
+        """The water's forces alone [N, N, N m] per body, shape (bodies, 3) (3D: force [N] and
+        moment [N m] in the world frame, shape (bodies, 6)), at q (default: the initial
+        coordinates) and time t [s]."""
         out = np.zeros((model.body_count, model.dof))
         self.add(model, model.body_q0 if q is None else np.asarray(q, dtype=np.float64), t,
                  out)

@@ -25,8 +25,8 @@ from scipy.spatial import ConvexHull, QhullError
 
 from .errors import InputError
 
-__all__ = ["Polyhedron", "convex_polyhedron", "polyhedron_properties", "quaternion_from_matrix",
-           "rotation_matrix", "rotation_vectors", "world_points"]
+__all__ = ["Polyhedron", "clip_polyhedron", "convex_polyhedron", "polyhedron_properties",
+           "quaternion_from_matrix", "rotation_matrix", "rotation_vectors", "world_points"]
 
 _REL_TOL = 1e-9
 
@@ -169,6 +169,30 @@ def _edges(faces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
             edges.append((u, v))
             adjacent.append((f, left[(v, u)]))
     return np.array(edges, dtype=np.int64), np.array(adjacent, dtype=np.int64)
+
+
+def clip_polyhedron(poly: Polyhedron, normal, offset: float) -> Polyhedron | None:
+    """The part {x : normal . x <= offset} of a convex polyhedron (the hull of its vertices on
+    that side and of its edges' crossings of the plane), or None if that part is empty or
+    flat; normal: a unit vector, offset [m]."""
+    n = np.asarray(normal, dtype=np.float64)
+    side = poly.vertices @ n - offset
+    a, b = poly.edges.T
+    crossing = (side[a] < 0.0) != (side[b] < 0.0)
+    f = side[a[crossing]] / (side[a[crossing]] - side[b[crossing]])
+    cut = poly.vertices[a[crossing]] + f[:, None] * (poly.vertices[b[crossing]]
+                                                    - poly.vertices[a[crossing]])
+    points = np.vstack((poly.vertices[side <= 0.0], cut))
+    if len(points) < 4:
+        return None
+    scale = float(np.ptp(poly.vertices, axis=0).max())
+    try:
+        hull = ConvexHull(points)
+    except QhullError:
+        return None
+    if hull.volume <= _REL_TOL * scale**3:
+        return None
+    return _merge_faces(points, hull, scale)
 
 
 def polyhedron_properties(poly: Polyhedron) -> PolyhedronProperties:

@@ -12,6 +12,13 @@ its contacts weighted by their normal forces; the thrust line of an arch joins t
 pressure of its joints, which is where the resultant of the joint's forces crosses it
 (J. Heyman, "The stone skeleton", 1995).
 
+In 3D a joint between two faces has several points (the corners of their overlap); it hinges
+when its loaded points lie on one line, the edge the joint turns about (within the gap
+tolerance of the line through the two loaded points farthest apart), while the rest of it has
+opened or all of its touching points lie on that line (an edge on a face); a single loaded
+point is a pivot (a corner the joint turns about). Hinges are then reported as lines
+(Joint.hinge_line), centres of pressure and forces as 3D vectors.
+
 In a wall, blocks named "<name> c<course>b<block>" (saxum.structures: walls, buttressed walls,
 a bridge's spandrels and fill) locate a joint by course: a head joint in course k (between two
 blocks of the course), a bed joint between courses k and k + 1, or course k against another
@@ -30,15 +37,15 @@ from typing import NamedTuple
 import numpy as np
 
 from .contacts import Contacts
-from .errors import InputError
+from .geometry3d import rotation_matrix
 from .model import BodyKind, Model, body_vertices
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "joint_resultants",
-           "joint_states", "mechanism", "thrust_line"]
+__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "hinge_lines",
+           "joint_resultants", "joint_states", "mechanism", "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
-_COURSED = re.compile(r"\bc(\d+)b\d+")  # "brick c3b5": course 3
+_COURSED = re.compile(r"\bc(\d+)[ab]\d+")  # "brick c3b5" (3D walls: "c3a5" too): course 3
 
 
 def course_of(name: str) -> int | None:
@@ -50,34 +57,81 @@ def course_of(name: str) -> int | None:
 def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
     """Label each contact "closed", "hinge" or "open" (module doc).
 
-    contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components),
-    as from Results.contacts. Every touching contact that is not a hinge is "closed", loaded
-    or not (which points of a closed joint carry the load is not unique for rigid blocks, so
-    an unloaded point is no sign of a mechanism)."""
+    contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components;
+    3D: point [m] and force [N], (t, n, s)), as from Results.contacts. Every touching
+    contact that is not a hinge is "closed", loaded or not (which points of a closed joint
+    carry the load is not unique for rigid blocks, so an unloaded point is no sign of a
+    mechanism)."""
     joint = _joint_index(contacts["candidate"], contacts["antagonist"])
     is_open = contacts["gap"] > gap_tolerance
     loaded = ~is_open & (contacts["force"][:, 1] > 0.0)
     points = np.bincount(joint)[joint] if joint.size else joint
-    turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
-    return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
+    if contacts["force"].shape[1] == 2:
+        turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
+        return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
+    hinged = np.zeros(joint.max(initial=-1) + 1, dtype=bool)
+    point = contacts["point"]
+    for j in np.unique(joint[loaded]):
+        rows = joint == j
+        touching = rows & ~is_open
+        opened = bool((rows & is_open).any())
+        hinged[j] = (_line_of(point[rows & loaded], gap_tolerance) is not None
+                     and (opened or _line_of(point[touching], gap_tolerance) is not None))
+    return np.where(is_open, "open", np.where(loaded & hinged[joint], "hinge", "closed"))
+
+
+def hinge_lines(contacts: dict, gap_tolerance: float) -> np.ndarray:
+    """The lines the hinged joints of a 3D contacts dict turn about (module doc): their ends
+    [m], shape (hinges, 2, 3) (a pivot: the same point twice)."""
+    labels = joint_states(contacts, gap_tolerance)
+    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    return np.array([_hinge_line(contacts["point"], labels, joint == j, gap_tolerance)
+                     for j in np.unique(joint[labels == "hinge"])]).reshape(-1, 2, 3)
+
+
+def _hinge_line(point: np.ndarray, labels: np.ndarray, rows: np.ndarray, tolerance: float):
+    """The ends [m] of the line a hinged 3D joint (its contacts: the mask `rows`) turns
+    about: the line of its touching points if they lie on one (an edge, though only some of
+    its points carry load), else that of its loaded points."""
+    touching = _line_of(point[rows & (labels != "open")], tolerance)
+    return touching if touching is not None else _line_of(point[rows & (labels == "hinge")],
+                                                          tolerance)
+
+
+def _line_of(p: np.ndarray, tolerance: float):
+    """The ends (two points [m]) of the segment through the two points of p farthest apart,
+    if every point of p lies within `tolerance` [m] of its line, else None."""
+    if len(p) == 1:
+        return p[0], p[0]
+    d = np.linalg.norm(p[:, None, :] - p[None, :, :], axis=-1)
+    a, b = np.unravel_index(int(np.argmax(d)), d.shape)
+    length = d[a, b]
+    if length == 0.0:
+        return p[a], p[a]
+    axis = (p[b] - p[a]) / length
+    rel = p - p[a]
+    off = np.linalg.norm(rel - np.outer(rel @ axis, axis), axis=1)
+    return (p[a], p[b]) if off.max() <= tolerance else None
 
 
 def joint_resultants(contacts: dict, gap_tolerance: float):
     """Per joint: the two bodies (lower index first), the centre of pressure [m] (contact
     points weighted by their compressive normal forces, touching points only; nan when the
-    joint carries nothing) and the resultant force [N/m] in world axes, from a contacts dict
-    with candidate, antagonist, point, frame, gap and force ((t, n) components)."""
+    joint carries nothing) and the resultant force [N/m; 3D: N] in world axes, from a
+    contacts dict with candidate, antagonist, point, frame, gap and force ((t, n) components;
+    3D (t, n, s))."""
     joint = _joint_index(contacts["candidate"], contacts["antagonist"])
     n = joint.max(initial=-1) + 1
+    dim = contacts["point"].shape[1]
     rn = np.where(contacts["gap"] <= gap_tolerance, np.maximum(contacts["force"][:, 1], 0.0),
                   0.0)
     total = np.bincount(joint, rn, n)
     with np.errstate(invalid="ignore", divide="ignore"):
         cop = np.column_stack([np.bincount(joint, rn * contacts["point"][:, d], n) / total
-                               for d in range(2)])
-    world = (contacts["force"][:, :1] * contacts["frame"][:, 0]
-             + contacts["force"][:, 1:] * contacts["frame"][:, 1])
-    resultant = np.column_stack([np.bincount(joint, world[:, d], n) for d in range(2)])
+                               for d in range(dim)]).reshape(n, dim)
+    world = np.einsum("ci,cij->cj", contacts["force"], contacts["frame"])
+    resultant = np.column_stack([np.bincount(joint, world[:, d], n)
+                                 for d in range(dim)]).reshape(n, dim)
     first = np.zeros(n, dtype=np.int64)
     first[joint[::-1]] = np.arange(joint.size)[::-1]
     pairs = np.sort(np.column_stack((contacts["candidate"][first],
@@ -103,27 +157,30 @@ def _joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Joint:
-    """One joint: its two bodies (names), whether it hinges (and about which point [m]),
-    slides (largest slip velocity [m/s]) or is open, its centre of pressure [m] and the
-    resultant of its contact forces [N/m] (world frame; nan when it carries nothing).
-    In a wall (module doc): the courses of its coursed bodies (one or two) and its position
-    along the course [m] (the hinge point's, else the centre of pressure's); None elsewhere."""
+    """One joint: its two bodies (names), whether it hinges (and about which point [m]; 3D:
+    the middle of its hinge line), slides (largest slip velocity [m/s]) or is open, its
+    centre of pressure [m] and the resultant of its contact forces [N/m; 3D: N] (world
+    frame; nan when it carries nothing). In a wall (module doc): the courses of its coursed
+    bodies (one or two) and, in 2D, its position along the course [m] (the hinge point's,
+    else the centre of pressure's); None elsewhere. 3D: hinge_line, the ends [m] of the line
+    the joint turns about (the same point twice for a pivot)."""
 
     bodies: tuple[str, str]
     hinge: bool
-    hinge_point: tuple[float, float] | None
+    hinge_point: tuple[float, ...] | None
     sliding: bool
     slip: float
     open: bool
-    centre_of_pressure: tuple[float, float]
-    force: tuple[float, float]
+    centre_of_pressure: tuple[float, ...]
+    force: tuple[float, ...]
     courses: tuple[int, ...] | None = None
     along: float | None = None
+    hinge_line: tuple[tuple[float, ...], tuple[float, ...]] | None = None
 
     @property
     def location(self) -> str | None:
         """Where the joint is in a wall, in words (None outside walls)."""
-        if self.courses is None or self.along is None or not math.isfinite(self.along):
+        if self.courses is None or (self.along is not None and not math.isfinite(self.along)):
             return None
         if len(self.courses) == 1:
             other = next(b for b in self.bodies if not _COURSED.search(b))
@@ -132,7 +189,7 @@ class Joint:
             where = f"head joint in course {self.courses[0]}"
         else:
             where = f"bed joint between courses {min(self.courses)} and {max(self.courses)}"
-        return f"{where}, {_mm(self.along)} m along"
+        return where if self.along is None else f"{where}, {_mm(self.along)} m along"
 
 
 @dataclass(frozen=True)
@@ -153,20 +210,24 @@ class Mechanism:
 
     def hinge_angles(self, centre: tuple[float, float] = (0.0, 0.0)) -> list[float]:
         """Angles of the hinge points from the crown [deg] (from the vertical through
-        `centre` [m], the arch's centre), sorted."""
+        `centre` [m], the arch's centre), sorted; in 3D in the arch's plane (x, z)."""
         cx, cy = centre
-        return sorted(math.degrees(math.atan2(abs(x - cx), y - cy))
-                      for x, y in (j.hinge_point for j in self.hinges))
+        return sorted(math.degrees(math.atan2(abs(p[0] - cx), p[-1] - cy))
+                      for p in (j.hinge_point for j in self.hinges))
 
     def text(self) -> str:
         """The mechanism in words, for a report."""
         lines = [f"moving blocks ({len(self.moving)}, moved > {self.threshold:.3g} m): "
                  + (", ".join(self.moving) if self.moving else "none")]
         for j in self.hinges:
-            x, y = j.hinge_point
             where = f": {j.location}" if j.location else ""
-            lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} at "
-                         f"({_mm(x)}, {_mm(y)}) m{where}")
+            if j.hinge_line is None:
+                at = f"at {_point(j.hinge_point)}"
+            elif j.hinge_line[0] == j.hinge_line[1]:
+                at = f"(a pivot) at {_point(j.hinge_line[0])}"
+            else:
+                at = f"along {_point(j.hinge_line[0])}-{_point(j.hinge_line[1])}"
+            lines.append(f"hinge between {j.bodies[0]} and {j.bodies[1]} {at} m{where}")
         for j in self.sliding:
             where = f": {j.location}" if j.location else ""
             lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
@@ -183,26 +244,28 @@ def _mm(x: float) -> str:
     return f"{round(x, 3) + 0.0:g}"
 
 
+def _point(p) -> str:
+    return "(" + ", ".join(_mm(x) for x in p) + ")"
+
+
 def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | None = None,
               threshold: float | None = None, slip_fraction: float = 0.05) -> Mechanism:
     """Classify the joints of `state` (contacts of its last step, impulses over dt [s]) of
     `model` (a Model, or anything with its body_kind, body_q0, body_size, body_radius and
-    body_name, such as the bodies of a results file: frame_mechanism).
+    body_name, such as the bodies of a results file: frame_mechanism), 2D or 3D.
     gap_tolerance [m]: a point is open beyond it (default 0.1 % of the smallest free block's
     size, or 10 % of the largest displacement of a free block if smaller: a mechanism caught
-    at its onset has opened its joints by a fraction of that; at least 1e-6 of that size);
+    at its onset has opened its joints by a fraction of that; at least 1e-6 of that size); in
+    3D also how far loaded points may lie from a hinge's line;
     threshold [m]: a block moves when displaced by more (default 10 % of the largest
     displacement of a free block, and at least 1e-6 of that size: a slow mechanism caught
     early has moved little, a structure at rest only by round-off);
     slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
-    0.1 % of the smallest block size per second). 2D models only (hinges are points of
-    polygon joints); for 3D results, look at the mechanism in ParaView."""
-    if model.dim != 2:
-        raise InputError("the mechanism report (hinges, sliding and open joints) is made for "
-                         "2D models; export 3D results to ParaView (saxum export-vtk)")
+    0.1 % of the smallest block size per second)."""
+    d = model.dim
     free = model.body_kind == BodyKind.FREE
     size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
-    moved = np.hypot(*(state.body_q[:, :2] - model.body_q0[:, :2]).T)
+    moved = np.linalg.norm(state.body_q[:, :d] - model.body_q0[:, :d], axis=1)
     largest = float(moved[free].max(initial=0.0))
     gap_tol = (gap_tolerance if gap_tolerance is not None
                else max(min(1e-3 * size, 0.1 * largest), 1e-6 * size))
@@ -219,8 +282,10 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     p_ant = point - gap[:, None] * frame[:, 1]
     q, v = state.body_q, state.body_v
     u = (_point_velocity(q, v, cand, point) - _point_velocity(q, v, ant, p_ant))
-    slip = np.abs(np.einsum("kd,kd->k", u, frame[:, 0]))
-    speed = float(np.abs(v[:, :2]).max(initial=0.0) + np.abs(v[:, 2] * model.body_radius).max(
+    normal = frame[:, 1]
+    slip = np.linalg.norm(u - np.einsum("kd,kd->k", u, normal)[:, None] * normal, axis=1)
+    spin = np.linalg.norm(v[:, d:], axis=1)
+    speed = float(np.abs(v[:, :d]).max(initial=0.0) + (spin * model.body_radius).max(
         initial=0.0))
     touching = (labels != "open") & (force[:, 1] > 0.0)
     slides = touching & (slip > max(slip_fraction * speed, _CREEP * size))
@@ -235,19 +300,26 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
         hinge_rows = rows[labels[rows] == "hinge"]
         carries = bool(np.isfinite(cop[j, 0]))
         coursed = tuple(course[i] for i in (a, b) if i in course)
-        at = point[hinge_rows[0], 0] if hinge_rows.size else cop[j, 0]
+        line = None
+        if hinge_rows.size and d == 3:
+            ends = _hinge_line(point, labels, joint == j, gap_tol)
+            line = tuple(tuple(map(float, e)) for e in ends)
+            at = 0.5 * (ends[0] + ends[1])
+        elif hinge_rows.size:
+            at = point[hinge_rows[0]]
         joints.append(Joint(
             bodies=(names[a], names[b]),
             hinge=hinge_rows.size > 0,
-            hinge_point=tuple(map(float, point[hinge_rows[0]])) if hinge_rows.size else None,
+            hinge_point=tuple(map(float, at)) if hinge_rows.size else None,
             sliding=bool(slides[rows].any()),
             slip=float(slip[rows][touching[rows]].max(initial=0.0)),
             open=bool((labels[rows] == "open").all()),
-            centre_of_pressure=(float(cop[j, 0]), float(cop[j, 1])),
-            force=(float(resultant[j, 0]), float(resultant[j, 1])) if carries
-            else (math.nan, math.nan),
+            centre_of_pressure=tuple(map(float, cop[j])),
+            force=tuple(map(float, resultant[j])) if carries else (math.nan,) * d,
             courses=coursed or None,
-            along=float(at - left) if coursed else None,
+            along=(float((at if hinge_rows.size else cop[j])[0] - left)
+                   if coursed and d == 2 else None),
+            hinge_line=line,
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
@@ -289,7 +361,12 @@ def frame_mechanism(results, frame: int, **options) -> Mechanism:
 
 
 def _point_velocity(q: np.ndarray, v: np.ndarray, body: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Velocity [m/s] of the material point of `body` at world position p: v + omega x r."""
-    r = p - q[body, :2]
+    """Velocity [m/s] of the material point of `body` at world position p: v + omega x r
+    (3D: omega turned from the body frame to the world's)."""
+    d = p.shape[1]
+    r = p - q[body, :d]
+    if d == 3:
+        w = np.einsum("kij,kj->ki", rotation_matrix(q[body, 3:]), v[body, 3:])
+        return v[body, :3] + np.cross(w, r)
     w = v[body, 2]
     return v[body, :2] + np.column_stack((-w * r[:, 1], w * r[:, 0]))

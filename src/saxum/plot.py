@@ -364,18 +364,18 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     left margin. Draws into `ax` if given, else a new figure of
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
     when given (figsize * dpi pixels). 3D results: a perspective picture
-    (saxum.plot3d.plot_frame_3d), coloured by displacement."""
+    (saxum.plot3d.plot_frame_3d), coloured by displacement, with hinge lines and the
+    mechanism's sliding joints."""
     k = _frame_index(results, frame)
     if results.dim == 3:
-        if thrust_line or mechanism is not None or ax is not None or colour_by != (
-                "displacement"):
+        if thrust_line or ax is not None or colour_by != "displacement":
             raise InputError("a 3D picture is drawn in its own figure, coloured by "
-                             "displacement: thrust_line, mechanism, ax and colour_by are for "
-                             "2D results; leave them out")
+                             "displacement: thrust_line, ax and colour_by are for 2D results; "
+                             "leave them out")
         from .plot3d import plot_frame_3d
 
         return plot_frame_3d(results, k, path, forces=forces, title=title, figsize=figsize,
-                             dpi=dpi)
+                             dpi=dpi, mechanism=mechanism)
     blocks = _results_blocks(results)
     floods = _results_floods(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
@@ -542,11 +542,8 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     path ends in .mp4 (needs ffmpeg), at fps frames per second and figsize [in] * dpi pixels
     (default figsize: 9 in wide, as tall as the structure needs; an MP4's size is rounded to
     even pixels). Axes limits, colour scale and force scale are the same on every frame.
-    Returns the path."""
+    3D results: perspective frames (saxum.plot3d.frames_3d). Returns the path."""
     path = Path(path)
-    if results.dim == 3:
-        raise InputError(f"{results.path}: animations are drawn for 2D results; for 3D, "
-                         "export the frames to ParaView (saxum export-vtk) and animate there")
     suffix = path.suffix.lower()
     if suffix == ".mp4":
         if not animation.writers.is_available("ffmpeg"):
@@ -562,6 +559,26 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
           (range(results.frame_count) if frames is None else frames)]
     if not ks:
         raise InputError(f"no frame to animate in {results.path}")
+    if results.dim == 3:
+        from .plot3d import frames_3d
+
+        fig, draw = frames_3d(results, ks, forces=forces, figsize=figsize)
+    else:
+        fig, draw = _frames_2d(results, ks, forces, figsize)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with writer.saving(fig, str(path), dpi):
+        for k in ks:
+            draw(k)
+            writer.grab_frame()
+            # Laid out once, on the first frame: the axes then stay put while titles change,
+            # and each frame is drawn once instead of twice (layout, then picture).
+            fig.set_layout_engine(None)
+    return path
+
+
+def _frames_2d(results, ks: list[int], forces: bool, figsize):
+    """(figure, draw) for an animation of the 2D output frames ks: draw(k) draws frame k,
+    with the same axes, colour scale and force scale on every frame."""
     blocks = _results_blocks(results)
     floods = _results_floods(results)
     look = _look(blocks, results.body_q[ks], "displacement",
@@ -569,17 +586,12 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     fig = Figure(figsize=figsize or _figsize(look), layout="constrained")
     ax = fig.add_subplot()
     _colourbar(ax, look)
-    path.parent.mkdir(parents=True, exist_ok=True)
     heading = results_heading(results)
-    with writer.saving(fig, str(path), dpi):
-        for k in ks:
-            ax.clear()
-            _draw_frame(ax, results, k, look, blocks, forces, heading, floods)
-            writer.grab_frame()
-            # Laid out once, on the first frame: the axes then stay put while titles change,
-            # and each frame is drawn once instead of twice (layout, then picture).
-            fig.set_layout_engine(None)
-    return path
+
+    def draw(k: int) -> None:
+        ax.clear()
+        _draw_frame(ax, results, k, look, blocks, forces, heading, floods)
+    return fig, draw
 
 
 _GROUP_COLOURS = {"brick": "#d9b99b", "voussoir": "#9fb7c9", "pier": "#e3d5b8",

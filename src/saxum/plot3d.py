@@ -1,12 +1,19 @@
-"""A picture of a 3D output frame with matplotlib's 3D axes (for `saxum plot`; for anything
-more, export to ParaView: saxum export-vtk).
+"""Pictures and animation frames of 3D results with matplotlib's 3D axes (for `saxum plot` and
+`saxum animate`; for anything more, export to ParaView: saxum export-vtk).
 
 The blocks' faces are filled by the block's displacement from its initial position (fixed and
 driven bodies light grey; a support much larger than the structure, such as a ground slab, is
 shown as a floor under it), and the contact points carrying load are drawn on top as red dots
-whose area is proportional to the normal force.
+whose area is proportional to the normal force. Hinges (saxum.mechanism: joints whose loaded
+points lie on a line while the rest has opened) are drawn as thick black lines along the edge
+they turn about, open contact points as orange crosses and, with a mechanism, its sliding
+joints as purple diamonds at their centres of pressure. Flood water (saxum.flood) is its
+surface at the frame's time, translucent, drawn under the blocks, with the flow's direction
+and speed. An animation keeps the axes, colour scale and dot scale of its first frame's look
+over all frames.
 """
 
+from dataclasses import dataclass
 from os import PathLike
 
 import numpy as np
@@ -16,69 +23,172 @@ from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from .geometry3d import world_points
+from .mechanism import Mechanism, hinge_lines, joint_states
 from .model import BodyKind
-from .plot import length_unit, results_heading
+from .plot import _results_floods, length_unit, results_heading
 
-__all__ = ["plot_frame_3d"]
+__all__ = ["frames_3d", "plot_frame_3d"]
+
+_DOT = 40.0  # area [pt^2] of the dot of the largest normal force
 
 
-def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces: bool = True,
-                  title: str | None = None, figsize: tuple[float, float] | None = None,
-                  dpi: int = 150) -> Figure:
-    """The 3D structure at output frame index k of saxum.results.Results (see module doc);
-    saved to `path` at dpi when given."""
+@dataclass(frozen=True)
+class _Look3d:
+    """What stays the same on every frame of one 3D picture or animation."""
+
+    centre: np.ndarray  # [m]
+    half: float  # half the side of the cube drawn [m]
+    floor: np.ndarray  # bodies drawn as a floor instead of as blocks
+    floor_height: float  # [m]
+    mappable: ScalarMappable
+    factor: float  # from metres to the colour bar's unit
+    unit: str
+    force_full: float  # normal force drawn as the largest dot [N]; 0: none loaded
+    gap_tolerance: float  # [m]
+
+
+def _look_3d(results, ks) -> _Look3d:
+    m = results.model
+    start, local = m["body_vertex_start"], m["vertex_local"]
+    q = results.body_q[ks]
+    owner = np.repeat(np.arange(q.shape[1]), np.diff(start))
+    free = m["body_kind"] == BodyKind.FREE
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for qk in q:  # frame by frame: an animation of a large model holds one frame's points
+        points = world_points(qk, start, local)
+        shown = points[free[owner]] if free.any() else points
+        lo, hi = np.minimum(lo, shown.min(axis=0)), np.maximum(hi, shown.max(axis=0))
+    centre, half = 0.5 * (lo + hi), 0.55 * float((hi - lo).max())
+    initial = world_points(m["body_q0"], start, local)
+    extent = np.array([np.ptp(initial[owner == b], axis=0).max() for b in range(q.shape[1])])
+    floor = ~free & (extent > 4.0 * half)
+    moved = np.linalg.norm(q[..., :3] - m["body_q0"][:, :3], axis=-1)
+    largest = float(moved[:, free].max(initial=0.0))
+    factor, unit = length_unit(largest)
+    peaks = np.array([results.contacts(k)["force"][:, 1].max(initial=0.0) for k in ks])
+    size = float(np.median(results.body_size[free] if free.any() else results.body_size))
+    return _Look3d(centre, half, floor, float(lo[2]),
+                   ScalarMappable(Normalize(0.0, factor * largest or 1.0), "viridis"), factor,
+                   unit, float(np.percentile(peaks, 90)) if peaks.size else 0.0, 1e-3 * size)
+
+
+def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
+                   mechanism: Mechanism | None = None) -> None:
     m = results.model
     q = results.body_q[k]
-    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
-    vertex_owner = np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))
     free = m["body_kind"] == BodyKind.FREE
-    shown = points[free[vertex_owner]] if free.any() else points
-    lo, hi = shown.min(axis=0), shown.max(axis=0)
-    centre, half = 0.5 * (lo + hi), 0.55 * float((hi - lo).max())
-    extent = np.array([np.ptp(points[vertex_owner == b], axis=0).max() for b in range(len(q))])
-    floor = ~free & (extent > 4.0 * half)  # drawn as a floor, not as a body
+    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
     fvs, fv = m["face_vertex_start"], m["face_vertex"]
     owner = np.repeat(np.arange(len(q)), np.diff(m["body_face_start"]))
-    keep = np.flatnonzero(~floor[owner])
+    keep = np.flatnonzero(~look.floor[owner])
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
     moved = np.linalg.norm(q[:, :3] - m["body_q0"][:, :3], axis=1)
-    largest = float(moved[free].max(initial=0.0))
-    factor, unit = length_unit(largest)
-    mappable = ScalarMappable(Normalize(0.0, factor * largest or 1.0), "viridis")
-    colours = np.where(free[owner[keep], None], mappable.to_rgba(factor * moved[owner[keep]]),
+    colours = np.where(free[owner[keep], None],
+                       look.mappable.to_rgba(look.factor * moved[owner[keep]]),
                        (0.85, 0.85, 0.85, 1.0))
-
-    fig = Figure(figsize=figsize or (9.0, 7.0), layout="constrained")
-    ax = fig.add_subplot(projection="3d")
-    ax.computed_zorder = False  # the contact dots stay on top of the faces
-    if floor.any():
-        x0, x1, y0, y1 = (centre[0] - half, centre[0] + half, centre[1] - half,
-                          centre[1] + half)
-        z = float(lo[2])
+    ax.computed_zorder = False  # the contact dots and hinges stay on top of the faces
+    c0, half = look.centre, look.half
+    if look.floor.any():
+        x0, x1, y0, y1 = c0[0] - half, c0[0] + half, c0[1] - half, c0[1] + half
+        z = look.floor_height
         ax.add_collection3d(Poly3DCollection([[(x0, y0, z), (x1, y0, z), (x1, y1, z),
                                                (x0, y1, z)]], facecolors="0.92",
                                              edgecolors="0.6", zorder=0))
+    shown = points[free[np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))]]
+    for flood in _results_floods(results):
+        _draw_water(ax, flood, float(results.time[k]), shown if len(shown) else points,
+                    c0, half)
     ax.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors="0.25",
                                          linewidths=0.3, zorder=1))
     if forces:
-        c = results.contacts(k)
-        normal = c["force"][:, 1]
-        loaded = normal > 0.0
-        if loaded.any():
-            size = 40.0 * normal[loaded] / normal[loaded].max()
-            ax.scatter(*c["point"][loaded].T, s=size, color="#c0152f", depthshade=False,
-                       zorder=2, label="contact forces (area ~ normal force)")
-            ax.legend(fontsize=8, loc="upper left")
-    for setter, c0 in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
-        setter(c0 - half, c0 + half)
+        _draw_contacts(ax, results.contacts(k), look, mechanism)
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), c0, strict=True):
+        setter(c - half, c + half)
     ax.set_box_aspect((1.0, 1.0, 1.0))
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
-    heading = title if title is not None else results_heading(results)
-    ax.set_title(f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})",
+    ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
                  fontsize=10)
-    fig.colorbar(mappable, ax=ax, shrink=0.6, label=f"displacement [{unit}]")
+
+
+def _draw_contacts(ax, c: dict, look: _Look3d, mechanism: Mechanism | None) -> None:
+    """Loaded points as dots (area ~ normal force), hinge lines, open points and, with a
+    mechanism, its sliding joints; with a legend."""
+    normal = c["force"][:, 1]
+    loaded = normal > 0.0
+    if loaded.any() and look.force_full > 0.0:
+        size = _DOT * np.minimum(normal[loaded] / look.force_full, 1.0)
+        ax.scatter(*c["point"][loaded].T, s=size, color="#c0152f", depthshade=False,
+                   zorder=2, label="contact forces (area ~ normal force)")
+    opened = c["point"][joint_states(c, look.gap_tolerance) == "open"]
+    if len(opened):
+        ax.plot(*opened.T, ls="none", marker="x", markersize=4, color="#e07b00", zorder=3,
+                label=f"open ({len(opened)})")
+    lines = hinge_lines(c, look.gap_tolerance)
+    for i, (a, b) in enumerate(lines):
+        ax.plot(*np.array([a, b]).T, color="k", lw=3.0, solid_capstyle="round", zorder=4,
+                marker="o" if np.array_equal(a, b) else None, markersize=5,
+                label=f"hinges ({len(lines)})" if i == 0 else None)
+    if mechanism is not None and mechanism.sliding:
+        cop = np.array([j.centre_of_pressure for j in mechanism.sliding])
+        ax.plot(*cop.T, ls="none", marker="D", markersize=5.5, markerfacecolor="#7b2cbf",
+                markeredgecolor="k", markeredgewidth=0.6, zorder=5,
+                label=f"sliding ({len(cop)})")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8, loc="upper left")
+
+
+def _draw_water(ax, flood, t: float, points: np.ndarray, centre: np.ndarray,
+                half: float) -> None:
+    """The water surface z = H(s) [m] at time t [s] over the square drawn (centre, half
+    width [m]), s along the flow's azimuth from the free blocks' extent `points` [m]; the
+    flow's speed and direction in a corner."""
+    a = np.radians(flood.azimuth)
+    e = np.array([np.cos(a), np.sin(a)])
+    s = points[:, :2] @ e
+    x, y = np.meshgrid(*(np.linspace(c - half, c + half, 25) for c in centre[:2]))
+    z = flood.surface(x * e[0] + y * e[1], t, (float(s.min()), float(s.max())))
+    ax.plot_surface(x, y, z, color="#9cc8e8", alpha=0.45, linewidth=0, shade=False,
+                    zorder=0.5)
+    u = flood.velocity.at(t)
+    if u != 0.0:
+        heading = flood.azimuth if u > 0 else flood.azimuth + 180.0
+        ax.text2D(0.99, 0.98, f"flow {abs(u):.3g} m/s towards {heading % 360:g}° from x",
+                  transform=ax.transAxes, ha="right", va="top", fontsize=8, color="#2a6fa8")
+
+
+def _figure(look: _Look3d, figsize) -> tuple[Figure, object]:
+    fig = Figure(figsize=figsize or (9.0, 7.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    fig.colorbar(look.mappable, ax=ax, shrink=0.6, label=f"displacement [{look.unit}]")
+    return fig, ax
+
+
+def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces: bool = True,
+                  title: str | None = None, figsize: tuple[float, float] | None = None,
+                  dpi: int = 150, mechanism: Mechanism | None = None) -> Figure:
+    """The 3D structure at output frame index k of saxum.results.Results (see module doc),
+    with the sliding joints of `mechanism` (saxum.mechanism, of this frame's state) when
+    given; saved to `path` at dpi when given."""
+    look = _look_3d(results, [k])
+    fig, ax = _figure(look, figsize)
+    _draw_frame_3d(ax, results, k, look, forces,
+                   title if title is not None else results_heading(results), mechanism)
     if path is not None:
         fig.savefig(path, dpi=dpi)
     return fig
+
+
+def frames_3d(results, ks, *, forces: bool = True,
+              figsize: tuple[float, float] | None = None):
+    """(figure, draw) for an animation of the output frames ks of 3D results: draw(k) draws
+    frame k into the figure, with the same axes, colour scale and dot scale on every frame."""
+    look = _look_3d(results, ks)
+    fig, ax = _figure(look, figsize)
+    heading = results_heading(results)
+
+    def draw(k: int) -> None:
+        ax.clear()
+        _draw_frame_3d(ax, results, k, look, forces, heading)
+    return fig, draw

@@ -52,6 +52,7 @@ from .structures import (
     add_supported_semicircular_arch,
     add_wall,
     add_wall3d,
+    block_file_dim,
 )
 
 __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
@@ -107,8 +108,9 @@ class WallStructure(_Strict):
 class BlocksStructure(_Strict):
     """Blocks listed in a file (saxum.structures.read_blocks): JSON {"blocks": [{"vertices":
     [[x, y], ...], "density": ..., "group": ..., "kind": "free" | "fixed", "name": ...}, ...]},
-    a CSV list of vertices, or the closed polylines of a DXF drawing (layers are groups); a
-    relative path is taken from the scenario file's folder."""
+    a CSV list of vertices, or the closed polylines of a DXF drawing (layers are groups); with
+    [x, y, z] vertices (a z column in CSV) a 3D model of convex polyhedra; a relative path is
+    taken from the scenario file's folder."""
 
     type: Literal["blocks"] = "blocks"
     file: Path
@@ -118,6 +120,11 @@ class BlocksStructure(_Strict):
     fixed_layers: list[str] = ["FIXED"]
     ignore_layers: list[str] = []
     scale: Positive = 1.0
+
+    @property
+    def dim(self) -> int:
+        """2, or 3 for a file of 3D blocks (saxum.structures.block_file_dim)."""
+        return block_file_dim(self.file, format=self.format)
 
     def add_to(self, builder: ModelBuilder) -> None:
         if not self.file.is_file():
@@ -621,6 +628,7 @@ class FloodSpec(_Strict):
     tailwater: Finite | None = None
     water_density: Positive = 1000.0
     drag_coefficient: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 1.4
+    azimuth: Finite = 0.0
 
     @field_validator("level_series", "velocity_series")
     @classmethod
@@ -652,7 +660,7 @@ class Loads(_Strict):
     inertial load a(t) = (horizontal_acceleration + load_factor_rate * g * t) on every free
     block [m/s^2], g = |gravity| (a tilting table), along x, in 3D along the horizontal
     direction at horizontal_azimuth [deg] from x towards y; point loads; settlements of
-    supports; ground motion; a flood (2D)."""
+    supports; ground motion; a flood."""
 
     gravity: Vector | None = None
     horizontal_acceleration: Finite = 0.0
@@ -708,9 +716,6 @@ class Loads(_Strict):
             else:
                 motion.apply_as_driven_supports(builder, self.ground_motion.supports)
         if self.flood is not None:
-            if dim != 2:
-                raise InputError("loads.flood is made for 2D models (a section of the "
-                                 "structure across the flow)")
             builder.add_field_load(self.flood.load())
 
 

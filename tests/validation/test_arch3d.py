@@ -13,16 +13,22 @@ depth 0.5 m, one block per voussoir through the depth; dt = 1e-3 s, default NLGS
 - t/R = 0.15 stands: no voussoir moves by more than 1e-4 R in 2 s;
 - t/R = 0.09 collapses: the crown falls by more than 0.1 R within 2 s;
 - horizontal load factor (mu = 1, saxum.collapse.critical_value to 0.5 %, the load along x
-  in 3D): within 2 % of the 2D model's (issue 6), bisected the same way.
+  in 3D): within 2 % of the 2D model's (issue 6), bisected the same way; and the same
+  mechanism: 0.05 s into the collapse, hinges at the same four joints, on the same sides
+  (intrados or extrados), as the 2D arch's (tests/validation/test_arch_horizontal.py checks
+  those against a limit analysis), each 3D hinge a line through the depth.
 """
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
+from limit_analysis import joint_index
 
 import saxum as sx
 from saxum.collapse import CollapseCriterion, critical_value
+from saxum.mechanism import mechanism
 from saxum.structures import extruded, semicircular_arch
 
 RADIUS, VOUSSOIRS, DEPTH, DT = 1.0, 15, 0.5, 1e-3
@@ -75,3 +81,18 @@ def test_horizontal_collapse_load_factor_matches_the_2d_arch():
     lam_2d, lam_3d = (r.value for r in results)
     assert 0.1 < lam_2d < 0.2
     assert lam_3d == pytest.approx(lam_2d, rel=0.02)
+    hinges = []
+    for result in results:
+        trial = result.collapse()
+        trial.simulation.run(trial.state, 0.05)  # every hinge visibly open
+        mech = mechanism(trial.simulation.model, trial.state, trial.simulation.integrator.dt)
+        assert not mech.sliding
+        hinges.append(sorted(
+            (joint_index(j, VOUSSOIRS),
+             "intrados" if math.hypot(j.hinge_point[0], j.hinge_point[-1]) < RADIUS
+             else "extrados") for j in mech.hinges))
+        if mech.hinges[0].hinge_line is not None:  # 3D: lines through the whole depth
+            for j in mech.hinges:
+                (_, y0, _), (_, y1, _) = j.hinge_line
+                assert abs(y1 - y0) == pytest.approx(DEPTH, rel=1e-6)
+    assert len(hinges[0]) == 4 and hinges[1] == hinges[0]

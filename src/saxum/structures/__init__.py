@@ -10,8 +10,8 @@ a finalized Model with one Coulomb law (friction=...) between every pair of its 
 - walls in running or stack bond with openings (Opening): add_wall, wall;
 - piers and buttressed walls: add_pier, pier, add_buttressed_wall, buttressed_wall;
 - multi-span arch bridges: add_arch_bridge, arch_bridge;
-- blocks from JSON, CSV or DXF files: read_blocks, add_blocks_from_file, blocks_model,
-  write_blocks;
+- blocks from JSON, CSV or DXF files (JSON and CSV also 3D): read_blocks,
+  add_blocks_from_file, blocks_model, write_blocks, block_file_dim;
 - in 3D (saxum.structures.solid): extruded 2D structures (add_extruded, extruded), arches and
   barrel vaults (add_arch3d, arch3d, add_semicircular_arch3d), a single-span bridge with
   spandrel walls (add_bridge3d, bridge3d), walls in running bond with an L-shaped corner
@@ -31,7 +31,14 @@ from .arch import (
     arch_ring,
     semicircular_arch,
 )
-from .blockfile import BlockSpec, add_blocks_from_file, blocks_model, read_blocks, write_blocks
+from .blockfile import (
+    BlockSpec,
+    add_blocks_from_file,
+    block_file_dim,
+    blocks_model,
+    read_blocks,
+    write_blocks,
+)
 from .bridge import add_arch_bridge, arch_bridge
 from .meshfile import add_blocks_from_mesh, read_mesh_blocks
 from .piers import add_buttressed_wall, add_pier, buttressed_wall, pier
@@ -87,6 +94,7 @@ __all__ = [
     "arch_bridge",
     "arch3d",
     "arch_ring",
+    "block_file_dim",
     "blocks_model",
     "bridge3d",
     "buttressed_wall",

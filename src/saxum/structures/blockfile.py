@@ -1,4 +1,5 @@
-"""Blocks from files: a JSON or CSV list of polygons, or the closed polylines of a DXF drawing.
+"""Blocks from files: a JSON or CSV list of polygons (or of 3D point sets), or the closed
+polylines of a DXF drawing.
 
 JSON: {"blocks": [{"vertices": [[x, y], ...], "density": 2000.0, "group": "stone",
 "kind": "free", "name": "keystone"}, ...]}; only "vertices" is required.
@@ -8,13 +9,17 @@ CSV: a header row naming the columns, then one row per vertex: `block` (the bloc
 of the block, on several rows they must agree, an empty cell gives nothing). A block's rows
 are consecutive, in order around the polygon.
 
+3D blocks (convex polyhedra, ModelBuilder(dim=3)): vertices [[x, y, z], ...] in JSON, or a
+`z` column in CSV; a block is the convex hull of its points (in any order), as
+ModelBuilder.add_block takes it. A file holds 2D or 3D blocks, not both.
+
 DXF (read with ezdxf, an optional dependency: pip install ezdxf): every closed LWPOLYLINE or
 2D/3D POLYLINE of the model space is a block (an open one whose last point repeats its first
 counts as closed); its layer is its group, and layers named in `fixed_layers` hold fixed
 blocks. Anything else in the model space (an open polyline, a LINE, TEXT, a dimension...) is an
 error naming it, unless it is on a layer named in `ignore_layers` (notes, dimensions): a block
 drawn with lines or left open would otherwise be lost without a word. Arc segments (bulges)
-are refused.
+are refused. DXF blocks are 2D.
 
 In all formats kind is "free" or "fixed" (any case), the group defaults to `group`, and a
 free block without a density takes `density` (a number, or a mapping from group to number).
@@ -33,21 +38,26 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry2d import normalize_polygon
+from ..geometry3d import convex_polyhedron
+from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
-from ._common import Assembly, model_form
+from ._common import Assembly, finalize
 
-__all__ = ["BlockSpec", "add_blocks_from_file", "blocks_model", "read_blocks", "write_blocks"]
+__all__ = ["BlockSpec", "add_blocks_from_file", "block_file_dim", "blocks_model", "read_blocks",
+           "write_blocks"]
 
 FORMATS = ("json", "csv", "dxf")
 KINDS = {"free": BodyKind.FREE, "fixed": BodyKind.FIXED}
 CSV_COLUMNS = ("block", "x", "y", "density", "group", "kind")
+CSV_COLUMNS_3D = ("block", "x", "y", "z", "density", "group", "kind")
 JSON_KEYS = ("vertices", "density", "group", "kind", "name")
 
 
 @dataclass(frozen=True)
 class BlockSpec:
-    """A block read from a file: vertices [m] (n, 2) counter-clockwise, density [kg/m^3]
-    (0 for fixed blocks), group, kind, name, and where it is in the file (for messages)."""
+    """A block read from a file: vertices [m] (n, 2) counter-clockwise (3D: (n, 3), the
+    vertices of its convex hull), density [kg/m^3] (0 for fixed blocks), group, kind, name,
+    and where it is in the file (for messages)."""
 
     vertices: np.ndarray
     density: float
@@ -91,8 +101,11 @@ class _Defaults:
     def spec(self, vertices, density, group, kind: BodyKind, name: str,
              where: str) -> BlockSpec:
         group = self.group if group in (None, "") else str(group)
-        verts = normalize_polygon(np.asarray(vertices, dtype=np.float64) * self.scale,
-                                  name=where)
+        points = np.asarray(vertices, dtype=np.float64) * self.scale
+        if points.ndim == 2 and points.shape[1] == 3:
+            verts = convex_polyhedron(points, name=where).vertices
+        else:
+            verts = normalize_polygon(points, name=where)
         if kind != BodyKind.FREE:
             density = 0.0
         elif density in (None, ""):
@@ -129,7 +142,13 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
         try:
             vertices = np.array(block["vertices"], dtype=np.float64)
         except (TypeError, ValueError):
-            raise InputError(f"{where}: vertices must be a list of [x, y] numbers") from None
+            raise InputError(f"{where}: vertices must be a list of [x, y] (3D: [x, y, z]) "
+                             "numbers") from None
+        dim = vertices.shape[-1] if vertices.ndim == 2 else 0
+        if specs and dim != specs[0].vertices.shape[1]:
+            raise InputError(f"{where}: vertices of {dim} coordinates, but the blocks above "
+                             f"have {specs[0].vertices.shape[1]}; a file holds 2D or 3D "
+                             "blocks, not both")
         specs.append(defaults.spec(vertices, block.get("density"), block.get("group"), kind,
                                    str(block.get("name", f"block {i + 1}")), where))
     return specs
@@ -140,11 +159,12 @@ def _read_csv(path: Path, defaults: _Defaults) -> list[BlockSpec]:
         reader = csv.DictReader(stream)
         columns = [c.strip() for c in reader.fieldnames or ()]
         missing = [c for c in CSV_COLUMNS[:3] if c not in columns]
-        unknown = [c for c in columns if c not in CSV_COLUMNS]
+        unknown = [c for c in columns if c not in CSV_COLUMNS_3D]
         if missing or unknown:
             raise InputError(f"{path}, line 1: the header must name the columns block, x, y "
-                             f"and optionally density, group, kind; "
+                             f"and optionally z (3D blocks), density, group, kind; "
                              + (f"missing {missing}" if missing else f"unknown {unknown}"))
+        axes = ("x", "y", "z") if "z" in columns else ("x", "y")
         reader.fieldnames = columns
         rows: list[tuple[int, dict]] = []
         for row in reader:
@@ -171,8 +191,8 @@ def _read_csv(path: Path, defaults: _Defaults) -> list[BlockSpec]:
                 if value and attrs.setdefault(key, value) != value:
                     raise InputError(f"{path}, line {line}: block {name!r} has {key} "
                                      f"{value!r} here and {attrs[key]!r} above")
-        vertices = [[_number(row["x"], "x [m]", f"{path}, line {line}"),
-                     _number(row["y"], "y [m]", f"{path}, line {line}")] for line, row in block]
+        vertices = [[_number(row[a], f"{a} [m]", f"{path}, line {line}") for a in axes]
+                    for line, row in block]
         specs.append(defaults.spec(vertices, attrs.get("density"), attrs.get("group"),
                                    _kind(attrs.get("kind", "free"), where), name, where))
     return specs
@@ -225,6 +245,24 @@ def _read_dxf(path: Path, defaults: _Defaults, fixed_layers: Iterable[str],
     return specs
 
 
+def block_file_dim(path: str | Path, *, format: str | None = None) -> int:
+    """2 or 3: whether the block file at `path` holds polygons or 3D point sets (JSON: its
+    first block's first vertex; CSV: a z column; DXF: 2), without checking the rest."""
+    path = Path(path)
+    fmt = _format(path, format)
+    if fmt == "dxf" or not path.is_file():
+        return 2
+    if fmt == "csv":
+        with path.open(newline="", encoding="utf-8") as stream:
+            header = next(csv.reader(stream), [])
+        return 3 if "z" in (c.strip() for c in header) else 2
+    try:
+        first = json.loads(path.read_text(encoding="utf-8"))["blocks"][0]["vertices"][0]
+        return 3 if len(first) == 3 else 2
+    except (json.JSONDecodeError, KeyError, IndexError, TypeError):
+        return 2  # read_blocks says what is wrong
+
+
 def read_blocks(
     path: str | Path,
     *,
@@ -273,24 +311,35 @@ def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -
         return
     with path.open("w", newline="", encoding="utf-8") as stream:
         out = csv.writer(stream)
-        out.writerow(CSV_COLUMNS)
+        out.writerow(CSV_COLUMNS if model.dim == 2 else CSV_COLUMNS_3D)
         for block in blocks:
-            for k, (x, y) in enumerate(block["vertices"]):
+            for k, point in enumerate(block["vertices"]):
                 attrs = ([repr(block["density"]), block["group"], block["kind"]] if k == 0
                          else ["", "", ""])
-                out.writerow([block["name"], repr(x), repr(y), *attrs])
+                out.writerow([block["name"], *map(repr, point), *attrs])
 
 
 def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> Assembly:
-    """Add the blocks of a file (read_blocks(path, **options)); part "blocks", in file order."""
+    """Add the blocks of a file (read_blocks(path, **options)); part "blocks", in file order.
+    The builder's dim must be the file's (3D blocks: ModelBuilder(dim=3))."""
     asm = Assembly()
-    for spec in read_blocks(path, **options):
+    specs = read_blocks(path, **options)
+    if specs and specs[0].vertices.shape[1] != builder.dim:
+        d = specs[0].vertices.shape[1]
+        raise InputError(f"{path} holds {d}D blocks and the model is {builder.dim}D: build it "
+                         f"with ModelBuilder(dim={d})")
+    for spec in specs:
         asm.add_block(builder, "blocks", spec.vertices, group=spec.group, density=spec.density,
                       kind=spec.kind, name=spec.name)
     return asm
 
 
-blocks_model = model_form(
-    add_blocks_from_file, "blocks_model",
-    """A model of the blocks of a file (add_blocks_from_file), friction mu [-] between every pair
-    of groups.""")
+def blocks_model(path: str | Path, *, friction: float = 0.6,
+                 law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+                 gravity: tuple[float, ...] | None = None, **options) -> Model:
+    """A model of the blocks of a file (add_blocks_from_file; 2D or 3D as the file is),
+    friction mu [-] between every pair of groups, gravity [m/s^2] (default downward)."""
+    builder = ModelBuilder(dim=block_file_dim(path, format=options.get("format")),
+                           gravity=gravity)
+    asm = add_blocks_from_file(builder, path, **options)
+    return finalize(builder, asm.groups, friction, law)
