@@ -32,6 +32,39 @@ def test_the_cube_mesh_is_a_good_block(tmp_path):
     assert sorted(map(tuple, block)) == sorted(map(tuple, CUBE))
 
 
+def _grid_of_cubes(path, drop_last: int = 0):
+    """A 2 x 2 x 2 stack of unit cubes that touch face to face (so four meet at some edges),
+    each face's diagonal chosen at random; the last `drop_last` triangles left out."""
+    rng = np.random.default_rng(7)
+    points, triangles = [], []
+    for k, corner in enumerate(np.ndindex(2, 2, 2)):
+        tri = TRIANGLES.copy()
+        flip = rng.random(6) < 0.5  # the other diagonal of a square face
+        tri.reshape(6, 2, 3)[flip] = tri.reshape(6, 2, 3)[flip][:, :, [1, 2, 0]][:, ::-1]
+        points.append(CUBE + corner)
+        triangles.append(tri + 8 * k)
+    triangles = np.vstack(triangles)
+    return _write(path, np.vstack(points), triangles[: len(triangles) - drop_last])
+
+
+@pytest.mark.parametrize("suffix", ["stl", "obj"])
+def test_touching_blocks_of_a_mesh_stay_apart(tmp_path, suffix):
+    """Stacked blocks share corners and edges (STL merges them): each is still one block."""
+    blocks = read_mesh_blocks(_grid_of_cubes(tmp_path / f"grid.{suffix}"))
+    assert len(blocks) == 8
+    for block, corner in zip(blocks, np.ndindex(2, 2, 2), strict=True):
+        assert sorted(map(tuple, block)) == sorted(map(tuple, CUBE + corner))
+
+
+def test_open_block_among_touching_ones(tmp_path):
+    """A face missing from the top cube: its wedge closes on a neighbour's face, so the error
+    may name the neighbour, but the surface is found open."""
+    path = _grid_of_cubes(tmp_path / "grid.obj", drop_last=1)
+    with pytest.raises(InputError, match=r"grid\.obj: block \d \(near .*\): the surface is "
+                                         r"not closed"):
+        read_mesh_blocks(path)
+
+
 def test_open_mesh(tmp_path):
     path = _write(tmp_path / "open.obj", CUBE, TRIANGLES[:-1])
     with pytest.raises(InputError, match=r"open\.obj: block 0 .* is not closed: the edge"):
