@@ -124,7 +124,8 @@ def test_mesh_needs_a_3d_builder(tmp_path):
 
 
 @pytest.mark.parametrize(("points", "message"), [
-    (np.vstack((CUBE, [(0.5, 0.5, 0.5)])), "pillar 3: the point set is not convex: vertex 8"),
+    (np.vstack((CUBE, [(0.5, 0.5, 0.5)])),
+     r"pillar 3: the point set is not convex: vertex 8 at \(0\.5, 0\.5, 0\.5\) lies"),
     (CUBE * (1, 1, 0), "pillar 3: flat"),
     (CUBE[:3], "pillar 3: a polyhedron needs at least 4 vertices"),
     ([(0, 0), (1, 0), (0, 1), (1, 1)], r"pillar 3: vertices must be a list of \(x, y, z\)"),
