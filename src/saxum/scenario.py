@@ -891,10 +891,14 @@ def parse_scenario(text: str, *, base_dir: str | Path = ".",
 
 
 def _apply_override(data: dict, item: str) -> None:
-    """Set data[key] from "dotted.key[index].key=value" (value in TOML syntax, else a string)."""
+    """Set data[key] from "dotted.key[index].key=value" (value in TOML syntax, else a string);
+    "key=" with nothing after "=" removes the key (its default applies: none for a table)."""
     key, sep, raw = item.partition("=")
     if not sep or not key.strip():
         raise InputError(f"--set {item!r}: expected KEY=VALUE, e.g. solver.dt=5e-4")
+    if not raw.strip():
+        _remove_key(data, key.strip(), item)
+        return
     try:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
@@ -919,6 +923,18 @@ def _apply_override(data: dict, item: str) -> None:
         node[path[-1]] = value
     except (IndexError, TypeError):
         raise _missing(item, done, path[-1], node) from None
+
+
+def _remove_key(data: dict, key: str, item: str) -> None:
+    """Remove the table key `key` (dotted) from data; an error names it if it is not there."""
+    *parents, last = key.split(".")
+    node = data
+    for part in parents:
+        node = node.get(part) if isinstance(node, dict) else None
+    if not isinstance(node, dict) or last not in node:
+        raise InputError(f"--unset {key!r} (--set {item!r}): the scenario has no {key!r} to "
+                         "remove (removing works on table keys, not list entries)")
+    del node[last]
 
 
 def _missing(item: str, done: str, key: str | int, node) -> InputError:
