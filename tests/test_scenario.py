@@ -326,6 +326,15 @@ def test_bad_override_is_named():
         ARCH, overrides=["output.duration.x=1"])
 
 
+def test_a_scenario_given_as_results_file_is_named(tmp_path):
+    from saxum.results import Results
+
+    (tmp_path / "arch.toml").write_text(ARCH)
+    with pytest.raises(sx.InputError, match=r"arch.toml is not a readable HDF5 file: .* it "
+                                            r"looks like a scenario: run it first \(saxum run"):
+        Results(tmp_path / "arch.toml")
+
+
 def test_a_results_file_given_as_scenario_is_named(tmp_path):
     binary = tmp_path / "run.h5"
     binary.write_bytes(b"\x89HDF\r\n\x1a\n\x00\x00")
