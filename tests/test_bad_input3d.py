@@ -181,3 +181,17 @@ def test_too_large_a_time_step_in_3d():
     model = wall3d(courses=1, length=0.5)
     with pytest.raises(InputError, match="dt = 0.1 s is too large"):
         sx.Simulation(model, dt=0.1)
+
+
+def test_bridge3d_parapet_and_fill_parameters():
+    shape = ArchShape.segmental(span=4.0, rise=1.0, thickness=0.4)
+    common = {"voussoirs": 5, "width": 3.0, "spandrel_thickness": 0.5, "abutment_width": 1.0,
+              "pier_height": 1.0}
+    with pytest.raises(InputError, match="parapet thickness 0.6 m exceeds the spandrel walls"):
+        bridge3d(shape, parapet=(0.6, 1.0), **common)
+    with pytest.raises(InputError, match=r"parapet must be \(thickness, height\)"):
+        bridge3d(shape, parapet=(0.4,), **common)
+    with pytest.raises(InputError, match="parapet_height must be a finite length > 0"):
+        bridge3d(shape, parapet=(0.4, -1.0), **common)
+    with pytest.raises(InputError, match=r"densities\['fill'\] must be a density > 0"):
+        bridge3d(shape, fill_density=-5.0, **common)
