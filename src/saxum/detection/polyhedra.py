@@ -7,7 +7,8 @@ of the Minkowski difference (their arcs on the Gauss map cross: D. Gregorius, "T
 axis test between convex polyhedra", GDC 2013). The largest separation is the common plane of
 the two blocks; beyond the alert distance there is no contact.
 
-- Face contact (a face separation is the largest, up to `ref_tol` in favour of faces): the face's
+- Face contact (a face separation is the largest, up to `ref_tol` in favour of faces; of faces
+  that tie, the one closest to horizontal, as in 2D: saxum.detection.polygons): the face's
   block becomes the antagonist and carries the frame, n the face's outward normal, t the
   direction of its first edge and s = t x n, so that (t, n, s) is right-handed. The candidate's
   face most opposed to n (the incident face) is clipped by the side planes of the reference face
@@ -35,6 +36,8 @@ import math
 import numba as nb
 import numpy as np
 
+from .polygons import PREFER_BED
+
 __all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
 
 MAX_POINTS = 8
@@ -55,13 +58,17 @@ SLOTS = len(_DIRECTIONS)
 @nb.njit(inline="always")
 def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, alert, tie):
     """Largest over the faces f of `body` of min over the vertices p of `other` of
-    n_f . (p - a_f) [m], to within tie [m]: the first face that reaches it (a face takes over
-    only if it separates more by tie), and that face; stops early once a face separates by
-    more than alert. Several faces separate equally where blocks meet corner to corner (at
-    the inside corner of an L wall): without the tie round-off would pick one or another
-    from step to step, and with it the contact's normal and identity."""
+    n_f . (p - a_f) [m], to within tie [m], that face and its |n_z|; stops early once a face
+    separates by more than alert. Several faces separate equally where blocks meet edge to
+    edge or corner to corner (at the inside corner of an L wall, where head joints line up):
+    without the tie round-off would pick one or another from step to step, and with it the
+    contact's normal and identity. Of the faces of a tie, the one closest to horizontal wins
+    (|n_z| larger by PREFER_BED), then the first: an edge on an edge is the end of a bed
+    joint, and a normal along the head joint would hold the block above against sliding
+    over the one beside it."""
     best = -np.inf
     best_f = face_start[body]
+    best_pref = -1.0
     p0 = vertex_start[other]
     p1 = vertex_start[other + 1]
     for f in range(face_start[body], face_start[body + 1]):
@@ -73,12 +80,14 @@ def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, ale
         s = np.inf
         for k in range(p0, p1):
             s = min(s, nx * wv[k, 0] + ny * wv[k, 1] + nz * wv[k, 2] - off)
-        if s > best + tie:
+        pref = abs(nz)
+        if s > best + tie or (s >= best - tie and pref > best_pref + PREFER_BED):
             best = s
             best_f = f
+            best_pref = pref
             if s > alert:
                 break
-    return best, best_f
+    return best, best_f, best_pref
 
 
 @nb.njit(inline="always")
@@ -176,12 +185,12 @@ def polyhedron_contacts(
     for p in range(npairs):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j, alert,
-                                    tie)
+        s_i, f_i, pref_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j,
+                                            alert, tie)
         if s_i > alert:
             continue
-        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i, alert,
-                                    tie)
+        s_j, f_j, pref_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i,
+                                            alert, tie)
         if s_j > alert:
             continue
         s_e, e_i, e_j, ux, uy, uz = _edge_separation(wv, wn, edge_start, edge_vertex, edge_face,
@@ -209,7 +218,8 @@ def polyhedron_contacts(
                    ux * (cx - ox) + uy * (cy - oy) + uz * (cz - oz))
             count += 1
             continue
-        flip = s_j > s_i + ref_tol
+        flip = s_j > s_i + ref_tol or (abs(s_j - s_i) <= tie
+                                       and pref_j > pref_i + PREFER_BED)
         if flip:
             ant, cand, ref_face = j, i, f_j
         else:
