@@ -32,6 +32,39 @@ def test_the_cube_mesh_is_a_good_block(tmp_path):
     assert sorted(map(tuple, block)) == sorted(map(tuple, CUBE))
 
 
+def _grid_of_cubes(path, drop_last: int = 0):
+    """A 2 x 2 x 2 stack of unit cubes that touch face to face (so four meet at some edges),
+    each face's diagonal chosen at random; the last `drop_last` triangles left out."""
+    rng = np.random.default_rng(7)
+    points, triangles = [], []
+    for k, corner in enumerate(np.ndindex(2, 2, 2)):
+        tri = TRIANGLES.copy()
+        flip = rng.random(6) < 0.5  # the other diagonal of a square face
+        tri.reshape(6, 2, 3)[flip] = tri.reshape(6, 2, 3)[flip][:, :, [1, 2, 0]][:, ::-1]
+        points.append(CUBE + corner)
+        triangles.append(tri + 8 * k)
+    triangles = np.vstack(triangles)
+    return _write(path, np.vstack(points), triangles[: len(triangles) - drop_last])
+
+
+@pytest.mark.parametrize("suffix", ["stl", "obj"])
+def test_touching_blocks_of_a_mesh_stay_apart(tmp_path, suffix):
+    """Stacked blocks share corners and edges (STL merges them): each is still one block."""
+    blocks = read_mesh_blocks(_grid_of_cubes(tmp_path / f"grid.{suffix}"))
+    assert len(blocks) == 8
+    for block, corner in zip(blocks, np.ndindex(2, 2, 2), strict=True):
+        assert sorted(map(tuple, block)) == sorted(map(tuple, CUBE + corner))
+
+
+def test_open_block_among_touching_ones(tmp_path):
+    """A face missing from the top cube: its wedge closes on a neighbour's face, so the error
+    may name the neighbour, but the surface is found open."""
+    path = _grid_of_cubes(tmp_path / "grid.obj", drop_last=1)
+    with pytest.raises(InputError, match=r"grid\.obj: block \d \(near .*\): the surface is "
+                                         r"not closed"):
+        read_mesh_blocks(path)
+
+
 def test_open_mesh(tmp_path):
     path = _write(tmp_path / "open.obj", CUBE, TRIANGLES[:-1])
     with pytest.raises(InputError, match=r"open\.obj: block 0 .* is not closed: the edge"):
@@ -91,7 +124,8 @@ def test_mesh_needs_a_3d_builder(tmp_path):
 
 
 @pytest.mark.parametrize(("points", "message"), [
-    (np.vstack((CUBE, [(0.5, 0.5, 0.5)])), "pillar 3: the point set is not convex: vertex 8"),
+    (np.vstack((CUBE, [(0.5, 0.5, 0.5)])),
+     r"pillar 3: the point set is not convex: vertex 8 at \(0\.5, 0\.5, 0\.5\) lies"),
     (CUBE * (1, 1, 0), "pillar 3: flat"),
     (CUBE[:3], "pillar 3: a polyhedron needs at least 4 vertices"),
     ([(0, 0), (1, 0), (0, 1), (1, 1)], r"pillar 3: vertices must be a list of \(x, y, z\)"),
@@ -147,3 +181,17 @@ def test_too_large_a_time_step_in_3d():
     model = wall3d(courses=1, length=0.5)
     with pytest.raises(InputError, match="dt = 0.1 s is too large"):
         sx.Simulation(model, dt=0.1)
+
+
+def test_bridge3d_parapet_and_fill_parameters():
+    shape = ArchShape.segmental(span=4.0, rise=1.0, thickness=0.4)
+    common = {"voussoirs": 5, "width": 3.0, "spandrel_thickness": 0.5, "abutment_width": 1.0,
+              "pier_height": 1.0}
+    with pytest.raises(InputError, match="parapet thickness 0.6 m exceeds the spandrel walls"):
+        bridge3d(shape, parapet=(0.6, 1.0), **common)
+    with pytest.raises(InputError, match=r"parapet must be \(thickness, height\)"):
+        bridge3d(shape, parapet=(0.4,), **common)
+    with pytest.raises(InputError, match="parapet_height must be a finite length > 0"):
+        bridge3d(shape, parapet=(0.4, -1.0), **common)
+    with pytest.raises(InputError, match=r"densities\['fill'\] must be a density > 0"):
+        bridge3d(shape, fill_density=-5.0, **common)

@@ -147,3 +147,22 @@ def test_flood_bridge_blocked_by_debris_slides_at_the_statics_level():
     assert result.value == pytest.approx(expected, rel=0.01)
     assert len(mech.moving) == 73  # every free block: the whole section slides
     assert {j.bodies[0] for j in mech.sliding} == {"river bed"}
+
+
+def test_flood_bridge3d_has_the_2d_sections_cross_section_and_stands():
+    """The 3D flood example's bridge (docs/flood.md, "In 3D: the whole bridge") has the 2D
+    section's walls, parapets, materials and road height, so that its parapet statics are
+    the 2D ones (tests/validation/test_flood_bridge3d.py checks the 3D parapet against them);
+    under its scenario's flood (2 m of water at 3 m/s) it stands."""
+    from saxum.collapse import run_trial
+
+    fb, fb3 = _load("flood_bridge"), _load("flood_bridge3d")
+    structure = fb3.load_scenario(fb3.SCENARIO).structure
+    assert (structure.width, structure.spandrel_thickness) == (fb.WIDTH, fb.WALL)
+    assert (structure.parapet_thickness, structure.parapet_height) == fb.PARAPET
+    assert (structure.density, structure.fill_density) == (fb.STONE, fb.FILL)
+    assert structure.abutment_height + structure.spandrel_height == fb3.DECK == fb.DECK
+    sim = fb3.scenario([]).build_simulation()
+    assert sim.model.body_count == 59
+    trial = run_trial(sim, criterion=fb3.CRITERION)
+    assert not trial.collapsed and trial.displacement < 1e-6

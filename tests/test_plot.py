@@ -8,7 +8,14 @@ from PIL import Image
 
 import saxum as sx
 from saxum.errors import InputError
-from saxum.plot import animate, joint_states, plot_frame, plot_histories, save_states
+from saxum.plot import (
+    animate,
+    joint_states,
+    plot_frame,
+    plot_histories,
+    prefixed_unit,
+    save_states,
+)
 from saxum.results import Results, ResultsWriter
 from saxum.structures import semicircular_arch
 
@@ -89,6 +96,37 @@ def test_histories_picture(run, tmp_path):
     assert "voussoir 2" in plot_histories(r, body="2").axes[0].get_title()
     with pytest.raises(InputError, match="no block"):
         plot_histories(r, body="keystone")
+
+
+class _QuietRun:
+    """The results of `run` with the kinetic energy scaled by 1e-7 (a structure at rest)."""
+
+    def __init__(self, results):
+        self._results = results
+        self.steps = {**results.steps, "kinetic_energy": 1e-7 * results.steps["kinetic_energy"]}
+
+    def __getattr__(self, name):
+        return getattr(self._results, name)
+
+
+def test_histories_scale_the_kinetic_energy(run):
+    """The energy's axis has the unit prefix that keeps its largest value in [1, 1000)."""
+    _, _, r = run
+    for results in (r, _QuietRun(r)):
+        energy = plot_histories(results, body="voussoir 8").axes[-3]
+        top = max(line.get_ydata().max() for line in energy.get_lines())
+        assert 1.0 <= top < 1000.0, (energy.get_ylabel(), top)
+        unit = energy.get_ylabel().removeprefix("kinetic energy [").removesuffix("]")
+        per_joule = {"J/m": 1.0, "mJ/m": 1e3, "µJ/m": 1e6, "nJ/m": 1e9}[unit]
+        assert top == pytest.approx(results.steps["kinetic_energy"].max() * per_joule)
+
+
+def test_prefixed_unit():
+    assert prefixed_unit(2.5e4, "J") == (1e-3, "kJ")
+    assert prefixed_unit(1.0, "J/m") == (1.0, "J/m")
+    assert prefixed_unit(3e-5, "J") == (1e6, "µJ")
+    assert prefixed_unit(1e-30, "J") == (1e9, "nJ")
+    assert prefixed_unit(0.0, "J") == (1.0, "J")
 
 
 def test_gif_has_the_frames_and_size_asked(run, tmp_path):

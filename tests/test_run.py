@@ -69,6 +69,9 @@ def test_results_of_a_run(one_go):
         assert r.status == "finished"
         assert r.frame_count == 101 and np.allclose(r.time, np.arange(101) * 0.01)
         assert r.steps["step"].tolist() == list(range(1, 1001))
+        # times are k h from the step index, not sums of h (no round-off drift)
+        assert np.array_equal(r.time, r.step * r.dt)
+        assert np.array_equal(r.steps["time"], r.steps["step"] * r.dt)
         assert r.checkpoint_steps.tolist() == list(range(0, 1001, 50))
         assert r.units["body_q"] == "m, m, rad"
         crown = r.body_name.index("voussoir 8")

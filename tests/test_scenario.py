@@ -193,6 +193,23 @@ def test_override_sets_nested_keys():
     assert sc.solver.dt == 1e-4 and sc.structure.courses == 5 and sc.title == "changed"
 
 
+def test_override_with_nothing_removes_a_key():
+    """`--set KEY=` / `--unset KEY`: the key's default applies (none for a table)."""
+    sc = parse_scenario(FULL, overrides=["loads.ground_motion=", "solver.dt="])
+    assert sc.loads.ground_motion is None and sc.solver.dt == 1e-3
+    assert "the scenario has no 'loads.flood' to remove" in _error(
+        ARCH, overrides=["loads.flood="])
+    assert "--unset 'solver.dtt'" in _error(FULL, overrides=["solver.dtt="])
+
+
+def test_cli_unset_is_an_override_in_order():
+    import saxum.cli as cli
+
+    args = cli._parser().parse_args(["run", "s.toml", "--set", "solver.dt=1e-4", "--unset",
+                                     "loads.ground_motion"])
+    assert args.set == ["solver.dt=1e-4", "loads.ground_motion="]
+
+
 def test_blocks_file_relative_to_the_scenario(tmp_path):
     (tmp_path / "blocks.json").write_text(json.dumps({"blocks": [
         {"vertices": [[-1, -0.1], [1, -0.1], [1, 0], [-1, 0]], "kind": "fixed",
@@ -307,6 +324,15 @@ def test_bad_override_is_named():
     assert "laws has 2 entries, so no [2]" in _error(ARCH, overrides=["laws[2].friction=1"])
     assert "output.duration is not a table with keys, so it has no 'x'" in _error(
         ARCH, overrides=["output.duration.x=1"])
+
+
+def test_a_scenario_given_as_results_file_is_named(tmp_path):
+    from saxum.results import Results
+
+    (tmp_path / "arch.toml").write_text(ARCH)
+    with pytest.raises(sx.InputError, match=r"arch.toml is not a readable HDF5 file: .* it "
+                                            r"looks like a scenario: run it first \(saxum run"):
+        Results(tmp_path / "arch.toml")
 
 
 def test_a_results_file_given_as_scenario_is_named(tmp_path):

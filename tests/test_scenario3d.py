@@ -5,6 +5,7 @@ import math
 import os
 import signal
 import textwrap
+from pathlib import Path
 
 import meshio
 import numpy as np
@@ -17,7 +18,7 @@ from saxum.errors import InputError
 from saxum.plot import animate, plot_frame, plot_histories
 from saxum.results import Results, ResultsWriter
 from saxum.runner import resume_run, run_scenario
-from saxum.scenario import parse_scenario
+from saxum.scenario import load_scenario, parse_scenario
 from saxum.vtk import export_vtk
 
 LAWS = """
@@ -342,3 +343,19 @@ def test_collapse_of_a_3d_pier_reports_its_hinge_lines(tmp_path, capsys):
         ax = plot_frame(r, -1).axes[0]
     assert any(line.get_linewidth() == 3.0 for line in ax.lines)  # the hinge lines
     assert out.with_suffix(".png").stat().st_size > 10_000
+
+
+def test_bridge_3d_parapets_need_both_sizes():
+    """The flood example's bridge has its parapets, the fill its own density and the road at
+    abutment_height + spandrel_height; one parapet size without the other is refused."""
+    path = Path(__file__).parents[1] / "examples" / "flood_bridge3d.toml"
+    model = load_scenario(path).build_model()
+    group = np.array([model.group_names[g] for g in model.body_group])
+    parapets = np.vstack([model.vertices(b) for b in np.flatnonzero(group == "parapet")])
+    assert (parapets[:, 2].min(), parapets[:, 2].max()) == pytest.approx((7.0, 8.0))
+    assert set(model.body_density[group == "fill"]) == {2000.0}
+    text = "\n".join(line for line in path.read_text().splitlines()
+                     if not line.startswith("parapet_height"))
+    with pytest.raises(InputError, match="parapets need both parapet_thickness and "
+                                         "parapet_height"):
+        parse_scenario(text, base_dir=path.parent)

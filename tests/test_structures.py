@@ -475,3 +475,44 @@ def test_dxf_without_ezdxf_says_how_to_install(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "ezdxf", None)  # import ezdxf raises ImportError
     with pytest.raises(sx.InputError, match="pip install ezdxf"):
         read_blocks(_write(tmp_path / "x.dxf", ""))
+
+
+def test_bridge3d_parapets_on_the_walls_with_broken_joints_and_a_lighter_fill():
+    """Parapets t x h on both spandrel walls, flush with the faces, over the walls' whole
+    length; no parapet joint over a head joint of the course below (blocks 1.5 m long on a
+    top course of 1.5 m blocks, not shifted: all but one would be); the fill of its own
+    density; the bridge stands under its own weight."""
+    from saxum.structures import bridge3d
+
+    shape = ArchShape.segmental(span=4.0, rise=2.0, thickness=0.5)
+    model = bridge3d(shape, voussoirs=5, width=4.0, spandrel_thickness=0.6, abutment_width=1.5,
+                     pier_height=2.0, spandrel_height=3.0, parapet=(0.4, 1.0),
+                     parapet_length=1.5, course_height=1.0, block_length=1.5, density=2400.0,
+                     fill_density=1800.0)
+    group = np.array([model.group_names[g] for g in model.body_group])
+    assert set(model.body_density[group == "fill"]) == {1800.0}
+    assert set(model.body_density[(group != "fill") & (group != "ground")]) == {2400.0}
+    walls = np.vstack([model.vertices(b) for b in np.flatnonzero(group == "spandrel")])
+    deck = walls[:, 2].max()
+    below = np.vstack([model.vertices(b) for b in np.flatnonzero(group != "parapet")])
+    under = below[np.isclose(below[:, 2], deck), 0]
+    parapets = [model.vertices(b) for b in np.flatnonzero(group == "parapet")]
+    assert len(parapets) % 2 == 0
+    for y0, y1 in ((0.0, 0.4), (3.6, 4.0)):
+        row = sorted((p for p in parapets if np.isclose(p[:, 1].min(), y0)),
+                     key=lambda p: p[:, 0].min())
+        assert len(row) == len(parapets) // 2
+        for p in row:
+            assert p[:, 1].max() == pytest.approx(y1, abs=1e-12)
+            assert (p[:, 2].min(), p[:, 2].max()) == pytest.approx((deck, deck + 1.0))
+        edges = [p[:, 0].min() for p in row] + [row[-1][:, 0].max()]
+        assert edges == pytest.approx([0.0, 1.875, 3.375, 4.875, 6.375, 7.0])
+        assert (edges[0], edges[-1]) == pytest.approx((walls[:, 0].min(), walls[:, 0].max()))
+        for a, p in zip(edges[1:-1], row[:-1], strict=True):
+            assert p[:, 0].max() == pytest.approx(a, abs=1e-12)  # the blocks touch
+            assert np.abs(under - a).min() > 1e-6  # not on a joint below (0.375 m off)
+    _starts(model)
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.1)
+    assert np.abs(state.body_q[:, :3] - model.body_q0[:, :3]).max() < 1e-5

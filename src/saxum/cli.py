@@ -1,10 +1,11 @@
 """saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input.
 SI units throughout; in 2D, forces and masses are per metre of depth.
 
-    saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--quiet]
+    saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--unset KEY ...] [--quiet]
     saxum resume RESULTS [--quiet]
     saxum demo NAME [-o PICTURE] [--duration T]      (NAME: arch, wall)
     saxum collapse SCENARIO --vary KEY --stands A --collapses B [--set KEY=VALUE ...]
+                   [--unset KEY ...]
     saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B [-o PNG]
     saxum fclib solve FILE...
     saxum info RESULTS
@@ -340,6 +341,14 @@ def _periods(text: str) -> list[float]:
     return periods
 
 
+def _unset_option(p: argparse.ArgumentParser) -> None:
+    """--unset KEY: the same list as --set, as "KEY=" (the key removed: its default applies)."""
+    p.add_argument("--unset", action="append", dest="set", metavar="KEY", type=lambda k: f"{k}=",
+                   help="remove a scenario key, so that its default applies (for a table such "
+                        "as loads.ground_motion: none), e.g. --unset loads.ground_motion "
+                        "(repeatable)")
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="saxum", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -352,6 +361,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", type=Path, help="results file (default: SCENARIO.h5)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a scenario key, e.g. --set solver.dt=5e-4 (repeatable)")
+    _unset_option(p)
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -395,6 +405,7 @@ def _parser() -> argparse.ArgumentParser:
                         "part (a parapet) that starts to fail slowly on a large structure")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
+    _unset_option(p)
     p.add_argument("-o", "--output", type=Path,
                    help="results of the collapsing case (default: SCENARIO-collapse.h5)")
     p.set_defaults(func=_collapse)
@@ -420,6 +431,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="worker processes (default: one per CPU)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
+    _unset_option(p)
     p.add_argument("-o", "--output", type=Path,
                    help="picture of amplitude against period (default: SCENARIO-curve.png); "
                         "the table goes next to it as .csv")

@@ -84,16 +84,12 @@ class Solution:
     v: np.ndarray | None = None
 
 
-@dataclass
-class LocalProblem:
-    """u = W r + q, r_alpha in K_mu_alpha; W (m, m) CSR, m = spacedim x contacts.
-    matrix_info: per matrix name ("W"); attributes: HDF5 attributes by object path (none are
-    part of FCLIB, but codes such as LMGC90 and Siconos add some: they are kept)."""
+@dataclass(kw_only=True)
+class _ProblemRecord:
+    """What FCLIB stores beside a problem's data: info, guesses, solution; matrix_info: per
+    matrix name ("W", "M", "H"); attributes: HDF5 attributes by object path (none are part of
+    FCLIB, but codes such as LMGC90 and Siconos add some: they are kept)."""
 
-    W: sp.csr_matrix
-    q: np.ndarray
-    mu: np.ndarray
-    spacedim: int
     info: Info | None = None
     guesses: list[Solution] = field(default_factory=list)
     solution: Solution | None = None
@@ -106,9 +102,18 @@ class LocalProblem:
 
 
 @dataclass
-class GlobalProblem:
-    """M v = H r + f, u = H^T v + w, r_alpha in K_mu_alpha; M (n, n), H (n, m) CSR.
-    Other fields as LocalProblem ("M", "H" in matrix_info)."""
+class LocalProblem(_ProblemRecord):
+    """u = W r + q, r_alpha in K_mu_alpha; W (m, m) CSR, m = spacedim x contacts."""
+
+    W: sp.csr_matrix
+    q: np.ndarray
+    mu: np.ndarray
+    spacedim: int
+
+
+@dataclass
+class GlobalProblem(_ProblemRecord):
+    """M v = H r + f, u = H^T v + w, r_alpha in K_mu_alpha; M (n, n), H (n, m) CSR."""
 
     M: sp.csr_matrix
     H: sp.csr_matrix
@@ -116,15 +121,6 @@ class GlobalProblem:
     w: np.ndarray
     mu: np.ndarray
     spacedim: int
-    info: Info | None = None
-    guesses: list[Solution] = field(default_factory=list)
-    solution: Solution | None = None
-    matrix_info: dict[str, MatrixInfo] = field(default_factory=dict)
-    attributes: dict[str, dict] = field(default_factory=dict)
-
-    @property
-    def contacts(self) -> int:
-        return self.mu.size
 
     def delassus(self) -> tuple[sp.csr_matrix, np.ndarray]:
         """(W, q) = (H^T M^-1 H, H^T M^-1 f + w), by a sparse LU of M; M^-1 H is formed a few

@@ -85,8 +85,9 @@ def convex_polyhedron(points, *, name: str = "block") -> Polyhedron:
     inside = np.flatnonzero(depth < -_REL_TOL * scale)
     if inside.size:
         k = int(inside[0])
+        at = tuple(round(float(x), 6) for x in p[k])
         raise InputError(
-            f"{name}: the point set is not convex: vertex {k} at {tuple(p[k])} lies "
+            f"{name}: the point set is not convex: vertex {k} at {at} lies "
             f"{-depth[k]:.3g} m inside the convex hull of the others; split the block into "
             "convex parts"
         )

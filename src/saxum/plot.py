@@ -102,6 +102,15 @@ def length_unit(largest: float) -> tuple[float, str]:
     return (1e6, "µm") if largest >= 1e-6 else (1e9, "nm")
 
 
+def prefixed_unit(largest: float, unit: str) -> tuple[float, str]:
+    """(factor, prefixed unit) that shows values up to `largest` (in `unit`) with at most three
+    digits before the point: M, k, none, m, µ, n (n for anything smaller)."""
+    for power, prefix in ((6, "M"), (3, "k"), (0, ""), (-3, "m"), (-6, "µ")):
+        if largest >= 10.0**power:
+            return 10.0**-power, prefix + unit
+    return (1e9, "n" + unit) if largest > 0.0 else (1.0, unit)
+
+
 def _force_unit(largest: float) -> tuple[float, str]:
     """(factor from N/m, unit) for line forces up to `largest` [N/m]."""
     if largest >= 1e6:
@@ -421,8 +430,9 @@ def plot_histories(results, path: str | PathLike | None = None, *,
     step (horizontal displacement [mm or m] and rotation [deg]; ground acceleration
     [m/s^2] under a ground motion) or, without them or when `body` (name or index) is given,
     the displacement of that block at the output frames (default: the free block that moved
-    most); then kinetic energy [J/m], NLGS iterations per step (non-converged steps in red)
-    and the largest interpenetration [µm, mm or m]. Saved to `path` at dpi when given."""
+    most); then kinetic energy [J/m, mJ/m, ... as fits; 3D: J, mJ, ...], NLGS iterations per
+    step (non-converged steps in red) and the largest interpenetration [nm, µm, mm or m].
+    Saved to `path` at dpi when given."""
     if results.frame_count == 0:
         raise InputError(f"{results.path} has no output frame")
     h = results.histories if body is None else None
@@ -437,8 +447,10 @@ def plot_histories(results, path: str | PathLike | None = None, *,
         _draw_block_displacement(axes[0], results, _body_index(results, body))
     ax_e, ax_it, ax_pen = axes[top:]
 
-    ax_e.plot(s["time"], s["kinetic_energy"], lw=1.0, color="C3")
-    ax_e.set_ylabel(f"kinetic energy [{results.units['kinetic_energy']}]")
+    factor, unit = prefixed_unit(float(s["kinetic_energy"].max(initial=0.0)),
+                                 results.units["kinetic_energy"])
+    ax_e.plot(s["time"], factor * s["kinetic_energy"], lw=1.0, color="C3")
+    ax_e.set_ylabel(f"kinetic energy [{unit}]")
 
     ax_it.plot(s["time"], s["iterations"], lw=0.7, color="0.3")
     bad = ~s["converged"]

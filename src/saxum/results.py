@@ -372,7 +372,10 @@ class Results:
         try:
             self.file = h5py.File(self.path, "r", swmr=True)
         except OSError as err:
-            raise InputError(f"{self.path} is not a readable HDF5 file: {err}") from None
+            hint = ("; it looks like a scenario: run it first (saxum run "
+                    f"{self.path}) and give the results file" if self.path.suffix == ".toml"
+                    else "")
+            raise InputError(f"{self.path} is not a readable HDF5 file: {err}{hint}") from None
         if self.file.attrs.get("format") != FORMAT:
             self.file.close()
             raise InputError(f"{self.path} is not a saxum results file")

@@ -407,8 +407,9 @@ class Pier3dStructure(_Strict):
 
 class Bridge3dStructure(_Strict):
     """A single-span stone bridge with spandrel walls (3D): a segmental barrel on two
-    abutments, spandrel walls at both faces, fill blocks between them or none (groups
-    "ground", "pier", "voussoir", "spandrel", "fill")."""
+    abutments, spandrel walls at both faces, fill blocks between them or none, parapets on
+    the walls if their size is given (groups "ground", "pier", "voussoir", "spandrel", "fill",
+    "parapet")."""
 
     dim: ClassVar[int] = 3
     type: Literal["bridge_3d"] = "bridge_3d"
@@ -420,21 +421,38 @@ class Bridge3dStructure(_Strict):
     spandrel_thickness: Positive = Field(description="thickness of each spandrel wall [m]")
     abutment_width: Positive = Field(description="[m]")
     abutment_height: Positive = Field(description="[m], from the ground to the springing")
+    spandrel_height: Positive | None = Field(
+        None, description="top of the spandrel walls (the road) above the springing [m]")
     fill: Literal["blocks", "none"] = "blocks"
+    fill_density: Positive | None = Field(None, description="[kg/m^3], default `density`")
+    parapet_thickness: Positive | None = Field(None, description="[m]")
+    parapet_height: Positive | None = Field(None, description="[m]")
+    parapet_length: Positive = Field(1.0, description="parapet blocks [m]")
     course_height: Positive = Field(0.5, description="spandrel courses [m]")
     block_length: Positive = Field(1.0, description="spandrel blocks [m]")
     pieces: int = Field(1, ge=1, description="pieces of each voussoir along the width")
     stagger: bool = Field(False, description="shift every other voussoir's joints by half")
     density: Positive = Field(2200.0, description="[kg/m^3]")
 
+    @model_validator(mode="after")
+    def _parapet_keys(self) -> Bridge3dStructure:
+        if (self.parapet_thickness is None) != (self.parapet_height is None):
+            raise ValueError("parapets need both parapet_thickness and parapet_height [m] "
+                             "(give neither for none)")
+        return self
+
     def add_to(self, builder: ModelBuilder) -> None:
         shape = ArchShape.segmental(span=self.span, rise=self.rise, thickness=self.thickness)
+        parapet = (None if self.parapet_thickness is None
+                   else (self.parapet_thickness, self.parapet_height))
         add_bridge3d(builder, shape, voussoirs=self.voussoirs, width=self.width,
                      spandrel_thickness=self.spandrel_thickness,
                      abutment_width=self.abutment_width, pier_height=self.abutment_height,
-                     fill=self.fill, pieces=self.pieces, stagger=self.stagger,
-                     course_height=self.course_height, block_length=self.block_length,
-                     density=self.density)
+                     fill=self.fill, fill_density=self.fill_density, parapet=parapet,
+                     parapet_length=self.parapet_length, pieces=self.pieces,
+                     stagger=self.stagger, course_height=self.course_height,
+                     block_length=self.block_length, density=self.density,
+                     spandrel_height=self.spandrel_height)
 
 
 class MeshStructure(_Strict):
@@ -891,10 +909,14 @@ def parse_scenario(text: str, *, base_dir: str | Path = ".",
 
 
 def _apply_override(data: dict, item: str) -> None:
-    """Set data[key] from "dotted.key[index].key=value" (value in TOML syntax, else a string)."""
+    """Set data[key] from "dotted.key[index].key=value" (value in TOML syntax, else a string);
+    "key=" with nothing after "=" removes the key (its default applies: none for a table)."""
     key, sep, raw = item.partition("=")
     if not sep or not key.strip():
         raise InputError(f"--set {item!r}: expected KEY=VALUE, e.g. solver.dt=5e-4")
+    if not raw.strip():
+        _remove_key(data, key.strip(), item)
+        return
     try:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
@@ -919,6 +941,18 @@ def _apply_override(data: dict, item: str) -> None:
         node[path[-1]] = value
     except (IndexError, TypeError):
         raise _missing(item, done, path[-1], node) from None
+
+
+def _remove_key(data: dict, key: str, item: str) -> None:
+    """Remove the table key `key` (dotted) from data; an error names it if it is not there."""
+    *parents, last = key.split(".")
+    node = data
+    for part in parents:
+        node = node.get(part) if isinstance(node, dict) else None
+    if not isinstance(node, dict) or last not in node:
+        raise InputError(f"--unset {key!r} (--set {item!r}): the scenario has no {key!r} to "
+                         "remove (removing works on table keys, not list entries)")
+    del node[last]
 
 
 def _missing(item: str, done: str, key: str | int, node) -> InputError:

@@ -106,9 +106,12 @@ class Simulation:
         for name, values in saved["contacts"].items():
             getattr(contacts, name)[: contacts.count] = values
         self.detector.restore(saved)
-        return State(time=float(saved["time"]), body_q=np.array(saved["body_q"]),
+        time, step = float(saved["time"]), int(saved["step"])
+        # exact for runs from t = 0 (time is then the float k h itself)
+        start = time - step * self.integrator.dt
+        return State(time=time, body_q=np.array(saved["body_q"]),
                      body_v=np.array(saved["body_v"]), contacts=contacts,
-                     step=int(saved["step"]))
+                     step=step, start_time=start)
 
     def external_force(self, t: float, out: np.ndarray, q: np.ndarray | None = None) -> None:
         """out = F(t) [N, N m] per body and dof: weight, uniform accelerations, applied forces
@@ -144,7 +147,7 @@ class Simulation:
         m = self.model
         h = self.integrator.dt
         theta = self.integrator.theta
-        t1 = state.time + h
+        t1 = state.start_time + (state.step + 1) * h
 
         if self.model.accelerations or self.model.forces or self.model.field_loads:
             self._step_force(state.time, t1, self._force, state.body_q)

@@ -15,13 +15,16 @@ __all__ = ["State"]
 class State:
     """Time [s], body_q (x, y, theta) [m, m, rad] and body_v (vx, vy, omega) [m/s, m/s, rad/s],
     both shape [body_count, 3] (3D: body_q [body_count, 7], body_v [body_count, 6], see
-    saxum.model), and the contacts of the last step with their impulses."""
+    saxum.model), and the contacts of the last step with their impulses. `step` counts the
+    steps since `start_time` [s]: step k ends at start_time + k h, computed from k rather than
+    summed, so that frame times carry no accumulated round-off."""
 
     time: float
     body_q: np.ndarray
     body_v: np.ndarray
     contacts: Contacts
     step: int = 0
+    start_time: float = 0.0
 
     @classmethod
     def initial(cls, model: Model, *, time: float = 0.0) -> "State":
@@ -34,8 +37,8 @@ class State:
             rigid3d.angular_velocity_to_body(model.body_q0, np.flatnonzero(model.body_motion >= 0),
                                              body_v)
         return cls(time=time, body_q=model.body_q0.copy(), body_v=body_v,
-                   contacts=Contacts(model.dim))
+                   contacts=Contacts(model.dim), start_time=time)
 
     def copy(self) -> "State":
         return State(self.time, self.body_q.copy(), self.body_v.copy(), self.contacts.copy(),
-                     self.step)
+                     self.step, self.start_time)

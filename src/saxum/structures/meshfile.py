@@ -6,6 +6,12 @@ by the divergence theorem, must equal the volume of the convex hull of its verti
 is then that hull (saxum.geometry3d). Volume cells (tetrahedra, hexahedra, ...) are accepted
 too: each connected group of them is a block, the hull of its points. Points closer than 1e-9
 of the file's size are merged first (STL repeats them for every triangle).
+
+Faces are connected through their edges. Blocks that touch (stacked stones, whose joint faces
+share corners and edges) meet at edges of more than two faces; there each face is joined to
+the first face with the opposite sense along the edge that one meets turning about the edge
+from the face into its solid side (the face that closes its solid wedge), so touching blocks
+stay apart.
 """
 
 import warnings
@@ -50,7 +56,9 @@ def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
     faces = [[int(index[k]) for k in f] for f in faces]
     solids = [[int(index[k]) for k in s] for s in solids]
     blocks = []
-    for number, (part_faces, part_solids) in enumerate(_parts(len(points), faces, solids)):
+    parts = (_parts(len(points), faces, solids) if solids
+             else [(part, []) for part in _surface_parts(points, faces)])
+    for number, (part_faces, part_solids) in enumerate(parts):
         near = points[(part_faces or part_solids)[0][0]]
         where = f"{path}: block {number} (near {_xyz(near)})"
         used = np.unique(np.concatenate([np.asarray(c) for c in part_faces + part_solids]))
@@ -97,6 +105,64 @@ def _parts(n: int, faces: list[list[int]], solids: list[list[int]]):
     for cell in solids:
         parts.setdefault(find(cell[0]), ([], []))[1].append(cell)
     return list(parts.values())
+
+
+def _surface_parts(points: np.ndarray, faces: list[list[int]]) -> list[list[list[int]]]:
+    """The faces of each block (module doc), ordered by their first face in the file."""
+    edges: dict[tuple[int, int], list[int]] = {}
+    for f, face in enumerate(faces):
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            edges.setdefault((min(a, b), max(a, b)), []).append(f)
+    parent = list(range(len(faces)))
+
+    def find(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for (a, b), at_edge in edges.items():
+        pairs = ([tuple(at_edge)] if len(at_edge) <= 2
+                 else _pair_at_edge(points, faces, a, b, at_edge))
+        for f, g in (p for p in pairs if len(p) == 2):
+            parent[find(g)] = find(f)
+    parts: dict[int, list[list[int]]] = {}
+    for f, face in enumerate(faces):
+        parts.setdefault(find(f), []).append(face)
+    return list(parts.values())
+
+
+def _pair_at_edge(points: np.ndarray, faces: list[list[int]], a: int, b: int,
+                  at_edge: list[int]) -> list[tuple[int, int]]:
+    """(face, the face that closes its solid wedge) for the faces meeting at edge a-b."""
+    axis = points[b] - points[a]
+    axis /= np.linalg.norm(axis)
+    side = np.cross(axis, _any_normal(axis))
+    angle, forward, into = [], [], []
+    for f in at_edge:
+        p = points[faces[f]]
+        wing = p.mean(axis=0) - points[a]
+        wing -= (wing @ axis) * axis
+        angle.append(float(np.arctan2(wing @ side, wing @ _any_normal(axis))))
+        k = faces[f].index(a)
+        forward.append(faces[f][(k + 1) % len(faces[f])] == b)
+        # outward normal (Newell); the solid is on its other side
+        normal = np.sum(np.cross(p, np.roll(p, -1, axis=0)), axis=0)
+        into.append(1.0 if normal @ np.cross(axis, wing) < 0.0 else -1.0)
+    pairs = []
+    for i, f in enumerate(at_edge):
+        turns = [((into[i] * (angle[j] - angle[i])) % (2.0 * np.pi), g)
+                 for j, g in enumerate(at_edge) if forward[j] != forward[i]]
+        turns = [(t if 1e-9 < t < 2.0 * np.pi - 1e-9 else 2.0 * np.pi, g) for t, g in turns]
+        if turns:
+            pairs.append((f, min(turns)[1]))
+    return pairs
+
+
+def _any_normal(u: np.ndarray) -> np.ndarray:
+    """A unit vector normal to the unit vector u."""
+    v = np.cross(u, (1.0, 0.0, 0.0) if abs(u[0]) < 0.9 else (0.0, 1.0, 0.0))
+    return v / np.linalg.norm(v)
 
 
 def _check_closed(faces: list[list[int]], points: np.ndarray, where: str) -> None:

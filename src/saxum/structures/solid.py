@@ -13,6 +13,7 @@ depth runs along y. Every dimension in metres, density in kg/m^3.
 - piers of courses of two blocks, crossed from course to course (add_pier3d, pier3d).
 """
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -20,7 +21,7 @@ import numpy as np
 from ..errors import InputError
 from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
-from ._common import Assembly, check_count, check_positive, finalize
+from ._common import Assembly, check_count, check_positive, finalize, fit_edges
 from .arch import ArchShape, add_supported_arch, add_supported_semicircular_arch
 from .bridge import add_arch_bridge
 
@@ -55,8 +56,8 @@ def _cuts(y0: float, y1: float, pieces: int, shifted: bool) -> list[float]:
 
 
 def add_extruded(builder: ModelBuilder, model2d: Model, depth: float, *, pieces: int = 1,
-                 stagger: bool = False,
-                 spans: dict[str, Sequence[Span]] | None = None) -> Assembly:
+                 stagger: bool = False, spans: dict[str, Sequence[Span]] | None = None,
+                 densities: dict[str, float] | None = None) -> Assembly:
     """Add every block of the 2D model as a prism (x, z) through the depth y = 0 .. depth [m].
 
     pieces: free blocks through the whole depth are cut into this many equal pieces along it;
@@ -65,12 +66,14 @@ def add_extruded(builder: ModelBuilder, model2d: Model, depth: float, *, pieces:
     spans: for the blocks of a group, the depth spans (y0, y1, group) they fill instead of the
     whole depth (e.g. a bridge's spandrel walls at the two faces, its fill between them);
     these are not cut.
+    densities: the density [kg/m^3] of the blocks of these (3D) groups, instead of the 2D
+    block's (e.g. a bridge's fill, lighter than its spandrel walls).
     Parts and names follow the 2D model's groups and names ("<name>" or "<name> p<k>").
     """
-    return _extrude(builder, model2d, depth, pieces, stagger, spans)[0]
+    return _extrude(builder, model2d, depth, pieces, stagger, spans, densities)[0]
 
 
-def _extrude(builder, model2d, depth, pieces, stagger, spans):
+def _extrude(builder, model2d, depth, pieces, stagger, spans, densities=None):
     """add_extruded, and the 3D bodies made of each 2D body."""
     if builder.dim != 3:
         raise InputError("add_extruded needs a ModelBuilder(dim=3)")
@@ -81,6 +84,11 @@ def _extrude(builder, model2d, depth, pieces, stagger, spans):
                          "model's supports instead (ModelBuilder.drive)")
     check_positive(depth=depth)
     check_count("pieces", pieces)
+    densities = dict(densities or {})
+    for group, density in densities.items():
+        if not (math.isfinite(density) and density > 0.0):
+            raise InputError(f"densities[{group!r}] must be a density > 0 [kg/m^3], got "
+                             f"{density!r}")
     spans = dict(spans or {})
     for group, ranges in spans.items():
         for y0, y1, _ in ranges:
@@ -108,7 +116,8 @@ def _extrude(builder, model2d, depth, pieces, stagger, spans):
                     suffix = f" y{y0:g}" + suffix
                 made.setdefault(b, []).append(asm.add_block(
                     builder, span_group, prism(poly, cuts[k], cuts[k + 1]), group=span_group,
-                    name=name + suffix, density=density, kind=kind))
+                    name=name + suffix, density=densities.get(span_group, density),
+                    kind=kind))
         free_count += kind == BodyKind.FREE
     return asm, made
 
@@ -200,21 +209,36 @@ def arch3d(shape: ArchShape, *, voussoirs: int, depth: float, pieces: int = 1,
 
 def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, width: float,
                  spandrel_thickness: float, abutment_width: float, pier_height: float,
-                 fill: str = "blocks", pieces: int = 1, stagger: bool = False,
-                 **options) -> Assembly:
+                 fill: str = "blocks", fill_density: float | None = None,
+                 parapet: tuple[float, float] | None = None, parapet_length: float = 1.0,
+                 pieces: int = 1, stagger: bool = False, **options) -> Assembly:
     """A single-span stone bridge `width` [m] wide (along y): the barrel (the 2D
     arch_bridge's voussoirs through the width, `pieces` and `stagger` as add_arch3d),
     spandrel walls spandrel_thickness [m] thick at both faces (the 2D spandrel courses), and
-    between them, if fill == "blocks", the same courses as fill blocks (group "fill"), else
-    ("none") nothing. `options` go to saxum.structures.add_arch_bridge (course_height,
-    block_length, density, ...). Groups "ground", "pier" (the abutments), "voussoir",
-    "spandrel" and "fill"."""
+    between them, if fill == "blocks", the same courses as fill blocks (group "fill", of
+    fill_density [kg/m^3], default the masonry's), else ("none") nothing. With `parapet`
+    (thickness, height) [m], a parapet on each spandrel wall, flush with the bridge's face,
+    along the whole length of the walls, in blocks about parapet_length [m] long (the last
+    one takes what is left; a joint that would fall on a head joint of the course below is
+    moved along by a quarter block, as a mason breaks joints: coincident edges touch along a
+    line whose contact normal is ambiguous). `options` go to saxum.structures.add_arch_bridge
+    (course_height, block_length, density, ...). Groups "ground", "pier" (the abutments),
+    "voussoir", "spandrel", "fill" and "parapet"; the parapets' blocks are named
+    "parapet b<k> y0" (the face y = 0) and "parapet b<k> y<width>"."""
     check_positive(width=width, spandrel_thickness=spandrel_thickness)
     if fill not in ("blocks", "none"):
         raise InputError(f"fill must be 'blocks' or 'none', got {fill!r}")
     if not 2.0 * spandrel_thickness < width:
         raise InputError(f"spandrel_thickness {spandrel_thickness:g} m leaves no room between "
                          f"the two spandrel walls of a bridge {width:g} m wide")
+    if parapet is not None:
+        if len(parapet) != 2:
+            raise InputError(f"parapet must be (thickness, height) [m], got {parapet!r}")
+        check_positive(parapet_thickness=parapet[0], parapet_height=parapet[1],
+                       parapet_length=parapet_length)
+        if parapet[0] > spandrel_thickness:
+            raise InputError(f"parapet thickness {parapet[0]:g} m exceeds the spandrel walls' "
+                             f"thickness {spandrel_thickness:g} m it stands on")
     model2d = _plane(lambda b: add_arch_bridge(
         b, shape, spans=1, voussoirs=voussoirs, pier_width=abutment_width,
         pier_height=pier_height, abutment_width=abutment_width, fill="surcharge",
@@ -223,22 +247,63 @@ def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, wid
     walls = [(0.0, t, "spandrel"), (w - t, w, "spandrel")]
     if fill == "blocks":
         walls.insert(1, (t, w - t, "fill"))
-    return add_extruded(builder, model2d, width, pieces=pieces, stagger=stagger,
-                        spans={"spandrel": walls})
+    asm = add_extruded(builder, model2d, width, pieces=pieces, stagger=stagger,
+                       spans={"spandrel": walls},
+                       densities={"fill": fill_density} if fill_density is not None else None)
+    if parapet is not None:
+        thick, high = parapet
+        density = float(model2d.body_density[model2d.group_names.index("spandrel")
+                                             == model2d.body_group].max())
+        tops = np.vstack([asm.outlines[b] for b in asm["spandrel"]])
+        x0, x1, deck = float(tops[:, 0].min()), float(tops[:, 0].max()), float(tops[:, 2].max())
+        xs = _staggered(fit_edges(x0, x1, parapet_length, shifted=False),
+                        [asm.outlines[b] for b in asm.bodies], deck, parapet_length)
+        for y0 in (0.0, w - thick):
+            for k in range(len(xs) - 1):
+                asm.add_block(builder, "parapets", box(xs[k], y0, deck, xs[k + 1], y0 + thick,
+                                                      deck + high),
+                              group="parapet", density=density,
+                              name=f"parapet b{k + 1} y{y0:g}")
+    return asm
+
+
+def _staggered(edges: list[float], outlines, level: float, length: float) -> list[float]:
+    """The inner joints `edges` [m] of a course laid at `level` [m] on blocks of `outlines`
+    ((n, 3) world points [m]), each moved by length/4 [m] if it falls on a vertical edge of a
+    block below (a vertex at `level` with the same x): forward, or back where the next block
+    is shorter than length/2 (only the last may be: fit_edges)."""
+    tol = 1e-9 * length
+    below = np.concatenate([o[np.abs(o[:, 2] - level) <= tol, 0] for o in outlines])
+    moved = list(edges)
+    for k in range(1, len(edges) - 1):
+        if np.any(np.abs(below - edges[k]) <= tol):
+            forward = edges[k + 1] - edges[k] > 0.5 * length
+            moved[k] = edges[k] + (0.25 if forward else -0.25) * length
+    return moved
 
 
 def bridge3d(shape: ArchShape, *, voussoirs: int, width: float, spandrel_thickness: float,
              abutment_width: float, pier_height: float, fill: str = "blocks",
-             pieces: int = 1, stagger: bool = False, friction: float = 0.6,
-             law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+             fill_density: float | None = None, parapet: tuple[float, float] | None = None,
+             parapet_length: float = 1.0, pieces: int = 1, stagger: bool = False,
+             friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
              gravity: tuple[float, float, float] = (0.0, 0.0, -9.81), **options) -> Model:
-    """A single-span stone bridge with spandrel walls (add_bridge3d), friction mu [-] on
-    every joint."""
+    """A single-span stone bridge with spandrel walls, fill and parapets (add_bridge3d),
+    friction mu [-] on every joint.
+
+    >>> shape = ArchShape.segmental(span=4.0, rise=2.0, thickness=0.5)
+    >>> model = bridge3d(shape, voussoirs=5, width=4.0, spandrel_thickness=0.6,
+    ...                  abutment_width=1.5, pier_height=2.0, parapet=(0.4, 1.0),
+    ...                  parapet_length=2.5, course_height=1.0, block_length=2.0)
+    >>> sorted(set(model.group_names))
+    ['fill', 'ground', 'parapet', 'pier', 'spandrel', 'voussoir']
+    """
     builder = ModelBuilder(dim=3, gravity=gravity)
     asm = add_bridge3d(builder, shape, voussoirs=voussoirs, width=width,
                        spandrel_thickness=spandrel_thickness, abutment_width=abutment_width,
-                       pier_height=pier_height, fill=fill, pieces=pieces, stagger=stagger,
-                       **options)
+                       pier_height=pier_height, fill=fill, fill_density=fill_density,
+                       parapet=parapet, parapet_length=parapet_length, pieces=pieces,
+                       stagger=stagger, **options)
     return finalize(builder, asm.groups, friction, law)
 
 
