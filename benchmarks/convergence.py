@@ -4,6 +4,7 @@ on structures at rest and one collapsing, from the cold start on.
     python benchmarks/convergence.py                  # every case (about a minute)
     python benchmarks/convergence.py --cases tower,arch --rest-after 0 --spectral --orders
     python benchmarks/convergence.py --cases pier3d,wall3d --rest-after 0   # a few minutes
+    python benchmarks/convergence.py --cases stack-shaken,wall512-shaken --diagnose
 
 Cases (dt = 1e-3 s, theta = 0.5, default law and NLGS: tolerance 1e-6, at most 5000 sweeps,
 unless --rest-after is given):
@@ -16,6 +17,11 @@ unless --rest-after is given):
 - arch-collapse: the same with t/R = 0.09 (it collapses), 2 s: a dynamic case;
 - wall512-shaken: the 512-brick wall under a horizontal acceleration of 0.7 g (it slides and
   overturns), 0.3 s: a dynamic case on which the rest solution is looked for and not found;
+- wall512-shaken-margin: the same with mu = 0.8 between bricks (0.6 on the ground): the bed
+  joints keep a margin while the wall slides on its base (with one mu for every joint, a wall
+  sliding as a whole needs exactly mu N in every bed joint: m (a - (a - mu g)) = mu m g);
+- stack-shaken: a stack-bond wall of 10 courses x 2 bricks (the tower's bricks) under 0.7 g,
+  0.1 s: the smallest case found whose steps in motion hit the cap (for --diagnose);
 - pier3d: a 3D pier of 40 courses 0.065 m high, each of two blocks 0.125 x 0.25 m crossed from
   course to course (0.25 x 0.25 x 2.6 m), density 1800 kg/m^3, mu = 0.6, at rest, 1 s;
 - wall3d: a 3D L-shaped running-bond wall (saxum.structures.wall3d, 20 courses, two walls 3 m
@@ -42,6 +48,16 @@ eigenvalue relative to its largest. Dense, so a few tens of seconds.
 alone from zero impulses (cap 20 000 sweeps) with the contacts visited in other orders: the
 sweep's own (last contact first), forward, by height of the contact point (highest or lowest
 first), and symmetric (alternating directions); the sweeps to converge are compared.
+
+--diagnose: for each case, the first --diagnose-steps steps that hit the cap are captured and
+replayed by NLGS alone (nlgs_2d / nlgs_3d, as the step ran: the rest solution is not found in
+motion): the error after 1000, 2000, ... sweeps, the contacts' states at the cap (open, sticking
+inside the cone, on the cone's edge), then NLGS goes on from there to tolerance 1e-10 (at most
+--reference-sweeps more sweeps) for a reference solution of the same step problem, and reports
+how far the capped iterate was from it (|v - v_ref|_M / |v_ref - v_free|_M), how many contacts
+changed state, and the reference's degeneracy: closed contacts within 0.1 % of the cone's edge
+and open contacts (R = 0) whose normal velocity U_n + b_n is below 1e-6 of the largest |U|
+(grazing).
 
 Kernels are compiled (a warm-up run) before the clock starts. The figures are printed and
 written as JSON (benchmarks/results/convergence.json by default) with the machine, the package
@@ -79,6 +95,8 @@ CASES = {
     "arch-collapse": (lambda: semicircular_arch(radius=1.0, thickness=0.09, voussoirs=15,
                                                 density=2000.0, friction=0.6), 2.0),
     "wall512-shaken": (lambda: _shaken(running_bond_wall(courses=25, bricks=20)), 0.3),
+    "wall512-shaken-margin": (lambda: _shaken(_margin_wall(courses=25, bricks=20)), 0.3),
+    "stack-shaken": (lambda: _shaken(wall(courses=10, bricks=2, bond="stack")), 0.1),
     "pier3d": (lambda: pier3d(width=0.25, depth=0.25, courses=40, course_height=0.065,
                               density=1800.0), 1.0),
     "wall3d": (lambda: wall3d(courses=20, length=3.0, return_length=3.0), 0.3),
@@ -94,6 +112,18 @@ def _shaken(model):
         return dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0)),))
     g = float(np.linalg.norm(model.gravity))
     return dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
+
+
+def _margin_wall(courses: int, bricks: int):
+    """running_bond_wall with mu = 0.8 between bricks and 0.6 on the ground."""
+    from saxum.laws import ContactLaw
+    from saxum.structures.wall import add_grounded_running_bond_wall
+
+    builder = sx.ModelBuilder()
+    add_grounded_running_bond_wall(builder, courses=courses, bricks=bricks)
+    builder.set_law("brick", "brick", ContactLaw(friction=0.8))
+    builder.set_law("brick", "ground", ContactLaw(friction=0.6))
+    return builder.finalize()
 
 
 def _solver(rest_after: int | None) -> sx.NLGS:
@@ -305,6 +335,101 @@ def spectral(courses_list=(10, 20, 40)) -> list[dict]:
     return out
 
 
+class _Capping(sx.ContactSolver):
+    """NLGS that keeps a copy of the first `keep` step problems (not projections) on which it
+    hit its cap: the arrays NLGS reads, the starting impulses and velocities, v_free."""
+
+    def __init__(self, solver: sx.NLGS, keep: int):
+        self.solver, self.keep, self.captured, self.steps = solver, keep, [], 0
+
+    def solve(self, problem, impulse, v_free, v):
+        k = problem.count
+        before = None
+        if getattr(problem, "v_begin", None) is not None:  # not a projection's problem
+            self.steps += 1
+        if len(self.captured) < self.keep and getattr(problem, "v_begin", None) is not None:
+            c = problem.contacts
+            before = {name: getattr(problem, name)[:k].copy() for name in _ARRAYS}
+            before.update(cand=c.candidate[:k].copy(), ant=c.antagonist[:k].copy(),
+                          impulse=impulse[:k].copy(), v=v.copy(), v_free=v_free.copy())
+        report = self.solver.solve(problem, impulse, v_free, v)
+        if before is not None and not report.converged:
+            before.update(sweeps=report.iterations, step=self.steps)
+            self.captured.append(before)
+        return report
+
+
+def _states(p: dict, impulse: np.ndarray) -> np.ndarray:
+    """0 open (R = 0), 1 sticking inside the cone, 2 on the cone's edge (|R_T| >= (1 - 1e-9)
+    mu R_n: sliding, or sticking at the limit)."""
+    rn = impulse[:, 1]
+    rt = np.linalg.norm(np.delete(impulse, 1, axis=1), axis=1)
+    edge = rt >= (1.0 - 1e-9) * p["friction"] * rn
+    return np.where(rn > 0.0, np.where(edge, 2, 1), 0)
+
+
+def _replay(model, p: dict, impulse, v, sweeps: int, tolerance: float):
+    """NLGS sweeps on captured problem p from (impulse, v), in place: (sweeps done, error)."""
+    from saxum.solver.nlgs import nlgs_2d, nlgs_3d
+
+    inv_mass = model.body_inv_mass
+    mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass), where=inv_mass > 0.0)
+    n = len(p["cand"])
+    sweep, width = (nlgs_3d, 38) if model.dim == 3 else (nlgs_2d, 18)
+    return sweep(p["cand"], p["ant"], p["h_cand"], p["h_ant"], p["delassus"], p["bias"],
+                 p["friction"], p["active"], n, inv_mass, mass, p["v_free"], v, np.empty_like(v),
+                 impulse, np.empty((n, width)), tolerance, sweeps, 1.0)
+
+
+def diagnose(name: str, steps: int, reference_sweeps: int) -> list[dict]:
+    model = CASES[name][0]()
+    capping = _Capping(sx.NLGS(), steps)
+    sim = sx.Simulation(model, dt=DT, solver=capping)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        sim.run(sim.initial_state(), CASES[name][1])
+    mass = np.divide(1.0, model.body_inv_mass, out=np.zeros_like(model.body_inv_mass),
+                     where=model.body_inv_mass > 0.0)
+    out = []
+    for p in capping.captured:
+        impulse, v = p["impulse"].copy(), p["v"].copy()
+        errors = [float(_replay(model, p, impulse, v, 1000, 0.0)[1])
+                  for _ in range(p["sweeps"] // 1000)]
+        at_cap = _states(p, impulse)
+        v_cap = v.copy()
+        more, error = _replay(model, p, impulse, v, reference_sweeps, 1e-10)
+        ref = _states(p, impulse)
+        u = (np.einsum("ad,ad->a", p["h_cand"][:, 1], v[p["cand"]])
+             + np.einsum("ad,ad->a", p["h_ant"][:, 1], v[p["ant"]]) + p["bias"])
+        scale = np.sqrt(np.sum(mass * (v - p["v_free"]) ** 2))
+        rt = np.linalg.norm(np.delete(impulse, 1, axis=1), axis=1)
+        near_edge = (impulse[:, 1] > 0.0) & (rt >= 0.999 * p["friction"] * impulse[:, 1])
+        u_scale = float(np.max(np.abs(u)))
+        row = {"case": name, "step": p["step"], "contacts": len(p["cand"]),
+               "errors_per_1000_sweeps": errors,
+               "at_cap_open_stick_edge": np.bincount(at_cap, minlength=3).tolist(),
+               "reference_sweeps": int(more), "reference_error": float(error),
+               "reference_converged": bool(error <= 1e-10),
+               "distance_at_cap": float(np.sqrt(np.sum(mass * (v_cap - v) ** 2)) / scale),
+               "states_changed": int(np.count_nonzero(at_cap != ref)),
+               "reference_open_stick_edge": np.bincount(ref, minlength=3).tolist(),
+               "reference_closed_within_0.1%_of_edge": int(np.count_nonzero(near_edge)),
+               "reference_grazing_open": int(np.count_nonzero(
+                   (ref == 0) & p["active"] & (np.abs(u) < 1e-6 * u_scale)))}
+        out.append(row)
+        print(f"{name} step {row['step']} ({row['contacts']} contacts): error per 1000 sweeps "
+              + ", ".join(f"{e:.2g}" for e in errors)
+              + f"; at the cap open/stick/edge {row['at_cap_open_stick_edge']}; reference "
+              f"after {more} more sweeps (error {error:.2g}): open/stick/edge "
+              f"{row['reference_open_stick_edge']}, {row['states_changed']} contacts changed "
+              f"state, the capped iterate {row['distance_at_cap']:.2g} away; "
+              f"{row['reference_closed_within_0.1%_of_edge']} closed contacts within 0.1 % of "
+              f"the edge, {row['reference_grazing_open']} open ones grazing")
+    return out
+
+
 def _print(r: dict) -> None:
     rest = (f"rest solutions {r['rest_solutions']}/{r['rest_attempts']}"
             if r["rest_attempts"] is not None else "no rest solution")
@@ -331,6 +456,12 @@ def main(argv: list[str] | None = None) -> int:
                         help="also the spectral radius of the linearized sweep (towers)")
     parser.add_argument("--orders", action="store_true",
                         help="also the cold start's sweeps in other orders of the contacts")
+    parser.add_argument("--diagnose", action="store_true",
+                        help="replay the steps that hit the cap and compare with a reference")
+    parser.add_argument("--diagnose-steps", type=int, default=2,
+                        help="capped steps replayed per case (default 2)")
+    parser.add_argument("--reference-sweeps", type=int, default=400_000,
+                        help="most sweeps for the reference solution (default 400 000)")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
     args = parser.parse_args(argv)
     started = time.perf_counter()
@@ -341,6 +472,10 @@ def main(argv: list[str] | None = None) -> int:
         r = run_case(name, args.rest_after)
         _print(r)
         results["cases"].append(r)
+    if args.diagnose:
+        results["diagnosis"] = [row for name in args.cases.split(",")
+                                for row in diagnose(name, args.diagnose_steps,
+                                                    args.reference_sweeps)]
     if args.orders:
         results["orders"] = orders()
     if args.spectral:
