@@ -220,9 +220,8 @@ def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, wid
     (thickness, height) [m], a parapet on each spandrel wall, flush with the bridge's face,
     along the whole length of the walls, in blocks about parapet_length [m] long (the last
     one takes what is left; a joint that would fall on a head joint of the course below is
-    moved along by a quarter block, as a mason breaks joints: coincident edges touch along a
-    line whose contact normal is ambiguous). `options` go to saxum.structures.add_arch_bridge
-    (course_height, block_length, density, ...). Groups "ground", "pier" (the abutments),
+    moved along by a quarter block, as a mason breaks joints). `options` go to
+    saxum.structures.add_arch_bridge (course_height, block_length, density, ...). Groups "ground", "pier" (the abutments),
     "voussoir", "spandrel", "fill" and "parapet"; the parapets' blocks are named
     "parapet b<k> y0" (the face y = 0) and "parapet b<k> y<width>"."""
     check_positive(width=width, spandrel_thickness=spandrel_thickness)
