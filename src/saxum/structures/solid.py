@@ -221,9 +221,9 @@ def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, wid
     along the whole length of the walls, in blocks about parapet_length [m] long (the last
     one takes what is left; a joint that would fall on a head joint of the course below is
     moved along by a quarter block, as a mason breaks joints). `options` go to
-    saxum.structures.add_arch_bridge (course_height, block_length, density, ...). Groups "ground", "pier" (the abutments),
-    "voussoir", "spandrel", "fill" and "parapet"; the parapets' blocks are named
-    "parapet b<k> y0" (the face y = 0) and "parapet b<k> y<width>"."""
+    saxum.structures.add_arch_bridge (course_height, block_length, density, ...). Groups
+    "ground", "pier" (the abutments), "voussoir", "spandrel", "fill" and "parapet"; the
+    parapets' blocks are named "parapet b<k> y0" (the face y = 0) and "parapet b<k> y<width>"."""
     check_positive(width=width, spandrel_thickness=spandrel_thickness)
     if fill not in ("blocks", "none"):
         raise InputError(f"fill must be 'blocks' or 'none', got {fill!r}")
