@@ -156,3 +156,69 @@ def test_3d_joint_states_and_hinge_lines():
     assert lines.shape == (4, 2, 3)  # the edges y = 0 (twice), x = 0, and the pivot
     assert sorted(map(tuple, np.sort(lines, axis=1).reshape(4, 6))) == [
         (0, 0, 0, 0, 0, 0), (0, 0, 0, 0, 1, 0), (0, 0, 0, 1, 0, 0), (0, 0, 0, 1, 0, 0)]
+
+
+def test_an_edge_on_a_face_hinges_only_once_the_blocks_have_turned():
+    """A joint that touches along a line only (blocks whose edges meet where joints line up)
+    carries load at rest without turning: a hinge only when the blocks' relative rotation
+    moves a point at the smaller block's size by more than the gap tolerance."""
+    from saxum.mechanism import joint_states
+
+    c = _contacts_3d([((4, 0), [((0, 0, 0), 0, 1), ((0, 1, 0), 0, 1)])])
+    assert joint_states({**c, "opening": np.full(2, 5e-5)}, 1e-4).tolist() == ["closed"] * 2
+    assert joint_states({**c, "opening": np.full(2, 2e-4)}, 1e-4).tolist() == ["hinge"] * 2
+    c2 = _contacts([(2, 1)], [(0.0, 0.0)], rn=[1.0])  # 2D: a corner on a face
+    assert joint_states({**c2, "opening": np.array([0.0])}, 1e-4).tolist() == ["closed"]
+    assert joint_states(c2, 1e-4).tolist() == ["hinge"]  # without openings: as turned
+
+
+def test_joint_opening_is_the_relative_turn_times_the_smaller_size():
+    from saxum.mechanism import joint_opening
+
+    q0 = np.array([[0.0, 0.0, 0.3], [1.0, 0.0, -0.2], [2.0, 0.0, 0.0]])
+    q = q0 + [[0.0, 0.0, 0.05], [5.0, 1.0, -0.02], [0.0, 0.0, 0.0]]
+    opening = joint_opening(q, q0, np.array([2.0, 0.5, 1.0]), np.array([0, 1]), np.array([1, 2]))
+    assert opening == pytest.approx([0.07 * 0.5, 0.02 * 0.5])
+    # 3D: body 0 turned by 0.3 rad about z, body 1 by 0.1 rad about z then both by 1 rad
+    # about x (the common turn cancels): relative 0.2 rad
+    def quat(angle, axis):
+        return np.r_[np.cos(angle / 2), np.sin(angle / 2) * np.asarray(axis, float)]
+
+    def mul(a, b):
+        return np.r_[a[0] * b[0] - a[1:] @ b[1:], a[0] * b[1:] + b[0] * a[1:]
+                     + np.cross(a[1:], b[1:])]
+
+    start = quat(0.7, (0, 1, 0))
+    common = quat(1.0, (1, 0, 0))
+    q0 = np.array([np.r_[0, 0, 0, start], np.r_[1, 0, 0, start]])
+    q = np.array([np.r_[0, 0, 0, mul(common, mul(quat(0.3, (0, 0, 1)), start))],
+                  np.r_[3, 2, 1, mul(common, mul(quat(0.1, (0, 0, 1)), start))]])
+    opening = joint_opening(q, q0, np.array([1.0, 2.0]), np.array([0]), np.array([1]))
+    assert opening == pytest.approx([0.2], rel=1e-12)
+
+
+
+def test_blocks_meeting_edge_to_edge_at_rest_have_no_hinges():
+    """A block on one block of a course, its bottom edges on the edges of the blocks beside
+    (joints lined up): those line contacts carry load at rest (the rest solution loads every
+    closed contact), but nothing turns: no hinge is reported, and nothing moves."""
+    import saxum as sx
+    from saxum.mechanism import mechanism
+
+    def box(x0, x1, z0, z1):
+        return [(x, y, z) for x in (x0, x1) for y in (0.0, 0.4) for z in (z0, z1)]
+
+    b = sx.ModelBuilder(dim=3)
+    for x0 in (-1.5, 0.0, 1.5):
+        b.add_block(box(x0, x0 + 1.5, -0.5, 0.0), kind=sx.BodyKind.FIXED, group="course")
+    b.add_block(box(0.0, 1.5, 0.0, 1.0), density=2400.0)
+    for other in ("course", "block"):
+        b.set_law("block", other, sx.ContactLaw(friction=0.6))
+    model = b.finalize()
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.02)
+    report = mechanism(model, state, sim.integrator.dt)
+    assert len(report.joints) == 3
+    assert not any(j.hinge for j in report.joints)
+    assert report.moving == []

@@ -3,8 +3,12 @@ blocks move, and the thrust line through the joints' force resultants.
 
 A joint is the set of contacts between two bodies (two points for two faces in contact, one
 for a corner on a face). A contact point is open when its gap exceeds a tolerance; a touching
-point that carries compression is a hinge when the rest of its joint has opened (or it is the
-joint's only point): the joint turns about it. A joint slides when a touching point carrying
+point that carries compression is a hinge when the rest of its joint has opened, or when it is
+the joint's only point and the two blocks have turned relative to each other since the start
+by more than the gap tolerance over the smaller one's size (contacts' "opening"): the joint
+turns about it. Blocks that only touch at a corner where joints line up (a stack bond's
+crossings, a fill block beside a spandrel block) share loaded corners without turning: no
+hinge. A joint slides when a touching point carrying
 compression has a tangential relative velocity |U_t| larger than a fraction of the fastest
 block's speed (and 0.1 % of the block size per second, so that a structure at rest, whose
 velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
@@ -15,9 +19,9 @@ pressure of its joints, which is where the resultant of the joint's forces cross
 In 3D a joint between two faces has several points (the corners of their overlap); it hinges
 when its loaded points lie on one line, the edge the joint turns about (within the gap
 tolerance of the line through the two loaded points farthest apart), while the rest of it has
-opened or all of its touching points lie on that line (an edge on a face); a single loaded
-point is a pivot (a corner the joint turns about). Hinges are then reported as lines
-(Joint.hinge_line), centres of pressure and forces as 3D vectors.
+opened or all of its touching points lie on that line (an edge on a face) and the blocks have
+turned as above; a single loaded point is a pivot (a corner the joint turns about). Hinges are
+then reported as lines (Joint.hinge_line), centres of pressure and forces as 3D vectors.
 
 In a wall, blocks named "<name> c<course>b<block>" (saxum.structures: walls, buttressed walls,
 a bridge's spandrels and fill) locate a joint by course: a head joint in course k (between two
@@ -37,12 +41,13 @@ from typing import NamedTuple
 import numpy as np
 
 from .contacts import Contacts
-from .geometry3d import rotation_matrix
+from .geometry3d import rotation_matrix, rotation_vectors
 from .model import BodyKind, Model, body_vertices
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "course_of", "frame_mechanism", "hinge_lines",
-           "joint_resultants", "joint_states", "mechanism", "thrust_line"]
+__all__ = ["Joint", "Mechanism", "course_of", "frame_contacts", "frame_mechanism",
+           "hinge_lines", "joint_opening", "joint_resultants", "joint_states", "mechanism",
+           "thrust_line"]
 
 _CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
 _COURSED = re.compile(r"\bc(\d+)[ab]\d+")  # "brick c3b5" (3D walls: "c3a5" too): course 3
@@ -58,16 +63,19 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
     """Label each contact "closed", "hinge" or "open" (module doc).
 
     contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components;
-    3D: point [m] and force [N], (t, n, s)), as from Results.contacts. Every touching
-    contact that is not a hinge is "closed", loaded or not (which points of a closed joint
-    carry the load is not unique for rigid blocks, so an unloaded point is no sign of a
-    mechanism)."""
+    3D: point [m] and force [N], (t, n, s)), as from Results.contacts, and optionally
+    opening [m] (joint_opening; without it every joint that touches at one point or along
+    one line only counts as turned). Every touching contact that is not a hinge is "closed",
+    loaded or not (which points of a closed joint carry the load is not unique for rigid
+    blocks, so an unloaded point is no sign of a mechanism)."""
     joint = _joint_index(contacts["candidate"], contacts["antagonist"])
     is_open = contacts["gap"] > gap_tolerance
     loaded = ~is_open & (contacts["force"][:, 1] > 0.0)
     points = np.bincount(joint)[joint] if joint.size else joint
+    opening = contacts.get("opening")
+    rotated = np.ones(joint.size, dtype=bool) if opening is None else opening > gap_tolerance
     if contacts["force"].shape[1] == 2:
-        turned = (np.bincount(joint, is_open)[joint] > 0) | (points == 1)
+        turned = (np.bincount(joint, is_open)[joint] > 0) | ((points == 1) & rotated)
         return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
     hinged = np.zeros(joint.max(initial=-1) + 1, dtype=bool)
     point = contacts["point"]
@@ -76,8 +84,40 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
         touching = rows & ~is_open
         opened = bool((rows & is_open).any())
         hinged[j] = (_line_of(point[rows & loaded], gap_tolerance) is not None
-                     and (opened or _line_of(point[touching], gap_tolerance) is not None))
+                     and (opened or (bool(rotated[rows].any())
+                                     and _line_of(point[touching], gap_tolerance) is not None)))
     return np.where(is_open, "open", np.where(loaded & hinged[joint], "hinge", "closed"))
+
+
+def joint_opening(body_q: np.ndarray, body_q0: np.ndarray, body_size: np.ndarray,
+                  candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
+    """Per contact, how far [m] the relative rotation of its two bodies since the initial
+    configuration body_q0 moves a point at the smaller body's size (body_size [m]) from the
+    joint: the angle [rad] between their turns, times that size (2D: theta [rad] in column
+    2; 3D: unit quaternions (w, x, y, z) in columns 3-6)."""
+    if body_q.shape[1] == 3:
+        turn = body_q[:, 2] - body_q0[:, 2]
+        angle = np.abs(turn[candidate] - turn[antagonist])
+    else:
+        turn = _quaternion_product(body_q[:, 3:], body_q0[:, 3:] * [1.0, -1.0, -1.0, -1.0])
+        angle = np.linalg.norm(rotation_vectors(turn[candidate], turn[antagonist]), axis=1)
+    return angle * np.minimum(body_size[candidate], body_size[antagonist])
+
+
+def _quaternion_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a b for quaternions (w, x, y, z) in rows."""
+    w = a[:, :1] * b[:, :1] - np.sum(a[:, 1:] * b[:, 1:], axis=1, keepdims=True)
+    v = a[:, :1] * b[:, 1:] + b[:, :1] * a[:, 1:] + np.cross(a[:, 1:], b[:, 1:])
+    return np.hstack((w, v))
+
+
+def frame_contacts(results, frame: int) -> dict:
+    """The contacts of output frame `frame` of a saxum.results.Results (Results.contacts)
+    with their opening (joint_opening), for joint_states and hinge_lines."""
+    c = dict(results.contacts(frame))
+    c["opening"] = joint_opening(results.body_q[frame], results.model["body_q0"],
+                                 results.body_size, c["candidate"], c["antagonist"])
+    return c
 
 
 def hinge_lines(contacts: dict, gap_tolerance: float) -> np.ndarray:
@@ -276,7 +316,9 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     point, frame, gap = c.point[:k], c.frame[:k], c.gap[:k]
     force = c.impulse[:k] / dt
     contacts = {"candidate": cand, "antagonist": ant, "point": point, "frame": frame,
-                "gap": gap, "force": force}
+                "gap": gap, "force": force,
+                "opening": joint_opening(state.body_q, model.body_q0, model.body_size, cand,
+                                         ant)}
     labels = joint_states(contacts, gap_tol)
     # relative velocity of the candidate's material point over the antagonist's, world frame
     p_ant = point - gap[:, None] * frame[:, 1]

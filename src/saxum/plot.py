@@ -31,7 +31,7 @@ from matplotlib.transforms import offset_copy
 from .errors import InputError
 from .flood import FloodLoad
 from .geometry3d import rotation_vectors
-from .mechanism import Mechanism, course_of, joint_states, thrust_line
+from .mechanism import Mechanism, course_of, frame_contacts, joint_states, thrust_line
 from .model import BodyKind, Model
 
 __all__ = ["animate", "joint_states", "plot_collapse_curve", "plot_frame", "plot_histories",
@@ -298,7 +298,7 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
     _draw_water(ax, look, blocks, results.body_q[k], floods, float(results.time[k]))
     _draw_blocks(ax, look, blocks, results.body_q[k])
     if forces:
-        _draw_contacts(ax, look, results.contacts(k), slides)
+        _draw_contacts(ax, look, frame_contacts(results, k), slides)
     heading = title if title is not None else results_heading(results)
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
 

@@ -23,7 +23,7 @@ from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from .geometry3d import world_points
-from .mechanism import Mechanism, hinge_lines, joint_states
+from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
 from .model import BodyKind
 from .plot import _results_floods, length_unit, results_heading
 
@@ -101,7 +101,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     ax.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors="0.25",
                                          linewidths=0.3, zorder=1))
     if forces:
-        _draw_contacts(ax, results.contacts(k), look, mechanism)
+        _draw_contacts(ax, frame_contacts(results, k), look, mechanism)
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), c0, strict=True):
         setter(c - half, c + half)
     ax.set_box_aspect((1.0, 1.0, 1.0))
