@@ -4,8 +4,12 @@ Each connected part of the file's surface is one block. A block must be a closed
 (every edge shared by exactly two faces) around a convex solid: its volume, from the surface
 by the divergence theorem, must equal the volume of the convex hull of its vertices; the block
 is then that hull (saxum.geometry3d). Volume cells (tetrahedra, hexahedra, ...) are accepted
-too: each connected group of them is a block, the hull of its points. Points closer than 1e-9
-of the file's size are merged first (STL repeats them for every triangle).
+too: the cells of each block are those with the same tag, the first of the cell data "block",
+"gmsh:physical" and "gmsh:geometrical" the file has (gmsh gives each volume its own), or
+without a tag each connected group of cells (sharing a node: a conforming mesh of stones in
+contact is then one group, and must be tagged); the cells' volumes must add up to the hull's
+(a convex block), and the block is the hull of its points. Points closer than 1e-9 of the
+file's size are merged first (STL repeats them for every triangle).
 
 Faces are connected through their edges. Blocks that touch (stacked stones, whose joint faces
 share corners and edges) meet at edges of more than two faces; there each face is joined to
@@ -19,6 +23,7 @@ from pathlib import Path
 
 import meshio
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from ..errors import InputError
 from ..geometry3d import convex_polyhedron, polyhedron_properties
@@ -28,7 +33,10 @@ from ._common import Assembly
 __all__ = ["add_blocks_from_mesh", "read_mesh_blocks"]
 
 _SURFACE = ("triangle", "quad", "polygon")
-_VOLUME = ("tetra", "hexahedron", "wedge", "pyramid", "tetra10", "hexahedron20")
+_VOLUME = {"tetra": 4, "hexahedron": 8, "wedge": 6, "pyramid": 5, "tetra10": 4,
+           "hexahedron20": 8}
+"""Volume cell types, and how many of their nodes are corners (the first ones)."""
+_TAGS = ("block", "gmsh:physical", "gmsh:geometrical")
 
 
 def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
@@ -48,7 +56,8 @@ def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
     if points.ndim != 2 or points.shape[1] != 3 or not np.all(np.isfinite(points)):
         raise InputError(f"{path}: the points must be finite (x, y, z) coordinates")
     faces = [list(map(int, f)) for c in mesh.cells if c.type in _SURFACE for f in c.data]
-    solids = [list(map(int, f)) for c in mesh.cells if c.type in _VOLUME for f in c.data]
+    solids = [list(map(int, f[:_VOLUME[c.type]])) for c in mesh.cells if c.type in _VOLUME
+              for f in c.data]
     if not faces and not solids:
         raise InputError(f"{path}: no faces (triangles, quads, polygons) or volume cells")
     scale = float(np.ptp(points, axis=0).max()) or 1.0
@@ -56,8 +65,14 @@ def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
     faces = [[int(index[k]) for k in f] for f in faces]
     solids = [[int(index[k]) for k in s] for s in solids]
     blocks = []
-    parts = (_parts(len(points), faces, solids) if solids
-             else [(part, []) for part in _surface_parts(points, faces)])
+    tags = _cell_tags(mesh) if solids else None
+    if tags is not None:
+        parts = [([], [s for s, t in zip(solids, tags, strict=True) if t == tag])
+                 for tag in dict.fromkeys(tags.tolist())]
+    elif solids:
+        parts = _parts(len(points), faces, solids)
+    else:
+        parts = [(part, []) for part in _surface_parts(points, faces)]
     for number, (part_faces, part_solids) in enumerate(parts):
         near = points[(part_faces or part_solids)[0][0]]
         where = f"{path}: block {number} (near {_xyz(near)})"
@@ -65,8 +80,16 @@ def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
         if part_faces:
             _check_closed(part_faces, points, where)
         poly = convex_polyhedron(points[used], name=where)
-        if part_faces:
-            hull_volume = polyhedron_properties(poly).volume
+        hull_volume = polyhedron_properties(poly).volume
+        if part_solids:
+            volume = sum(ConvexHull(points[s]).volume for s in part_solids)
+            if abs(volume - hull_volume) > 1e-6 * hull_volume:
+                raise InputError(f"{where}: its {len(part_solids)} volume cells fill "
+                                 f"{volume:.6g} m^3, their convex hull {hull_volume:.6g} m^3: "
+                                 "not one convex block; tag each block's cells (cell data "
+                                 f"{' or '.join(repr(t) for t in _TAGS)}) or split it into "
+                                 "convex blocks")
+        elif part_faces:
             volume = abs(_surface_volume(part_faces, points))
             if abs(volume - hull_volume) > 1e-6 * hull_volume:
                 raise InputError(f"{where}: not convex: it encloses {volume:.6g} m^3, its "
@@ -74,6 +97,18 @@ def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
                                  "blocks")
         blocks.append(points[used])
     return blocks
+
+
+def _cell_tags(mesh) -> np.ndarray | None:
+    """The block tag of each volume cell, in file order: the first of _TAGS in the file's cell
+    data, or None."""
+    for key in _TAGS:
+        data = mesh.cell_data.get(key)
+        if data is not None:
+            return np.concatenate([np.asarray(d).ravel() for c, d in zip(mesh.cells, data,
+                                                                         strict=True)
+                                   if c.type in _VOLUME])
+    return None
 
 
 def _merge(points: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
