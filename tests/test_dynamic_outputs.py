@@ -153,3 +153,22 @@ def test_collapse_curve_keeps_the_periods_whose_bracket_holds(block, capsys):
     with open(block.with_name("block-curve.csv")) as f:
         rows = list(csv.DictReader(f))
     assert rows[0]["note"].startswith("the structure still stands") and rows[1]["note"] == ""
+
+
+def test_a_run_that_ends_while_blocks_move_says_so(block, capsys):
+    """No collapse yet at the end of a short run, but the block is rocking: the report says
+    that the run may be too short to tell, instead of a bare "collapse: none"."""
+    results = block.with_name("short.h5")
+    assert main(["run", str(block), "--quiet", "-o", str(results), "--set",
+                 "output.duration=0.3"]) == 0
+    assert main(["info", str(results)]) == 0
+    out = capsys.readouterr().out
+    assert "collapse: none" in out
+    assert re.search(r"but blocks were still moving at the end \('pier' at [0-9.e-]+ m/s\)",
+                     out)
+    still = block.with_name("still.h5")
+    assert main(["run", str(block), "--quiet", "-o", str(still), "--unset",
+                 "loads.ground_motion", "--set", "output.duration=0.1"]) == 0
+    assert main(["info", str(still)]) == 0
+    out = capsys.readouterr().out
+    assert "collapse: none" in out and "still moving" not in out

@@ -239,6 +239,11 @@ def info_text(r) -> str:
     return "\n".join(lines)
 
 
+_STILL_MOVING = 1e-3
+"""[1/s]: a block faster than this times the smallest block's size per second is still
+moving (a structure at rest: round-off)."""
+
+
 def _collapse_lines(r, ground) -> list[str]:
     """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
     harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
@@ -254,10 +259,19 @@ def _collapse_lines(r, ground) -> list[str]:
     peak = int(np.argmax(moved))
     event = find_collapse(r)
     if event is None:
-        return [f"collapse: none (at the end no free block has moved by more than "
-                f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
-                f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
-                f"{moved[-1]:.3g} m at the end"]
+        lines = [f"collapse: none (at the end no free block has moved by more than "
+                 f"{DYNAMIC_FRACTION:g} x the smallest block's size); largest displacement of "
+                 f"a free block {moved[peak]:.3g} m at t = {r.time[peak]:.4g} s, "
+                 f"{moved[-1]:.3g} m at the end"]
+        size = float(r.body_size[free].min())
+        speed = np.linalg.norm(r.body_v[-1][free, :d], axis=1)
+        fastest = int(np.argmax(speed))
+        if speed[fastest] > _STILL_MOVING * size:
+            name = np.asarray(r.body_name, dtype=object)[free][fastest]
+            lines.append(f"  but blocks were still moving at the end ({name!r} at "
+                         f"{speed[fastest]:.3g} m/s): the run may end before a collapse; run "
+                         f"it longer (output.duration) to know")
+        return lines
     text = frame_mechanism(r, event.onset_frame).text().replace("\n", "\n  ")
     began = float(r.time[event.onset_frame])
     lines = [f"collapse at t = {event.time:.4g} s (frame {event.frame}): {event.block!r} moved "
