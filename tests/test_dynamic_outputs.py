@@ -172,3 +172,11 @@ def test_a_run_that_ends_while_blocks_move_says_so(block, capsys):
     assert main(["info", str(still)]) == 0
     out = capsys.readouterr().out
     assert "collapse: none" in out and "still moving" not in out
+    # its history's rotations are round-off: prefixed radians, not degrees with an offset
+    from saxum.plot import plot_histories
+
+    rotating = [ax for ax in plot_histories(Results(still)).axes
+                if ax.get_ylabel().startswith("rotation")]
+    assert len(rotating) == 1 and rotating[0].get_ylabel() in (
+        "rotation [mrad]", "rotation [µrad]", "rotation [nrad]", "rotation [rad]")
+    assert main(["plot", str(results), "--histories"]) == 0  # the rocking block: degrees

@@ -488,18 +488,23 @@ def _draw_block_histories(axes, results, h: dict) -> None:
     q0 = results.model["body_q0"][h["body"]]
     ux = h["body_q"][:, :, 0] - q0[:, 0]
     if results.dim == 2:
-        turned = np.degrees(h["body_q"][:, :, 2] - q0[:, 2])
+        turned = h["body_q"][:, :, 2] - q0[:, 2]
     else:  # the angle of the rotation from the initial orientation
-        turned = np.degrees(np.linalg.norm(rotation_vectors(h["body_q"][:, :, 3:],
-                                                            q0[None, :, 3:]), axis=-1))
+        turned = np.linalg.norm(rotation_vectors(h["body_q"][:, :, 3:], q0[None, :, 3:]),
+                                axis=-1)
     factor, unit = length_unit(float(np.abs(ux).max(initial=0.0)))
+    # degrees from one degree up; below, prefixed radians rather than an axis offset
+    largest = float(np.abs(turned).max(initial=0.0))
+    turn_factor, turn_unit = ((180.0 / np.pi, "deg") if largest >= np.pi / 180.0
+                              else prefixed_unit(largest, "rad"))
     for j, name in enumerate(h["name"]):
         axes[0].plot(h["time"], factor * ux[:, j], lw=1.0, label=name)
-        axes[1].plot(h["time"], turned[:, j], lw=1.0)
+        axes[1].plot(h["time"], turn_factor * turned[:, j], lw=1.0)
     axes[0].set_ylabel(f"$u_x$ [{unit}]")
     axes[0].legend(fontsize=8, ncol=min(4, len(h["name"])))
     axes[0].set_title("blocks of output.histories, every step", fontsize=10)
-    axes[1].set_ylabel("rotation [deg]" if results.dim == 2 else "rotation angle [deg]")
+    axes[1].set_ylabel(f"rotation [{turn_unit}]" if results.dim == 2
+                       else f"rotation angle [{turn_unit}]")
     if len(axes) > 2:
         a = h["ground_acceleration"]
         names = ("horizontal", "vertical") if results.dim == 2 else ("x", "y", "z")
