@@ -7,9 +7,9 @@ point that carries compression is a hinge when the rest of its joint has opened,
 the joint's only point and the two blocks have turned relative to each other since the start
 by more than the gap tolerance over the smaller one's size (contacts' "opening"): the joint
 turns about it. A block's edge that rests against another's face (a voussoir's edge against
-a spandrel stone) carries load at rest without turning: no hinge. A joint slides when a touching point carrying
-compression has a tangential relative velocity |U_t| larger than a fraction of the fastest
-block's speed (and 0.1 % of the block size per second, so that a structure at rest, whose
+a spandrel stone) carries load at rest without turning: no hinge. A joint slides when a
+touching point carrying compression has a tangential relative velocity |U_t| larger than a
+fraction of the fastest block's speed (and 0.1 % of the block size per second, so that a structure at rest, whose
 velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
 its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
 pressure of its joints, which is where the resultant of the joint's forces crosses it
