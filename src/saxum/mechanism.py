@@ -9,11 +9,11 @@ by more than the gap tolerance over the smaller one's size (contacts' "opening")
 turns about it. A block's edge that rests against another's face (a voussoir's edge against
 a spandrel stone) carries load at rest without turning: no hinge. A joint slides when a
 touching point carrying compression has a tangential relative velocity |U_t| larger than a
-fraction of the fastest block's speed (and 0.1 % of the block size per second, so that a structure at rest, whose
-velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
-its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
-pressure of its joints, which is where the resultant of the joint's forces crosses it
-(J. Heyman, "The stone skeleton", 1995).
+fraction of the fastest block's speed (and 0.1 % of the block size per second, so that a
+structure at rest, whose velocities are round-off, shows no slide). The centre of pressure of
+a joint is the point of its contacts weighted by their normal forces; the thrust line of an
+arch joins the centres of pressure of its joints, which is where the resultant of the joint's
+forces crosses it (J. Heyman, "The stone skeleton", 1995).
 
 In 3D a joint between two faces has several points (the corners of their overlap); it hinges
 when its loaded points lie on one line, the edge the joint turns about (within the gap
