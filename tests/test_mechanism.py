@@ -198,27 +198,36 @@ def test_joint_opening_is_the_relative_turn_times_the_smaller_size():
 
 
 
-def test_blocks_meeting_edge_to_edge_at_rest_have_no_hinges():
-    """A block on one block of a course, its bottom edges on the edges of the blocks beside
-    (joints lined up): those line contacts carry load at rest (the rest solution loads every
-    closed contact), but nothing turns: no hinge is reported, and nothing moves."""
+def test_an_edge_on_a_face_at_rest_is_no_hinge():
+    """A block on the ground whose top edge touches the sloping face of a fixed block: the
+    edge-on-face contact carries load at rest (the rest solution loads every closed contact,
+    as between a voussoir's edge and a spandrel stone), but nothing turns: no hinge is
+    reported, and nothing moves (without the joints' openings it would count as one)."""
     import saxum as sx
-    from saxum.mechanism import mechanism
-
-    def box(x0, x1, z0, z1):
-        return [(x, y, z) for x in (x0, x1) for y in (0.0, 0.4) for z in (z0, z1)]
+    from saxum.mechanism import joint_states, mechanism
 
     b = sx.ModelBuilder(dim=3)
-    for x0 in (-1.5, 0.0, 1.5):
-        b.add_block(box(x0, x0 + 1.5, -0.5, 0.0), kind=sx.BodyKind.FIXED, group="course")
-    b.add_block(box(0.0, 1.5, 0.0, 1.0), density=2400.0)
-    for other in ("course", "block"):
-        b.set_law("block", other, sx.ContactLaw(friction=0.6))
+    b.add_block([(x, y, z) for x in (-1.0, 3.0) for y in (0.0, 0.4) for z in (-0.5, 0.0)],
+                kind=sx.BodyKind.FIXED, group="ground")
+    b.add_block([(x, y, z) for x, z in ((1.0, 1.5), (2.5, 0.0), (2.5, 1.5)) for y in (0.0, 0.4)],
+                kind=sx.BodyKind.FIXED, group="ground")
+    b.add_block([(x, y, z) for x in (0.0, 1.5) for y in (0.0, 0.4) for z in (0.0, 1.0)],
+                density=2400.0)
+    b.set_law("block", "ground", sx.ContactLaw(friction=0.6))
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
     model = b.finalize()
     sim = sx.Simulation(model, dt=1e-3)
     state = sim.initial_state()
     sim.run(state, 0.02)
     report = mechanism(model, state, sim.integrator.dt)
-    assert len(report.joints) == 3
+    assert len(report.joints) == 2
     assert not any(j.hinge for j in report.joints)
     assert report.moving == []
+    c = state.contacts
+    k = c.count
+    edge = c.antagonist[:k] == 1
+    assert edge.sum() == 2 and np.all(c.impulse[:k][edge, 1] > 0.0)  # loaded, along a line
+    plain = {"candidate": c.candidate[:k], "antagonist": c.antagonist[:k],
+             "point": c.point[:k], "frame": c.frame[:k], "gap": c.gap[:k],
+             "force": c.impulse[:k]}
+    assert (joint_states(plain, 1e-6)[edge] == "hinge").all()

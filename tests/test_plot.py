@@ -205,3 +205,25 @@ def test_model_picture_names_groups_and_frames_the_free_blocks(tmp_path):
     lo, hi = ax.get_xlim()
     assert -0.2 < lo < 0.0 and 1.5 < hi < 1.7  # the wall (1.5 m), not its 4.5 m ground
     assert ax.get_title() == "a wall" and plt.get_fignums() == []
+
+
+class _StillRun(_QuietRun):
+    """The results of `run` with every block 3e-17 m from where it started (round-off)."""
+
+    def __init__(self, results):
+        self._results = results
+        q0 = results.model["body_q0"]
+        self.body_q = np.broadcast_to(q0 + [3e-17, 0.0, 0.0], results.body_q.shape).copy()
+
+
+def test_colour_scale_of_a_structure_at_rest_ends_at_one_nanometre(run):
+    """Displacements of round-off are drawn on a 0-1 nm scale, not on one that ends at the
+    largest round-off (3e-8 nm) with an axis offset."""
+    _, _, r = run
+    fig = plot_frame(_StillRun(r), -1)
+    try:
+        bar = fig.axes[1]
+        assert bar.get_ylabel() == "displacement [nm]"
+        assert bar.get_ylim() == pytest.approx((0.0, 1.0))
+    finally:
+        plt.close(fig)

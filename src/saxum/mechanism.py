@@ -6,15 +6,14 @@ for a corner on a face). A contact point is open when its gap exceeds a toleranc
 point that carries compression is a hinge when the rest of its joint has opened, or when it is
 the joint's only point and the two blocks have turned relative to each other since the start
 by more than the gap tolerance over the smaller one's size (contacts' "opening"): the joint
-turns about it. Blocks that only touch at a corner where joints line up (a stack bond's
-crossings, a fill block beside a spandrel block) share loaded corners without turning: no
-hinge. A joint slides when a touching point carrying
-compression has a tangential relative velocity |U_t| larger than a fraction of the fastest
-block's speed (and 0.1 % of the block size per second, so that a structure at rest, whose
-velocities are round-off, shows no slide). The centre of pressure of a joint is the point of
-its contacts weighted by their normal forces; the thrust line of an arch joins the centres of
-pressure of its joints, which is where the resultant of the joint's forces crosses it
-(J. Heyman, "The stone skeleton", 1995).
+turns about it. A block's edge that rests against another's face (a voussoir's edge against
+a spandrel stone) carries load at rest without turning: no hinge. A joint slides when a
+touching point carrying compression has a tangential relative velocity |U_t| larger than a
+fraction of the fastest block's speed (and 0.1 % of the block size per second, so that a
+structure at rest, whose velocities are round-off, shows no slide). The centre of pressure of
+a joint is the point of its contacts weighted by their normal forces; the thrust line of an
+arch joins the centres of pressure of its joints, which is where the resultant of the joint's
+forces crosses it (J. Heyman, "The stone skeleton", 1995).
 
 In 3D a joint between two faces has several points (the corners of their overlap); it hinges
 when its loaded points lie on one line, the edge the joint turns about (within the gap

@@ -168,7 +168,8 @@ def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
         top = float(values.max(initial=0.0))
         if colour_by == "displacement":
             factor, unit = length_unit(top)
-            norm = Normalize(0.0, top * factor or 1.0)
+            # a structure at rest moves by round-off: its scale ends at 1 nm, not at 1e-8 nm
+            norm = Normalize(0.0, max(top * factor, 1.0))
             mappable = ScalarMappable(norm, "YlGnBu")
             label = f"displacement [{unit}]"
         else:

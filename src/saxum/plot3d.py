@@ -68,7 +68,7 @@ def _look_3d(results, ks) -> _Look3d:
     peaks = np.array([results.contacts(k)["force"][:, 1].max(initial=0.0) for k in ks])
     size = float(np.median(results.body_size[free] if free.any() else results.body_size))
     return _Look3d(centre, half, floor, float(lo[2]),
-                   ScalarMappable(Normalize(0.0, factor * largest or 1.0), "viridis"), factor,
+                   ScalarMappable(Normalize(0.0, max(factor * largest, 1.0)), "viridis"), factor,
                    unit, float(np.percentile(peaks, 90)) if peaks.size else 0.0, 1e-3 * size)
 
 

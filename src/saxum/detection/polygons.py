@@ -9,14 +9,15 @@ Two faces in contact thus give two points at the ends of their common segment, s
 can open and rotate about either end; a vertex against a face gives one point.
 
 Separations that differ by less than the closed gap (1e-6 alert: round-off of blocks built
-touching) count as equal: of the edges of a tie the one closest to horizontal (y is vertical) is
-the reference, then the first, and an incident face that reaches the end of the reference face
-within it is in contact there. Blocks laid corner to corner (four bricks of a stack bond
-meeting at a point) otherwise get a normal and a contact that round-off switches from step to
-step, each switch a contact lost and one new, with no impulse to start from. Horizontal first
-because a corner on a corner is the end of a bed joint: with the normal along the head joint
-instead, the block above could not slide over the one beside it (it would take a push of its
-full weight times the friction to move a block that only its own bed joint should hold).
+touching) count as equal: the first edge of a tie is the reference, and an incident face that
+reaches the end of the reference face within it is in contact there. Blocks laid corner to
+corner (four bricks of a stack bond meeting at a point) otherwise get a normal and a contact
+that round-off switches from step to step, each switch a contact lost and one new, with no
+impulse to start from. But an incident face in line with the reference face (within the
+closed gap) that meets it at one point only is no contact: the blocks only touch corner to
+corner, and no normal is right there (along either face it would hold a block that slides past
+the other: a block bridging a joint would not slide at 1.05 times the friction), while the only
+motion the corner stops, into the corner diagonally, is stopped by the blocks' other joints.
 
 The choice of faces (rejected pair, reference polygon and edge, incident edge) is kept from the
 configuration on which the broad phase last ran, with how far each of its comparisons was from
@@ -31,12 +32,7 @@ test's cost for blocks that barely move.
 import numba as nb
 import numpy as np
 
-__all__ = ["PREFER_BED", "polygon_contacts"]
-
-PREFER_BED = 0.1
-"""Of faces whose separations tie, one whose normal's vertical component is larger by this [-]
-is chosen (a bed joint rather than a head joint); below it, the first, so that faces in contact
-face to face, whose normals differ by round-off or a joint's small opening, keep their order."""
+__all__ = ["polygon_contacts"]
 
 
 _NO_CHOICE = 0
@@ -48,21 +44,17 @@ _FLIPPED = 3
 @nb.njit(inline="always")
 def _max_separation(wv, wn, r0, nr, o0, no, tie):
     """(largest over edges e of polygon r of min over vertices p of o of n_e . (p - a_e) [m],
-    to within tie [m]: the chosen edge, how far [m] the comparisons of separations that chose
-    it were from tipping over, its |n_y|, how far [-] the comparisons of |n_y| were).
+    to within tie [m]: the first edge that reaches it (an edge takes over only if it
+    separates more by tie), how far [m] the comparisons that chose it were from tipping over).
 
     Two edges separate equally when a vertex meets a vertex (blocks laid corner to corner):
     without the tie, round-off would pick one or the other from step to step, and with it
-    the contact's normal. Of edges that tie, the one closest to horizontal wins (|n_y| larger
-    by PREFER_BED), then the first: a corner on a corner is a bed joint's end, and a normal
-    along a head joint would hold the block above against sliding over the one beside it.
-    Written without data-dependent branches (selects instead): which edge and which vertex
-    win changes from pair to pair, and mispredicted branches cost more than the arithmetic.
+    the contact's normal. Written without data-dependent branches (selects instead): which
+    edge and which vertex win changes from pair to pair, and mispredicted branches cost more
+    than the arithmetic.
     """
     best = -np.inf
     margin = np.inf
-    best_pref = -1.0
-    pref_margin = np.inf
     best_e = 0
     for e in range(nr):
         ax = wv[r0 + e, 0]
@@ -73,19 +65,11 @@ def _max_separation(wv, wn, r0, nr, o0, no, tie):
         for k in range(o0 + 1, o0 + no):
             t = nx * (wv[k, 0] - ax) + ny * (wv[k, 1] - ay)
             s = t if t < s else s
-        pref = abs(ny)
-        prefer = pref > best_pref + PREFER_BED
-        better = s > best + tie or (s >= best - tie and prefer)
-        # the comparisons that could tip: s against both ends of the tie, and (unless s is
-        # past the tie) |n_y| against the best's
+        better = s > best + tie
         margin = min(margin, abs(s - (best + tie)))
-        margin = min(margin, abs(s - (best - tie)) if prefer else np.inf)
-        pref_gap = abs(pref - (best_pref + PREFER_BED))
-        pref_margin = min(pref_margin, pref_gap if s <= best + tie else np.inf)
         best_e = e if better else best_e
-        best_pref = pref if better else best_pref
         best = s if better else best
-    return best, best_e, margin, best_pref, pref_margin
+    return best, best_e, margin
 
 
 @nb.njit(inline="always")
@@ -94,23 +78,14 @@ def _choose_faces(wv, wn, i0, ni, j0, nj, alert, ref_tol, tie):
     _FLIPPED (j is), reference edge, incident edge, slack [m] of the comparisons of
     separations, slack [-] of the comparisons of products of normals) (module doc); tie [m]:
     see _max_separation."""
-    s_i, e_i, margin_i, pref_i, turn_i = _max_separation(wv, wn, i0, ni, j0, nj, tie)
+    s_i, e_i, margin_i = _max_separation(wv, wn, i0, ni, j0, nj, tie)
     if s_i > alert:
         return _REJECTED, 0, 0, s_i - alert, np.inf
-    s_j, e_j, margin_j, pref_j, turn_j = _max_separation(wv, wn, j0, nj, i0, ni, tie)
+    s_j, e_j, margin_j = _max_separation(wv, wn, j0, nj, i0, ni, tie)
     if s_j > alert:
         return _REJECTED, 0, 0, s_j - alert, np.inf
-    prefer = pref_j > pref_i + PREFER_BED
-    flip = s_j > s_i + ref_tol or (abs(s_j - s_i) <= tie and prefer)
+    flip = s_j > s_i + ref_tol
     slack = min(min(alert - s_i, alert - s_j), 0.5 * abs(s_j - (s_i + ref_tol)))
-    slack_turn = np.inf
-    if s_j <= s_i + ref_tol:
-        # the flip may turn on the tie: on both bodies' choices of edges and their |n_y|,
-        # which change by at most twice one body's turn, the sum of both bodies' turns
-        slack = min(slack, 0.5 * min(margin_i, margin_j))
-        if prefer:
-            slack = min(slack, 0.5 * abs(abs(s_j - s_i) - tie))
-        slack_turn = min(0.5 * min(turn_i, turn_j), abs(pref_j - (pref_i + PREFER_BED)))
     if flip:
         ref, a0, c0, nc = e_j, j0, i0, ni
         slack = min(slack, 0.5 * margin_j)
@@ -129,7 +104,7 @@ def _choose_faces(wv, wn, i0, ni, j0, nj, alert, ref_tol, tie):
         second = most if lower else min(second, d)
         inc = e if lower else inc
         most = d if lower else most
-    return _FLIPPED if flip else _KEPT, ref, inc, slack, min(slack_turn, 0.5 * (second - most))
+    return _FLIPPED if flip else _KEPT, ref, inc, slack, 0.5 * (second - most)
 
 
 @nb.njit(cache=True)
@@ -214,6 +189,9 @@ def polygon_contacts(
             s0, s1 = s1, s0
         if s1 < -tie or s0 > length + tie:
             continue
+        if (abs(nx * (p1x - p0x) + ny * (p1y - p0y)) <= tie
+                and min(s1, length) - max(s0, 0.0) <= tie):
+            continue  # faces in line, meeting at one point: corner to corner (module doc)
         ds = s1 - s0
         law_index = group_law[body_group[cand], body_group[ant]]
         base = (((i * nbody + j) * 2 + flip) * max_vertices + ref) * max_vertices + inc

@@ -7,8 +7,7 @@ of the Minkowski difference (their arcs on the Gauss map cross: D. Gregorius, "T
 axis test between convex polyhedra", GDC 2013). The largest separation is the common plane of
 the two blocks; beyond the alert distance there is no contact.
 
-- Face contact (a face separation is the largest, up to `ref_tol` in favour of faces; of faces
-  that tie, the one closest to horizontal, as in 2D: saxum.detection.polygons): the face's
+- Face contact (a face separation is the largest, up to `ref_tol` in favour of faces): the face's
   block becomes the antagonist and carries the frame, n the face's outward normal, t the
   direction of its first edge and s = t x n, so that (t, n, s) is right-handed. The candidate's
   face most opposed to n (the incident face) is clipped by the side planes of the reference face
@@ -21,6 +20,14 @@ the two blocks; beyond the alert distance there is no contact.
   point and an edge against a face two. Taking the points by direction, rather than by how the
   clipping made them, keeps their identity when a corner of one face crosses an edge of the
   other by round-off, as happens all the time in a wall built flush.
+- Corners only: where the incident face lies in the reference face's plane (within the
+  closed gap) and the two meet only along a line or at a point, the blocks touch edge to edge
+  or corner to corner (a stone over a head joint and the next stone of the course below, the
+  inside corner of an L wall): there is no contact. No normal is right there: along either
+  face it would hold a block that slides past the other (a block bridging a joint would not
+  slide at 1.05 times the friction), while the only motion the corner stops, into the corner
+  diagonally, is stopped by the blocks' other joints; once the faces overlap, however
+  little, the contact is there, with its area.
 - Edge-edge contact (an edge pair separates more than any face by more than `ref_tol`): one
   point, the closest point of the candidate's edge to the antagonist's, n along the cross
   product of the edges (pointing from the antagonist to the candidate), t along the
@@ -35,8 +42,6 @@ import math
 
 import numba as nb
 import numpy as np
-
-from .polygons import PREFER_BED
 
 __all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
 
@@ -58,17 +63,13 @@ SLOTS = len(_DIRECTIONS)
 @nb.njit(inline="always")
 def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, alert, tie):
     """Largest over the faces f of `body` of min over the vertices p of `other` of
-    n_f . (p - a_f) [m], to within tie [m], that face and its |n_z|; stops early once a face
-    separates by more than alert. Several faces separate equally where blocks meet edge to
-    edge or corner to corner (at the inside corner of an L wall, where head joints line up):
-    without the tie round-off would pick one or another from step to step, and with it the
-    contact's normal and identity. Of the faces of a tie, the one closest to horizontal wins
-    (|n_z| larger by PREFER_BED), then the first: an edge on an edge is the end of a bed
-    joint, and a normal along the head joint would hold the block above against sliding
-    over the one beside it."""
+    n_f . (p - a_f) [m], to within tie [m]: the first face that reaches it (a face takes over
+    only if it separates more by tie), and that face; stops early once a face separates by
+    more than alert. Several faces separate equally where blocks meet corner to corner (at
+    the inside corner of an L wall): without the tie round-off would pick one or another
+    from step to step, and with it the contact's normal and identity."""
     best = -np.inf
     best_f = face_start[body]
-    best_pref = -1.0
     p0 = vertex_start[other]
     p1 = vertex_start[other + 1]
     for f in range(face_start[body], face_start[body + 1]):
@@ -80,14 +81,12 @@ def _face_separation(wv, wn, face_start, fvs, fv, vertex_start, body, other, ale
         s = np.inf
         for k in range(p0, p1):
             s = min(s, nx * wv[k, 0] + ny * wv[k, 1] + nz * wv[k, 2] - off)
-        pref = abs(nz)
-        if s > best + tie or (s >= best - tie and pref > best_pref + PREFER_BED):
+        if s > best + tie:
             best = s
             best_f = f
-            best_pref = pref
             if s > alert:
                 break
-    return best, best_f, best_pref
+    return best, best_f
 
 
 @nb.njit(inline="always")
@@ -185,12 +184,12 @@ def polyhedron_contacts(
     for p in range(npairs):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        s_i, f_i, pref_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j,
-                                            alert, tie)
+        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j, alert,
+                                    tie)
         if s_i > alert:
             continue
-        s_j, f_j, pref_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i,
-                                            alert, tie)
+        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i, alert,
+                                    tie)
         if s_j > alert:
             continue
         s_e, e_i, e_j, ux, uy, uz = _edge_separation(wv, wn, edge_start, edge_vertex, edge_face,
@@ -218,8 +217,7 @@ def polyhedron_contacts(
                    ux * (cx - ox) + uy * (cy - oy) + uz * (cz - oz))
             count += 1
             continue
-        flip = s_j > s_i + ref_tol or (abs(s_j - s_i) <= tie
-                                       and pref_j > pref_i + PREFER_BED)
+        flip = s_j > s_i + ref_tol
         if flip:
             ant, cand, ref_face = j, i, f_j
         else:
@@ -284,7 +282,8 @@ def polyhedron_contacts(
                 pz[src, kept] = pz[src, k]
                 dist[kept] = g
                 kept += 1
-        if kept == 0:
+        if kept == 0 or _corner_only(wv, fvs, fv, inc_face, nx, ny, nz, ax, ay, az, px, py,
+                                     pz, src, kept, tie):
             continue
         sx, sy, sz = _cross(tx, ty, tz, nx, ny, nz)
         base = ((pair_key + flip) * features + ref_face - face_start[ant]) * features + (
@@ -352,6 +351,47 @@ def _clip(px, py, pz, dist, src, m, sx, sy, sz, off, tol):
             pz[dst, out] = pz[src, k] + f * (pz[src, k1] - pz[src, k])
             out += 1
     return out
+
+
+@nb.njit(inline="always")
+def _corner_only(wv, fvs, fv, inc_face, nx, ny, nz, ax, ay, az, px, py, pz, src, kept, tie):
+    """Whether the incident face lies in the reference face's plane (its vertices' gaps within
+    tie [m] of one another) and meets the reference face only along a line or at a point (the
+    kept points px/py/pz[src, :kept] within tie of the line through the two farthest apart):
+    blocks that only meet at their corners, edge to edge or corner to corner (module doc)."""
+    lo = np.inf
+    hi = -np.inf
+    for k in range(fvs[inc_face], fvs[inc_face + 1]):
+        g = nx * (wv[fv[k], 0] - ax) + ny * (wv[fv[k], 1] - ay) + nz * (wv[fv[k], 2] - az)
+        lo = min(lo, g)
+        hi = max(hi, g)
+    if hi - lo > tie:
+        return False
+    far = 0.0
+    a = 0
+    b = 0
+    for i in range(kept):
+        for j in range(i + 1, kept):
+            d = ((px[src, i] - px[src, j]) ** 2 + (py[src, i] - py[src, j]) ** 2
+                 + (pz[src, i] - pz[src, j]) ** 2)
+            if d > far:
+                far = d
+                a = i
+                b = j
+    if far <= tie * tie:
+        return True
+    length = math.sqrt(far)
+    ux = (px[src, b] - px[src, a]) / length
+    uy = (py[src, b] - py[src, a]) / length
+    uz = (pz[src, b] - pz[src, a]) / length
+    for k in range(kept):
+        rx = px[src, k] - px[src, a]
+        ry = py[src, k] - py[src, a]
+        rz = pz[src, k] - pz[src, a]
+        along = rx * ux + ry * uy + rz * uz
+        if rx * rx + ry * ry + rz * rz - along * along > tie * tie:
+            return False
+    return True
 
 
 @nb.njit(inline="always")
