@@ -285,7 +285,7 @@ def _finish_axes(ax, look: _Look, title: str) -> None:
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title(title, fontsize=10)
+    ax.set_title(title, fontsize=10, wrap=True)
 
 
 def _colourbar(ax, look: _Look) -> None:

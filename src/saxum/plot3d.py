@@ -109,7 +109,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
     ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
-                 fontsize=10)
+                 fontsize=10, wrap=True)
 
 
 def _draw_contacts(ax, c: dict, look: _Look3d, mechanism: Mechanism | None) -> None:
