@@ -200,12 +200,24 @@ class _Shaped(_Generated):
         return make(span=span, rise=self.rise, thickness=t)
 
 
-class ShapedArchStructure(_Shaped):
+class _Rings(_Shaped):
+    """An arch ring in several concentric rings (saxum.structures.arch_rings)."""
+
+    voussoirs: int = Field(ge=1)
+    rings: int = Field(1, ge=1)
+    ring_thicknesses: list[Positive] | None = None
+    ring_stagger: bool = False
+
+    def _layers(self) -> dict:
+        return {"rings": self.rings, "ring_thicknesses": self.ring_thicknesses,
+                "ring_stagger": self.ring_stagger}
+
+
+class ShapedArchStructure(_Rings):
     """An arch of any shape on two abutments or piers, on a fixed ground (add_supported_arch;
     groups "ground", "pier", "voussoir")."""
 
     type: Literal["arch"] = "arch"
-    voussoirs: int = Field(ge=1)
     joints: Literal["radial", "vertical"] = "radial"
     density: Positive = 2000.0
     piers: Literal["fixed", "free"] = "fixed"
@@ -217,7 +229,7 @@ class ShapedArchStructure(_Shaped):
         add_supported_arch(builder, self.arch_shape(), voussoirs=self.voussoirs,
                            joints=self.joints, density=self.density, pier_width=self.pier_width,
                            pier_height=self.pier_height, pier_courses=self.pier_courses,
-                           pier_kind=_KIND[self.piers])
+                           pier_kind=_KIND[self.piers], **self._layers())
 
 
 class OpeningSpec(_Strict):
@@ -309,13 +321,12 @@ class ButtressedWallStructure(_Generated):
                             block_length=self.block_length, density=self.density, ground=True)
 
 
-class ArchBridgeStructure(_Shaped):
+class ArchBridgeStructure(_Rings):
     """A multi-span arch bridge (add_arch_bridge; groups "ground", "pier", "voussoir",
     "spandrel" and, with fill = "blocks", "fill")."""
 
     type: Literal["arch_bridge"] = "arch_bridge"
     spans: int = Field(ge=1)
-    voussoirs: int = Field(ge=1)
     pier_width: Positive
     pier_height: Positive
     abutment_width: Positive
@@ -340,7 +351,7 @@ class ArchBridgeStructure(_Shaped):
             spandrel_height=self.spandrel_height, fill=self.fill, fill_depth=self.fill_depth,
             course_height=self.course_height, block_length=self.block_length,
             min_piece=self.min_piece, density=self.density, fill_density=self.fill_density,
-            gravity=builder.gravity)
+            gravity=builder.gravity, **self._layers())
 
 
 
@@ -432,6 +443,9 @@ class Bridge3dStructure(_Strict):
     block_length: Positive = Field(1.0, description="spandrel blocks [m]")
     pieces: int = Field(1, ge=1, description="pieces of each voussoir along the width")
     stagger: bool = Field(False, description="shift every other voussoir's joints by half")
+    rings: int = Field(1, ge=1, description="concentric rings of the barrel")
+    ring_thicknesses: list[Positive] | None = Field(None, description="[m], from the intrados")
+    ring_stagger: bool = Field(False, description="every other ring's joints shifted by half")
     density: Positive = Field(2200.0, description="[kg/m^3]")
 
     @model_validator(mode="after")
@@ -452,7 +466,8 @@ class Bridge3dStructure(_Strict):
                      parapet_length=self.parapet_length, pieces=self.pieces,
                      stagger=self.stagger, course_height=self.course_height,
                      block_length=self.block_length, density=self.density,
-                     spandrel_height=self.spandrel_height)
+                     spandrel_height=self.spandrel_height, rings=self.rings,
+                     ring_thicknesses=self.ring_thicknesses, ring_stagger=self.ring_stagger)
 
 
 class MeshStructure(_Strict):

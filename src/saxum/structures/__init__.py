@@ -6,7 +6,8 @@ returns an Assembly (body indices by part, groups used, loads applied), and a fo
 a finalized Model with one Coulomb law (friction=...) between every pair of its groups:
 
 - arches (ArchShape: semicircular, circular of any embrace, segmental, pointed, elliptical,
-  basket-handle, flat; radial or vertical joints): add_arch, add_supported_arch, arch;
+  basket-handle, flat; radial or vertical joints; in several rings: arch_rings): add_arch,
+  add_supported_arch, arch;
 - walls in running or stack bond with openings (Opening): add_wall, wall;
 - piers and buttressed walls: add_pier, pier, add_buttressed_wall, buttressed_wall;
 - multi-span arch bridges: add_arch_bridge, arch_bridge;
@@ -29,6 +30,7 @@ from .arch import (
     add_supported_semicircular_arch,
     arch,
     arch_ring,
+    arch_rings,
     semicircular_arch,
 )
 from .blockfile import (
@@ -94,6 +96,7 @@ __all__ = [
     "arch_bridge",
     "arch3d",
     "arch_ring",
+    "arch_rings",
     "block_file_dim",
     "blocks_model",
     "bridge3d",

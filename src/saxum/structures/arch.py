@@ -7,7 +7,7 @@ is kept as it is: scenarios and validation tests name its voussoirs.
 """
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -29,7 +29,8 @@ from ._common import (
 from .piers import pier_polygons
 
 __all__ = ["ArchShape", "Ring", "add_arch", "add_semicircular_arch", "add_supported_arch",
-           "add_supported_semicircular_arch", "arch", "arch_ring", "semicircular_arch"]
+           "add_supported_semicircular_arch", "arch", "arch_ring", "arch_rings",
+           "semicircular_arch"]
 
 Curve = Callable[[np.ndarray], np.ndarray]
 
@@ -164,6 +165,9 @@ class ArchShape:
     extrados: Curve
     corners: tuple[float, ...] = ()
     symmetric: bool = False
+    thickness: float | None = None
+    """The ring's thickness [m] the shape was made with (None: measured along the springing
+    joint where needed)."""
 
     @classmethod
     def _arcs(cls, arcs: list[tuple[np.ndarray, float, float, float]],
@@ -199,7 +203,8 @@ class ArchShape:
                 return pts
             return curve
 
-        return cls(curve_at(0.0), curve_at(thickness), tuple(corners), symmetric=True)
+        return cls(curve_at(0.0), curve_at(thickness), tuple(corners), symmetric=True,
+                   thickness=thickness)
 
     @classmethod
     def circular(cls, *, span: float, thickness: float,
@@ -293,7 +298,7 @@ class ArchShape:
             n /= np.hypot(n[:, 0], n[:, 1])[:, None]
             return np.column_stack((-a * np.cos(th), b * np.sin(th))) + thickness * n
 
-        return cls(intrados, extrados, symmetric=True)
+        return cls(intrados, extrados, symmetric=True, thickness=thickness)
 
     @classmethod
     def flat(cls, *, span: float, depth: float, skewback: float = math.radians(20.0),
@@ -314,7 +319,7 @@ class ArchShape:
             x = span * (np.atleast_1d(np.asarray(s, dtype=np.float64)) - 0.5)
             return np.column_stack((x * (focus + depth) / focus, np.full_like(x, depth)))
 
-        return cls(intrados, extrados, symmetric=True)
+        return cls(intrados, extrados, symmetric=True, thickness=depth)
 
 
 class Ring(NamedTuple):
@@ -326,13 +331,26 @@ class Ring(NamedTuple):
     outline: np.ndarray
     left: tuple[np.ndarray, np.ndarray]
     right: tuple[np.ndarray, np.ndarray]
+    rings: tuple[int, ...] = ()
+    """The ring (1 the intrados ring) of each voussoir when the arch has several; else ()."""
 
 
-def arch_ring(shape: ArchShape, voussoirs: int, joints: str = "radial",
-         origin: tuple[float, float] = (0.0, 0.0)) -> Ring:
+def arch_ring(shape: ArchShape, voussoirs: int | Sequence[int], joints: str = "radial",
+              origin: tuple[float, float] = (0.0, 0.0), *, rings: int = 1,
+              ring_thicknesses: Sequence[float] | None = None,
+              ring_stagger: bool = False) -> Ring:
     """Cut `shape` into `voussoirs` voussoirs of equal intrados length along radial joints
     (intrados(s) to extrados(s)) or vertical ones (the springing faces stay as the shape has
-    them), and move it by `origin` [m]. Neighbouring voussoirs share the same joint points."""
+    them), and move it by `origin` [m]. Neighbouring voussoirs share the same joint points.
+
+    rings > 1: the ring is first divided into that many concentric rings (see arch_rings())."""
+    if rings != 1 or ring_thicknesses is not None:
+        return arch_rings(shape, voussoirs, rings, ring_thicknesses, ring_stagger, joints,
+                          origin)
+    if not isinstance(voussoirs, int) and isinstance(voussoirs, Sequence):
+        if len(voussoirs) != 1:
+            raise InputError(f"voussoirs gives {len(voussoirs)} counts for rings=1; give one")
+        voussoirs = voussoirs[0]
     check_count("voussoirs", voussoirs)
     if joints not in ("radial", "vertical"):
         raise InputError(f"joints must be 'radial' or 'vertical', got {joints!r}")
@@ -391,32 +409,186 @@ def arch_ring(shape: ArchShape, voussoirs: int, joints: str = "radial",
     return Ring(polys, outline, (inner[0], outer[0]), (inner[n], outer[n]))
 
 
+def _ring_fractions(shape: ArchShape, rings: int,
+                    ring_thicknesses: Sequence[float] | None) -> np.ndarray:
+    """The boundaries between rings as fractions [-] of the joints, 0 (intrados) to 1."""
+    check_count("rings", rings)
+    if ring_thicknesses is None:
+        return np.arange(rings + 1) / rings
+    if isinstance(ring_thicknesses, str) or not isinstance(ring_thicknesses, Sequence) or len(
+            ring_thicknesses) != rings:
+        raise InputError(f"ring_thicknesses must list one thickness [m] per ring ({rings}), "
+                         f"got {ring_thicknesses!r}")
+    check_positive(**{f"ring_thicknesses[{i}]": t for i, t in enumerate(ring_thicknesses)})
+    total = shape.thickness
+    if total is None:
+        inner, outer = shape.intrados(np.array([0.0]))[0], shape.extrados(np.array([0.0]))[0]
+        total = math.hypot(*(outer - inner))
+    given = math.fsum(ring_thicknesses)
+    if abs(given - total) > 1e-6 * total:
+        raise InputError(f"ring_thicknesses add up to {given:g} m, not to the arch's "
+                         f"thickness {total:g} m; make them add up to it")
+    return np.concatenate(([0.0], np.cumsum(ring_thicknesses) / given))
+
+
+def _ring_joints(n: int, shifted: bool) -> np.ndarray:
+    """Joint positions s [-] of a ring of n voussoirs, exactly symmetric (s[-1 - k] is
+    1 - s[k]); shifted: by half a voussoir, with a half voussoir at each springing."""
+    s = (np.arange(n) + 0.5) / n if shifted else np.arange(n + 1) / n
+    if shifted:
+        s = np.concatenate(([0.0], s, [1.0]))
+    half = (len(s) + 1) // 2
+    s[len(s) - half:] = (1.0 - s[:half])[::-1]
+    if len(s) % 2:
+        s[len(s) // 2] = 0.5
+    return s
+
+
+def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
+               ring_thicknesses: Sequence[float] | None = None, ring_stagger: bool = False,
+               joints: str = "radial", origin: tuple[float, float] = (0.0, 0.0)) -> Ring:
+    """An arch of several concentric rings (brick arches in rowlock courses), radial joints.
+
+    The ring of `shape` is divided along every joint into `rings` rings of equal thickness, or
+    of ring_thicknesses [m] from the intrados (adding up to the thickness); the boundary
+    between rings at a fraction f of the thickness is the curve intrados(s) + f (extrados(s) -
+    intrados(s)). Each ring is cut into `voussoirs` voussoirs (one count for all rings, or one
+    per ring) of equal length along the joints' s; with ring_stagger, the joints of every
+    other ring (the 2nd, 4th, ...) are shifted by half a voussoir (a half voussoir at each of
+    its springings, so it has one voussoir more). The boundary between two rings is the
+    polyline through the joint ends of the outer ring on that curve: the outer ring's
+    voussoirs keep a straight intrados, and the inner ring's joints end on it (so both sides
+    of a boundary are the same line, and every voussoir is convex). Voussoirs from the inner
+    ring out, each from the left; Ring.rings gives each one's ring.
+    """
+    if joints != "radial":
+        raise InputError(f"joints={joints!r} with rings={rings}: an arch of several rings has "
+                         f"radial joints only (the rings' joints would not meet the ring "
+                         f"boundaries square); use joints='radial' or rings=1")
+    fractions = _ring_fractions(shape, rings, ring_thicknesses)
+    counts = list(voussoirs) if isinstance(voussoirs, Sequence) else [voussoirs] * rings
+    if len(counts) != rings:
+        raise InputError(f"voussoirs must be one count or one per ring ({rings}), got "
+                         f"{voussoirs!r}")
+    for i, n in enumerate(counts):
+        check_count(f"voussoirs[{i}]" if isinstance(voussoirs, Sequence) else "voussoirs", n)
+    s = [_ring_joints(int(n), ring_stagger and i % 2 == 1) for i, n in enumerate(counts)]
+
+    def points(f: float, at: np.ndarray) -> np.ndarray:
+        inner, outer = shape.intrados(at), shape.extrados(at)
+        pts = np.array(inner + f * (outer - inner), dtype=np.float64)
+        if shape.symmetric:  # mirror by index, as _ring_joints made s
+            half = len(at) // 2
+            pts[len(at) - half:] = pts[:half][::-1] * [-1.0, 1.0]
+            if len(at) % 2:
+                pts[half, 0] = 0.0
+        return pts
+
+    corners = {c: np.array(shape.extrados(np.array([c]))[0], dtype=np.float64)
+               for c in shape.corners}
+    if shape.symmetric:
+        for c, point in corners.items():
+            if c == 0.5:
+                point[0] = 0.0
+    shift = np.asarray(origin, dtype=np.float64)
+    polys, ring_of, names = [], [], []
+    for i in range(rings):
+        bottom = points(fractions[i], s[i])
+        if i == rings - 1:
+            top = points(1.0, s[i])
+            between = [[corners[c] for c in sorted(corners) if lo + 1e-12 < c < hi - 1e-12]
+                       for lo, hi in zip(s[i][:-1], s[i][1:], strict=True)]
+        else:
+            above, line = s[i + 1], points(fractions[i + 1], s[i + 1])
+            direction = points(1.0, s[i]) - points(0.0, s[i])
+            top = np.empty_like(bottom)
+            for k, sk in enumerate(s[i]):
+                j = int(np.searchsorted(above, sk, side="right")) - 1
+                if abs(above[j] - sk) <= 1e-12:
+                    top[k] = line[j]
+                    continue
+                a, b = line[j], line[j + 1]
+                # bottom[k] + x direction[k] on the chord a + y (b - a)
+                x, _ = np.linalg.solve(np.column_stack((direction[k], a - b)), a - bottom[k])
+                top[k] = bottom[k] + x * direction[k]
+            between = [[line[j] for j in range(len(above)) if lo + 1e-12 < above[j] < hi - 1e-12]
+                       for lo, hi in zip(s[i][:-1], s[i][1:], strict=True)]
+            if shape.symmetric:
+                half = len(top) // 2
+                top[len(top) - half:] = top[:half][::-1] * [-1.0, 1.0]
+                if len(top) % 2:
+                    top[half, 0] = 0.0
+        if np.any(np.einsum("kd,kd->k", top - bottom, points(1.0, s[i]) - points(0.0, s[i]))
+                  <= 0.0):
+            raise InputError(f"ring {i + 1} is thinner than the sag of ring {i + 2}'s "
+                             f"voussoirs over it (its joints would not reach the boundary); "
+                             f"make it thicker (ring_thicknesses) or give ring {i + 2} more "
+                             f"voussoirs")
+        for k in range(len(s[i]) - 1):
+            # a straight boundary (a flat arch's) needs no vertex where the other ring's joint is
+            chord = top[k + 1] - top[k]
+            between[k] = [p for p in between[k] if abs(chord[0] * (p[1] - top[k][1]) - chord[1]
+                          * (p[0] - top[k][0])) > 1e-9 * (chord @ chord)]
+            polys.append(np.array([bottom[k], top[k], *between[k], top[k + 1], bottom[k + 1]])
+                         + shift)
+            ring_of.append(i + 1)
+            names.append(f"ring {i + 1} voussoir {k + 1}")
+        if i == 0:
+            inner = bottom + shift
+        if i == rings - 1:
+            outline_top = [inner[0], top[0] + shift]
+            for k in range(len(s[i]) - 1):
+                outline_top += [*(p + shift for p in between[k]), top[k + 1] + shift]
+            outer = top + shift
+    check_convex(polys, names, f"rings={rings} with voussoirs={voussoirs!r} gives it that "
+                 f"shape; use more voussoirs or thicker rings")
+    outline = clean(np.array([*outline_top, inner[-1]]), float(np.ptp(outline_top, axis=0).max()))
+    return Ring(polys, outline, (inner[0], outer[0]), (inner[-1], outer[-1]), tuple(ring_of))
+
+
 def add_arch(
     builder: ModelBuilder,
     shape: ArchShape,
     *,
-    voussoirs: int,
+    voussoirs: int | Sequence[int],
     joints: str = "radial",
     density: float = 2000.0,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "voussoir",
     name: str = "voussoir",
+    rings: int = 1,
+    ring_thicknesses: Sequence[float] | None = None,
+    ring_stagger: bool = False,
 ) -> Assembly:
     """Add the voussoirs of an arch of `shape` (see arch_ring()), its frame's origin at `origin`
-    [m]; part "voussoirs", from the left springing, named "<name> 1", "<name> 2", ...."""
-    cut = arch_ring(shape, voussoirs, joints, origin)
+    [m]; part "voussoirs", from the left springing, named "<name> 1", "<name> 2", ....
+    With rings > 1 (arch_rings()), ring by ring from the intrados, named "ring <i> <name> <k>",
+    in groups "<group> ring <i>" (so that a law can be given to the boundary between rings)."""
+    cut = arch_ring(shape, voussoirs, joints, origin, rings=rings,
+                    ring_thicknesses=ring_thicknesses, ring_stagger=ring_stagger)
     asm = Assembly()
-    for k, poly in enumerate(cut.voussoirs):
-        asm.add_block(builder, "voussoirs", poly, group=group, density=density,
-                      name=f"{name} {k + 1}")
+    _add_voussoirs(builder, asm, cut, density, group, name)
     return asm
+
+
+def _add_voussoirs(builder: ModelBuilder, asm: Assembly, cut: Ring, density: float, group: str,
+                   name: str, prefix: str = "") -> None:
+    """The voussoirs of `cut` as part "voussoirs" (names and groups: add_arch; `prefix`
+    before each name)."""
+    numbers = {}
+    for poly, ring in zip(cut.voussoirs, cut.rings or [0] * len(cut.voussoirs), strict=True):
+        numbers[ring] = numbers.get(ring, 0) + 1
+        named = prefix + (f"ring {ring} {name} {numbers[ring]}" if ring
+                          else f"{name} {numbers[ring]}")
+        asm.add_block(builder, "voussoirs", poly, group=f"{group} ring {ring}" if ring else group,
+                      density=density, name=named)
 
 
 def add_supported_arch(
     builder: ModelBuilder,
     shape: ArchShape,
     *,
-    voussoirs: int,
+    voussoirs: int | Sequence[int],
     joints: str = "radial",
     density: float = 2000.0,
     pier_width: float | None = None,
@@ -425,6 +597,9 @@ def add_supported_arch(
     pier_kind: BodyKind = BodyKind.FIXED,
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "voussoir",
+    rings: int = 1,
+    ring_thicknesses: Sequence[float] | None = None,
+    ring_stagger: bool = False,
 ) -> Assembly:
     """An arch (add_arch) on two piers or abutments, on a fixed ground.
 
@@ -435,9 +610,11 @@ def add_supported_arch(
     carries the springing face (a skewback for a segmental arch). The ground (fixed) reaches
     span / 2 beyond the piers so that a collapsing arch falls onto it.
     Parts "ground", "piers" (left pier, then right, bottom up; named "left pier c1", ...),
-    "voussoirs"; groups "ground", "pier", `group`.
+    "voussoirs"; groups "ground", "pier", `group`. rings, ring_thicknesses, ring_stagger: an
+    arch of several rings (arch_rings(); voussoirs' names and groups as add_arch gives them).
     """
-    cut = arch_ring(shape, voussoirs, joints, origin)
+    cut = arch_ring(shape, voussoirs, joints, origin, rings=rings,
+                    ring_thicknesses=ring_thicknesses, ring_stagger=ring_stagger)
     (li, lo), (ri, ro) = cut.left, cut.right
     thickness = max(math.hypot(*(lo - li)), math.hypot(*(ro - ri)))
     if pier_width is None:
@@ -463,9 +640,7 @@ def add_supported_arch(
     for poly, name in zip(polys, names, strict=True):
         asm.add_block(builder, "piers", poly, group="pier", density=density, kind=pier_kind,
                       name=name)
-    for k, poly in enumerate(cut.voussoirs):
-        asm.add_block(builder, "voussoirs", poly, group=group, density=density,
-                      name=f"voussoir {k + 1}")
+    _add_voussoirs(builder, asm, cut, density, group, "voussoir")
     return asm
 
 

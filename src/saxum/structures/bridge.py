@@ -2,6 +2,7 @@
 the haunches and piers, and the fill over them as blocks or as a surcharge."""
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from ._common import (
     lay_courses,
     model_form,
 )
-from .arch import ArchShape, arch_ring
+from .arch import ArchShape, _add_voussoirs, arch_ring
 from .piers import pier_polygons
 
 __all__ = ["add_arch_bridge", "arch_bridge"]
@@ -78,7 +79,7 @@ def add_arch_bridge(
     shape: ArchShape,
     *,
     spans: int,
-    voussoirs: int,
+    voussoirs: int | Sequence[int],
     pier_width: float,
     pier_height: float,
     abutment_width: float,
@@ -95,6 +96,9 @@ def add_arch_bridge(
     fill_density: float = 1800.0,
     gravity: tuple[float, float] = (0.0, -9.81),
     origin: tuple[float, float] = (0.0, 0.0),
+    rings: int = 1,
+    ring_thicknesses: Sequence[float] | None = None,
+    ring_stagger: bool = False,
 ) -> Assembly:
     """A bridge of `spans` equal arches of `shape` (ArchShape, e.g. segmental) on piers.
 
@@ -111,7 +115,9 @@ def add_arch_bridge(
     (under `gravity` [m/s^2], which must be the builder's) on the block under each column,
     applied with add_force as constant forces, also listed in Assembly.loads.
     Parts "ground", "abutments", "piers", "voussoirs", "spandrels", "fill"; groups "ground",
-    "pier", "voussoir", "spandrel", "fill"; masonry of density [kg/m^3].
+    "pier", "voussoir", "spandrel", "fill"; masonry of density [kg/m^3]. rings,
+    ring_thicknesses, ring_stagger: arches of several rings (saxum.structures.arch_rings;
+    voussoirs named "arch <a> ring <i> voussoir <k>", in groups "voussoir ring <i>").
     """
     check_count("spans", spans)
     check_positive(pier_width=pier_width, pier_height=pier_height,
@@ -125,11 +131,13 @@ def add_arch_bridge(
     if not 0.0 <= min_piece < 1.0:
         raise InputError(f"min_piece must be in [0, 1), got {min_piece!r}")
     x0, y0 = origin
-    alone = arch_ring(shape, voussoirs, joints)
+    layers = {"rings": rings, "ring_thicknesses": ring_thicknesses, "ring_stagger": ring_stagger}
+    alone = arch_ring(shape, voussoirs, joints, **layers)
     left, right = alone.left[0], alone.right[0]
     pitch = right[0] - left[0] + pier_width
     rings = [arch_ring(shape, voussoirs, joints,
-                  origin=(x0 + abutment_width - left[0] + i * pitch, y0 + pier_height - left[1]))
+                  origin=(x0 + abutment_width - left[0] + i * pitch, y0 + pier_height - left[1]),
+                  **layers)
              for i in range(spans)]
     x1 = rings[-1].right[0][0] + abutment_width
     supports = [("abutments", "left abutment",
@@ -168,9 +176,7 @@ def add_arch_bridge(
             asm.add_block(builder, part, poly, group="pier", density=density, kind=pier_kind,
                           name=f"{name} c{c + 1}")
     for i, r in enumerate(rings):
-        for k, poly in enumerate(r.voussoirs):
-            asm.add_block(builder, "voussoirs", poly, group="voussoir", density=density,
-                          name=f"arch {i + 1} voussoir {k + 1}")
+        _add_voussoirs(builder, asm, r, density, "voussoir", "voussoir", f"arch {i + 1} ")
     lay_courses(builder, asm, part="spandrels", group="spandrel", density=density,
                 levels=levels(springing, top - springing), edges=edges, holes=holes,
                 min_piece=min_piece, name="spandrel")
