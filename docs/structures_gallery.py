@@ -95,6 +95,10 @@ def main(folder: str | Path = Path(__file__).parent / "img") -> list[Path]:
         (arch(ArchShape.circular(span=3.0, thickness=0.3, embrace=math.radians(140.0)),
               voussoirs=11), "circular: embrace 140 degrees"),
         (arch(ArchShape.flat(span=1.5, depth=0.35), voussoirs=7), "flat (jack) arch"),
+        (arch(ArchShape.semicircular(span=2.0, thickness=0.3), voussoirs=11, rings=2,
+              ring_stagger=True), "2 rings, staggered joints"),
+        (arch(ArchShape.segmental(span=4.0, rise=1.0, thickness=0.45), voussoirs=[11, 13, 15],
+              rings=3), "segmental in 3 rings, 11/13/15 voussoirs"),
     ], 4, paths["arches"])
 
     _grid([
