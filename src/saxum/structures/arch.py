@@ -358,11 +358,7 @@ def arch_ring(shape: ArchShape, voussoirs: int | Sequence[int], joints: str = "r
     s = np.arange(n + 1) / n
     for c in shape.corners:
         s[np.abs(s - c) < 1e-9] = c
-    corners = {}
-    for c in shape.corners:
-        corners[c] = np.array(shape.extrados(np.array([c]))[0], dtype=np.float64)
-        if shape.symmetric and c == 0.5:
-            corners[c][0] = 0.0
+    corners = _extrados_corners(shape)
     m = n // 2 + 1 if shape.symmetric else n + 1
     inner = np.array(shape.intrados(s[:m]), dtype=np.float64)
     outer = np.array(shape.extrados(s[:m]), dtype=np.float64)
@@ -407,6 +403,26 @@ def arch_ring(shape: ArchShape, voussoirs: int | Sequence[int], joints: str = "r
                  f"voussoirs={n} with joints={joints!r} gives it that shape; use more voussoirs")
     outline = clean(np.array([*top, inner[n]]), float(np.ptp(top, axis=0).max()))
     return Ring(polys, outline, (inner[0], outer[0]), (inner[n], outer[n]))
+
+
+def _extrados_corners(shape: ArchShape) -> dict[float, np.ndarray]:
+    """The extrados' corners [m] by their s [-] (a symmetric shape's crown on x = 0)."""
+    corners = {}
+    for c in shape.corners:
+        corners[c] = np.array(shape.extrados(np.array([c]))[0], dtype=np.float64)
+        if shape.symmetric and c == 0.5:
+            corners[c][0] = 0.0
+    return corners
+
+
+def _mirror_halves(pts: np.ndarray) -> np.ndarray:
+    """pts (k, 2) made exactly symmetric about x = 0 by index, in place: the right half the
+    left one mirrored, a middle point on x = 0."""
+    half = len(pts) // 2
+    pts[len(pts) - half:] = pts[:half][::-1] * [-1.0, 1.0]
+    if len(pts) % 2:
+        pts[half, 0] = 0.0
+    return pts
 
 
 def _ring_fractions(shape: ArchShape, rings: int,
@@ -477,19 +493,10 @@ def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
     def points(f: float, at: np.ndarray) -> np.ndarray:
         inner, outer = shape.intrados(at), shape.extrados(at)
         pts = np.array(inner + f * (outer - inner), dtype=np.float64)
-        if shape.symmetric:  # mirror by index, as _ring_joints made s
-            half = len(at) // 2
-            pts[len(at) - half:] = pts[:half][::-1] * [-1.0, 1.0]
-            if len(at) % 2:
-                pts[half, 0] = 0.0
-        return pts
+        # mirror by index, as _ring_joints made s
+        return _mirror_halves(pts) if shape.symmetric else pts
 
-    corners = {c: np.array(shape.extrados(np.array([c]))[0], dtype=np.float64)
-               for c in shape.corners}
-    if shape.symmetric:
-        for c, point in corners.items():
-            if c == 0.5:
-                point[0] = 0.0
+    corners = _extrados_corners(shape)
     shift = np.asarray(origin, dtype=np.float64)
     polys, ring_of, names = [], [], []
     for i in range(rings):
@@ -514,10 +521,7 @@ def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
             between = [[line[j] for j in range(len(above)) if lo + 1e-12 < above[j] < hi - 1e-12]
                        for lo, hi in zip(s[i][:-1], s[i][1:], strict=True)]
             if shape.symmetric:
-                half = len(top) // 2
-                top[len(top) - half:] = top[:half][::-1] * [-1.0, 1.0]
-                if len(top) % 2:
-                    top[half, 0] = 0.0
+                _mirror_halves(top)
         if np.any(np.einsum("kd,kd->k", top - bottom, points(1.0, s[i]) - points(0.0, s[i]))
                   <= 0.0):
             raise InputError(f"ring {i + 1} is thinner than the sag of ring {i + 2}'s "
