@@ -26,7 +26,8 @@ from scipy.spatial import ConvexHull, QhullError
 from .errors import InputError
 
 __all__ = ["Polyhedron", "clip_polyhedron", "convex_polyhedron", "polyhedron_properties",
-           "quaternion_from_matrix", "rotation_matrix", "rotation_vectors", "world_points"]
+           "quaternion_from_matrix", "relative_quaternions", "rotation_matrix", "rotation_vectors",
+           "world_points"]
 
 _REL_TOL = 1e-9
 
@@ -248,14 +249,21 @@ def world_points(q: np.ndarray, start: np.ndarray, local: np.ndarray) -> np.ndar
     return q[..., owner, :3] + np.einsum("...ij,...j->...i", rot, local)
 
 
-def rotation_vectors(q: np.ndarray, q0: np.ndarray) -> np.ndarray:
-    """Rotation vectors [rad] (world frame; direction: axis, length: angle in [0, pi]) that
+def relative_quaternions(q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    """The unit quaternions (w, x, y, z) q q0^-1 (..., 4) of the rotations (world frame) that
     take the orientations q0 (..., 4) to q (..., 4)."""
-    # relative rotation q q0^-1 as a quaternion (w, v)
     w0, v0 = q0[..., :1], -q0[..., 1:]
     w1, v1 = q[..., :1], q[..., 1:]
     w = w1 * w0 - np.sum(v1 * v0, axis=-1, keepdims=True)
     v = w1 * v0 + w0 * v1 + np.cross(v1, v0)
+    return np.concatenate((w, v), axis=-1)
+
+
+def rotation_vectors(q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    """Rotation vectors [rad] (world frame; direction: axis, length: angle in [0, pi]) that
+    take the orientations q0 (..., 4) to q (..., 4)."""
+    r = relative_quaternions(q, q0)
+    w, v = r[..., :1], r[..., 1:]
     v = np.where(w < 0.0, -v, v)
     norm = np.linalg.norm(v, axis=-1, keepdims=True)
     angle = 2.0 * np.arctan2(norm, np.abs(w))

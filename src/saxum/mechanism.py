@@ -40,7 +40,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .contacts import Contacts
-from .geometry3d import rotation_matrix, rotation_vectors
+from .geometry3d import relative_quaternions, rotation_matrix, rotation_vectors
 from .model import BodyKind, Model, body_vertices
 from .state import State
 
@@ -98,16 +98,9 @@ def joint_opening(body_q: np.ndarray, body_q0: np.ndarray, body_size: np.ndarray
         turn = body_q[:, 2] - body_q0[:, 2]
         angle = np.abs(turn[candidate] - turn[antagonist])
     else:
-        turn = _quaternion_product(body_q[:, 3:], body_q0[:, 3:] * [1.0, -1.0, -1.0, -1.0])
+        turn = relative_quaternions(body_q[:, 3:], body_q0[:, 3:])
         angle = np.linalg.norm(rotation_vectors(turn[candidate], turn[antagonist]), axis=1)
     return angle * np.minimum(body_size[candidate], body_size[antagonist])
-
-
-def _quaternion_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a b for quaternions (w, x, y, z) in rows."""
-    w = a[:, :1] * b[:, :1] - np.sum(a[:, 1:] * b[:, 1:], axis=1, keepdims=True)
-    v = a[:, :1] * b[:, 1:] + b[:, :1] * a[:, 1:] + np.cross(a[:, 1:], b[:, 1:])
-    return np.hstack((w, v))
 
 
 def frame_contacts(results, frame: int) -> dict:
