@@ -53,6 +53,7 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
                            ground=scenario.loads.ground_motion is not None)
     writer.write_frame(state)
     writer.write_checkpoint(state, sim.detector)
+    sim.solver.forget()
     return _advance(scenario, sim, state, writer, quiet)
 
 
@@ -106,6 +107,7 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
                 writer.write_frame(state)
             if state.step % checkpoint_every == 0 and state.step < total:
                 writer.write_checkpoint(state, sim.detector)
+                sim.solver.forget()  # a run resumed from here starts with a new solver
             bar.update(1)
             if state.step % 20 == 0:
                 bar.set_postfix_str(f"t={state.time:.3f} s NLGS={report.iterations}"

@@ -28,3 +28,8 @@ class ContactSolver(ABC):
         """impulse [N s] (count, dim): the starting guess, overwritten with the solution;
         v_free [m/s, rad/s] (bodies, dof): the free velocity; v: v_free + M^-1 H impulse on
         entry, the end-of-step velocity v_free + M^-1 H R on return."""
+
+    def forget(self) -> None:
+        """Drop what the solver carries from one step to the next (none by default; NLGS:
+        the rest solutions it extrapolates), so that stepping on gives what a new solver
+        would: the runner calls it at every checkpoint, which a resumed run starts from."""

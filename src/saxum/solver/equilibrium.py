@@ -51,7 +51,7 @@ import numpy as np
 
 from ..linalg3 import solve3
 
-__all__ = ["rest_solution"]
+__all__ = ["LoadResponse", "rest_hypothesis", "rest_solution"]
 
 _RIGID_DOF = {2: 3, 3: 6}
 """Degrees of freedom of a rigid body by spatial dimension: the models this module serves."""
@@ -69,28 +69,60 @@ step shrinks by its length, stops shrinking (the barrier holds x off the cones' 
 the loads would have to cross)."""
 
 
-def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray) -> bool:
+class LoadResponse:
+    """The last Newton system of a rest solution, kept to answer a change of the loads: for
+    df [N s] per free body, the impulse change dR = B dx, dx = P^-1 G^T nu, G P^-1 G^T nu = df,
+    which balances it exactly (G dx = df) and is the Newton step of the barrier problem
+    without its gradient: small on the contacts near their cone's boundary, where the
+    barrier's Hessian P is large (an affine-scaling direction of interior-point methods)."""
+
+    def __init__(self) -> None:
+        self.clear()
+
+    def clear(self) -> None:
+        self.lu = None
+        self.closed = self.slot = self.b = self.x = None
+        self.scale = 0.0
+
+    @property
+    def ready(self) -> bool:
+        return self.lu is not None
+
+    def impulse_change(self, problem, change: np.ndarray) -> np.ndarray | None:
+        """dR (count, dim) [N s] for the change of loads `change` (free bodies, dof) [N s] on
+        the closed contacts of the kept system; None if there is none kept."""
+        if self.lu is None:
+            return None
+        c = problem.contacts
+        nu = self.lu.solve(change.reshape(-1)).reshape(change.shape)
+        dx = np.empty_like(self.x)
+        _newton_step(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, self.closed,
+                     self.slot, self.b, self.x, self.scale, nu, False, dx)
+        out = np.empty((problem.count, problem.model.dim))
+        _scatter(self.closed, self.b, dx, problem.count, out)
+        return -out
+
+
+def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray,
+                  response: LoadResponse | None = None) -> bool:
     """If the step's problem (saxum.solver.ContactProblem or a view with the same arrays) has a
     rest solution, write its impulses [N s] into `impulse` (R = 0 for the contacts that do not
     carry any) and v = v_free + M^-1 H R [m/s, rad/s] (V for the free bodies, to round-off;
     v_free for the others) into `v`, and return True. Otherwise (no rest solution, or none found in
     _ITERATIONS Newton steps) leave both untouched and return False. The caller's impulses are
-    the starting point: among the solutions, it returns one near them."""
-    count = problem.count
-    v_begin = getattr(problem, "v_begin", None)
-    dof = problem.model.dof
-    if count == 0 or v_begin is None or dof != _RIGID_DOF.get(problem.model.dim):
+    the starting point: among the solutions, it returns one near them. `response`, if
+    given, keeps the last Newton system of a rest solution found (cleared otherwise)."""
+    if response is not None:
+        response.clear()
+    hypothesis = rest_hypothesis(problem, v_free)
+    if hypothesis is None:
         return False
+    closed, slot, force = hypothesis
+    count = problem.count
+    dof = problem.model.dof
+    nfree = len(force)
     c = problem.contacts
     inv_mass = problem.model.body_inv_mass
-    slot = np.empty(len(inv_mass), dtype=np.int64)
-    closed = np.empty(count, dtype=np.int64)
-    m, nfree, force = _rest_contacts(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
-                                     problem.bias, problem.active, count, inv_mass, v_begin,
-                                     v_free, slot, closed)
-    if m <= 0:
-        return False
-    closed = closed[:m]
     indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, closed, slot, nfree,
                                                 dof)
     x, b, scale = _start(closed, problem.friction, impulse, force)
@@ -102,6 +134,8 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     size = _norm_m(force, slot, inv_mass)
     alpha = 0.0
     short = 0
+    lu = None
+    x_factored = x
     from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import splu
 
@@ -121,7 +155,8 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
         if not np.all(np.isfinite(nu)):
             return False
         _newton_step(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed, slot, b,
-                     x, scale, nu, step)
+                     x, scale, nu, True, step)
+        x_factored = x.copy()
         alpha = _step_length(x, step)
         short = short + 1 if alpha < _STALLED else 0
         if short == 3:
@@ -138,7 +173,30 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
         return False
     _apply(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.active, count,
            closed, b, x, inv_mass, v_free, impulse, v)
+    if response is not None and lu is not None:
+        response.lu, response.closed, response.slot = lu, closed, slot
+        response.b, response.x, response.scale = b, x_factored, scale
     return True
+
+
+def rest_hypothesis(problem, v_free: np.ndarray):
+    """(closed contacts, slot of each body among the free bodies (-1 for the others), the
+    loads f = M (V - v_free) [N s] per free body (rows in slot order)) when the step's problem
+    can have a rest solution and it is worth looking for (_rest_contacts); None otherwise."""
+    count = problem.count
+    v_begin = getattr(problem, "v_begin", None)
+    if count == 0 or v_begin is None or problem.model.dof != _RIGID_DOF.get(problem.model.dim):
+        return None
+    c = problem.contacts
+    inv_mass = problem.model.body_inv_mass
+    slot = np.empty(len(inv_mass), dtype=np.int64)
+    closed = np.empty(count, dtype=np.int64)
+    m, _, force = _rest_contacts(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                                 problem.bias, problem.active, count, inv_mass, v_begin, v_free,
+                                 slot, closed)
+    if m <= 0:
+        return None
+    return closed[:m], slot, force
 
 
 @nb.njit(cache=True)
@@ -534,15 +592,15 @@ def _newton_system(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, where, d
 
 
 @nb.njit(cache=True)
-def _newton_step(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, nu, step):
-    """step = -P^-1 (grad + G^T nu)."""
+def _newton_step(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, nu, gradient, step):
+    """step = -P^-1 (grad + G^T nu) (without grad if not `gradient`)."""
     nk = x.shape[1]
     w = np.empty(nk)
     for k in range(closed.shape[0]):
         a = closed[k]
         inv, grad = _hessian_inverse(b[k], x[k], scale)
         for i in range(nk):
-            w[i] = grad[i]
+            w[i] = grad[i] if gradient else 0.0
         for h, body in ((h_cand, slot[cand[a]]), (h_ant, slot[ant[a]])):
             if body < 0:
                 continue
@@ -652,15 +710,19 @@ def _norm_m(x, slot, inv_mass):
 
 
 @nb.njit(cache=True)
+def _scatter(closed, b, x, count, impulse):
+    """impulse = B x [N s] on the closed contacts, 0 on the others."""
+    impulse[:count] = 0.0
+    for k in range(closed.shape[0]):
+        _impulse(b[k], x[k], impulse[closed[k]])
+
+
+@nb.njit(cache=True)
 def _apply(cand, ant, h_cand, h_ant, active, count, closed, b, x, inv_mass, v_free, impulse,
            v):
     """impulse = B x on the closed contacts, 0 on the others; v = v_free + M^-1 H R."""
     dim = b.shape[1]
-    for a in range(count):
-        for i in range(dim):
-            impulse[a, i] = 0.0
-    for k in range(closed.shape[0]):
-        _impulse(b[k], x[k], impulse[closed[k]])
+    _scatter(closed, b, x, count, impulse)
     for body in range(v.shape[0]):
         for d in range(v.shape[1]):
             v[body, d] = v_free[body, d]

@@ -46,6 +46,7 @@ from .equilibrium import rest_solution
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .problem import ContactProblem
+from .load_following import LoadFollowing
 
 __all__ = ["NLGS"]
 
@@ -61,12 +62,15 @@ class NLGS(ContactSolver):
     """tolerance [-] on the relative change per sweep (see module doc), max_iterations sweeps
     per step, relaxation omega in (0, 1]; rest_after: sweeps after which a step that has not
     converged tries the rest solution (saxum.solver.equilibrium) and sweeps on from it if
-    there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK)."""
+    there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK); follow_loads: a
+    step that follows steps which ended at rest starts from their rest solutions extrapolated
+    to its loads (saxum.solver.load_following)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
     relaxation: float = 1.0
     rest_after: int = 50
+    follow_loads: bool = True
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
@@ -85,6 +89,10 @@ class NLGS(ContactSolver):
         self._work = np.empty((0, 18))
         self._inv_mass = None
         self._mass = np.empty((0, 0))
+        self._following = LoadFollowing()
+
+    def forget(self) -> None:
+        self._following.clear()
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -103,18 +111,35 @@ class NLGS(ContactSolver):
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, problem.active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, self.tolerance)
+        # the step's own problem (the projection's has no v_begin and no rest solution)
+        follow = (self.follow_loads and self.rest_after > 0
+                  and getattr(problem, "v_begin", None) is not None)
+        followed = follow and self._following.start(problem, impulse, v_free, v,
+                                                     self.tolerance)
         first = self.max_iterations
         if self.rest_after > 0 and problem.count > 0:
-            first = min(max(self.rest_after, -(-_REST_WORK // problem.count)), first)
+            # after a start that follows a step at rest, the rest solution is likely: it is
+            # looked for as soon as the sweeps have done _REST_WORK, if the first one does
+            # not confirm the start
+            least = -(-_REST_WORK // problem.count)
+            first = min(least if followed else max(self.rest_after, least), first)
         iterations, error = sweep(*args, first, self.relaxation)
+        followed = followed and iterations == 1  # the first sweep confirmed the start
+        found = False
         if error > self.tolerance and iterations < self.max_iterations:
             # slow (module doc): sweep on from the rest solution if there is one
             self.rest_attempts += 1
-            if rest_solution(problem, impulse, v_free, v):
+            found = rest_solution(problem, impulse, v_free, v,
+                                  self._following.response if follow else None)
+            if found:
                 self.rest_solutions += 1
             more, error = sweep(*args, self.max_iterations - iterations, self.relaxation)
             iterations += more
-        return SolverReport(iterations=iterations, error=error, converged=error <= self.tolerance)
+        converged = error <= self.tolerance
+        if follow:
+            self._following.record(problem, impulse, v_free, followed and converged,
+                                   found and converged)
+        return SolverReport(iterations=iterations, error=error, converged=converged)
 
 
 @nb.njit(cache=True)
