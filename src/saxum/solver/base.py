@@ -33,3 +33,4 @@ class ContactSolver(ABC):
         """Drop what the solver carries from one step to the next (none by default; NLGS:
         the rest solutions it extrapolates), so that stepping on gives what a new solver
         would: the runner calls it at every checkpoint, which a resumed run starts from."""
+        return None

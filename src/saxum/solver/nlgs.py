@@ -43,10 +43,10 @@ import numpy as np
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .equilibrium import rest_solution
+from .load_following import LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .problem import ContactProblem
-from .load_following import LoadFollowing
 
 __all__ = ["NLGS"]
 
