@@ -63,6 +63,9 @@ about 1e-13: a rest solution leaves velocities of 1e-10 of those of one step of 
 _FLOOR = 1e-8
 """... or at which it does, after a full Newton step that did not halve it (round-off of the
 factorization)."""
+_MARGIN = 0.1
+"""Added to the caller's impulses moved into the cones, relative to r0 (_start): the default
+of rest_solution's `margin`."""
 _STALLED = 1e-3
 """Steps shorter than this, three in a row, mean no rest solution: the residual, which each
 step shrinks by its length, stops shrinking (the barrier holds x off the cones' edges that
@@ -104,14 +107,16 @@ class LoadResponse:
 
 
 def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray,
-                  response: LoadResponse | None = None) -> bool:
+                  response: LoadResponse | None = None, margin: float = _MARGIN) -> bool:
     """If the step's problem (saxum.solver.ContactProblem or a view with the same arrays) has a
     rest solution, write its impulses [N s] into `impulse` (R = 0 for the contacts that do not
     carry any) and v = v_free + M^-1 H R [m/s, rad/s] (V for the free bodies, to round-off;
     v_free for the others) into `v`, and return True. Otherwise (no rest solution, or none found in
     _ITERATIONS Newton steps) leave both untouched and return False. The caller's impulses are
     the starting point: among the solutions, it returns one near them. `response`, if
-    given, keeps the last Newton system of a rest solution found (cleared otherwise)."""
+    given, keeps the last Newton system of a rest solution found (cleared otherwise); margin
+    [-]: the Newton iterations start from the caller's impulses moved into the cones plus
+    margin x r0 (module doc), less for impulses that already balance the loads."""
     if response is not None:
         response.clear()
     hypothesis = rest_hypothesis(problem, v_free)
@@ -125,7 +130,7 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     inv_mass = problem.model.body_inv_mass
     indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, closed, slot, nfree,
                                                 dof)
-    x, b, scale = _start(closed, problem.friction, impulse, force)
+    x, b, scale = _start(closed, problem.friction, impulse, force, margin)
     data = np.zeros(len(indices))
     rhs = np.empty((nfree, dof))
     step = np.empty_like(x)
@@ -136,20 +141,13 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     short = 0
     lu = None
     x_factored = x
-    from scipy.sparse import csc_matrix
-    from scipy.sparse.linalg import splu
-
     for _ in range(_ITERATIONS):
         if residual <= _FEASIBLE * size:
             break
         _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed, slot,
                        b, x, scale, where, diagonal, indptr, rhs, data)
-        try:
-            # symmetric positive definite: a symmetric fill-reducing order, no pivoting
-            lu = splu(csc_matrix((data, indices, indptr), shape=(dof * nfree, dof * nfree)),
-                      permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                      options={"SymmetricMode": True})
-        except RuntimeError:  # singular: a free body's motion that no contact resists
+        lu = _factorize(data, indices, indptr, dof * nfree)
+        if lu is None:  # singular: a free body's motion that no contact resists
             return False
         nu = lu.solve(rhs.reshape(-1)).reshape(nfree, dof)
         if not np.all(np.isfinite(nu)):
@@ -177,6 +175,20 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
         response.lu, response.closed, response.slot = lu, closed, slot
         response.b, response.x, response.scale = b, x_factored, scale
     return True
+
+
+def _factorize(data, indices, indptr, size):
+    """SuperLU of the symmetric positive definite Newton system (CSC), None if singular."""
+    from scipy.sparse import csc_matrix
+    from scipy.sparse.linalg import splu
+
+    try:
+        # a symmetric fill-reducing order, no pivoting
+        return splu(csc_matrix((data, indices, indptr), shape=(size, size)),
+                    permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                    options={"SymmetricMode": True})
+    except RuntimeError:
+        return None
 
 
 def rest_hypothesis(problem, v_free: np.ndarray):
@@ -374,7 +386,7 @@ def _pattern(cand, ant, closed, slot, nfree, size):
 
 
 @nb.njit(cache=True)
-def _start(closed, friction, impulse, force):
+def _start(closed, friction, impulse, force, margin):
     """(x (m, k) from the caller's impulses moved into the cones' interiors (k = 2 in 2D, 3 in
     3D: module doc), B (m, dim, k), r0 [N s]: the largest impulse a free body needs)."""
     m = closed.shape[0]
@@ -392,9 +404,9 @@ def _start(closed, friction, impulse, force):
     for k in range(m):
         a = closed[k]
         if dim == 2:
-            _orthant_start(friction[a], impulse[a], 0.1 * scale, x[k], b[k])
+            _orthant_start(friction[a], impulse[a], margin * scale, x[k], b[k])
         else:
-            _lorentz_start(friction[a], impulse[a], 0.1 * scale, x[k], b[k])
+            _lorentz_start(friction[a], impulse[a], margin * scale, x[k], b[k])
     return x, b, scale
 
 
@@ -445,29 +457,28 @@ def _lorentz_start(mu, r, margin, x, b):
 
 
 @nb.njit(inline="always")
-def _columns(h, a, bk):
-    """G rows of one body: (H_body^T B)[d, i], dof x k."""
+def _columns(h, a, bk, g):
+    """g = G rows of one body: (H_body^T B)[d, i], dof x k."""
     dim = bk.shape[0]
-    g = np.empty((h.shape[2], bk.shape[1]))
     for d in range(h.shape[2]):
         for i in range(bk.shape[1]):
             acc = h[a, 0, d] * bk[0, i]
             for r in range(1, dim):
                 acc += h[a, r, d] * bk[r, i]
             g[d, i] = acc
-    return g
 
 
 @nb.njit(inline="always")
-def _hessian_inverse(bk, xk, scale):
-    """(P^-1 (k x k), gradient (k)) of (1/2 r0^2) |B x|^2 + phi(x) at x."""
+def _hessian_inverse(bk, xk, scale, inv, grad):
+    """inv = P^-1 (k x k), grad (k): of (1/2 r0^2) |B x|^2 + phi(x) at x."""
     if xk.shape[0] == 2:
-        return _orthant_hessian_inverse(bk, xk, scale)
-    return _lorentz_hessian_inverse(bk, xk, scale)
+        _orthant_hessian_inverse(bk, xk, scale, inv, grad)
+    else:
+        _lorentz_hessian_inverse(bk, xk, scale, inv, grad)
 
 
 @nb.njit(inline="always")
-def _orthant_hessian_inverse(bk, sk, scale):
+def _orthant_hessian_inverse(bk, sk, scale, inv, grad):
     """2D, phi = -log x_1 - log x_2."""
     t = 1.0 / (scale * scale)
     q00 = bk[0, 0] * bk[0, 0] + bk[1, 0] * bk[1, 0]
@@ -477,19 +488,16 @@ def _orthant_hessian_inverse(bk, sk, scale):
     p01 = t * q01
     p11 = t * q11 + 1.0 / (sk[1] * sk[1])
     det = p00 * p11 - p01 * p01
-    inv = np.empty((2, 2))
     inv[0, 0] = p11 / det
     inv[0, 1] = -p01 / det
     inv[1, 0] = -p01 / det
     inv[1, 1] = p00 / det
-    grad = np.empty(2)
     grad[0] = t * (q00 * sk[0] + q01 * sk[1]) - 1.0 / sk[0]
     grad[1] = t * (q01 * sk[0] + q11 * sk[1]) - 1.0 / sk[1]
-    return inv, grad
 
 
 @nb.njit(inline="always")
-def _lorentz_hessian_inverse(bk, xk, scale):
+def _lorentz_hessian_inverse(bk, xk, scale, inv, grad):
     """3D, phi = -log Q, Q = x_n^2 - x_t^2 - x_s^2 (module doc): P = t D + grad^2 phi with
     t = 1 / r0^2, D = B^T B; P^-1 = Y (I + t D Y)^-1 from the barrier's closed-form inverse
     Hessian Y, which stays accurate near the cone's boundary where grad^2 phi itself is
@@ -514,7 +522,6 @@ def _lorentz_hessian_inverse(bk, xk, scale):
         for j in range(3):
             a[i, j] = t * (dd[i, 0] * y[0, j] + dd[i, 1] * y[1, j] + dd[i, 2] * y[2, j])
         a[i, i] += 1.0
-    inv = np.empty((3, 3))
     for j in range(3):  # row j of Y A^-1 solves A^T z = (row j of Y)
         inv[j, 0], inv[j, 1], inv[j, 2] = solve3(a[0, 0], a[1, 0], a[2, 0], a[0, 1], a[1, 1],
                                                  a[2, 1], a[0, 2], a[1, 2], a[2, 2], y[j, 0],
@@ -524,13 +531,11 @@ def _lorentz_hessian_inverse(bk, xk, scale):
             mean = 0.5 * (inv[i, j] + inv[j, i])
             inv[i, j] = mean
             inv[j, i] = mean
-    grad = np.empty(3)
     for i in range(3):
         grad[i] = t * (dd[i, 0] * x0 + dd[i, 1] * x1 + dd[i, 2] * x2)
     grad[0] += 2.0 * x0 / q
     grad[1] -= 2.0 * x1 / q
     grad[2] += 2.0 * x2 / q
-    return inv, grad
 
 
 @nb.njit(cache=True)
@@ -544,10 +549,14 @@ def _newton_system(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, where, d
     data[:] = 0.0
     pg = np.empty(nk)
     gp = np.empty((size, nk))  # G_r P^-1
+    inv = np.empty((nk, nk))
+    grad = np.empty(nk)
+    gs = (np.empty((size, nk)), np.empty((size, nk)))
     for k in range(closed.shape[0]):
         a = closed[k]
-        inv, grad = _hessian_inverse(b[k], x[k], scale)
-        gs = (_columns(h_cand, a, b[k]), _columns(h_ant, a, b[k]))
+        _hessian_inverse(b[k], x[k], scale, inv, grad)
+        _columns(h_cand, a, b[k], gs[0])
+        _columns(h_ant, a, b[k], gs[1])
         bodies = (slot[cand[a]], slot[ant[a]])
         for i in range(nk):
             acc = inv[i, 0] * grad[0]
@@ -596,15 +605,18 @@ def _newton_step(cand, ant, h_cand, h_ant, closed, slot, b, x, scale, nu, gradie
     """step = -P^-1 (grad + G^T nu) (without grad if not `gradient`)."""
     nk = x.shape[1]
     w = np.empty(nk)
+    inv = np.empty((nk, nk))
+    grad = np.empty(nk)
+    g = np.empty((nu.shape[1], nk))
     for k in range(closed.shape[0]):
         a = closed[k]
-        inv, grad = _hessian_inverse(b[k], x[k], scale)
+        _hessian_inverse(b[k], x[k], scale, inv, grad)
         for i in range(nk):
             w[i] = grad[i] if gradient else 0.0
         for h, body in ((h_cand, slot[cand[a]]), (h_ant, slot[ant[a]])):
             if body < 0:
                 continue
-            g = _columns(h, a, b[k])
+            _columns(h, a, b[k], g)
             for d in range(nu.shape[1]):
                 for i in range(nk):
                     w[i] += g[d, i] * nu[body, d]

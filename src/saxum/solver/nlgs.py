@@ -43,7 +43,7 @@ import numpy as np
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .equilibrium import rest_solution
-from .load_following import LoadFollowing
+from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .problem import ContactProblem
@@ -124,20 +124,25 @@ class NLGS(ContactSolver):
             least = -(-_REST_WORK // problem.count)
             first = min(least if followed else max(self.rest_after, least), first)
         iterations, error = sweep(*args, first, self.relaxation)
-        followed = followed and iterations == 1  # the first sweep confirmed the start
+        confirmed = followed and iterations == 1
+        followed = followed and not confirmed
         found = False
-        if error > self.tolerance and iterations < self.max_iterations:
-            # slow (module doc): sweep on from the rest solution if there is one
+        if (error > self.tolerance or followed) and iterations < self.max_iterations:
+            # slow (module doc), or a start that follows the loads which the first sweep did
+            # not confirm: sweep on from the rest solution if there is one
             self.rest_attempts += 1
-            found = rest_solution(problem, impulse, v_free, v,
-                                  self._following.response if follow else None)
+            if follow:
+                found = rest_solution(problem, impulse, v_free, v, self._following.response,
+                                      *((START_MARGIN,) if followed else ()))
+            else:
+                found = rest_solution(problem, impulse, v_free, v)
             if found:
                 self.rest_solutions += 1
             more, error = sweep(*args, self.max_iterations - iterations, self.relaxation)
             iterations += more
         converged = error <= self.tolerance
         if follow:
-            self._following.record(problem, impulse, v_free, followed and converged,
+            self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
         return SolverReport(iterations=iterations, error=error, converged=converged)
 
