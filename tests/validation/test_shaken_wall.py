@@ -1,0 +1,115 @@
+"""A running-bond wall on a harmonically shaken base slides as one rigid body: Newmark's sliding
+block (N. M. Newmark, "Effects of earthquakes on dams and embankments", Geotechnique 15, 1965)
+under a_g(t) = A sin(2 pi f t), integrated in closed form between its stick-slip transitions.
+
+With one friction coefficient mu for every joint, a wall sliding on its base needs exactly
+mu N in every bed joint (docs/method.md), yet the velocities of the step's problem are unique:
+every brick keeps the velocity of the wall (benchmarks/shaken_wall.py, BENCHMARKS.md), so
+every brick's displacement relative to the base is Newmark's u(t). A = 0.7 g > mu g = 0.6 g:
+the wall slides 4.11 mm one way in the first half cycle and back to 0 in the second.
+
+Tolerance: 1 % of the peak slip. The inertial force acts with its exact mean over each step,
+so the slip is integrated exactly while it lasts; the error comes from the stick-slip
+transitions, each resolved to within one step h, where the slip velocity is zero: of the order
+of (A - mu g) h^2 = 1e-6 m per transition, 2e-3 mm for the cycle (observed: 3e-4 mm); 1 %
+(0.04 mm) leaves a factor 20 for the solver's tolerance and round-off and is 100 times smaller
+than the 61 mm that unconverged steps gave the 512-brick wall (issue 13).
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import saxum as sx
+from saxum.ground import harmonic
+from saxum.structures import running_bond_wall
+
+MU = 0.6
+FREQUENCY = 2.0  # Hz
+
+
+def newmark_sine(amplitude: float, frequency: float, mu: float, g: float,
+                 t_end: float) -> float:
+    """Slip u(t_end) [m] of a rigid block relative to a base accelerated by
+    a_g = amplitude sin(w t) [m/s^2], w = 2 pi frequency, from rest: while it slides with
+    direction s, u'' = -a_g - s mu g; it sticks when u' = 0 and |a_g| <= mu g."""
+    w = 2.0 * math.pi * frequency
+    ratio = mu * g / amplitude
+    assert ratio < 1.0
+
+    def ground_velocity(t):  # int_0^t a_g
+        return amplitude / w * (1.0 - math.cos(w * t))
+
+    def ground_displacement(t):  # int_0^t ground_velocity
+        return amplitude / w * (t - math.sin(w * t) / w)
+
+    t, u = 0.0, 0.0
+    while True:
+        # stuck from t: the next onset, where |a_g| reaches mu g (k-th half period)
+        if abs(amplitude * math.sin(w * t)) <= mu * g:
+            k = math.floor((w * t - math.asin(ratio)) / math.pi) + 1
+            t = max(t, (k * math.pi + math.asin(ratio)) / w)
+        if t >= t_end:
+            return u
+        s = -math.copysign(1.0, math.sin(w * t))
+        t0, u0, vg0 = t, u, ground_velocity(t)
+
+        def velocity(x, t0=t0, s=s, vg0=vg0):
+            return -(ground_velocity(x) - vg0) - s * mu * g * (x - t0)
+
+        def slip(x, t0=t0, u0=u0, s=s, vg0=vg0):
+            return u0 - (ground_displacement(x) - ground_displacement(t0) - vg0 * (x - t0)) - (
+                0.5 * s * mu * g * (x - t0) ** 2)
+
+        x, step = t0, 1e-4
+        while s * velocity(x + step) > 0.0 and x + step < t_end:
+            x += step
+        if x + step >= t_end and s * velocity(t_end) > 0.0:
+            return slip(t_end)
+        t = brentq(velocity, x if x > t0 else t0 + 1e-12, x + step, xtol=1e-14)
+        u = slip(t)
+
+
+def test_newmark_closed_form_half_cycle():
+    """The closed form against a direct integration of the sliding block (midpoint rule,
+    h = 1e-6 s) over the first slide: 1e-6 of the slip."""
+    g = 9.81
+    amplitude = 0.7 * g
+    w = 2.0 * math.pi * FREQUENCY
+    h = 1e-6
+    u, v, t = 0.0, 0.0, math.asin(MU / 0.7) / w
+    while True:
+        a = -amplitude * math.sin(w * (t + 0.5 * h)) + MU * g  # slides backwards
+        if v + a * h > 0.0:
+            break
+        u += (v + 0.5 * a * h) * h
+        v += a * h
+        t += h
+    assert newmark_sine(amplitude, FREQUENCY, MU, g, 0.25) == pytest.approx(u, rel=1e-5)
+
+
+def test_shaken_wall_slides_as_newmarks_block():
+    model = running_bond_wall(courses=5, bricks=4, brick_length=0.25, brick_height=0.065,
+                              density=1800.0, friction=MU)
+    g = float(np.hypot(*model.gravity))
+    # fine samples: the record is linear between them (1e-6 of A from the sine)
+    motion = harmonic(0.7 * g, 1.0 / FREQUENCY, 1, samples_per_cycle=4000)
+    model = dataclasses.replace(model, accelerations=(motion.inertial_load(),))
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    free = model.body_kind == sx.BodyKind.FREE
+    q0 = state.body_q[free].copy()
+    peak = abs(newmark_sine(0.7 * g, FREQUENCY, MU, g, 0.25))
+    assert 4.0e-3 < peak < 4.2e-3
+    worst = 0.0
+    for _ in range(10):
+        sim.run(state, 0.05)
+        expected = newmark_sine(0.7 * g, FREQUENCY, MU, g, state.time)
+        slip = state.body_q[free, 0] - q0[:, 0]
+        worst = max(worst, float(np.abs(slip - expected).max()))
+    assert worst <= 0.01 * peak
+    assert np.abs(state.body_q[free, 2] - q0[:, 2]).max() < 1e-6  # no brick rocks
+    assert sim.log.converged.all()
