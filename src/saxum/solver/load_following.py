@@ -84,8 +84,9 @@ class LoadFollowing:
               tolerance: float) -> bool:
         """After a step at rest on the same contacts: impulse = R_k-1 + dR (module doc) and
         v = v_free + M^-1 H impulse [m/s, rad/s]; returns True. Otherwise (nothing kept, other
-        contacts, a step that cannot end at rest) leaves both as they are and returns False;
-        loads that did not change leave them as well, and return True the first time only."""
+        contacts, a step that cannot end at rest, loads that did not change) leaves both as they
+        are and returns False; loads that did not change for the first time still let `record`
+        keep the step."""
         self._pending = None
         if self._last is None:
             return False
@@ -107,7 +108,7 @@ class LoadFollowing:
             self._quiet += 1
             if self._quiet > 1:
                 self.clear()
-            return self._quiet == 1
+            return False
         self._quiet = 0
         step = np.zeros_like(last_impulse)
         for q, dr in self._answers:
@@ -128,16 +129,16 @@ class LoadFollowing:
                problem.model.body_inv_mass, impulse, v)
         return True
 
-    def record(self, problem, impulse: np.ndarray, v_free: np.ndarray, followed: bool,
+    def record(self, problem, impulse: np.ndarray, v_free: np.ndarray, confirmed: bool,
                found: bool) -> None:
-        """After the solve: keep the step if it ended at rest from a start of `start` that the
-        first sweep confirmed (`followed`) or from a rest solution (`found`, which filled
-        `response`); otherwise forget everything."""
+        """After the solve: keep the step if it ended at rest from the start that `start` saw
+        and the first sweep confirmed (`confirmed`), or from a rest solution (`found`, which
+        filled `response`); otherwise forget everything."""
         if found:
             self._answers.clear()
             step_loads = self._loads(problem, v_free)
             self._pending = None if step_loads is None else step_loads[1]
-        elif not followed:
+        elif not confirmed:
             self._pending = None
         if self._pending is None:
             self.clear()

@@ -124,7 +124,7 @@ class NLGS(ContactSolver):
             least = -(-_REST_WORK // problem.count)
             first = min(least if followed else max(self.rest_after, least), first)
         iterations, error = sweep(*args, first, self.relaxation)
-        confirmed = followed and iterations == 1
+        confirmed = iterations == 1 and error <= self.tolerance
         followed = followed and not confirmed
         found = False
         if (error > self.tolerance or followed) and iterations < self.max_iterations:
