@@ -27,6 +27,9 @@ steps in a row, the following stops until a step needs the rest solution again (
 at rest under constant loads pays nothing for it).
 """
 
+import math
+
+import numba as nb
 import numpy as np
 
 from .equilibrium import LoadResponse, rest_hypothesis
@@ -54,9 +57,11 @@ class LoadFollowing:
     def __init__(self) -> None:
         self.response = LoadResponse()
         """Filled by saxum.solver.equilibrium.rest_solution when it finds a rest solution."""
-        self._answers: list[tuple[np.ndarray, np.ndarray]] = []
-        """(q_j, dR_j): orthonormal load changes M^-1/2 df_j and the impulse changes that
-        balance them."""
+        self._q = np.empty((_DEPTH, 0, 0))
+        """Orthonormal load changes M^-1/2 df_j (first _answers rows), laid out as f ..."""
+        self._dr = np.empty((_DEPTH, 0, 0))
+        """... and the impulse changes dR_j [N s] (count, dim) that balance them."""
+        self._answers = 0
         self._last = None  # (keys, impulses, M^-1/2 f) of the last step at rest
         self._pending = None  # this step's M^-1/2 f, from start to record
         self._weight = (None, None)  # (inv_mass, M^-1/2 of the free bodies, as f is laid out)
@@ -64,12 +69,12 @@ class LoadFollowing:
 
     def clear(self) -> None:
         self.response.clear()
-        self._answers.clear()
+        self._answers = 0
         self._last = self._pending = None
         self._quiet = 0
 
     def _loads(self, problem, v_free: np.ndarray):
-        """(closed contacts, M^-1/2 f flattened) of the step, None if it cannot end at rest
+        """(closed contacts, M^-1/2 f) of the step, None if it cannot end at rest
         (saxum.solver.equilibrium.rest_hypothesis)."""
         hypothesis = rest_hypothesis(problem, v_free)
         if hypothesis is None:
@@ -78,7 +83,7 @@ class LoadFollowing:
         inv_mass = problem.model.body_inv_mass
         if self._weight[0] is not inv_mass:
             self._weight = inv_mass, np.sqrt(inv_mass[slot >= 0])
-        return closed, (force * self._weight[1]).ravel()
+        return closed, force * self._weight[1]
 
     def start(self, problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray,
               tolerance: float) -> bool:
@@ -98,11 +103,16 @@ class LoadFollowing:
                 or not np.array_equal(step_loads[0], self.response.closed)):
             self.clear()
             return False
-        loads = step_loads[1]
-        change = loads - last_loads
-        size = float(np.linalg.norm(loads))
-        self._pending = loads
-        if np.linalg.norm(change) <= tolerance * size:
+        loads = self._pending = step_loads[1]
+        if self._q.shape[1:] != loads.shape or self._dr.shape[1:] != last_impulse.shape:
+            self._q = np.empty((_DEPTH, *loads.shape))
+            self._dr = np.empty((_DEPTH, *last_impulse.shape))
+            self._answers = 0
+        change = np.empty_like(loads)
+        start = np.empty_like(last_impulse)
+        moved, misfit, size = _combine(loads, last_loads, self._q, self._dr, self._answers,
+                                       last_impulse, change, start)
+        if moved <= tolerance * size:
             # the warm start is at rest already; twice in a row: loads that do not change,
             # which need no following
             self._quiet += 1
@@ -110,19 +120,17 @@ class LoadFollowing:
                 self.clear()
             return False
         self._quiet = 0
-        step = np.zeros_like(last_impulse)
-        for q, dr in self._answers:
-            lam = float(q @ change)
-            change -= lam * q
-            step += lam * dr
-        misfit = float(np.linalg.norm(change))
         if misfit > _FIT * tolerance * size:  # a new direction of the loads: one solve
-            dr = self.response.impulse_change(problem, (change / self._weight[1].ravel()
-                                                        ).reshape(self._weight[1].shape))
-            step += dr
-            self._answers.append((change / misfit, dr / misfit))
-            del self._answers[:-_DEPTH]
-        impulse[:count] = last_impulse + step
+            dr = self.response.impulse_change(problem, change / self._weight[1])
+            start += dr
+            if self._answers == _DEPTH:  # drop the oldest
+                self._q[:-1] = self._q[1:].copy()
+                self._dr[:-1] = self._dr[1:].copy()
+                self._answers -= 1
+            self._q[self._answers] = change / misfit
+            self._dr[self._answers] = dr / misfit
+            self._answers += 1
+        impulse[:count] = start
         v[:] = v_free
         c = problem.contacts
         _apply(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.active, count,
@@ -135,7 +143,7 @@ class LoadFollowing:
         and the first sweep confirmed (`confirmed`), or from a rest solution (`found`, which
         filled `response`); otherwise forget everything."""
         if found:
-            self._answers.clear()
+            self._answers = 0
             step_loads = self._loads(problem, v_free)
             self._pending = None if step_loads is None else step_loads[1]
         elif not confirmed:
@@ -147,3 +155,36 @@ class LoadFollowing:
         self._last = (problem.contacts.key[:count].copy(), impulse[:count].copy(),
                       self._pending)
         self._pending = None
+
+
+@nb.njit(cache=True)
+def _combine(loads, last_loads, q, dr, answers, last_impulse, change, start):
+    """change = loads - last_loads minus its projections lambda_j = q_j . change on the first
+    `answers` kept load changes (orthonormal), start = last_impulse + sum_j lambda_j dR_j;
+    returns (|loads - last_loads|, |change| (the misfit), |loads|)."""
+    moved = 0.0
+    size = 0.0
+    for i in range(loads.shape[0]):
+        for d in range(loads.shape[1]):
+            change[i, d] = loads[i, d] - last_loads[i, d]
+            moved += change[i, d] * change[i, d]
+            size += loads[i, d] * loads[i, d]
+    for a in range(last_impulse.shape[0]):
+        for r in range(last_impulse.shape[1]):
+            start[a, r] = last_impulse[a, r]
+    for j in range(answers):
+        lam = 0.0
+        for i in range(loads.shape[0]):
+            for d in range(loads.shape[1]):
+                lam += q[j, i, d] * change[i, d]
+        for i in range(loads.shape[0]):
+            for d in range(loads.shape[1]):
+                change[i, d] -= lam * q[j, i, d]
+        for a in range(last_impulse.shape[0]):
+            for r in range(last_impulse.shape[1]):
+                start[a, r] += lam * dr[j, a, r]
+    misfit = 0.0
+    for i in range(loads.shape[0]):
+        for d in range(loads.shape[1]):
+            misfit += change[i, d] * change[i, d]
+    return math.sqrt(moved), math.sqrt(misfit), math.sqrt(size)
