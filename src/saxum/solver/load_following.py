@@ -5,26 +5,29 @@ step (a wall on a shaking base: weight plus the ground's inertial force -M a_g(t
 base) needs at each step impulses R_k in the Coulomb cones with H R_k = f_k, f_k = M (V - v_free)
 the loads of the step (saxum.solver.equilibrium). A warm start from R_k-1 is off by the change
 of the loads, which Gauss-Seidel spreads through the assembly only as fast as it relaxes the
-softest mode, so every such step ends in the rest solution's Newton iterations.
+softest mode, so every such step ended in the rest solution's Newton iterations.
 
-Instead, after a step that ended at rest, the next step starts from
-    R = R_k-1 + dR,   H dR = f_k - f_k-1,
-which balances this step's loads exactly (H is the same: the assembly has not moved relative to
+Each rest solution found is kept as an anchor (R_a, f_a, its Newton system; at most _ANCHORS,
+on the same contacts), and a later step starts from
+    R = R_a + dR,   H dR = f_k - f_a,
+which balances the step's loads exactly (H is the same: the assembly has not moved relative to
 its supports); when R lies inside every cone it is the step's rest solution and NLGS's first
-sweep confirms it (it changes nothing beyond round-off). dR comes from the last rest solution's
-Newton system (equilibrium.LoadResponse: one solve with its factorization, an impulse change
-that spares the contacts near their cone's boundary), and is reused: the loads of a rigid
-assembly at rest change along the ground motion's components only (f is affine in a_g(t)), so
-a load change that is a combination sum_j lambda_j df_j of the changes already answered (to
-_FIT x the solver's tolerance, relative to |f_k|, in the norm |.|_M^-1) takes
-dR = sum_j lambda_j dR_j (the least-squares fit, kept orthonormal in the load changes, over at
-most _DEPTH of them) without any solve; a misfit is answered by one solve, which adds its
-direction.
-When R leaves a cone, the sweep does not confirm it and the solver goes on as without it
-(sweeps, then a new rest solution, whose system answers the next steps). A load change below
-the solver's tolerance needs nothing: the plain warm start then is already at rest; on two
-steps in a row, the following stops until a step needs the rest solution again (an assembly
-at rest under constant loads pays nothing for it).
+sweep confirms it (it changes nothing beyond round-off). dR comes from the anchor's Newton
+system (equilibrium.LoadResponse: one solve with its factorization, an impulse change that
+spares the contacts near their cone's boundary), and is reused: the loads of a rigid assembly
+at rest change along the ground motion's components only (f is affine in a_g(t)), so a load
+change that is a combination sum_j lambda_j df_j of the changes already answered from that
+anchor (to _FIT x the solver's tolerance, relative to |f_k|, in the norm |.|_M^-1) takes
+dR = sum_j lambda_j dR_j (least squares, the load changes kept orthonormal, at most _DEPTH of
+them) without any solve; a misfit is answered by one solve, which adds its direction.
+The anchor of the last step is tried first, then the others, the first whose R is inside
+every cone is taken: a periodic load comes back to the loads of earlier anchors, so that
+after a cycle no new rest solution is needed. When none is, R of the last anchor is the start
+anyway: the sweep does not confirm it, and the rest solution is looked for from it at once
+(it balances the loads already), whose system becomes a new anchor. A load change below the
+solver's tolerance needs nothing: the plain warm start then is already at rest; on two steps
+in a row, the following stops until a step needs the rest solution again (an assembly at rest
+under constant loads pays nothing for it).
 """
 
 import math
@@ -38,7 +41,9 @@ from .problem import _apply
 __all__ = ["START_MARGIN", "LoadFollowing"]
 
 _DEPTH = 3
-"""Load changes answered and kept (a ground motion has up to 3 components)."""
+"""Load changes answered and kept per anchor (a ground motion has up to 3 components)."""
+_ANCHORS = 8
+"""Rest solutions kept as anchors."""
 START_MARGIN = 0.01
 """The rest solution's starting margin (saxum.solver.equilibrium) after a start of this module
 that the sweep did not confirm: that start balances the loads and leaves the cones only
@@ -50,27 +55,58 @@ which a combination of the kept answers is used: its impulses then balance the s
 more closely than the convergence criterion can tell."""
 
 
+class _Anchor:
+    """A rest solution (impulses [N s], loads M^-1/2 f [N s]) with its Newton system and the
+    load changes answered from it."""
+
+    def __init__(self, response: LoadResponse, impulse: np.ndarray, loads: np.ndarray) -> None:
+        self.response = response
+        self.impulse = impulse
+        self.loads = loads
+        self.q = np.empty((_DEPTH, *loads.shape))
+        """Orthonormal load changes M^-1/2 df_j (first `answers` rows) ..."""
+        self.dr = np.empty((_DEPTH, *impulse.shape))
+        """... and the impulse changes dR_j [N s] (count, dim) that balance them."""
+        self.answers = 0
+
+    def start(self, problem, loads: np.ndarray, weight: np.ndarray, tolerance: float,
+              out: np.ndarray) -> None:
+        """out = R_a + dR for the loads M^-1/2 f (module doc), one solve if the kept answers
+        do not span the change."""
+        change = np.empty_like(loads)
+        misfit, size = _combine(loads, self.loads, self.q, self.dr, self.answers,
+                                       self.impulse, change, out)
+        if misfit > _FIT * tolerance * size:  # a new direction of the loads: one solve
+            dr = self.response.impulse_change(problem, change / weight)
+            out += dr
+            if self.answers == _DEPTH:  # drop the oldest
+                self.q[:-1] = self.q[1:].copy()
+                self.dr[:-1] = self.dr[1:].copy()
+                self.answers -= 1
+            self.q[self.answers] = change / misfit
+            self.dr[self.answers] = dr / misfit
+            self.answers += 1
+
+
 class LoadFollowing:
-    """The last step at rest (contact keys, impulses [N s], loads [N s]), the rest solution's
-    Newton system, and the load changes answered from it."""
+    """The anchors (rest solutions on the current contacts), the loads of the last step at
+    rest and which anchor it followed."""
 
     def __init__(self) -> None:
         self.response = LoadResponse()
         """Filled by saxum.solver.equilibrium.rest_solution when it finds a rest solution."""
-        self._q = np.empty((_DEPTH, 0, 0))
-        """Orthonormal load changes M^-1/2 df_j (first _answers rows), laid out as f ..."""
-        self._dr = np.empty((_DEPTH, 0, 0))
-        """... and the impulse changes dR_j [N s] (count, dim) that balance them."""
-        self._answers = 0
-        self._last = None  # (keys, impulses, M^-1/2 f) of the last step at rest
-        self._pending = None  # this step's M^-1/2 f, from start to record
+        self._anchors: list[_Anchor] = []  # the last one followed at the end
+        self._keys = None  # the contacts' keys and closed contacts of the anchors
+        self._closed = None
+        self._last_loads = None  # M^-1/2 f of the last step at rest
+        self._pending = None  # (this step's M^-1/2 f, the anchor tried), from start to record
         self._weight = (None, None)  # (inv_mass, M^-1/2 of the free bodies, as f is laid out)
         self._quiet = 0  # steps in a row whose loads did not change
 
     def clear(self) -> None:
         self.response.clear()
-        self._answers = 0
-        self._last = self._pending = None
+        self._anchors.clear()
+        self._keys = self._closed = self._last_loads = self._pending = None
         self._quiet = 0
 
     def _loads(self, problem, v_free: np.ndarray):
@@ -87,32 +123,25 @@ class LoadFollowing:
 
     def start(self, problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray,
               tolerance: float) -> bool:
-        """After a step at rest on the same contacts: impulse = R_k-1 + dR (module doc) and
-        v = v_free + M^-1 H impulse [m/s, rad/s]; returns True. Otherwise (nothing kept, other
+        """After a step at rest on the same contacts: impulse = R_a + dR from the first anchor
+        whose start is inside every cone, else from the last one (module doc), and
+        v = v_free + M^-1 H impulse [m/s, rad/s]; returns True. Otherwise (no anchor, other
         contacts, a step that cannot end at rest, loads that did not change) leaves both as they
         are and returns False; loads that did not change for the first time still let `record`
         keep the step."""
         self._pending = None
-        if self._last is None:
+        if self._last_loads is None:
             return False
-        keys, last_impulse, last_loads = self._last
         count = problem.count
         step_loads = self._loads(problem, v_free)
-        if (step_loads is None or len(keys) != count
-                or not np.array_equal(keys, problem.contacts.key[:count])
-                or not np.array_equal(step_loads[0], self.response.closed)):
+        if (step_loads is None or len(self._keys) != count
+                or not np.array_equal(self._keys, problem.contacts.key[:count])
+                or not np.array_equal(step_loads[0], self._closed)):
             self.clear()
             return False
-        loads = self._pending = step_loads[1]
-        if self._q.shape[1:] != loads.shape or self._dr.shape[1:] != last_impulse.shape:
-            self._q = np.empty((_DEPTH, *loads.shape))
-            self._dr = np.empty((_DEPTH, *last_impulse.shape))
-            self._answers = 0
-        change = np.empty_like(loads)
-        start = np.empty_like(last_impulse)
-        moved, misfit, size = _combine(loads, last_loads, self._q, self._dr, self._answers,
-                                       last_impulse, change, start)
-        if moved <= tolerance * size:
+        loads = step_loads[1]
+        self._pending = loads, None
+        if np.linalg.norm(loads - self._last_loads) <= tolerance * np.linalg.norm(loads):
             # the warm start is at rest already; twice in a row: loads that do not change,
             # which need no following
             self._quiet += 1
@@ -120,16 +149,15 @@ class LoadFollowing:
                 self.clear()
             return False
         self._quiet = 0
-        if misfit > _FIT * tolerance * size:  # a new direction of the loads: one solve
-            dr = self.response.impulse_change(problem, change / self._weight[1])
-            start += dr
-            if self._answers == _DEPTH:  # drop the oldest
-                self._q[:-1] = self._q[1:].copy()
-                self._dr[:-1] = self._dr[1:].copy()
-                self._answers -= 1
-            self._q[self._answers] = change / misfit
-            self._dr[self._answers] = dr / misfit
-            self._answers += 1
+        start = np.empty((count, impulse.shape[1]))
+        for k in range(len(self._anchors) - 1, -1, -1):
+            self._anchors[k].start(problem, loads, self._weight[1], tolerance, start)
+            if _inside_cones(start, problem.friction, self._closed):
+                break
+        else:
+            k = len(self._anchors) - 1
+            self._anchors[k].start(problem, loads, self._weight[1], tolerance, start)
+        self._pending = loads, k
         impulse[:count] = start
         v[:] = v_free
         c = problem.contacts
@@ -141,33 +169,55 @@ class LoadFollowing:
                found: bool) -> None:
         """After the solve: keep the step if it ended at rest from the start that `start` saw
         and the first sweep confirmed (`confirmed`), or from a rest solution (`found`, which
-        filled `response`); otherwise forget everything."""
-        if found:
-            self._answers = 0
-            step_loads = self._loads(problem, v_free)
-            self._pending = None if step_loads is None else step_loads[1]
-        elif not confirmed:
-            self._pending = None
-        if self._pending is None:
-            self.clear()
-            return
+        filled `response`: a new anchor); otherwise forget everything."""
         count = problem.count
-        self._last = (problem.contacts.key[:count].copy(), impulse[:count].copy(),
-                      self._pending)
+        if found:
+            step_loads = self._loads(problem, v_free)
+            keys = problem.contacts.key[:count]
+            if step_loads is None or self.response.lu is None:
+                self.clear()
+                return
+            if (self._keys is None or len(self._keys) != count
+                    or not np.array_equal(self._keys, keys)
+                    or not np.array_equal(step_loads[0], self._closed)):
+                self._anchors.clear()
+                self._keys, self._closed = keys.copy(), step_loads[0]
+            self._anchors.append(_Anchor(self.response, impulse[:count].copy(), step_loads[1]))
+            del self._anchors[:-_ANCHORS]
+            self.response = LoadResponse()
+            self._last_loads = step_loads[1]
+        elif confirmed and self._pending is not None:
+            loads, k = self._pending
+            if k is not None:  # the anchor followed goes last
+                self._anchors.append(self._anchors.pop(k))
+            self._last_loads = loads
+        else:
+            self.clear()
         self._pending = None
+
+
+@nb.njit(cache=True)
+def _inside_cones(impulse, friction, closed):
+    """Every closed contact's impulse in its Coulomb cone: R_n >= 0, |R_T| <= mu R_n."""
+    for k in range(closed.shape[0]):
+        a = closed[k]
+        tangent = abs(impulse[a, 0])
+        if impulse.shape[1] == 3:
+            tangent = math.hypot(tangent, impulse[a, 2])
+        if not (impulse[a, 1] >= 0.0 and tangent <= friction[a] * impulse[a, 1]):
+            return False
+    return True
 
 
 @nb.njit(cache=True)
 def _combine(loads, last_loads, q, dr, answers, last_impulse, change, start):
     """change = loads - last_loads minus its projections lambda_j = q_j . change on the first
     `answers` kept load changes (orthonormal), start = last_impulse + sum_j lambda_j dR_j;
-    returns (|loads - last_loads|, |change| (the misfit), |loads|)."""
-    moved = 0.0
+    returns (|change| (the misfit), |loads|)."""
     size = 0.0
     for i in range(loads.shape[0]):
         for d in range(loads.shape[1]):
             change[i, d] = loads[i, d] - last_loads[i, d]
-            moved += change[i, d] * change[i, d]
             size += loads[i, d] * loads[i, d]
     for a in range(last_impulse.shape[0]):
         for r in range(last_impulse.shape[1]):
@@ -187,4 +237,4 @@ def _combine(loads, last_loads, q, dr, answers, last_impulse, change, start):
     for i in range(loads.shape[0]):
         for d in range(loads.shape[1]):
             misfit += change[i, d] * change[i, d]
-    return math.sqrt(moved), math.sqrt(misfit), math.sqrt(size)
+    return math.sqrt(misfit), math.sqrt(size)
