@@ -180,7 +180,8 @@ def _fclib_solve(args) -> None:
     from .fclib import format_table, solve_fclib_files
 
     rows = solve_fclib_files(args.files, tolerance=args.tolerance,
-                             max_iterations=args.max_iterations, relaxation=args.relaxation)
+                             max_iterations=args.max_iterations, relaxation=args.relaxation,
+                             solver=args.solver)
     print(format_table(rows))
     unsolved = [r.name for r in rows if not r.solved]
     if unsolved:
@@ -453,15 +454,20 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("fclib", help="FCLIB frictional-contact problems")
     fc = p.add_subparsers(dest="fclib_command", required=True, metavar="ACTION")
-    q = fc.add_parser("solve", help="solve FCLIB problems with saxum's NLGS and print, per "
-                                    "problem: contacts, spacedim, iterations, time, error")
+    q = fc.add_parser("solve", help="solve FCLIB problems (NLGS, switching to the conic fixed "
+                                    "point where it stalls) and print, per problem: contacts, "
+                                    "spacedim, solver, iterations, time, error")
     q.add_argument("files", type=Path, nargs="+", help="FCLIB .hdf5 files")
     q.add_argument("--tolerance", type=float, default=1e-8,
                    help="target natural-map error ||F_nat(r)||/||q|| (default 1e-8)")
     q.add_argument("--max-iterations", type=int, default=100_000,
                    help="NLGS sweeps at most (default 100000)")
-    q.add_argument("--relaxation", type=float, default=1.0,
-                   help="NLGS relaxation omega in (0, 1] (default 1)")
+    q.add_argument("--relaxation", type=float, default=None,
+                   help="NLGS relaxation omega in (0, 1] (default: 1, and 0.7 where the "
+                        "hybrid finds NLGS stalling)")
+    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic"), default="hybrid",
+                   help="hybrid (default: NLGS, the conic fixed point where NLGS stalls or is "
+                        "too slow, then NLGS), nlgs or conic alone")
     q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
