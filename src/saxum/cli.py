@@ -227,6 +227,13 @@ def info_text(r) -> str:
             f"steps: {s['step'].size}; NLGS sweeps mean {s['iterations'].mean():.1f}, max "
             f"{s['iterations'].max()}; not converged at {bad.size} step(s)"
             + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs)
+        if "solver" in s:
+            from .solver import SOLVER_NAMES
+
+            finished = np.bincount(s["solver"], minlength=len(SOLVER_NAMES))
+            lines.append("steps finished by: " + ", ".join(
+                f"{name} {n}" for name, n in zip(SOLVER_NAMES, finished, strict=False))
+                + f"; error at the end of a step: max {s['error'].max():.3g}")
         free = r.model["body_kind"] == 0
         size = float(r.body_size[free].min()) if free.any() else math.nan
         worst = float(s["max_interpenetration"].max())

@@ -30,6 +30,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import InputError
+from .solver.assembled import assemble_local
 from .solver.conic import delassus_conic
 from .solver.delassus_nlgs import DelassusNLGS
 from .solver.residual import natural_map_error
@@ -665,11 +666,6 @@ def format_table(rows: list[SolveRow]) -> str:
 # --- export of a saxum step -------------------------------------------------------------------
 
 
-def _saxum_to_fclib(dim: int) -> list[int]:
-    """saxum component (t, n[, s]) of each FCLIB component [n, t[, s]]."""
-    return [1, 0, 2][:dim]
-
-
 def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProblem:
     """The contact problem of the last step of `sim` (which advanced `state`), in FCLIB form.
 
@@ -691,28 +687,23 @@ def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProble
         raise InputError("state is not the one that sim stepped last: export right after "
                          "sim.step(state)")
     model = sim.model
-    dim, dof = model.dim, model.dof
-    active = np.flatnonzero(problem.active[: problem.count])
+    dim = model.dim
+    v_free = sim.free_velocity.ravel()  # the last step's free velocity
+    local = assemble_local(problem, sim.free_velocity)
+    active = local.active
     if active.size == 0:
         raise InputError(f"step {state.step} has no active contact: nothing to export")
-    order = _saxum_to_fclib(dim)
     nc = active.size
-    rows = np.repeat(np.arange(nc * dim), 2 * dof)
-    body = np.stack([contacts.candidate[active], contacts.antagonist[active]], axis=1)
-    cols = (body[:, None, :, None] * dof + np.arange(dof)).repeat(dim, axis=1)
-    vals = np.stack([problem.h_cand[active][:, order], problem.h_ant[active][:, order]], axis=2)
-    hstar = sp.csr_matrix((vals.ravel(), (rows, cols.ravel())),
-                          shape=(nc * dim, model.body_count * dof))
+    hstar = local.hstar
     inv_mass = model.body_inv_mass.ravel()
-    v_free = sim.free_velocity.ravel()  # the last step's free velocity
     shift = np.zeros((nc, dim))
     shift[:, 0] = problem.bias[active]
     shift = shift.ravel()
-    mu = problem.friction[active].copy()
-    r = contacts.impulse[active][:, order].ravel()
+    mu = local.mu
+    r = local.impulses(contacts.impulse)
     warm = contacts.copy()
     warm.warm_start_from(sim.previous_contacts)  # the warm start the step's solve began from
-    r_start = warm.impulse[active][:, order].ravel()
+    r_start = local.impulses(warm.impulse)
     log = sim.log
     info = Info(
         title=f"saxum step {state.step}",
@@ -726,9 +717,7 @@ def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProble
                    + (", s" if dim == 3 else "") + "]; u_n includes the law's shift b_n"),
     )
     if kind == "local":
-        w = (hstar @ sp.diags(inv_mass) @ hstar.T).tocsr()
-        w.sum_duplicates()
-        q = hstar @ v_free + shift
+        w, q = local.w, local.q
         return LocalProblem(w, q, mu, dim, info=info,
                             guesses=[Solution(u=w @ r_start + q, r=r_start)],
                             solution=Solution(u=w @ r + q, r=r))

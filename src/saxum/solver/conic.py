@@ -46,6 +46,9 @@ _INNER_TOLERANCE = 1e-12
 """Clarabel's gap and feasibility tolerances on the scaled problem (unit W and q)."""
 _MEMORY = 5
 """Past iterates of s that Anderson's acceleration combines."""
+_STALE = 6
+"""Fixed-point iterations in a row without a smaller error after which the iteration stops:
+on the friction threshold the map can leave the error where it is (docs/method.md)."""
 
 
 @dataclass(frozen=True)
@@ -129,7 +132,8 @@ def delassus_conic(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim: int,
                    max_iterations: int = 50) -> ConicResult:
     """The fixed point of the module doc from s = mu |u_T(r0)| (s = 0 if r0 is None), until
     the natural-map error (with W as given) is <= tolerance, after max_iterations
-    fixed-point iterations, or when s no longer changes (to 1e-12 of its size)."""
+    fixed-point iterations, when s no longer changes (to 1e-12 of its size), or after _STALE
+    iterations in a row without a smaller error."""
     w = sp.csr_matrix(w, dtype=np.float64)
     q = np.asarray(q, dtype=np.float64)
     m = q.size
@@ -153,7 +157,8 @@ def delassus_conic(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim: int,
     interior = 0
     history_s, history_g = [], []
     it = 0
-    while it < max_iterations and best > tolerance:
+    stale = 0
+    while it < max_iterations and best > tolerance and stale < _STALE:
         it += 1
         c = q.copy()
         c[::spacedim] += s
@@ -168,8 +173,9 @@ def delassus_conic(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim: int,
         if not np.all(np.isfinite(r)):
             break
         error = natural_map_error(w, q, mu, r, spacedim)
+        stale += 1
         if error < best:
-            best, best_r = error, r
+            best, best_r, stale = error, r, 0
         g = threshold(sym, q, mu, r, spacedim)
         if np.linalg.norm(g - s) <= 1e-12 * np.linalg.norm(g):
             break
