@@ -14,7 +14,9 @@ oscillates). It gives up on NLGS when the error stalls (rate above 1 - 1e-5) or 
 slowly to reach the tolerance within the sweeps left (log(tol / e) / log(rate) more than
 max_iterations minus the sweeps done): the sweep cap is not waited for. A stall without
 relaxation is first retried with relaxation 0.7 (the remedy for a cycling iterate; FCLIB's
-OneObject); then the conic fixed point runs from NLGS's iterate and NLGS confirms it. Where
+OneObject); then the conic fixed point runs from NLGS's iterate and NLGS confirms it (or,
+where the fixed point found nothing better than NLGS's iterate, sweeps on from it with the
+sweeps left: the cap is the same as NLGS's). Where
 NLGS converges, the hybrid is NLGS: the same iterates bit for bit, one more Python call per
 window.
 """
@@ -156,8 +158,10 @@ class Hybrid(ContactSolver):
 
     def _switch(self, problem, impulse, v_free, v, done, omega) -> SolverReport:
         self._conic.conic(problem, impulse, v_free, v)
+        # NLGS confirms, or sweeps on with the sweeps left where the fixed point did not reach
+        # a solution (it returns NLGS's iterate when none of its own has a smaller error)
         nlgs = self._more[omega]
-        nlgs.max_iterations = max(min(self._conic.confirm, self.max_iterations - done), 1)
+        nlgs.max_iterations = max(self.max_iterations - done, 1)
         report = nlgs.solve(problem, impulse, v_free, v)
         self.finished["conic"] += 1
         return SolverReport(done + report.iterations, report.error, report.converged, "conic")
