@@ -9,6 +9,7 @@ and the impulses R give v = v_free + M^-1 H*^T R [m/s, rad/s].
 """
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -24,26 +25,33 @@ def fclib_order(dim: int) -> list[int]:
 @dataclass(frozen=True)
 class AssembledProblem:
     """active: indices of the active contacts; hstar (active x dim, bodies x dof) CSR;
-    w (CSR) [1/kg], q [m/s] and mu [-] of the local problem u = W r + q."""
+    inv_mass (bodies x dof, flat) [1/kg, 1/(kg m^2)]; q [m/s] and mu [-] of the local problem
+    u = W r + q; w (CSR) [1/kg], formed on first use."""
 
     active: np.ndarray
     hstar: sp.csr_matrix
-    w: sp.csr_matrix
+    inv_mass: np.ndarray
     q: np.ndarray
     mu: np.ndarray
+
+    @cached_property
+    def w(self) -> sp.csr_matrix:
+        w = (self.hstar @ sp.diags(self.inv_mass) @ self.hstar.T).tocsr()
+        w.sum_duplicates()
+        return w
 
     def impulses(self, impulse: np.ndarray) -> np.ndarray:
         """The active contacts' impulses [N s] (count, dim) in saxum's frame -> flat r."""
         dim = impulse.shape[1]
         return impulse[self.active][:, fclib_order(dim)].ravel()
 
-    def scatter(self, r: np.ndarray, inv_mass: np.ndarray, v_free: np.ndarray,
-                impulse: np.ndarray, v: np.ndarray) -> None:
+    def scatter(self, r: np.ndarray, v_free: np.ndarray, impulse: np.ndarray,
+                v: np.ndarray) -> None:
         """impulse = r on the active contacts (0 on the others), v = v_free + M^-1 H*^T r."""
         dim = impulse.shape[1]
         impulse[:] = 0.0
         impulse[self.active[:, None], fclib_order(dim)] = r.reshape(-1, dim)
-        v[:] = v_free + (inv_mass.ravel() * (self.hstar.T @ r)).reshape(v.shape)
+        v[:] = v_free + (self.inv_mass * (self.hstar.T @ r)).reshape(v.shape)
 
 
 def assemble_local(problem, v_free: np.ndarray) -> AssembledProblem:
@@ -61,9 +69,8 @@ def assemble_local(problem, v_free: np.ndarray) -> AssembledProblem:
     vals = np.stack([problem.h_cand[active][:, order], problem.h_ant[active][:, order]], axis=2)
     hstar = sp.csr_matrix((vals.ravel(), (rows, cols.ravel())),
                           shape=(nc * dim, model.body_count * dof))
-    w = (hstar @ sp.diags(model.body_inv_mass.ravel()) @ hstar.T).tocsr()
-    w.sum_duplicates()
     shift = np.zeros((nc, dim))
     shift[:, 0] = problem.bias[active]
     q = hstar @ v_free.ravel() + shift.ravel()
-    return AssembledProblem(active, hstar, w, q, problem.friction[active].copy())
+    return AssembledProblem(active, hstar, model.body_inv_mass.ravel(), q,
+                            problem.friction[active].copy())

@@ -38,9 +38,9 @@ import clarabel
 import numpy as np
 import scipy.sparse as sp
 
-from .residual import natural_map_error
+from .residual import natural_map
 
-__all__ = ["ConicResult", "delassus_conic"]
+__all__ = ["ConicResult", "body_conic", "cone_rows", "delassus_conic"]
 
 _INNER_TOLERANCE = 1e-12
 """Clarabel's gap and feasibility tolerances on the scaled problem (unit W and q)."""
@@ -62,44 +62,48 @@ class ConicResult:
     error: float
 
 
-def cone_constraints(mu: np.ndarray, spacedim: int) -> tuple[sp.csc_matrix, list]:
-    """(A, cones) with -A r in the cones <=> every r_alpha in its Coulomb cone (module doc);
-    rows: the zero cone (tangents of mu = 0), the nonnegative orthant (normals of mu = 0 and
-    the 2D cones' two faces), then one second-order cone of 3 rows per 3D contact."""
+def cone_rows(mu: np.ndarray, spacedim: int, dual: bool) -> tuple[sp.csc_matrix, list]:
+    """(D, cones) with D x in the cones <=> every x_alpha (FCLIB order) in its Coulomb cone K
+    (dual False: |x_T| <= mu x_N) or in the dual cone K* (dual True: mu |x_T| <= x_N). Rows:
+    the zero cone (x_T = 0 in K for mu = 0), the nonnegative orthant (x_N >= 0 for mu = 0; the
+    2D cones' two faces, K: mu x_N -+ x_T, K*: x_N -+ mu x_T), then one second-order cone per
+    3D contact (K: (mu x_N, x_T, x_S), K*: (x_N, mu x_T, mu x_S))."""
     d = spacedim
-    n = mu.size
     frictionless = np.flatnonzero(mu == 0.0)
     rough = np.flatnonzero(mu > 0.0)
+    m_rough = mu[rough]
+    one = np.ones(rough.size)
+    normal, tangent = (one, m_rough) if dual else (m_rough, one)
     rows, cols, vals = [], [], []
     k = 0
-    # zero cone: r_T = 0 for mu = 0
-    tangents = (d * frictionless[:, None] + np.arange(1, d)).ravel()
-    rows.append(k + np.arange(tangents.size))
-    cols.append(tangents)
-    vals.append(-np.ones(tangents.size))
-    k += tangents.size
-    nonneg = frictionless.size
+    tangents = np.empty(0, dtype=np.int64)
+    if not dual:  # x_T = 0 for mu = 0 (in K* the tangent velocity is free)
+        tangents = (d * frictionless[:, None] + np.arange(1, d)).ravel()
+        rows.append(k + np.arange(tangents.size))
+        cols.append(tangents)
+        vals.append(np.ones(tangents.size))
+        k += tangents.size
     rows.append(k + np.arange(frictionless.size))
     cols.append(d * frictionless)
-    vals.append(-np.ones(frictionless.size))
+    vals.append(np.ones(frictionless.size))
     k += frictionless.size
+    nonneg = frictionless.size
     if d == 2:
-        # mu r_N -+ r_T >= 0: two rows per contact, each on r_N and r_T
         face = k + 2 * np.arange(rough.size)
-        for sign, offset in ((1.0, 0), (-1.0, 1)):
+        for sign, offset in ((-1.0, 0), (1.0, 1)):
             rows += [face + offset, face + offset]
             cols += [d * rough, d * rough + 1]
-            vals += [-mu[rough], sign * np.ones(rough.size)]
+            vals += [normal, sign * tangent]
         k += 2 * rough.size
         nonneg += 2 * rough.size
     else:
         block = k + 3 * np.arange(rough.size)
         rows += [block, block + 1, block + 2]
         cols += [d * rough, d * rough + 1, d * rough + 2]
-        vals += [-mu[rough], -np.ones(rough.size), -np.ones(rough.size)]
+        vals += [normal, tangent, tangent]
         k += 3 * rough.size
-    a = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(k, d * n))
+    matrix = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                           shape=(k, d * mu.size))
     cones = []
     if tangents.size:
         cones.append(clarabel.ZeroConeT(int(tangents.size)))
@@ -107,7 +111,7 @@ def cone_constraints(mu: np.ndarray, spacedim: int) -> tuple[sp.csc_matrix, list
         cones.append(clarabel.NonnegativeConeT(int(nonneg)))
     if d == 3:
         cones += [clarabel.SecondOrderConeT(3) for _ in range(rough.size)]
-    return a, cones
+    return matrix, cones
 
 
 def _settings() -> "clarabel.DefaultSettings":
@@ -120,20 +124,51 @@ def _settings() -> "clarabel.DefaultSettings":
     return s
 
 
-def threshold(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, r: np.ndarray,
-              spacedim: int) -> np.ndarray:
-    """s_alpha = mu_alpha |u_T,alpha| [velocity] with u = W r + q."""
-    u = (w @ r + q).reshape(-1, spacedim)
+def _threshold(u: np.ndarray, mu: np.ndarray, spacedim: int) -> np.ndarray:
+    """s_alpha = mu_alpha |u_T,alpha| [velocity]."""
+    u = u.reshape(-1, spacedim)
     return mu * np.sqrt(np.einsum("ij,ij->i", u[:, 1:], u[:, 1:]))
+
+
+def _fixed_point(subproblem, velocity, q_norm, mu, spacedim, r0, tolerance, max_iterations):
+    """The fixed point of the module doc. subproblem(s) -> (r, interior-point iterations) solves
+    the convex problem for the threshold s; velocity(r) -> u, the Coulomb problem's velocity
+    of impulses r; q_norm scales the error (||q||, or 1 if q = 0). From s of r0."""
+    def error_of(r):
+        norm = float(np.linalg.norm(natural_map(r, velocity(r), mu, spacedim)))
+        return norm / q_norm
+
+    best_r = r0
+    best = error_of(r0)
+    s = _threshold(velocity(r0), mu, spacedim)
+    interior = 0
+    history_s, history_g = [], []
+    it = 0
+    stale = 0
+    while it < max_iterations and best > tolerance and stale < _STALE:
+        it += 1
+        r, steps = subproblem(s)
+        interior += steps
+        if not np.all(np.isfinite(r)):
+            break
+        error = error_of(r)
+        stale += 1
+        if error < best:
+            best, best_r, stale = error, r, 0
+        g = _threshold(velocity(r), mu, spacedim)
+        if np.linalg.norm(g - s) <= 1e-12 * np.linalg.norm(g):
+            break
+        s = _anderson(s, g, history_s, history_g)
+    return ConicResult(best_r, it, interior, best if math.isfinite(best) else math.inf)
 
 
 def delassus_conic(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim: int,
                    r0: np.ndarray | None = None, tolerance: float = 1e-8,
                    max_iterations: int = 50) -> ConicResult:
-    """The fixed point of the module doc from s = mu |u_T(r0)| (s = 0 if r0 is None), until
-    the natural-map error (with W as given) is <= tolerance, after max_iterations
-    fixed-point iterations, when s no longer changes (to 1e-12 of its size), or after _STALE
-    iterations in a row without a smaller error."""
+    """The fixed point of the module doc on u = W r + q (FCLIB's local problem) from
+    s = mu |u_T(r0)| (r0 = 0 if None), until the natural-map error (with W as given) is <=
+    tolerance, after max_iterations fixed-point iterations, when s no longer changes (to
+    1e-12 of its size), or after _STALE iterations in a row without a smaller error."""
     w = sp.csr_matrix(w, dtype=np.float64)
     q = np.asarray(q, dtype=np.float64)
     m = q.size
@@ -142,45 +177,70 @@ def delassus_conic(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim: int,
     sym = (0.5 * (w + w.T)).tocsc()
     w_scale = float(np.abs(sym.diagonal()).max()) or 1.0
     q_scale = float(np.abs(q).max()) or 1.0
-    impulse_scale = q_scale / w_scale
     p = sp.triu(sym / w_scale, format="csc")
-    a, cones = cone_constraints(mu, spacedim)
+    d, cones = cone_rows(mu, spacedim, dual=False)
+    a = -d
     b = np.zeros(a.shape[0])
-    if r0 is None:
-        s = np.zeros(mu.size)
-        best_r, best = np.zeros(m), natural_map_error(w, q, mu, np.zeros(m), spacedim)
-    else:
-        best_r = np.array(r0, dtype=np.float64)
-        best = natural_map_error(w, q, mu, best_r, spacedim)
-        s = threshold(sym, q, mu, best_r, spacedim)
-    solver = None
-    interior = 0
-    history_s, history_g = [], []
-    it = 0
-    stale = 0
-    while it < max_iterations and best > tolerance and stale < _STALE:
-        it += 1
+    solver = []
+
+    def subproblem(s):
         c = q.copy()
         c[::spacedim] += s
         c /= q_scale
-        if solver is None:
-            solver = clarabel.DefaultSolver(p, c, a, b, cones, _settings())
+        if not solver:
+            solver.append(clarabel.DefaultSolver(p, c, a, b, cones, _settings()))
         else:
-            solver.update(q=c)
-        sol = solver.solve()
-        interior += sol.iterations
-        r = impulse_scale * np.asarray(sol.x)
-        if not np.all(np.isfinite(r)):
-            break
-        error = natural_map_error(w, q, mu, r, spacedim)
-        stale += 1
-        if error < best:
-            best, best_r, stale = error, r, 0
-        g = threshold(sym, q, mu, r, spacedim)
-        if np.linalg.norm(g - s) <= 1e-12 * np.linalg.norm(g):
-            break
-        s = _anderson(s, g, history_s, history_g)
-    return ConicResult(best_r, it, interior, best if math.isfinite(best) else math.inf)
+            solver[0].update(q=c)
+        sol = solver[0].solve()
+        return (q_scale / w_scale) * np.asarray(sol.x), sol.iterations
+
+    r0 = np.zeros(m) if r0 is None else np.array(r0, dtype=np.float64)
+    return _fixed_point(subproblem, lambda r: w @ r + q, float(np.linalg.norm(q)) or 1.0, mu,
+                        spacedim, r0, tolerance, max_iterations)
+
+
+def body_conic(hstar: sp.csr_matrix, mass: np.ndarray, v_free: np.ndarray, u_shift: np.ndarray,
+               mu: np.ndarray, spacedim: int, r0: np.ndarray, tolerance: float = 1e-8,
+               max_iterations: int = 50) -> ConicResult:
+    """The fixed point in body space, the time stepper's form: with the free degrees of
+    freedom's velocities v [m/s, rad/s], masses M = diag(mass) [kg, kg m^2] (> 0), H* the
+    rows of the active contacts on them (FCLIB order) and u = H* v + u_shift (u_shift: the
+    supports' velocities and the laws' shifts),
+        minimize 1/2 (v - v_free)^T M (v - v_free)   subject to   u + s e_N in K*,
+    whose multipliers are the impulses R (M (v - v_free) = H*^T R): strictly convex in v, so
+    v is unique for each s, and W = H* M^-1 H*^T is never formed (the KKT matrix is as sparse
+    as H*). Stops as delassus_conic; the error is the natural-map error with
+    ||q|| = ||H* v_free + u_shift||."""
+    m = u_shift.size
+    if m == 0:
+        return ConicResult(np.zeros(0), 0, 0, 0.0)
+    hstar = sp.csr_matrix(hstar)
+    inv_mass = 1.0 / mass
+    q = hstar @ v_free + u_shift
+    mass_scale = float(mass.max())
+    v_scale = float(max(np.abs(v_free).max(), np.abs(q).max())) or 1.0
+    d, cones = cone_rows(mu, spacedim, dual=True)
+    a = (-(d @ hstar)).tocsc()
+    p = sp.diags(mass / mass_scale, format="csc")
+    c = -(mass * v_free) / (mass_scale * v_scale)
+    solver = []
+
+    def subproblem(s):
+        shifted = u_shift.copy()
+        shifted[::spacedim] += s
+        b = (d @ shifted) / v_scale
+        if not solver:
+            solver.append(clarabel.DefaultSolver(p, c, a, b, cones, _settings()))
+        else:
+            solver[0].update(b=b)
+        sol = solver[0].solve()
+        return (mass_scale * v_scale) * (d.T @ np.asarray(sol.z)), sol.iterations
+
+    def velocity(r):
+        return q + hstar @ (inv_mass * (hstar.T @ r))
+
+    return _fixed_point(subproblem, velocity, float(np.linalg.norm(q)) or 1.0, mu, spacedim,
+                        np.array(r0, dtype=np.float64), tolerance, max_iterations)
 
 
 def _anderson(s: np.ndarray, g: np.ndarray, history_s: list, history_g: list) -> np.ndarray:

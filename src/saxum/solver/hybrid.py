@@ -1,9 +1,10 @@
 """Time-step solvers beyond NLGS: the conic fixed point alone (ConicSolver) and the hybrid
 (Hybrid) that runs NLGS and switches to it where NLGS stalls.
 
-ConicSolver assembles the step's local problem (saxum.solver.assembled: W = H* M^-1 H*^T,
-sparse), solves it by De Saxce's fixed point with Clarabel (saxum.solver.conic) from the
-step's warm start, writes R and v = v_free + M^-1 H R, and confirms with NLGS sweeps from
+ConicSolver assembles the rows H* of the step's active contacts (saxum.solver.assembled),
+solves the step by De Saxce's fixed point with Clarabel in body space (saxum.solver.conic's
+body_conic: the free bodies' velocities as unknowns, W never formed) from the step's warm
+start, writes R and v = v_free + M^-1 H R, and confirms with NLGS sweeps from
 there: the reported error is NLGS's own criterion (saxum.solver.nlgs), the same as a step
 solved by NLGS alone reports, so that every step is judged alike.
 
@@ -29,7 +30,7 @@ import numpy as np
 from ..errors import InputError
 from .assembled import assemble_local
 from .base import ContactSolver, SolverReport
-from .conic import delassus_conic
+from .conic import body_conic
 from .nlgs import _REST_WORK, NLGS
 from .problem import ContactProblem
 
@@ -76,12 +77,15 @@ class ConicSolver(ContactSolver):
         local = assemble_local(problem, v_free)
         if local.active.size == 0:
             return
-        result = delassus_conic(local.w, local.q, local.mu, problem.model.dim,
-                                local.impulses(impulse), self.conic_tolerance,
-                                self.fixed_points)
+        free = local.inv_mass > 0.0
+        hstar = local.hstar[:, free]
+        v_free_free = v_free.ravel()[free]
+        result = body_conic(hstar, 1.0 / local.inv_mass[free], v_free_free,
+                            local.q - hstar @ v_free_free, local.mu, problem.model.dim,
+                            local.impulses(impulse), self.conic_tolerance, self.fixed_points)
         self.fixed_point_iterations += result.iterations
         self.natural_map_error = result.error
-        local.scatter(result.r, problem.model.body_inv_mass, v_free, impulse, v)
+        local.scatter(result.r, v_free, impulse, v)
 
 
 @dataclass
