@@ -147,8 +147,10 @@ def _warm_up(rest_after: int | None) -> None:
         sim.run(sim.initial_state(), 0.01)
 
 
-def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs") -> dict:
-    build, duration = CASES[name]
+def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
+             duration: float | None = None) -> dict:
+    build, default_duration = CASES[name]
+    duration = default_duration if duration is None else duration
     model = build()
     solver = _solver(rest_after, solver_name)
     sim = sx.Simulation(model, dt=DT, solver=solver)
@@ -467,6 +469,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--solvers", default="nlgs",
                         help="comma-separated solvers, each case run with each in turn (the "
                              "same process, interleaved): nlgs, hybrid (default: nlgs)")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="simulated duration of every case [s] (default: the case's own)")
     parser.add_argument("--spectral", action="store_true",
                         help="also the spectral radius of the linearized sweep (towers)")
     parser.add_argument("--orders", action="store_true",
@@ -485,7 +489,7 @@ def main(argv: list[str] | None = None) -> int:
                "saxum_file": sx.__file__, "cases": []}
     for name in args.cases.split(","):
         for solver in args.solvers.split(","):
-            r = run_case(name, args.rest_after, solver)
+            r = run_case(name, args.rest_after, solver, args.duration)
             _print(r)
             results["cases"].append(r)
     if args.diagnose:
