@@ -91,13 +91,16 @@ compiled kernels, one thread, including the Delassus reduction of global problem
 
 
 def write_section(path: Path, text: str) -> None:
-    """Replace the FCLIB section of `path` (up to the next '## ' heading) or append it."""
+    """Replace the FCLIB section of `path` (up to the next '## ' or '### ' heading: other
+    benchmarks' subsections may follow it) or append it."""
     old = path.read_text() if path.exists() else ""
     start = old.find(f"\n{SECTION}\n")
     if start < 0:
         new = old.rstrip("\n") + "\n\n" + text
     else:
-        end = old.find("\n## ", start + 1)
+        ends = [e for e in (old.find("\n## ", start + 1), old.find("\n### ", start + 1))
+                if e >= 0]
+        end = min(ends) if ends else -1
         new = old[: start + 1] + text + ("" if end < 0 else old[end:])
     path.write_text(new)
 
