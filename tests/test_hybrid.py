@@ -174,3 +174,29 @@ def test_conic_alone_on_a_sliding_contact():
     row = solve_local(problem, solver="conic")
     assert row.solved
     assert row.r == pytest.approx([0.5, -0.25], abs=1e-8)
+
+
+def test_scenario_picks_the_hybrid():
+    from saxum.scenario import parse_scenario
+
+    text = """
+        [structure]
+        type = "semicircular_arch"
+        radius = 1.0
+        thickness = 0.15
+        voussoirs = 9
+        [[laws]]
+        groups = ["voussoir", "voussoir"]
+        friction = 0.6
+        [[laws]]
+        groups = ["voussoir", "support"]
+        friction = 0.6
+        [output]
+        duration = 0.1
+        """
+    solver = parse_scenario(text, overrides=["solver.kind=hybrid", "solver.tolerance=1e-7"]
+                            ).build_simulation().solver
+    assert isinstance(solver, sx.Hybrid) and solver.tolerance == pytest.approx(1e-7)
+    assert isinstance(parse_scenario(text).build_simulation().solver, sx.NLGS)
+    with pytest.raises(sx.InputError, match="kind"):
+        parse_scenario(text, overrides=["solver.kind=newton"])

@@ -34,7 +34,7 @@ from .errors import InputError
 from .laws import ContactLaw, LawKind
 from .model import BodyKind, Model, ModelBuilder
 from .simulation import Simulation
-from .solver import NLGS
+from .solver import NLGS, Hybrid
 from .structures import (
     ArchShape,
     Opening,
@@ -765,7 +765,8 @@ def _unit(direction, key: str, dim: int | None = None):
 
 class SolverSpec(_Strict):
     """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
-    before a slow step tries the rest solution (0: never)."""
+    before a slow step tries the rest solution (0: never); kind: "nlgs", or "hybrid" (NLGS that
+    switches to the conic fixed point where its error stalls: saxum.solver.Hybrid)."""
 
     dt: Positive = 1e-3
     theta: Annotated[float, Field(ge=0.5, le=1.0)] = 0.5
@@ -773,6 +774,7 @@ class SolverSpec(_Strict):
     max_iterations: int = Field(5000, ge=1)
     relaxation: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
     rest_after: int = Field(50, ge=0)
+    kind: Literal["nlgs", "hybrid"] = "nlgs"
 
 
 class DetectionSpec(_Strict):
@@ -847,8 +849,9 @@ class Scenario(_Strict):
         s, d = self.solver, self.detection
         return Simulation(
             model if model is not None else self.build_model(), dt=s.dt, theta=s.theta,
-            solver=NLGS(tolerance=s.tolerance, max_iterations=s.max_iterations,
-                        relaxation=s.relaxation, rest_after=s.rest_after),
+            solver=(Hybrid if s.kind == "hybrid" else NLGS)(
+                tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
+                rest_after=s.rest_after),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration),
