@@ -200,3 +200,20 @@ def test_scenario_picks_the_hybrid():
     assert isinstance(parse_scenario(text).build_simulation().solver, sx.NLGS)
     with pytest.raises(sx.InputError, match="kind"):
         parse_scenario(text, overrides=["solver.kind=newton"])
+
+
+def test_results_written_before_the_solver_column_still_read(tmp_path):
+    import h5py
+
+    from saxum.cli import info_text
+    from saxum.results import Results, ResultsWriter
+
+    sim, state, report = _first_step(sx.NLGS(max_iterations=50))
+    with ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-3, theta=0.5) as w:
+        w.log_step(report)
+        w.write_frame(state)
+    with h5py.File(tmp_path / "r.h5", "a") as f:
+        del f["steps/solver"]  # as saxum wrote them before this column existed
+    with Results(tmp_path / "r.h5") as r:
+        assert "solver" not in r.steps and r.steps["step"].tolist() == [1]
+        assert "steps finished by" not in info_text(r)
