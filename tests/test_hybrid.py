@@ -217,3 +217,21 @@ def test_results_written_before_the_solver_column_still_read(tmp_path):
     with Results(tmp_path / "r.h5") as r:
         assert "solver" not in r.steps and r.steps["step"].tolist() == [1]
         assert "steps finished by" not in info_text(r)
+
+
+def test_hybrid_backs_off_after_failed_switches(monkeypatch):
+    """With a conic step that finds nothing (patched out), every switch fails: after k failed
+    switches in a row the next 2^k - 1 steps are NLGS's alone (the tower's cold-started steps
+    stall under NLGS for many steps)."""
+    from saxum.solver.hybrid import ConicSolver
+
+    monkeypatch.setattr(ConicSolver, "conic", lambda self, *args: None)
+    sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
+                        solver=sx.Hybrid(rest_after=0))
+    state = sim.initial_state()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        for _ in range(7):
+            sim.step(state)
+    # switch (fails: wait 1), NLGS, switch (fails again: wait 3), NLGS x 3, switch
+    assert sim.log.solver.tolist() == [1, 0, 1, 0, 0, 0, 1]

@@ -17,7 +17,9 @@ max_iterations minus the sweeps done): the sweep cap is not waited for. A stall 
 relaxation is first retried with relaxation 0.7 (the remedy for a cycling iterate; FCLIB's
 OneObject); then the conic fixed point runs from NLGS's iterate and NLGS confirms it (or,
 where the fixed point found nothing better than NLGS's iterate, sweeps on from it with the
-sweeps left: the cap is the same as NLGS's). Where
+sweeps left: the cap is the same as NLGS's). After k switches in a row that did not end
+converged, the next 2^k - 1 solves (k at most 6) are NLGS's alone: on the friction threshold
+the fixed point crawls too, and each switch costs seconds on a few hundred contacts. Where
 NLGS converges, the hybrid is NLGS: the same iterates bit for bit, one more Python call per
 window.
 """
@@ -40,6 +42,8 @@ _STALLED = 1e-5
 """An error falling by less than this fraction per sweep over a window stalls."""
 _RELAXED = 0.7
 """Relaxation tried when NLGS stalls without relaxation."""
+_BACKOFF = 6
+"""Failed switches in a row after which the hybrid waits the longest, 2^6 - 1 solves."""
 
 
 @dataclass
@@ -116,6 +120,8 @@ class Hybrid(ContactSolver):
         """Solves (steps and projections) finished by each solver."""
         self.relaxed = 0
         """Solves on which NLGS was retried with relaxation 0.7."""
+        self._failures = 0
+        self._wait = 0
 
     @property
     def rest_attempts(self) -> int:
@@ -137,8 +143,10 @@ class Hybrid(ContactSolver):
         done = report.iterations
         best = math.inf  # the least error at the end of a window
         omega = self.relaxation
+        judge = self._wait == 0  # else NLGS alone (back-off, _switch)
+        self._wait = max(self._wait - 1, 0)
         while not report.converged and done < self.max_iterations:
-            if math.isfinite(best):  # two windows measured: judge the rate over the last
+            if judge and math.isfinite(best):  # two windows measured: the rate over the last
                 rate = self._rate(best, report.error, nlgs.max_iterations)
                 best = min(best, report.error)
                 stalled = rate > 1.0 - _STALLED
@@ -149,7 +157,7 @@ class Hybrid(ContactSolver):
                                  > self.max_iterations - done):
                     return self._switch(problem, impulse, v_free, v, done, omega)
             else:
-                best = report.error
+                best = min(best, report.error)
             nlgs = self._more[omega]
             nlgs.max_iterations = min(self.window, self.max_iterations - done)
             report = nlgs.solve(problem, impulse, v_free, v)
@@ -172,4 +180,8 @@ class Hybrid(ContactSolver):
         nlgs.max_iterations = max(self.max_iterations - done, 1)
         report = nlgs.solve(problem, impulse, v_free, v)
         self.finished["conic"] += 1
+        # back-off: after k switches in a row that did not end converged, the next 2^k solves
+        # do not switch (the fixed point crawls on such steps, docs/method.md)
+        self._failures = 0 if report.converged else min(self._failures + 1, _BACKOFF)
+        self._wait = 2 ** self._failures - 1 if self._failures else 0
         return SolverReport(done + report.iterations, report.error, report.converged, "conic")
