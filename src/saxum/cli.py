@@ -247,7 +247,7 @@ moving (a structure at rest: round-off)."""
 def _collapse_lines(r, ground) -> list[str]:
     """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
     harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
-    from .collapse import DYNAMIC_FRACTION, find_collapse
+    from .collapse import DYNAMIC_FRACTION, ONSET, find_collapse
     from .mechanism import frame_mechanism
 
     free = r.model["body_kind"] == 0
@@ -278,14 +278,21 @@ def _collapse_lines(r, ground) -> list[str]:
              f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
              f"size) and did not come back ({event.displacement:.3g} m at the end)",
              f"mechanism at collapse (when the collapsing motion began, t = {began:.4g} s, "
-             f"frame {event.onset_frame}):\n  " + text]
+             f"frame {event.onset_frame}):\n  " + text,
+             f"large motion began at t = {r.time[event.large_frame]:.4g} s (frame "
+             f"{event.large_frame}: a free block first moved by more than "
+             f"{ONSET * event.limit:.3g} m; under shaking a time that round-off hardly moves, "
+             "unlike the two above)"]
     if ground is not None and ground.pulse == "harmonic" and ground.ramp > 0.0:
         g = float(np.linalg.norm(r.model["gravity"]))
 
         def amplitude(t):
             return ground.scale * ground.amplitude * min(1.0, (t + ground.start) / ground.ramp)
 
-        lines.append(f"harmonic amplitude A min(1, t/ramp): {amplitude(began):.4g} m/s^2 "
+        large = float(r.time[event.large_frame])
+        lines.append(f"harmonic amplitude A min(1, t/ramp): {amplitude(large):.4g} m/s^2 "
+                     f"({amplitude(large) / g:.3g} g) when large motion began, "
+                     f"{amplitude(began):.4g} m/s^2 "
                      f"({amplitude(began) / g:.3g} g) when the collapsing motion began, "
                      f"{amplitude(event.time):.4g} m/s^2 ({amplitude(event.time) / g:.3g} g) "
                      "at collapse")

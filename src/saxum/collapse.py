@@ -407,8 +407,12 @@ def collapse_curve(path, periods, stands: float, collapses: float, *,
 class CollapseEvent:
     """A run's collapse: the time [s] and output frame from which a free block stayed moved
     by more than `limit` [m] to the end of the run, that block, the largest displacement of a
-    free block at the end [m], and the output frame at which that collapsing motion began
-    (find_collapse), whose mechanism is the mechanism at collapse."""
+    free block at the end [m], the output frame at which that collapsing motion began
+    (find_collapse), whose mechanism is the mechanism at collapse, and the first output frame
+    at which a free block had moved by more than ONSET * limit (`large_frame`: where large
+    motion began; under a growing shaking, a time that round-off hardly moves, while the
+    onset and the time of collapse of a rocking structure move by seconds:
+    docs/applications.md)."""
 
     time: float
     frame: int
@@ -416,6 +420,7 @@ class CollapseEvent:
     limit: float
     displacement: float
     onset_frame: int
+    large_frame: int
 
 
 def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent | None:
@@ -449,4 +454,6 @@ def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent 
     creep = CREEP * float(results.body_size[free].min())
     while onset > 0 and largest[onset - 1] < largest[onset] and speed[onset - 1] > creep:
         onset -= 1
-    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]), onset)
+    large = int(np.argmax(largest > ONSET * limit))
+    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]), onset,
+                         large)
