@@ -2,8 +2,9 @@
 semicircular, circular of any embrace, segmental, pointed, elliptical, basket-handle, flat),
 cut along radial or vertical joints, alone, on fixed supports or on piers.
 
-The older semicircular_arch family (mean radius, voussoirs numbered from the right springing)
-is kept as it is: scenarios and validation tests name its voussoirs.
+The older semicircular_arch family (by the mean radius) is kept for the scenarios and
+validation tests that use it. Every arch numbers its voussoirs from the left springing
+("voussoir 1" is the leftmost), as mechanism reports and pictures name them.
 """
 
 import math
@@ -45,7 +46,8 @@ def add_semicircular_arch(
     centre: tuple[float, float] = (0.0, 0.0),
     group: str = "voussoir",
 ) -> list[int]:
-    """Add the voussoirs of a semicircular arch; returns their body indices, right to left.
+    """Add the voussoirs of a semicircular arch; returns their body indices, left to right
+    (named "voussoir 1" at the left springing to "voussoir <voussoirs>" at the right one).
 
     radius: mean radius R [m] (centre line of the ring); thickness t [m] of the ring;
     voussoirs: number of equal voussoirs, each spanning pi/voussoirs of the ring, with radial
@@ -68,7 +70,7 @@ def add_semicircular_arch(
     if voussoirs % 2 == 0:
         cos[voussoirs // 2], sin[voussoirs // 2] = 0.0, 1.0
     bodies = []
-    for k in range(voussoirs):
+    for n, k in enumerate(reversed(range(voussoirs))):  # joint angles run right to left
         a, b = k, k + 1
         verts = [
             (cx + r_in * cos[a], cy + r_in * sin[a]),
@@ -77,7 +79,7 @@ def add_semicircular_arch(
             (cx + r_in * cos[b], cy + r_in * sin[b]),
         ]
         bodies.append(builder.add_block(verts, density=density, group=group,
-                                        name=f"voussoir {k + 1}"))
+                                        name=f"voussoir {n + 1}"))
     return bodies
 
 
@@ -106,7 +108,7 @@ def semicircular_arch(
     gravity: tuple[float, float] = (0.0, -9.81),
 ) -> Model:
     """A semicircular arch on its support (add_supported_semicircular_arch), friction mu [-] on
-    every joint. Voussoirs are bodies 1..voussoirs, right springing first; body 0 is the
+    every joint. Voussoirs are bodies 1..voussoirs, left springing first; body 0 is the
     support."""
     builder = ModelBuilder(gravity=gravity)
     add_supported_semicircular_arch(builder, radius=radius, thickness=thickness,
