@@ -516,3 +516,13 @@ def test_bridge3d_parapets_on_the_walls_with_broken_joints_and_a_lighter_fill():
     state = sim.initial_state()
     sim.run(state, 0.1)
     assert np.abs(state.body_q[:, :3] - model.body_q0[:, :3]).max() < 1e-5
+
+
+def test_every_arch_numbers_its_voussoirs_from_the_left_springing():
+    """One convention for names that mechanism reports and docs use: "voussoir 1" is at the
+    left springing, the numbers grow to the right (semicircular_arch numbered them from the
+    right before)."""
+    for model in (semicircular_arch(radius=1.0, thickness=0.15, voussoirs=9),
+                  arch(ArchShape.semicircular(span=2.0, thickness=0.15), voussoirs=9)):
+        x = [float(model.body_q0[model.body(f"voussoir {k}"), 0]) for k in range(1, 10)]
+        assert x == sorted(x) and x[0] < 0.0 < x[-1]
