@@ -135,6 +135,18 @@ def test_an_integer_is_a_number():
     assert sc.structure.density == 2000.0
 
 
+def test_numpy_numbers_are_numbers_in_python_but_numpy_booleans_are_not():
+    from pydantic import ValidationError
+
+    from saxum.scenario import ArchStructure
+
+    arch = ArchStructure(radius=np.float32(2.0), thickness=np.int64(1), voussoirs=np.int64(9))
+    assert (arch.radius, arch.thickness, arch.voussoirs) == (2.0, 1.0, 9)
+    assert type(arch.voussoirs) is int
+    with pytest.raises(ValidationError, match="valid number"):
+        ArchStructure(radius=np.bool_(True), thickness=0.3, voussoirs=9)
+
+
 # --- files --------------------------------------------------------------------------------------
 
 

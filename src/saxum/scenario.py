@@ -22,6 +22,7 @@ from typing import Annotated, ClassVar, Literal
 import numpy as np
 from pydantic import (
     AfterValidator,
+    BeforeValidator,
     BaseModel,
     ConfigDict,
     Field,
@@ -64,9 +65,18 @@ __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
            "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
            "load_scenario", "parse_scenario"]
 
+def _python_number(value):
+    """A numpy number as the Python one (np.bool_ as a bool, refused as a number)."""
+    if isinstance(value, np.integer | np.floating | np.bool_):
+        return value.item()
+    return value
+
+
 # Numbers are strict: an integer is a number, true/false or "2.0" is not one.
-Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False, strict=True)]
-Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
+Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
+Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
+Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
+Finite = Annotated[Real, Field(allow_inf_nan=False)]
 MAX_LENGTH = 1e6
 """[m]: no masonry structure is 1000 km across; a larger length is a typo or another unit."""
 
@@ -82,7 +92,7 @@ Length = Annotated[Positive, AfterValidator(_length)]
 """A length of a structure [m]."""
 _COUNTED = object()
 """Marks the counts of a structure: each at most limits.count (LimitsSpec)."""
-Count = Annotated[int, Field(ge=1, strict=True), _COUNTED]
+Count = Annotated[Integer, Field(ge=1), _COUNTED]
 """A number of things (voussoirs, courses...)."""
 
 
@@ -182,7 +192,7 @@ class _Shaped(_Generated):
     thickness: Length = Field(description="ring thickness [m] (flat: its depth)")
     rise: Length | None = None
     embrace: Positive | None = None
-    eccentricity: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)] | None = None
+    eccentricity: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] | None = None
     skewback: Positive | None = None
 
     @model_validator(mode="after")
@@ -254,8 +264,8 @@ class ShapedArchStructure(_Rings):
 class OpeningSpec(_Strict):
     """A door or window of a wall (saxum.structures.Opening) [m, rad]."""
 
-    x: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)]
-    y: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)] = 0.0
+    x: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
+    y: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 0.0
     width: Length
     height: Length
     head: Literal["lintel", "flat_arch", "segmental_arch", "none"] = "lintel"
@@ -292,7 +302,7 @@ class BondedWallStructure(_Generated):
     brick_length: Length = 0.25
     brick_height: Length = 0.065
     half_bricks: bool = True
-    min_piece: Annotated[float, Field(strict=True, ge=0.0, lt=1.0)] = 0.1
+    min_piece: Annotated[Real, Field(ge=0.0, lt=1.0)] = 0.1
     density: Positive = 1800.0
     openings: list[OpeningSpec] = []
     ground_splits: list[Finite] = []
@@ -354,10 +364,10 @@ class ArchBridgeStructure(_Rings):
     piers: Literal["fixed", "free"] = "free"
     spandrel_height: Length | None = None
     fill: Literal["surcharge", "blocks"] = "surcharge"
-    fill_depth: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)] = 0.5
+    fill_depth: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 0.5
     course_height: Length = 0.5
     block_length: Length = 1.0
-    min_piece: Annotated[float, Field(strict=True, ge=0.0, lt=1.0)] = 0.1
+    min_piece: Annotated[Real, Field(ge=0.0, lt=1.0)] = 0.1
     density: Positive = 2200.0
     fill_density: Positive = 1800.0
 
@@ -524,10 +534,10 @@ class LawSpec(_Strict):
     exact pair wins over one with a "*", which wins over ["*", "*"])."""
 
     groups: tuple[str, str]
-    friction: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)]
+    friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
         "gap_signorini_coulomb")
-    restitution: Annotated[float, Field(strict=True, ge=0.0, le=1.0)] = 0.0
+    restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
 
     def law(self) -> ContactLaw:
         return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
@@ -585,7 +595,7 @@ class FemaP695Spec(_Strict):
 
     set: Literal["far-field", "near-field", "near-field-pulse", "near-field-no-pulse"] = (
         "far-field")
-    record: Annotated[int, Field(strict=True)] | str
+    record: Integer | str
     component: Literal["a", "b"] | None = None
     normalized: bool = False
 
@@ -604,14 +614,14 @@ class GroundMotionSpec(_Strict):
     amplitude: Finite = 0.0
     velocity: Finite = 0.0
     period: Positive = 1.0
-    gamma: Annotated[float, Field(strict=True, gt=1.0)] = 2.0
+    gamma: Annotated[Real, Field(gt=1.0)] = 2.0
     nu: Finite = 0.0
     cycles: Positive = 5.0
-    ramp: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)] = 0.0
+    ramp: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 0.0
     direction: Vector | None = None
     azimuth: Finite = 0.0
     scale: Finite = 1.0
-    start: Annotated[float, Field(strict=True, ge=0.0)] = 0.0
+    start: Annotated[Real, Field(ge=0.0)] = 0.0
     end: Positive | None = None
     baseline_correction: bool = False
     apply: Literal["inertial", "driven"] = "inertial"
@@ -679,7 +689,7 @@ class FloodSpec(_Strict):
     velocity_series: list[tuple[Finite, Finite]] | None = None
     tailwater: Finite | None = None
     water_density: Positive = 1000.0
-    drag_coefficient: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)] = 1.4
+    drag_coefficient: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 1.4
     azimuth: Finite = 0.0
 
     @field_validator("level_series", "velocity_series")
@@ -787,11 +797,11 @@ class SolverSpec(_Strict):
     before a slow step tries the rest solution (0: never)."""
 
     dt: Positive = 1e-3
-    theta: Annotated[float, Field(strict=True, ge=0.5, le=1.0)] = 0.5
+    theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
     tolerance: Positive = 1e-6
     max_iterations: Count = 5000
-    relaxation: Annotated[float, Field(strict=True, gt=0.0, le=1.0)] = 1.0
-    rest_after: Annotated[int, Field(ge=0, strict=True)] = 50
+    relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0
+    rest_after: Annotated[Integer, Field(ge=0)] = 50
 
 
 class DetectionSpec(_Strict):
@@ -809,10 +819,10 @@ class OutputSpec(_Strict):
     [s] (both rounded to whole steps); blocks (names or indices) whose coordinates and
     velocities are written at every step (`histories`)."""
 
-    duration: Annotated[float, Field(strict=True, ge=0.0, allow_inf_nan=False)]
+    duration: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
     interval: Positive = 0.01
     checkpoint_interval: Positive = 1.0
-    histories: list[str | Annotated[int, Field(strict=True)]] = []
+    histories: list[str | Integer] = []
 
     def history_bodies(self, model: Model) -> tuple[int, ...]:
         """Indices of the `histories` blocks in `model`; an unknown name or index is an
