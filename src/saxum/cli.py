@@ -1,4 +1,5 @@
-"""saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input.
+"""saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input (the
+message names the key, file or option), 130 Ctrl-C outside a run's own handling.
 SI units throughout; in 2D, forces and masses are per metre of depth.
 
     saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--unset KEY ...] [--quiet]
