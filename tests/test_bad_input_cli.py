@@ -163,10 +163,13 @@ def test_a_binary_block_file_is_named(tmp_path, capsys, suffix):
 # --- the key at fault, not what it broke ----------------------------------------------------------
 
 
-def test_an_absurd_length_blames_the_key_not_a_block(tmp_path, capsys):
-    path = _arch(tmp_path, "radius = 2.0", "radius = 1e300")
+@pytest.mark.parametrize(("old", "new"), [("radius = 2.0", "radius = 1e300"),
+                                          ("thickness = 0.3", "thickness = 1e-300")])
+def test_an_absurd_length_blames_the_key_not_a_block(tmp_path, capsys, old, new):
+    path = _arch(tmp_path, old, new)
+    key = new.split(" =")[0]
     err = _bad(capsys, ["run", path, "-q"])
-    assert f"line {_line(path, 'radius')}: structure.radius: not the size of a masonry" in err
+    assert f"line {_line(path, key)}: structure.{key}: not a length of a masonry" in err
     assert "support" not in err
 
 

@@ -77,14 +77,15 @@ Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
 Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
 Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[Real, Field(allow_inf_nan=False)]
-MAX_LENGTH = 1e6
-"""[m]: no masonry structure is 1000 km across; a larger length is a typo or another unit."""
+LENGTHS = (1e-6, 1e6)
+"""[m]: the lengths of a structure, from a micrometre to 1000 km; outside, a typo or another
+unit (and polygons that round-off would flatten)."""
 
 
 def _length(value: float) -> float:
-    if value > MAX_LENGTH:
-        raise ValueError(f"not the size of a masonry structure (lengths are in metres, at "
-                         f"most {MAX_LENGTH:g} m)")
+    if not LENGTHS[0] <= value <= LENGTHS[1]:
+        raise ValueError(f"not a length of a masonry structure (lengths are in metres, from "
+                         f"{LENGTHS[0]:g} to {LENGTHS[1]:g} m)")
     return value
 
 
