@@ -77,6 +77,7 @@ Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
 Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
 Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[Real, Field(allow_inf_nan=False)]
+
 LENGTHS = (1e-6, 1e6)
 """[m]: the lengths of a structure, from a micrometre to 1000 km; outside, a typo or another
 unit (and polygons that round-off would flatten)."""
@@ -91,6 +92,7 @@ def _length(value: float) -> float:
 
 Length = Annotated[Positive, AfterValidator(_length)]
 """A length of a structure [m]."""
+
 _COUNTED = object()
 """Marks the counts of a structure: each at most limits.count (LimitsSpec)."""
 Count = Annotated[Integer, Field(ge=1), _COUNTED]
