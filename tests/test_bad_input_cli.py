@@ -260,6 +260,8 @@ def test_ctrl_c_during_start_up_is_a_short_message_and_exit_130(tmp_path, capsys
     (lambda: sx.ModelBuilder(gravity=np.array([0.0, np.nan])), "got [0.0, nan]"),
     (lambda: sx.ModelBuilder(gravity=(np.float64(0.0), np.float64(np.inf))),
      "got (0.0, inf)"),
+    (lambda: sx.ModelBuilder().add_block([(0, 0), (2, 0), (1, 0.5), (2, 2), (0, 2)],
+                                         density=1.0), "vertex 2 at (1, 0.5) is a reflex"),
 ])
 def test_numbers_in_messages_are_plain(call, shown):
     with pytest.raises(sx.InputError) as info:
