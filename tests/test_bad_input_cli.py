@@ -225,6 +225,8 @@ def test_output_that_is_a_folder_or_in_no_folder_is_bad_input(tmp_path, capsys):
 
 @pytest.mark.parametrize(("argv", "option"), [
     (["animate", "r.h5", "--fps", "0"], "--fps"),
+    (["demo", "arch", "--duration", "1e12"], "--duration"),
+    (["demo", "arch", "--duration", "nan"], "--duration"),
     (["fclib", "solve", "p.hdf5", "--max-iterations", "99999999999999999999"],
      "--max-iterations"),
     (["collapse-curve", "s.toml", "--periods", "1", "--stands", "0", "--collapses", "1",

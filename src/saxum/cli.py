@@ -385,6 +385,19 @@ def _count(limit: int, what: str):
     return parse
 
 
+def _demo_duration(text: str) -> float:
+    """--duration of a demo [s]: > 0, at most _MAX_DEMO_DURATION."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give a time in seconds") from None
+    if not 0.0 < value <= _MAX_DEMO_DURATION:
+        raise argparse.ArgumentTypeError(
+            f"{text}: give a time in (0, {_MAX_DEMO_DURATION:g}] s; for a longer run, copy "
+            "the demo's scenario (saxum/scenarios/ in the package) and use saxum run")
+    return value
+
+
 def _check_output(args) -> None:
     """-o must name a file in an existing folder (export-vtk: a folder, not a file)."""
     out = getattr(args, "output", None)
@@ -410,6 +423,7 @@ def _unset_option(p: argparse.ArgumentParser) -> None:
 
 _MAX_PROCESSES = 4 * (os.cpu_count() or 1)
 _MAX_PERIODS = 1000
+_MAX_DEMO_DURATION = 1000.0  # [s]
 _MAX_SWEEPS = 1_000_000_000
 
 
@@ -440,8 +454,9 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="run a bundled demonstration (no file needed)")
     p.add_argument("name", choices=sorted(DEMOS), help="which demonstration")
     p.add_argument("-o", "--output", type=Path, help="picture (default: saxum-demo-NAME.png)")
-    p.add_argument("--duration", type=float, default=None,
-                   help="simulated time [s] (default: the demo's own)")
+    p.add_argument("--duration", type=_demo_duration, default=None,
+                   help=f"simulated time [s] (default: the demo's own; at most "
+                        f"{_MAX_DEMO_DURATION:g})")
     p.set_defaults(func=_demo)
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "

@@ -1107,7 +1107,7 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
     if isinstance(cause, _LimitError):  # raised by a validator of the whole scenario
         key = ".".join(str(p) for p in cause.loc)
         line = None if key in overridden else _line_of(text, list(cause.loc))
-        where = "--set: " if key in overridden else (f"line {line}: " if line else "")
+        where = "from --set: " if key in overridden else (f"line {line}: " if line else "")
         return f"  {where}{cause}"
     loc = [p for p in error["loc"] if not (isinstance(p, str) and p in _TAGS)]
     key = ".".join(str(p) if isinstance(p, str) else f"[{p}]" for p in loc).replace(".[", "[")
