@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.special import ellipeinc
 
-from ..errors import InputError
+from ..errors import InputError, plain
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 from ._common import (
@@ -215,7 +215,8 @@ class ArchShape:
         [rad], 0 < embrace <= pi (pi: semicircular; less: segmental); radial joints."""
         check_positive(span=span, thickness=thickness)
         if not (isinstance(embrace, int | float) and 0.0 < embrace <= math.pi):
-            raise InputError(f"embrace must be an angle in (0, pi] [rad], got {embrace!r}")
+            raise InputError(f"embrace must be an angle in (0, pi] [rad], got "
+                             f"{plain(embrace)}")
         half = 0.5 * embrace
         r = 0.5 * span / math.sin(half)
         centre = np.array([0.0, 0.0 if embrace == math.pi else -r * math.cos(half)])
@@ -245,7 +246,8 @@ class ArchShape:
         lancet. The extrados arcs are concentric and meet at the extrados crown."""
         check_positive(span=span, thickness=thickness)
         if not (isinstance(eccentricity, int | float) and 0.0 <= eccentricity < math.inf):
-            raise InputError(f"eccentricity must be a finite number >= 0, got {eccentricity!r}")
+            raise InputError(f"eccentricity must be a finite number >= 0, got "
+                             f"{plain(eccentricity)}")
         c = 0.5 * eccentricity * span
         r = 0.5 * (1.0 + eccentricity) * span
         gamma = math.acos(eccentricity / (1.0 + eccentricity))
@@ -310,7 +312,8 @@ class ArchShape:
         [rad] from the vertical, 0 < skewback < pi/2."""
         check_positive(span=span, depth=depth)
         if not (isinstance(skewback, int | float) and 0.0 < skewback < 0.5 * math.pi):
-            raise InputError(f"skewback must be an angle in (0, pi/2) [rad], got {skewback!r}")
+            raise InputError(f"skewback must be an angle in (0, pi/2) [rad], got "
+                             f"{plain(skewback)}")
         focus = 0.5 * span / math.tan(skewback)
 
         def intrados(s):
@@ -436,7 +439,7 @@ def _ring_fractions(shape: ArchShape, rings: int,
     if isinstance(ring_thicknesses, str) or not isinstance(ring_thicknesses, Sequence) or len(
             ring_thicknesses) != rings:
         raise InputError(f"ring_thicknesses must list one thickness [m] per ring ({rings}), "
-                         f"got {ring_thicknesses!r}")
+                         f"got {plain(ring_thicknesses)}")
     check_positive(**{f"ring_thicknesses[{i}]": t for i, t in enumerate(ring_thicknesses)})
     total = shape.thickness
     if total is None:
@@ -487,7 +490,7 @@ def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
     counts = list(voussoirs) if isinstance(voussoirs, Sequence) else [voussoirs] * rings
     if len(counts) != rings:
         raise InputError(f"voussoirs must be one count or one per ring ({rings}), got "
-                         f"{voussoirs!r}")
+                         f"{plain(voussoirs)}")
     for i, n in enumerate(counts):
         check_count(f"voussoirs[{i}]" if isinstance(voussoirs, Sequence) else "voussoirs", n)
     s = [_ring_joints(int(n), ring_stagger and i % 2 == 1) for i, n in enumerate(counts)]
@@ -546,7 +549,7 @@ def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
             for k in range(len(s[i]) - 1):
                 outline_top += [*(p + shift for p in between[k]), top[k + 1] + shift]
             outer = top + shift
-    check_convex(polys, names, f"rings={rings} with voussoirs={voussoirs!r} gives it that "
+    check_convex(polys, names, f"rings={rings} with voussoirs={plain(voussoirs)} gives it that "
                  f"shape; use more voussoirs or thicker rings")
     outline = clean(np.array([*outline_top, inner[-1]]), float(np.ptp(outline_top, axis=0).max()))
     return Ring(polys, outline, (inner[0], outer[0]), (inner[-1], outer[-1]), tuple(ring_of))
