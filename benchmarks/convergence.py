@@ -126,10 +126,15 @@ def _margin_wall(courses: int, bricks: int):
     return builder.finalize()
 
 
-def _solver(rest_after: int | None) -> sx.NLGS:
+SOLVERS = {"nlgs": lambda **k: sx.NLGS(**k), "hybrid": lambda **k: sx.Hybrid(**k)}
+"""--solvers: NLGS alone, or saxum.solver.Hybrid (NLGS, the conic fixed point where it
+stalls)."""
+
+
+def _solver(rest_after: int | None, solver: str = "nlgs"):
     if rest_after is None:
-        return sx.NLGS()
-    return sx.NLGS(rest_after=rest_after)  # TypeError on a saxum without rest solutions
+        return SOLVERS[solver]()
+    return SOLVERS[solver](rest_after=rest_after)  # TypeError on a saxum without them
 
 
 def _warm_up(rest_after: int | None) -> None:
@@ -142,10 +147,12 @@ def _warm_up(rest_after: int | None) -> None:
         sim.run(sim.initial_state(), 0.01)
 
 
-def run_case(name: str, rest_after: int | None) -> dict:
-    build, duration = CASES[name]
+def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
+             duration: float | None = None) -> dict:
+    build, default_duration = CASES[name]
+    duration = default_duration if duration is None else duration
     model = build()
-    solver = _solver(rest_after)
+    solver = _solver(rest_after, solver_name)
     sim = sx.Simulation(model, dt=DT, solver=solver)
     state = sim.initial_state()
     times, changed = [], []
@@ -174,8 +181,13 @@ def run_case(name: str, rest_after: int | None) -> dict:
     moved = np.linalg.norm(state.body_q[free, :model.dim] - model.body_q0[free, :model.dim],
                            axis=1)
     threshold = getattr(solver, "rest_after", 0) or None
+    finished = np.bincount(np.asarray(log.solver), minlength=2)
     out = {
         "case": name,
+        "solver": solver_name,
+        "finished_nlgs": int(finished[0]),
+        "finished_conic": int(finished[1]),
+        "error_max": float(np.max(log.error)),
         "bodies": int(model.body_count),
         "duration_s": duration,
         "steps": len(sweeps),
@@ -433,7 +445,9 @@ def diagnose(name: str, steps: int, reference_sweeps: int) -> list[dict]:
 def _print(r: dict) -> None:
     rest = (f"rest solutions {r['rest_solutions']}/{r['rest_attempts']}"
             if r["rest_attempts"] is not None else "no rest solution")
-    print(f"{r['case']}: {r['bodies']} bodies, {r['contacts_min']}..{r['contacts_max']} "
+    print(f"{r['case']} [{r['solver']}: steps finished by NLGS {r['finished_nlgs']}, by the "
+          f"conic solver {r['finished_conic']}; largest error {r['error_max']:.2g}]: "
+          f"{r['bodies']} bodies, {r['contacts_min']}..{r['contacts_max']} "
           f"contacts, {r['steps']} steps; first step {r['first_sweeps']} sweeps "
           f"({'converged' if r['first_converged'] else 'NOT converged'}, error "
           f"{r['first_error']:.2g}, {r['first_ms']:.1f} ms); after it sweeps mean "
@@ -452,6 +466,11 @@ def main(argv: list[str] | None = None) -> int:
                         help=f"comma-separated subset of {', '.join(CASES)}")
     parser.add_argument("--rest-after", type=int, default=None,
                         help="NLGS rest_after (0: NLGS alone); default: saxum's default")
+    parser.add_argument("--solvers", default="nlgs",
+                        help="comma-separated solvers, each case run with each in turn (the "
+                             "same process, interleaved): nlgs, hybrid (default: nlgs)")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="simulated duration of every case [s] (default: the case's own)")
     parser.add_argument("--spectral", action="store_true",
                         help="also the spectral radius of the linearized sweep (towers)")
     parser.add_argument("--orders", action="store_true",
@@ -469,9 +488,10 @@ def main(argv: list[str] | None = None) -> int:
     results = {"command": " ".join(sys.argv), "machine": machine_info(),
                "saxum_file": sx.__file__, "cases": []}
     for name in args.cases.split(","):
-        r = run_case(name, args.rest_after)
-        _print(r)
-        results["cases"].append(r)
+        for solver in args.solvers.split(","):
+            r = run_case(name, args.rest_after, solver, args.duration)
+            _print(r)
+            results["cases"].append(r)
     if args.diagnose:
         results["diagnosis"] = [row for name in args.cases.split(",")
                                 for row in diagnose(name, args.diagnose_steps,

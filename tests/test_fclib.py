@@ -306,8 +306,8 @@ def test_two_stacked_blocks_known_solution():
     ("LMGC_GlobalFrictionContactProblem00046.hdf5", 1.0),
     ("LMGC_GFC3D-i00001-1-00000.hdf5", 1.0),
 ])
-def test_shared_problem_is_solved(name, relaxation):
-    row = solve_fclib_files([SHARED / name], relaxation=relaxation)[0]
+def test_shared_problem_is_solved_by_nlgs(name, relaxation):
+    row = solve_fclib_files([SHARED / name], relaxation=relaxation, solver="nlgs")[0]
     assert row.solved and row.error <= 1e-8
     problem = read_fclib(SHARED / name)
     if isinstance(problem, LocalProblem):
@@ -344,7 +344,8 @@ def test_exported_step_resolved_gives_the_time_steppers_impulses(tmp_path, arch_
     assert np.array_equal(problem.solution.r, impulses)
     solve = solve_local if kind == "local" else solve_global
     # From the stepper's warm start, as many sweeps as it did: the same iterates.
-    same = solve(problem, r0=problem.guesses[0].r, max_iterations=sweeps[-1], tolerance=1e-30)
+    same = solve(problem, r0=problem.guesses[0].r, max_iterations=sweeps[-1], tolerance=1e-30,
+                 solver="nlgs")
     assert same.iterations == sweeps[-1]
     assert same.r == pytest.approx(impulses, rel=1e-12, abs=1e-12 * np.abs(impulses).max())
     # Solved to 1e-10 from zero: the stepper's local velocities to its own tolerance, and the
@@ -372,7 +373,7 @@ def test_export_of_the_first_step_cold_start(tmp_path):
     problem = export_step(sim, state, tmp_path / "step.hdf5", storage="triplet")
     assert np.all(problem.guesses[0].r == 0.0)
     same = solve_local(read_fclib(tmp_path / "step.hdf5"), max_iterations=report.iterations,
-                       tolerance=1e-30)
+                       tolerance=1e-30, solver="nlgs")
     impulses = _stepper_impulses(sim, state)
     assert same.r == pytest.approx(impulses, abs=1e-10 * np.abs(impulses).max())
 
@@ -391,7 +392,7 @@ def test_natural_map_error_is_independent_of_the_solver_report():
                   [0.5, 0.0, 2.0, 1.0], [0.0, 0.0, 1.0, 2.0]])
     problem = LocalProblem(sp.csr_matrix(w), np.array([-1.0, 0.2, -1, 0]), np.array([0.1, 0.1]),
                            2)
-    row = solve_local(problem, max_iterations=1, tolerance=1e-12)
+    row = solve_local(problem, max_iterations=1, tolerance=1e-12, solver="nlgs")
     assert row.iterations == 1 and not row.solved
     assert row.error > 1e-3
     assert math.isclose(row.error, natural_map_error(w, problem.q, problem.mu, row.r, 2))

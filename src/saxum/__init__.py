@@ -16,18 +16,20 @@ from .results import Results
 from .runner import run_scenario
 from .scenario import Scenario, load_scenario
 from .simulation import Simulation
-from .solver import NLGS, ContactSolver
+from .solver import NLGS, ConicSolver, ContactSolver, Hybrid
 from .state import State
 from .steplog import StepLog, StepReport
 
 __all__ = [
     "NLGS",
     "BodyKind",
+    "ConicSolver",
     "ContactLaw",
     "ContactSolver",
     "Contacts",
     "DetectionSettings",
     "FloodLoad",
+    "Hybrid",
     "InputError",
     "LawKind",
     "Model",

@@ -14,12 +14,14 @@ Rolling friction (/fclib_global_rolling, spacedim 5) and the mixed variants with
 constraints (local V, R, s; global G, b) are refused: saxum does not solve them.
 
 The solve reduces a global problem to its Delassus form W = H^T M^-1 H, q = H^T M^-1 f + w and
-runs saxum.solver.delassus_nlgs on W; the reported error is always the natural-map residual
+runs saxum.solver.delassus_nlgs on W, switching to saxum.solver.conic where NLGS stalls
+(SOLVERS); the reported error is always the natural-map residual
 ||F_nat(r)|| / ||q|| of saxum.solver.residual (for a global problem: of its Delassus form).
 """
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -29,13 +31,17 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import InputError
+from .solver.assembled import assemble_local
+from .solver.conic import delassus_conic
 from .solver.delassus_nlgs import DelassusNLGS
+from .solver.residual import natural_map_error
 
 __all__ = [
     "GlobalProblem",
     "Info",
     "LocalProblem",
     "MatrixInfo",
+    "SOLVERS",
     "SolveRow",
     "Solution",
     "export_step",
@@ -45,6 +51,7 @@ __all__ = [
     "solve_global",
     "solve_local",
     "step_problem",
+    "verdict",
     "write_fclib",
 ]
 
@@ -292,6 +299,7 @@ def _check_local(w, q, mu, spacedim) -> None:
     if w.shape != (m, m) or m != spacedim * mu.size:
         raise InputError(f"sizes do not match: W {w.shape}, q {m}, mu {mu.size}, "
                          f"spacedim {spacedim}")
+    _check_finite(W=w.data, q=q)
     _check_mu(mu)
 
 
@@ -300,7 +308,16 @@ def _check_global(m, h, f, w, mu, spacedim) -> None:
     if m.shape != (n, n) or h.shape != (n, w.size) or w.size != spacedim * mu.size:
         raise InputError(f"sizes do not match: M {m.shape}, H {h.shape}, f {n}, w {w.size}, "
                          f"mu {mu.size}, spacedim {spacedim}")
+    _check_finite(M=m.data, H=h.data, f=f, w=w)
     _check_mu(mu)
+
+
+def _check_finite(**arrays: np.ndarray) -> None:
+    for name, values in arrays.items():
+        bad = np.count_nonzero(~np.isfinite(values))
+        if bad:
+            raise InputError(f"{name} has {bad} value(s) that are not finite numbers (NaN or "
+                             "inf): the problem cannot be solved")
 
 
 def _check_mu(mu) -> None:
@@ -408,11 +425,31 @@ def _write_solution(g: h5py.Group, sol: Solution) -> None:
 # --- solving ----------------------------------------------------------------------------------
 
 
+SOLVERS = ("hybrid", "nlgs", "conic")
+"""Solvers of solve_local / solve_global: hybrid (the default: NLGS, then the conic fixed
+point when NLGS stalls or is too slow, then NLGS again), nlgs (NLGS alone), conic (the De
+Saxce fixed point with Clarabel alone: saxum.solver.conic)."""
+
+_WINDOW = 200
+"""NLGS sweeps between two measurements of the natural-map error (one product W r each)."""
+_STALLED = 1e-5
+"""An error that falls by less than this fraction per sweep over a window (0.2 % over 200
+sweeps) stalls; above it the error is still falling."""
+_RELAXED = 0.7
+"""Relaxation the hybrid tries when NLGS stalls without relaxation (a cycling iterate)."""
+_FIXED_POINTS = 40
+"""Fixed-point iterations of the conic solver at most (each one interior-point solve)."""
+
+
 @dataclass(frozen=True)
 class SolveRow:
     """One solved problem: name, kind ("local"/"global"), contacts, spacedim, NLGS sweeps,
     wall time [s] (Delassus reduction, sweeps, error), natural-map error, solved
-    (error <= tolerance), relaxation, and r, u (and v for a global problem)."""
+    (error <= tolerance), relaxation (the last NLGS ran with), r, u (and v for a global
+    problem); solver: what ran, in order ("nlgs", "conic", "nlgs+conic+nlgs", ...);
+    rate: the error's factor per sweep over NLGS's last window (nan if not measured);
+    stalled: the error stopped falling (rate above 1 - 1e-5) rather than the sweeps running
+    out; conic_iterations: fixed-point iterations of the conic solver (0 if it did not run)."""
 
     name: str
     kind: str
@@ -427,63 +464,156 @@ class SolveRow:
     r: np.ndarray
     u: np.ndarray
     v: np.ndarray | None = None
+    solver: str = "nlgs"
+    rate: float = math.nan
+    stalled: bool = False
+    conic_iterations: int = 0
 
 
-def _solve(w, q, mu, spacedim, r0, tolerance, max_iterations, relaxation):
-    """NLGS until the natural-map error reaches `tolerance` or max_iterations sweeps.
+@dataclass
+class _Run:
+    """State of one solve: the iterate, its error, what ran, the last window's rate."""
 
-    NLGS stops on its own test (relative change of r per sweep <= tolerance); the error is
-    then computed independently and, if it is still above `tolerance`, NLGS goes on from where
-    it stopped with a change tolerance 100 times smaller (a change test alone can stop a slowly
-    converging solve early). Returns (r, u, sweeps, error)."""
-    r = None if r0 is None else np.asarray(r0, dtype=np.float64)
+    w: sp.csr_matrix
+    q: np.ndarray
+    mu: np.ndarray
+    spacedim: int
+    r: np.ndarray
+    error: float
+    sweeps: int = 0
+    rate: float = math.nan
+    steps: list = field(default_factory=list)
+    conic_iterations: int = 0
+
+    def measure(self, r: np.ndarray) -> float:
+        return natural_map_error(self.w, self.q, self.mu, r, self.spacedim)
+
+
+def _sweep(run: _Run, tolerance: float, budget: int, relaxation: float,
+           give_up: bool) -> bool:
+    """NLGS from run.r in windows of _WINDOW sweeps until the natural-map error is <=
+    tolerance, `budget` sweeps are done, or (give_up) the error stalls or falls too slowly to
+    reach the tolerance within the budget at the last window's rate. Each window stops early
+    on NLGS's own test (relative change of r per sweep), tightened 100-fold whenever it
+    stopped a window above the tolerance. With give_up the iterate of least error is kept,
+    else the last (NLGS alone follows its iterates, as the time stepper does). Returns True
+    if it gave up (stalled or too slow), False if done or out of budget."""
+    if not run.steps or run.steps[-1] != "nlgs":
+        run.steps.append("nlgs")
     change_tolerance = tolerance
-    done = 0
-    while True:
-        report = DelassusNLGS(change_tolerance, max_iterations - done, relaxation).solve(
-            w, q, mu, spacedim, r)
-        done += report.iterations
-        r = report.r
-        if (report.error <= tolerance or done >= max_iterations or report.change == 0.0
-                or change_tolerance < 1e-16):
-            return r, report.u, done, report.error
-        change_tolerance *= 1e-2
+    used = 0
+    best = run.error
+    while run.error > tolerance and used < budget:
+        window = min(_WINDOW, budget - used)
+        report = DelassusNLGS(change_tolerance, window, relaxation).solve(
+            run.w, run.q, run.mu, run.spacedim, run.r)
+        used += report.iterations
+        run.sweeps += report.iterations
+        if report.error < run.error or not give_up:
+            run.r, run.error = report.r, report.error
+        if report.iterations < window:  # NLGS's own test stopped it
+            if report.change == 0.0 or change_tolerance < 1e-16:
+                return False
+            change_tolerance *= 1e-2
+            continue
+        # the window ran in full: the error's factor per sweep over it
+        run.rate = (min(report.error, best) / best) ** (1.0 / window) if best > 0.0 else 0.0
+        best = min(best, report.error)
+        if not give_up or run.error <= tolerance:
+            continue
+        if run.rate > 1.0 - _STALLED:
+            return True
+        if math.log(tolerance / run.error) / math.log(run.rate) > budget - used:
+            return True
+    return False
 
 
-def _check_solve_options(tolerance, max_iterations) -> None:
+def _solve(w, q, mu, spacedim, r0, tolerance, max_iterations, relaxation, solver):
+    """Solve u = W r + q to the natural-map error `tolerance` with `solver` (SOLVERS).
+
+    nlgs: NLGS sweeps (_sweep, never giving up) with the given relaxation (None: 1).
+    conic: saxum.solver.conic alone (at most _FIXED_POINTS fixed-point iterations).
+    hybrid: NLGS with relaxation 1 (or the one given); when its error stalls, with relaxation
+    _RELAXED (when none was given); when it stalls again or falls too slowly to reach the
+    tolerance within max_iterations sweeps, the conic fixed point from NLGS's iterate, and
+    NLGS again from its solution (the interior point ends near 1e-7 on degenerate problems).
+    Returns (run, relaxation)."""
+    r = np.zeros(q.size) if r0 is None else np.array(r0, dtype=np.float64)
+    w = sp.csr_matrix(w, dtype=np.float64)
+    run = _Run(w, np.asarray(q, dtype=np.float64), np.asarray(mu, dtype=np.float64), spacedim,
+               r, 0.0)
+    run.error = run.measure(r)
+    omega = 1.0 if relaxation is None else relaxation
+    if solver == "conic":
+        _conic(run, tolerance)
+        return run, omega
+    if solver == "nlgs":
+        _sweep(run, tolerance, max_iterations, omega, give_up=False)
+        return run, omega
+    gave_up = _sweep(run, tolerance, max_iterations, omega, give_up=True)
+    if gave_up and relaxation is None and run.rate > 1.0 - _STALLED:
+        omega = _RELAXED
+        gave_up = _sweep(run, tolerance, max_iterations - run.sweeps, omega, give_up=True)
+    if gave_up:
+        _conic(run, tolerance)
+        _sweep(run, tolerance, max_iterations - run.sweeps, omega, give_up=False)
+    return run, omega
+
+
+def _conic(run: _Run, tolerance: float) -> None:
+    """The conic fixed point from run.r; keeps its result if its error is lower."""
+    run.steps.append("conic")
+    result = delassus_conic(run.w, run.q, run.mu, run.spacedim, run.r, tolerance,
+                            _FIXED_POINTS)
+    run.conic_iterations += result.iterations
+    if result.error < run.error:
+        run.r, run.error = result.r, result.error
+
+
+def _row(run: _Run, problem, kind, name, start, tolerance, omega, v=None) -> SolveRow:
+    stalled = bool(run.error > tolerance and run.rate > 1.0 - _STALLED)
+    return SolveRow(name, kind, problem.contacts, problem.spacedim, run.sweeps,
+                    time.perf_counter() - start, run.error, run.error <= tolerance, tolerance,
+                    omega, run.r, run.w @ run.r + run.q, v, "+".join(run.steps), run.rate,
+                    stalled, run.conic_iterations)
+
+
+def _check_solve_options(tolerance, max_iterations, solver="hybrid") -> None:
     if not (math.isfinite(tolerance) and tolerance > 0.0):
         raise InputError(f"tolerance must be > 0, got {tolerance}")
     if max_iterations < 1:
         raise InputError(f"max_iterations must be >= 1, got {max_iterations}")
+    if solver not in SOLVERS:
+        raise InputError(f"solver must be one of {', '.join(SOLVERS)}, got {solver!r}")
 
 
 def solve_local(problem: LocalProblem, *, tolerance: float = 1e-8,
-                max_iterations: int = 100_000, relaxation: float = 1.0,
-                r0: np.ndarray | None = None, name: str = "") -> SolveRow:
-    """Solve a local problem with the Delassus NLGS from r0 (zero if None): see _solve."""
-    _check_solve_options(tolerance, max_iterations)
+                max_iterations: int = 100_000, relaxation: float | None = None,
+                r0: np.ndarray | None = None, name: str = "",
+                solver: str = "hybrid") -> SolveRow:
+    """Solve a local problem from r0 (zero if None) with `solver` (SOLVERS; see _solve) to
+    the natural-map error `tolerance`, with at most max_iterations NLGS sweeps; relaxation:
+    NLGS's omega (None: 1, and the hybrid's own choice when NLGS stalls)."""
+    _check_solve_options(tolerance, max_iterations, solver)
     start = time.perf_counter()
-    r, u, sweeps, error = _solve(problem.W, problem.q, problem.mu, problem.spacedim, r0,
-                                 tolerance, max_iterations, relaxation)
-    return SolveRow(name, "local", problem.contacts, problem.spacedim, sweeps,
-                    time.perf_counter() - start, error, error <= tolerance, tolerance,
-                    relaxation, r, u)
+    run, omega = _solve(problem.W, problem.q, problem.mu, problem.spacedim, r0, tolerance,
+                        max_iterations, relaxation, solver)
+    return _row(run, problem, "local", name, start, tolerance, omega)
 
 
 def solve_global(problem: GlobalProblem, *, tolerance: float = 1e-8,
-                 max_iterations: int = 100_000, relaxation: float = 1.0,
-                 r0: np.ndarray | None = None, name: str = "") -> SolveRow:
-    """Solve a global problem through its Delassus form (GlobalProblem.delassus); the error
-    is that of the Delassus form, v = M^-1 (H r + f)."""
-    _check_solve_options(tolerance, max_iterations)
+                 max_iterations: int = 100_000, relaxation: float | None = None,
+                 r0: np.ndarray | None = None, name: str = "",
+                 solver: str = "hybrid") -> SolveRow:
+    """Solve a global problem through its Delassus form (GlobalProblem.delassus), as
+    solve_local; the error is that of the Delassus form, v = M^-1 (H r + f)."""
+    _check_solve_options(tolerance, max_iterations, solver)
     start = time.perf_counter()
     w, q = problem.delassus()
-    r, u, sweeps, error = _solve(w, q, problem.mu, problem.spacedim, r0, tolerance,
-                                 max_iterations, relaxation)
-    v = spla.spsolve(sp.csc_matrix(problem.M), problem.H @ r + problem.f)
-    return SolveRow(name, "global", problem.contacts, problem.spacedim, sweeps,
-                    time.perf_counter() - start, error, error <= tolerance, tolerance,
-                    relaxation, r, u, np.atleast_1d(v))
+    run, omega = _solve(w, q, problem.mu, problem.spacedim, r0, tolerance, max_iterations,
+                        relaxation, solver)
+    v = spla.spsolve(sp.csc_matrix(problem.M), problem.H @ run.r + problem.f)
+    return _row(run, problem, "global", name, start, tolerance, omega, np.atleast_1d(v))
 
 
 def _warm_up() -> None:
@@ -496,17 +626,36 @@ def _warm_up() -> None:
 
 
 def solve_fclib_files(paths, *, tolerance: float = 1e-8, max_iterations: int = 100_000,
-                      relaxation: float = 1.0) -> list[SolveRow]:
-    """Read and solve each FCLIB file from zero impulses (what `saxum fclib solve` runs).
-    All files are read first, so that a bad one stops the run before any solve."""
-    _check_solve_options(tolerance, max_iterations)
-    problems = [(Path(p).name, read_fclib(p)) for p in paths]
+                      relaxation: float | None = None, solver: str = "hybrid",
+                      on_error: Callable[[Path, InputError], None] | None = None
+                      ) -> list[SolveRow]:
+    """Read and solve each FCLIB file from zero impulses (what `saxum fclib solve` runs) with
+    `solver` (SOLVERS). All files are read first. A bad file (an InputError naming it:
+    unreadable, or a global problem whose M cannot be factorized) stops the call, or, given
+    `on_error`, is passed to on_error(path, error) and left out while the others are solved."""
+    _check_solve_options(tolerance, max_iterations, solver)
+    if relaxation is not None and not 0.0 < relaxation <= 1.0:
+        raise InputError(f"relaxation must be in (0, 1], got {relaxation}")
+    problems, good = [], []
+    for p in paths:
+        try:
+            problems.append((Path(p).name, read_fclib(p)))
+            good.append(Path(p))
+        except InputError as err:
+            if on_error is None:
+                raise
+            on_error(Path(p), err)
     _warm_up()
     rows = []
-    for name, problem in problems:
+    for (name, problem), path in zip(problems, good, strict=True):
         solve = solve_local if isinstance(problem, LocalProblem) else solve_global
-        rows.append(solve(problem, tolerance=tolerance, max_iterations=max_iterations,
-                          relaxation=relaxation, name=name))
+        try:
+            rows.append(solve(problem, tolerance=tolerance, max_iterations=max_iterations,
+                              relaxation=relaxation, name=name, solver=solver))
+        except InputError as err:  # a global problem whose M cannot be factorized
+            if on_error is None:
+                raise InputError(f"{path}: {err}") from None
+            on_error(path, InputError(f"{path}: {err}"))
     return rows
 
 
@@ -515,26 +664,33 @@ def _ms(seconds: float) -> str:
     return f"{ms:.3g}" if ms < 100.0 else f"{ms:.0f}"
 
 
+def verdict(row: SolveRow) -> str:
+    """yes (<= tolerance), or why not: the error stalls (stopped falling), ran out of sweeps
+    while still falling (with its rate per sweep), or the conic solver's best."""
+    if row.solved:
+        return f"yes (<= {row.tolerance:.0e})"
+    if row.stalled:
+        return f"no: stalls at {row.error:.1e}"
+    if math.isnan(row.rate):
+        return f"no: {row.solver} ends at {row.error:.1e}"
+    return (f"no: ran out of sweeps at {row.error:.1e} (error still falling, rate "
+            f"{row.rate:.6f} per sweep)")
+
+
 def format_table(rows: list[SolveRow]) -> str:
     """A Markdown table of solve results, one line per problem."""
-    lines = ["| problem | kind | contacts | spacedim | relaxation | iterations | time [ms] | "
-             "error | solved |",
-             "|---|---|---:|---:|---:|---:|---:|---:|---|"]
+    lines = ["| problem | kind | contacts | spacedim | solver | relaxation | sweeps | "
+             "fixed points | time [ms] | error | solved |",
+             "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---|"]
     for row in rows:
-        verdict = (f"yes (<= {row.tolerance:.0e})" if row.solved
-                   else f"no: stalls at {row.error:.1e}")
         lines.append(f"| {row.name} | {row.kind} | {row.contacts} | {row.spacedim} | "
-                     f"{row.relaxation:g} | {row.iterations} | {_ms(row.time)} | "
-                     f"{row.error:.2e} | {verdict} |")
+                     f"{row.solver} | {row.relaxation:g} | {row.iterations} | "
+                     f"{row.conic_iterations} | {_ms(row.time)} | {row.error:.2e} | "
+                     f"{verdict(row)} |")
     return "\n".join(lines)
 
 
 # --- export of a saxum step -------------------------------------------------------------------
-
-
-def _saxum_to_fclib(dim: int) -> list[int]:
-    """saxum component (t, n[, s]) of each FCLIB component [n, t[, s]]."""
-    return [1, 0, 2][:dim]
 
 
 def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProblem:
@@ -558,28 +714,23 @@ def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProble
         raise InputError("state is not the one that sim stepped last: export right after "
                          "sim.step(state)")
     model = sim.model
-    dim, dof = model.dim, model.dof
-    active = np.flatnonzero(problem.active[: problem.count])
+    dim = model.dim
+    v_free = sim.free_velocity.ravel()  # the last step's free velocity
+    local = assemble_local(problem, sim.free_velocity)
+    active = local.active
     if active.size == 0:
         raise InputError(f"step {state.step} has no active contact: nothing to export")
-    order = _saxum_to_fclib(dim)
     nc = active.size
-    rows = np.repeat(np.arange(nc * dim), 2 * dof)
-    body = np.stack([contacts.candidate[active], contacts.antagonist[active]], axis=1)
-    cols = (body[:, None, :, None] * dof + np.arange(dof)).repeat(dim, axis=1)
-    vals = np.stack([problem.h_cand[active][:, order], problem.h_ant[active][:, order]], axis=2)
-    hstar = sp.csr_matrix((vals.ravel(), (rows, cols.ravel())),
-                          shape=(nc * dim, model.body_count * dof))
+    hstar = local.hstar
     inv_mass = model.body_inv_mass.ravel()
-    v_free = sim.free_velocity.ravel()  # the last step's free velocity
     shift = np.zeros((nc, dim))
     shift[:, 0] = problem.bias[active]
     shift = shift.ravel()
-    mu = problem.friction[active].copy()
-    r = contacts.impulse[active][:, order].ravel()
+    mu = local.mu
+    r = local.impulses(contacts.impulse)
     warm = contacts.copy()
     warm.warm_start_from(sim.previous_contacts)  # the warm start the step's solve began from
-    r_start = warm.impulse[active][:, order].ravel()
+    r_start = local.impulses(warm.impulse)
     log = sim.log
     info = Info(
         title=f"saxum step {state.step}",
@@ -593,9 +744,7 @@ def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProble
                    + (", s" if dim == 3 else "") + "]; u_n includes the law's shift b_n"),
     )
     if kind == "local":
-        w = (hstar @ sp.diags(inv_mass) @ hstar.T).tocsr()
-        w.sum_duplicates()
-        q = hstar @ v_free + shift
+        w, q = local.w, local.q
         return LocalProblem(w, q, mu, dim, info=info,
                             guesses=[Solution(u=w @ r_start + q, r=r_start)],
                             solution=Solution(u=w @ r + q, r=r))

@@ -401,8 +401,9 @@ class Results:
         counts = fr["contact_count"][: self.frame_count]
         self._contact_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         st = self.file["steps"]
-        n = min(st[k].shape[0] for k in _STEP_FIELDS)
-        self.steps = {k: st[k][:n] for k in _STEP_FIELDS}
+        present = [k for k in _STEP_FIELDS if k in st]  # files before a field was added
+        n = min(st[k].shape[0] for k in present)
+        self.steps = {k: st[k][:n] for k in present}
         cp = self.file["checkpoints"]
         self.checkpoint_steps = cp["step"][: min(cp[k].shape[0] for k in cp
                                                   if isinstance(cp[k], h5py.Dataset)

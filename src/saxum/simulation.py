@@ -20,7 +20,7 @@ from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean, free_velocity
 from .model import BodyKind, Model
-from .solver import NLGS, ContactProblem, ContactSolver, PositionProjection
+from .solver import NLGS, SOLVER_NAMES, ContactProblem, ContactSolver, PositionProjection
 from .state import State
 from .steplog import StepLog, StepReport
 
@@ -195,7 +195,8 @@ class Simulation:
         converged = solved.converged and (projected is None or projected.converged)
         report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
                             contacts.count, loaded, depth, energy,
-                            0 if projected is None else projected.iterations)
+                            0 if projected is None else projected.iterations,
+                            SOLVER_NAMES.index(solved.solver))
         self.log.append(report)
         return report
 

@@ -12,7 +12,9 @@ class StepReport:
     """One step: end time [s], solver sweeps, final error [-], converged (the contact solve and
     the projection, if any), contacts found, contacts carrying load (R_n > 0), largest
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
-    position projection (0 when none was needed; saxum.solver.projection)."""
+    position projection (0 when none was needed; saxum.solver.projection), the solver that
+    finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
+    fixed point of saxum.solver.hybrid)."""
 
     step: int
     time: float
@@ -24,6 +26,7 @@ class StepReport:
     max_interpenetration: float
     kinetic_energy: float
     projection_iterations: int = 0
+    solver: int = 0
 
 
 STEP_DTYPES = {
@@ -37,6 +40,7 @@ STEP_DTYPES = {
     "max_interpenetration": np.float64,
     "kinetic_energy": np.float64,
     "projection_iterations": np.int64,
+    "solver": np.int8,
 }
 
 
@@ -72,9 +76,11 @@ class StepLog:
         if self._n == 0:
             return "no steps"
         bad = self.non_converged()
+        conic = int(np.count_nonzero(self.solver == 1))
         return (
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
             + (f" (first: step {bad[0]})" if bad.size else "")
+            + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )

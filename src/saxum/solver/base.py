@@ -7,16 +7,22 @@ import numpy as np
 
 from .problem import ContactProblem
 
-__all__ = ["ContactSolver", "SolverReport"]
+__all__ = ["SOLVER_NAMES", "ContactSolver", "SolverReport"]
+
+SOLVER_NAMES = ("nlgs", "conic")
+"""Solvers that can finish a step; the step log stores the index (StepReport.solver)."""
 
 
 @dataclass(frozen=True)
 class SolverReport:
-    """What a solver did on one step: iterations, final error, converged or not."""
+    """What a solver did on one step: iterations (Gauss-Seidel sweeps), final error,
+    converged or not, and which solver finished the step (an entry of SOLVER_NAMES: "nlgs",
+    or "conic" when saxum.solver.hybrid switched to the conic fixed point)."""
 
     iterations: int
     error: float
     converged: bool
+    solver: str = "nlgs"
 
 
 class ContactSolver(ABC):

@@ -1,0 +1,190 @@
+"""Time-step solvers beyond NLGS: the conic fixed point alone (ConicSolver) and the hybrid
+(Hybrid) that runs NLGS and switches to it where NLGS stalls.
+
+ConicSolver assembles the rows H* of the step's active contacts (saxum.solver.assembled),
+solves the step by De Saxce's fixed point with Clarabel in body space (saxum.solver.conic's
+body_conic: the free bodies' velocities as unknowns, W never formed) from the step's warm
+start, writes R and v = v_free + M^-1 H R, and confirms with NLGS sweeps from
+there: the reported error is NLGS's own criterion (saxum.solver.nlgs), the same as a step
+solved by NLGS alone reports, so that every step is judged alike.
+
+Hybrid: NLGS exactly as saxum.solver.NLGS runs it (the same sweeps, the same rest solution),
+in windows of `window` sweeps. After each window it measures the error's factor per sweep
+over that window, rate = (e_k / e_k-1)^(1 / window) (e the least error so far: NLGS's error
+oscillates). It gives up on NLGS when the error stalls (rate above 1 - 1e-5) or falls too
+slowly to reach the tolerance within the sweeps left (log(tol / e) / log(rate) more than
+max_iterations minus the sweeps done): the sweep cap is not waited for. A stall without
+relaxation is first retried with relaxation 0.7 (the remedy for a cycling iterate; FCLIB's
+OneObject); then the conic fixed point runs from NLGS's iterate and NLGS confirms it (or,
+where the fixed point found nothing better than NLGS's iterate, sweeps on from it with the
+sweeps left: the cap is the same as NLGS's). After k switches in a row that did not end
+converged, the next 2^k - 1 solves (k at most 6) are NLGS's alone: on the friction threshold
+the fixed point crawls too, and each switch costs seconds on a few hundred contacts. Where
+NLGS converges, the hybrid is NLGS: the same iterates bit for bit, one more Python call per
+window.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .assembled import assemble_local
+from .base import ContactSolver, SolverReport
+from .conic import body_conic
+from .nlgs import _REST_WORK, NLGS
+from .problem import ContactProblem
+
+__all__ = ["ConicSolver", "Hybrid"]
+
+_STALLED = 1e-5
+"""An error falling by less than this fraction per sweep over a window stalls."""
+_RELAXED = 0.7
+"""Relaxation tried when NLGS stalls without relaxation."""
+_BACKOFF = 6
+"""Failed switches in a row after which the hybrid waits the longest, 2^6 - 1 solves."""
+
+
+@dataclass
+class ConicSolver(ContactSolver):
+    """tolerance [-]: NLGS's criterion, which the confirming sweeps (at most `confirm`) must
+    reach; fixed_points: fixed-point iterations at most; conic_tolerance [-]: natural-map
+    error ||F_nat|| / ||q|| at which the fixed point stops (None: `tolerance`; on the
+    512-brick wall's first step under 0.7 g a natural-map error of 4.7e-7 gave a confirming
+    sweep's error of 6.3e-8); relaxation of the sweeps."""
+
+    tolerance: float = 1e-6
+    fixed_points: int = 30
+    conic_tolerance: float | None = None
+    confirm: int = 200
+    relaxation: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
+            raise InputError(f"solver.tolerance must be > 0, got {self.tolerance}")
+        if self.fixed_points < 1 or self.confirm < 1:
+            raise InputError("solver.fixed_points and solver.confirm must be >= 1")
+        self.fixed_point_iterations = 0
+        """Fixed-point iterations done, in all."""
+        self.natural_map_error = math.nan
+        """The conic solution's natural-map error on the last solve."""
+        self._nlgs = NLGS(self.tolerance, self.confirm, self.relaxation, rest_after=0)
+
+    def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
+              v: np.ndarray) -> SolverReport:
+        self.conic(problem, impulse, v_free, v)
+        report = self._nlgs.solve(problem, impulse, v_free, v)
+        return SolverReport(report.iterations, report.error, report.converged, "conic")
+
+    def conic(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
+              v: np.ndarray) -> None:
+        """The fixed point from the current impulses; writes impulse and v."""
+        local = assemble_local(problem, v_free)
+        if local.active.size == 0:
+            return
+        free = local.inv_mass > 0.0
+        hstar = local.hstar[:, free]
+        v_free_free = v_free.ravel()[free]
+        result = body_conic(hstar, 1.0 / local.inv_mass[free], v_free_free,
+                            local.q - hstar @ v_free_free, local.mu, problem.model.dim,
+                            local.impulses(impulse),
+                            self.tolerance if self.conic_tolerance is None
+                            else self.conic_tolerance, self.fixed_points)
+        self.fixed_point_iterations += result.iterations
+        self.natural_map_error = result.error
+        local.scatter(result.r, v_free, impulse, v)
+
+
+@dataclass
+class Hybrid(ContactSolver):
+    """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that
+    switches to the conic fixed point where NLGS stalls (module doc); window: sweeps between
+    two measurements of the error's rate."""
+
+    tolerance: float = 1e-6
+    max_iterations: int = 5000
+    relaxation: float = 1.0
+    rest_after: int = 50
+    window: int = 100
+
+    def __post_init__(self) -> None:
+        if self.window < 1:
+            raise InputError(f"solver.window must be >= 1, got {self.window}")
+        self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
+                           self.rest_after)
+        self._more = {omega: NLGS(self.tolerance, self.max_iterations, omega, rest_after=0)
+                      for omega in {self.relaxation, _RELAXED}}
+        self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
+        self.finished = {"nlgs": 0, "conic": 0}
+        """Solves (steps and projections) finished by each solver."""
+        self.relaxed = 0
+        """Solves on which NLGS was retried with relaxation 0.7."""
+        self._failures = 0
+        self._wait = 0
+
+    def forget(self) -> None:
+        self._first.forget()  # the others never follow loads (rest_after 0)
+
+    @property
+    def rest_attempts(self) -> int:
+        return self._first.rest_attempts
+
+    @property
+    def rest_solutions(self) -> int:
+        return self._first.rest_solutions
+
+    def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
+              v: np.ndarray) -> SolverReport:
+        # the first window: NLGS's own first phase (sweeps, the rest solution), then a window
+        first = self.window
+        if self.rest_after > 0 and problem.count > 0:
+            first += max(self.rest_after, -(-_REST_WORK // problem.count))
+        nlgs = self._first
+        nlgs.max_iterations = min(first, self.max_iterations)
+        report = nlgs.solve(problem, impulse, v_free, v)
+        done = report.iterations
+        best = math.inf  # the least error at the end of a window
+        omega = self.relaxation
+        judge = self._wait == 0  # else NLGS alone (back-off, _switch)
+        self._wait = max(self._wait - 1, 0)
+        while not report.converged and done < self.max_iterations:
+            if judge and math.isfinite(best):  # two windows measured: the rate over the last
+                rate = self._rate(best, report.error, nlgs.max_iterations)
+                best = min(best, report.error)
+                stalled = rate > 1.0 - _STALLED
+                if stalled and omega == 1.0:
+                    omega = _RELAXED
+                    self.relaxed += 1
+                elif stalled or (0.0 < rate and math.log(self.tolerance / best) / math.log(rate)
+                                 > self.max_iterations - done):
+                    return self._switch(problem, impulse, v_free, v, done, omega)
+            else:
+                best = min(best, report.error)
+            nlgs = self._more[omega]
+            nlgs.max_iterations = min(self.window, self.max_iterations - done)
+            report = nlgs.solve(problem, impulse, v_free, v)
+            done += report.iterations
+        self.finished["nlgs"] += 1
+        return SolverReport(done, report.error, report.converged, "nlgs")
+
+    @staticmethod
+    def _rate(before: float, after: float, sweeps: int) -> float:
+        """Factor per sweep of the least error over `sweeps` sweeps."""
+        if not before > 0.0:
+            return 1.0
+        return (min(after, before) / before) ** (1.0 / sweeps)
+
+    def _switch(self, problem, impulse, v_free, v, done, omega) -> SolverReport:
+        self._conic.conic(problem, impulse, v_free, v)
+        # NLGS confirms, or sweeps on with the sweeps left where the fixed point did not reach
+        # a solution (it returns NLGS's iterate when none of its own has a smaller error)
+        nlgs = self._more[omega]
+        nlgs.max_iterations = max(self.max_iterations - done, 1)
+        report = nlgs.solve(problem, impulse, v_free, v)
+        self.finished["conic"] += 1
+        # back-off: after k switches in a row that did not end converged, the next 2^k solves
+        # do not switch (the fixed point crawls on such steps, docs/method.md)
+        self._failures = 0 if report.converged else min(self._failures + 1, _BACKOFF)
+        self._wait = 2 ** self._failures - 1 if self._failures else 0
+        return SolverReport(done + report.iterations, report.error, report.converged, "conic")

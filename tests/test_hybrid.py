@@ -1,0 +1,237 @@
+"""The hybrid solver (saxum.solver.Hybrid) and the conic family on FCLIB problems: switching
+where NLGS stalls, NLGS unchanged where it converges, the step log's record of who finished a
+step, honest messages, and the natural-map error every solve reports."""
+
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import saxum as sx
+from saxum.fclib import (
+    LocalProblem,
+    format_table,
+    solve_fclib_files,
+    solve_local,
+    verdict,
+)
+from saxum.solver.conic import delassus_conic
+from saxum.solver.residual import natural_map_error
+from saxum.structures import wall
+
+SHARED = next((p for p in (Path("/work/shared/fclib"),
+                           Path(__file__).resolve().parents[2] / "shared" / "fclib")
+               if p.is_dir()), None)
+needs_shared = pytest.mark.skipif(SHARED is None, reason="the shared FCLIB problems are absent")
+
+
+def _first_step(solver):
+    sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3, solver=solver)
+    state = sim.initial_state()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        report = sim.step(state)
+    return sim, state, report
+
+
+def test_hybrid_switches_where_nlgs_is_too_slow():
+    """A stack-bond tower of 20 x 2 bricks from a cold start, no rest solution: NLGS alone
+    falls by ~1e-4 per sweep and stops at its cap 5000 sweeps away from rest (velocities of
+    ~1e-3 m/s); the hybrid sees the rate, switches to the conic fixed point and ends the step
+    at rest (to round-off), confirmed by one NLGS sweep."""
+    _, nlgs_state, nlgs = _first_step(sx.NLGS(rest_after=0))
+    assert not nlgs.converged and nlgs.iterations == 5000
+    sim, state, report = _first_step(sx.Hybrid(rest_after=0))
+    assert report.converged and report.iterations < 5000
+    assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("conic")
+    assert sim.solver.finished == {"nlgs": 0, "conic": 1}
+    assert np.abs(state.body_v).max() < 1e-9 < np.abs(nlgs_state.body_v).max()
+    assert "finished by the conic solver at 1 step(s)" in sim.log.summary()
+
+
+def test_hybrid_is_nlgs_where_nlgs_converges():
+    """Where NLGS converges the hybrid runs the same sweeps: the same states bit for bit."""
+    runs = []
+    for solver in (sx.NLGS(), sx.Hybrid()):
+        sim = sx.Simulation(wall(courses=10, bricks=2, bond="stack"), dt=1e-3, solver=solver)
+        state = sim.initial_state()
+        sim.run(state, 0.02)
+        runs.append((state.body_q.copy(), sim.log.iterations.copy(), sim.log.solver.copy()))
+    assert np.array_equal(runs[0][0], runs[1][0])
+    assert np.array_equal(runs[0][1], runs[1][1])
+    assert not runs[1][2].any()
+
+
+def test_hybrid_rejects_a_bad_window():
+    with pytest.raises(sx.InputError, match="window"):
+        sx.Hybrid(window=0)
+
+
+def test_step_log_records_the_solver_in_results(tmp_path):
+    from saxum.cli import info_text
+    from saxum.results import Results, ResultsWriter
+
+    sim, state, report = _first_step(sx.Hybrid(rest_after=0))
+    with ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-3, theta=0.5) as w:
+        w.log_step(report)
+        w.write_frame(state)
+    with Results(tmp_path / "r.h5") as r:
+        assert r.steps["solver"].tolist() == [1]
+        assert "steps finished by: nlgs 0, conic 1" in info_text(r)
+
+
+# --- FCLIB ------------------------------------------------------------------------------------
+
+
+@needs_shared
+def test_every_shared_problem_is_solved_with_the_default_options():
+    rows = solve_fclib_files(sorted(SHARED.glob("*.hdf5")))
+    assert len(rows) >= 13
+    for row in rows:
+        assert row.solved and row.error <= 1e-8, (row.name, row.error, row.solver)
+        assert row.time < 5.0
+    assert any("conic" in row.solver for row in rows)  # BoxesStack: NLGS alone is too slow
+    assert "| yes (<= 1e-08) |" in format_table(rows)
+
+
+@needs_shared
+def test_hybrid_relaxes_where_nlgs_stalls():
+    """OneObject cycles at 3e-3 without relaxation: NLGS alone reports a stall, the hybrid
+    relaxes (0.7) and solves it."""
+    path = SHARED / "siconosdat_OneObject-i100000-499.hdf5"
+    alone = solve_fclib_files([path], solver="nlgs", max_iterations=2000)[0]
+    assert not alone.solved and alone.stalled
+    assert verdict(alone).startswith("no: stalls at")
+    row = solve_fclib_files([path])[0]
+    assert row.solved and row.relaxation == 0.7
+
+
+@needs_shared
+def test_running_out_of_sweeps_is_not_called_a_stall():
+    """BoxesStack's error falls steadily but slowly under NLGS (100 000 sweeps to 1e-8): cut
+    at 1000 sweeps it ran out, with the rate; the conic solver alone solves it."""
+    path = SHARED / "BoxesStack-local_problem_test.hdf5"
+    row = solve_fclib_files([path], solver="nlgs", max_iterations=1000)[0]
+    assert not row.solved and not row.stalled and 0.99 < row.rate < 1.0
+    assert verdict(row).startswith("no: ran out of sweeps")
+    assert "error still falling, rate 0.99" in verdict(row)
+    conic = solve_fclib_files([path], solver="conic")[0]
+    assert conic.solved and conic.iterations == 0 and conic.conic_iterations > 0
+
+
+# --- the natural-map error a solve reports is that of what it returns --------------------------
+
+
+@st.composite
+def local_problems(draw):
+    """u = W r + q, W = J J^T from a random J (contacts x dim rows, fewer or more columns than
+    rows: W singular or not; at least dim columns, so that each contact's own block is
+    positive definite, as a rigid contact's is), random q and mu."""
+    dim = draw(st.sampled_from([2, 3]))
+    contacts = draw(st.integers(1, 6))
+    columns = draw(st.integers(dim, 3 * contacts + 2))
+    seed = draw(st.integers(0, 2**32 - 1))
+    rng = np.random.default_rng(seed)
+    j = rng.normal(size=(dim * contacts, columns))
+    q = rng.normal(size=dim * contacts)
+    mu = rng.uniform(0.0, 1.0, size=contacts) * draw(st.sampled_from([0.0, 1.0]))
+    return LocalProblem(sp.csr_matrix(j @ j.T), q, mu, dim)
+
+
+@settings(max_examples=40, deadline=None)
+@given(local_problems(), st.sampled_from(["hybrid", "nlgs", "conic"]))
+def test_reported_error_is_the_natural_map_of_the_returned_impulses(problem, solver):
+    row = solve_local(problem, solver=solver, max_iterations=3000)
+    error = natural_map_error(problem.W, problem.q, problem.mu, row.r, problem.spacedim)
+    assert math.isclose(row.error, error, rel_tol=1e-12, abs_tol=1e-300)
+    assert row.solved == (error <= row.tolerance)
+    assert row.u == pytest.approx(problem.W @ row.r + problem.q, rel=1e-12, abs=1e-12)
+
+
+@settings(max_examples=30, deadline=None)
+@given(local_problems())
+def test_conic_result_reports_the_error_of_its_impulses(problem):
+    result = delassus_conic(problem.W, problem.q, problem.mu, problem.spacedim)
+    error = natural_map_error(problem.W, problem.q, problem.mu, result.r, problem.spacedim)
+    assert math.isclose(result.error, error, rel_tol=1e-12, abs_tol=1e-300)
+    # every r is in its cone (the interior point's iterates are strictly inside)
+    r = result.r.reshape(-1, problem.spacedim)
+    assert np.all(np.linalg.norm(r[:, 1:], axis=1) <= problem.mu * r[:, 0] + 1e-9 *
+                  (1.0 + np.abs(r).max()))
+
+
+def test_conic_alone_on_a_sliding_contact():
+    """The conic solver alone on a one-contact problem with a known solution: a block
+    pressed onto a plane and pushed sideways harder than friction holds it slides, r on the
+    cone's edge: r_N = -q_N / W_NN, r_T = -mu r_N sign(q_T) (W diagonal)."""
+    w = sp.csr_matrix(np.diag([2.0, 1.0]))
+    problem = LocalProblem(w, np.array([-1.0, 3.0]), np.array([0.5]), 2)
+    row = solve_local(problem, solver="conic")
+    assert row.solved
+    assert row.r == pytest.approx([0.5, -0.25], abs=1e-8)
+
+
+def test_scenario_picks_the_hybrid():
+    from saxum.scenario import parse_scenario
+
+    text = """
+        [structure]
+        type = "semicircular_arch"
+        radius = 1.0
+        thickness = 0.15
+        voussoirs = 9
+        [[laws]]
+        groups = ["voussoir", "voussoir"]
+        friction = 0.6
+        [[laws]]
+        groups = ["voussoir", "support"]
+        friction = 0.6
+        [output]
+        duration = 0.1
+        """
+    solver = parse_scenario(text, overrides=["solver.kind=hybrid", "solver.tolerance=1e-7"]
+                            ).build_simulation().solver
+    assert isinstance(solver, sx.Hybrid) and solver.tolerance == pytest.approx(1e-7)
+    assert isinstance(parse_scenario(text).build_simulation().solver, sx.NLGS)
+    with pytest.raises(sx.InputError, match="kind"):
+        parse_scenario(text, overrides=["solver.kind=newton"])
+
+
+def test_results_written_before_the_solver_column_still_read(tmp_path):
+    import h5py
+
+    from saxum.cli import info_text
+    from saxum.results import Results, ResultsWriter
+
+    sim, state, report = _first_step(sx.NLGS(max_iterations=50))
+    with ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-3, theta=0.5) as w:
+        w.log_step(report)
+        w.write_frame(state)
+    with h5py.File(tmp_path / "r.h5", "a") as f:
+        del f["steps/solver"]  # as saxum wrote them before this column existed
+    with Results(tmp_path / "r.h5") as r:
+        assert "solver" not in r.steps and r.steps["step"].tolist() == [1]
+        assert "steps finished by" not in info_text(r)
+
+
+def test_hybrid_backs_off_after_failed_switches(monkeypatch):
+    """With a conic step that finds nothing (patched out), every switch fails: after k failed
+    switches in a row the next 2^k - 1 steps are NLGS's alone (the tower's cold-started steps
+    stall under NLGS for many steps)."""
+    from saxum.solver.hybrid import ConicSolver
+
+    monkeypatch.setattr(ConicSolver, "conic", lambda self, *args: None)
+    sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
+                        solver=sx.Hybrid(rest_after=0))
+    state = sim.initial_state()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        for _ in range(7):
+            sim.step(state)
+    # switch (fails: wait 1), NLGS, switch (fails again: wait 3), NLGS x 3, switch
+    assert sim.log.solver.tolist() == [1, 0, 1, 0, 0, 0, 1]
