@@ -55,7 +55,7 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
                            histories=scenario.output.history_bodies(sim.model),
                            ground=scenario.loads.ground_motion is not None,
                            overwrite=overwrite)
-    return _advance(scenario, sim, state, writer, quiet, start=True)
+    return _advance(scenario, sim, state, writer, quiet, initial=True)
 
 
 def resume_run(path: str | Path, *, quiet: bool = False) -> RunSummary:
@@ -86,9 +86,9 @@ def _every(interval: float, dt: float) -> int:
 
 
 def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
-             start: bool = False) -> RunSummary:
+             initial: bool = False) -> RunSummary:
     """Step from `state` to the scenario's duration, writing frames, checkpoints and the
-    status; `start`: write the initial state first (frame 0, checkpoint at step 0)."""
+    status; `initial`: write the initial state first (frame 0, checkpoint at step 0)."""
     out = scenario.output
     dt = scenario.solver.dt
     total = round(out.duration / dt)
@@ -110,7 +110,7 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
     bar = tqdm(total=total, initial=state.step, disable=quiet, unit="step", dynamic_ncols=True,
                desc="saxum", leave=True)
     try:
-        if start:
+        if initial:
             writer.write_frame(state)
             writer.write_checkpoint(state, sim.detector)
         while state.step < total:
