@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ._version import __version__
-from .errors import InputError, SolverWarning
+from .errors import InputError, ResultsWriteError, SolverWarning
 
 __all__ = ["main"]
 
@@ -528,6 +528,12 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into a program that stopped reading (| head)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
         return 0
+    except ResultsWriteError as err:
+        print(f"saxum: failed: {err}", file=sys.stderr)
+        # HDF5 still holds the file it could not write, and would crash closing it at exit
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(1)
     except Exception as err:  # noqa: BLE001 - any failure is reported as exit code 1
         print(f"saxum: failed: {type(err).__name__}: {err}", file=sys.stderr)
         return 1

@@ -51,6 +51,8 @@ import functools
 import io
 import os
 import struct
+import sys
+import traceback
 import warnings
 import zlib
 from dataclasses import fields
@@ -512,8 +514,7 @@ class ResultsWriter:
 
     def flush_steps(self) -> None:
         """Write the buffered step reports and histories."""
-        with self._writing():
-            self._flush_steps()
+        self._write(self._flush_steps)
 
     def _flush_steps(self) -> None:
         if self._history_buffer:
@@ -533,7 +534,8 @@ class ResultsWriter:
     def write_frame(self, state) -> None:
         """Append the state (time, coordinates, velocities, contacts) as an output frame."""
         c = state.contacts
-        with self._writing():
+
+        def write():
             self._flush_steps()
             _commit(self._file["frames"], {
                 "step": np.array([state.step]), "time": np.array([state.time]),
@@ -542,12 +544,15 @@ class ResultsWriter:
                 **{name: getattr(c, name)[: c.count] for name in _CONTACT_FIELDS}})
             self._file.flush()
 
+        self._write(write)
+
     def write_checkpoint(self, state, detector) -> None:
         """Append what a bit-identical restart needs: the state with its contacts and the
         broad phase's pair list (saxum.detection.Detector.checkpoint)."""
         det = detector.checkpoint()
         c = state.contacts
-        with self._writing():
+
+        def write():
             self._flush_steps()
             _commit(self._file["checkpoints"], {
                 "step": np.array([state.step]), "time": np.array([state.time]),
@@ -560,38 +565,54 @@ class ResultsWriter:
                 **{name: getattr(c, name)[: c.count] for name in _CONTACT_FIELDS}})
             self._file.flush()
 
+        self._write(write)
+
     def set_status(self, status: int, message: str = "") -> None:
         """Mark the run 0 running, 1 finished, 2 interrupted or 3 failed, with a message."""
-        with self._writing():
+        def write():
             self._flush_steps()
             self._file["run/message"][0] = message.encode()[:512].ljust(512)
             self._file["run/status"][0] = status
             self._file.flush()
 
-    @contextlib.contextmanager
-    def _writing(self):
-        """HDF5's errors on writing (a full disk: errno ENOSPC or EFBIG) as ResultsWriteError;
-        the file is then closed, readable up to its last complete row."""
+        self._write(write)
+
+    def _write(self, write) -> None:
+        """Call write(); HDF5's errors on writing (a full disk: errno ENOSPC or EFBIG) become a
+        ResultsWriteError, the file then closed, readable up to its last complete row."""
         if self._file is None:
             raise ResultsWriteError(f"{self.path}: the results file is closed")
+        # the failed write's frames hold h5py objects of this file: freed after the file's
+        # close failed, they crash HDF5; so they go first (their complaints unheard), then
+        # the file
+        hook = sys.unraisablehook
         try:
-            yield
-        except (OSError, RuntimeError) as err:
-            self.close()
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", ResultsDamageWarning)
-                try:
-                    with Results(self.path) as r:
-                        kept = (f"it is readable up to t = {r.time[-1]:g} s (frame "
-                                f"{r.frame_count - 1}, last checkpoint at step "
-                                f"{r.checkpoint_steps[-1]})" if r.checkpoint_steps.size
-                                else "it holds no checkpoint")
-                except Exception:  # noqa: BLE001 - said in the message
-                    kept = "it cannot be read back"
-            raise ResultsWriteError(
-                f"could not write {self.path} ({_reason(err)}: a full disk or a file-size "
-                f"limit?): {kept}; make room and continue with saxum resume {self.path}"
-            ) from None
+            try:
+                write()
+                return
+            except (OSError, RuntimeError) as err:
+                sys.unraisablehook = lambda _: None
+                reason = _reason(err)
+                with _quiet_stderr():  # h5py prints the failures of its objects' release
+                    traceback.clear_frames(err.__traceback__)
+                    err.__traceback__ = None
+            with _quiet_stderr():
+                self.close()
+        finally:
+            sys.unraisablehook = hook
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ResultsDamageWarning)
+            try:
+                with Results(self.path) as r:
+                    kept = (f"it is readable up to t = {r.time[-1]:g} s (frame "
+                            f"{r.frame_count - 1}, last checkpoint at step "
+                            f"{r.checkpoint_steps[-1]})" if r.checkpoint_steps.size
+                            else "it holds no checkpoint")
+            except Exception:  # noqa: BLE001 - said in the message
+                kept = "it cannot be read back"
+        raise ResultsWriteError(
+            f"could not write {self.path} ({reason}: a full disk or a file-size limit?): "
+            f"{kept}; make room and continue with saxum resume {self.path}")
 
     def close(self) -> None:
         """Write what is buffered, close the file and release its lock."""
@@ -657,6 +678,21 @@ def _commit(g: h5py.Group, values: dict[str, np.ndarray]) -> None:
     if "checksum" in g:
         _append(g["checksum"], _checksums([data[name] for name in columns], parts))
     _append(g[columns[-1]], data[columns[-1]])
+
+
+@contextlib.contextmanager
+def _quiet_stderr():
+    """Standard error (file descriptor 2) sent to /dev/null meanwhile."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    sink = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(sink, 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(sink)
 
 
 def _open_for_writing(path: Path, mode: str) -> h5py.File:
