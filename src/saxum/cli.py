@@ -530,10 +530,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except ResultsWriteError as err:
         print(f"saxum: failed: {err}", file=sys.stderr)
-        # HDF5 still holds the file it could not write, and would crash closing it at exit
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(1)
+        return 1
     except Exception as err:  # noqa: BLE001 - any failure is reported as exit code 1
         print(f"saxum: failed: {type(err).__name__}: {err}", file=sys.stderr)
         return 1

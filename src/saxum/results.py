@@ -51,8 +51,6 @@ import functools
 import io
 import os
 import struct
-import sys
-import traceback
 import warnings
 import zlib
 from dataclasses import fields
@@ -169,7 +167,11 @@ class _Lock:
             return
         lock = _lock_path(self.path)
         while True:
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as err:
+                raise InputError(f"cannot write results file {path}: {err.strerror} "
+                                 f"({lock.parent}); give another one (-o)") from None
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
@@ -582,24 +584,18 @@ class ResultsWriter:
         ResultsWriteError, the file then closed, readable up to its last complete row."""
         if self._file is None:
             raise ResultsWriteError(f"{self.path}: the results file is closed")
-        # the failed write's frames hold h5py objects of this file: freed after the file's
-        # close failed, they crash HDF5; so they go first (their complaints unheard), then
-        # the file
-        hook = sys.unraisablehook
         try:
-            try:
-                write()
-                return
-            except (OSError, RuntimeError) as err:
-                sys.unraisablehook = lambda _: None
-                reason = _reason(err)
-                with _quiet_stderr():  # h5py prints the failures of its objects' release
-                    traceback.clear_frames(err.__traceback__)
-                    err.__traceback__ = None
-            with _quiet_stderr():
-                self.close()
-        finally:
-            sys.unraisablehook = hook
+            write()
+            return
+        except (OSError, RuntimeError) as err:
+            reason = _reason(err)
+            # HDF5 writes again when it releases the objects of the failed write and closes
+            # the file; failing again, it leaves them half closed and crashes at exit. Those
+            # writes go to /dev/null: the file keeps what it had when the write failed
+            sink = os.open(os.devnull, os.O_RDWR)
+            os.dup2(sink, self._file.id.get_vfd_handle())
+            os.close(sink)
+        self.close()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ResultsDamageWarning)
             try:
@@ -678,21 +674,6 @@ def _commit(g: h5py.Group, values: dict[str, np.ndarray]) -> None:
     if "checksum" in g:
         _append(g["checksum"], _checksums([data[name] for name in columns], parts))
     _append(g[columns[-1]], data[columns[-1]])
-
-
-@contextlib.contextmanager
-def _quiet_stderr():
-    """Standard error (file descriptor 2) sent to /dev/null meanwhile."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    sink = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(sink, 2)
-        yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(sink)
 
 
 def _open_for_writing(path: Path, mode: str) -> h5py.File:
@@ -787,6 +768,9 @@ class Results:
                     raise InputError(f"{self.path} is not a saxum results file")
                 self._read(live)
             except (OSError, RuntimeError, KeyError, ValueError) as err:
+                if live:  # (a run that is creating its file)
+                    raise InputError(f"{self.path} is being written and cannot be read yet "
+                                     f"({_reason(err)}): try again") from None
                 raise InputError(f"{self.path} is damaged beyond reading ({_reason(err)})"
                                  + "".join(f"; {d}" for d in self.damage)) from None
         except BaseException:
