@@ -361,6 +361,9 @@ class ResultsWriter:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = None
+        self._steps_buffer: list[StepReport] = []
+        self._history_buffer: list[tuple] = []
+        self._groups: dict[str, _Rows] = {}
         self._lock = _Lock(self.path)
         try:
             if self.path.exists() and not overwrite:
@@ -430,8 +433,6 @@ class ResultsWriter:
         run.create_dataset("status", data=np.array([0], dtype=np.int8))
         run.create_dataset("message", data=np.array([b" " * 512]), dtype="S512")
         f.swmr_mode = True
-        self._steps_buffer: list[StepReport] = []
-        self._history_buffer: list[tuple] = []
         self._history_bodies = np.asarray(histories, dtype=np.int64)
 
     @classmethod
@@ -496,6 +497,7 @@ class ResultsWriter:
         self._file.swmr_mode = True
         self._steps_buffer = []
         self._history_buffer = []
+        self._groups = {}
         self._history_bodies = (self._file["histories"].attrs["body"]
                                 if "histories" in self._file else np.zeros(0, np.int64))
         return self, k
@@ -514,6 +516,11 @@ class ResultsWriter:
             self._history_buffer.append((state.step, state.time, state.body_q[b].copy(),
                                          state.body_v[b].copy(), ground))
 
+    def _rows(self, group: str) -> _Rows:
+        if group not in self._groups:
+            self._groups[group] = _Rows(self._file[group])
+        return self._groups[group]
+
     def flush_steps(self) -> None:
         """Write the buffered step reports and histories."""
         self._write(self._flush_steps)
@@ -521,15 +528,15 @@ class ResultsWriter:
     def _flush_steps(self) -> None:
         if self._history_buffer:
             rows = list(zip(*self._history_buffer, strict=True))
-            _commit(self._file["histories"], {
+            self._rows("histories").append({
                 "step": np.array(rows[0]), "time": np.array(rows[1]),
                 "body_q": np.array(rows[2]), "body_v": np.array(rows[3]),
                 "ground_acceleration": np.array(rows[4], dtype=np.float64)})
             self._history_buffer.clear()
         if self._steps_buffer:
-            _commit(self._file["steps"], {name: np.array([getattr(r, name)
-                                                          for r in self._steps_buffer])
-                                          for name in _STEP_FIELDS})
+            self._rows("steps").append({name: np.array([getattr(r, name)
+                                                        for r in self._steps_buffer])
+                                        for name in _STEP_FIELDS})
             self._steps_buffer.clear()
         self._file.flush()
 
@@ -539,7 +546,7 @@ class ResultsWriter:
 
         def write():
             self._flush_steps()
-            _commit(self._file["frames"], {
+            self._rows("frames").append({
                 "step": np.array([state.step]), "time": np.array([state.time]),
                 "body_q": state.body_q[None], "body_v": state.body_v[None],
                 "contact_count": np.array([c.count]),
@@ -556,7 +563,7 @@ class ResultsWriter:
 
         def write():
             self._flush_steps()
-            _commit(self._file["checkpoints"], {
+            self._rows("checkpoints").append({
                 "step": np.array([state.step]), "time": np.array([state.time]),
                 "body_q": state.body_q[None], "body_v": state.body_v[None],
                 "q_ref": det["q_ref"][None], "pairs": det["pairs"],
@@ -655,25 +662,33 @@ def _contact_datasets(g: h5py.Group, dim: int) -> None:
               chunk=4096)
 
 
-def _commit(g: h5py.Group, values: dict[str, np.ndarray]) -> None:
-    """Append rows to group `g` (frames, steps, histories or checkpoints): the ragged parts,
+class _Rows:
+    """Appends rows to one group (frames, steps, histories or checkpoints): the ragged parts,
     the columns, the rows' CRC-32 and last the index column (_ROWS), so that a reader that
-    sees a row in the index sees all of it."""
-    columns, ragged = _ROWS[g.name.lstrip("/")]
-    columns = [name for name in columns if name in g]
-    data = {name: np.asarray(values[name], dtype=g[name].dtype) for name in columns}
-    parts = []
-    for sub, names, count in ragged:
-        h = g[sub] if sub else g
-        arrays = [np.asarray(values[name], dtype=h[name].dtype) for name in names]
-        parts.append((arrays, data[count]))
-        for name, a in zip(names, arrays, strict=True):
-            _append(h[name], a)
-    for name in columns[:-1]:
-        _append(g[name], data[name])
-    if "checksum" in g:
-        _append(g["checksum"], _checksums([data[name] for name in columns], parts))
-    _append(g[columns[-1]], data[columns[-1]])
+    sees a row in the index sees all of it. Holds the group's datasets (looking them up at
+    every row would cost more than writing it)."""
+
+    def __init__(self, g: h5py.Group) -> None:
+        columns, ragged = _ROWS[g.name.lstrip("/")]
+        self.columns = [name for name in columns if name in g]
+        self.ds = {name: g[name] for name in self.columns}
+        self.ragged = [(names, {name: (g[sub] if sub else g)[name] for name in names}, count)
+                       for sub, names, count in ragged]
+        self.checksum = g["checksum"] if "checksum" in g else None  # (none in format 1)
+
+    def append(self, values: dict[str, np.ndarray]) -> None:
+        data = {name: np.asarray(values[name], dtype=ds.dtype) for name, ds in self.ds.items()}
+        parts = []
+        for names, datasets, count in self.ragged:
+            arrays = [np.asarray(values[name], dtype=datasets[name].dtype) for name in names]
+            parts.append((arrays, data[count]))
+            for name, a in zip(names, arrays, strict=True):
+                _append(datasets[name], a)
+        for name in self.columns[:-1]:
+            _append(self.ds[name], data[name])
+        if self.checksum is not None:
+            _append(self.checksum, _checksums([data[name] for name in self.columns], parts))
+        _append(self.ds[self.columns[-1]], data[self.columns[-1]])
 
 
 def _open_for_writing(path: Path, mode: str) -> h5py.File:
