@@ -194,7 +194,15 @@ _FULL_DISK = textwrap.dedent("""\
     from saxum.cli import main
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # write() then fails with EFBIG
     resource.setrlimit(resource.RLIMIT_FSIZE, (1_100_000, 1_100_000))
-    sys.exit(main(["run", sys.argv[1], "-o", sys.argv[2], "-q"]))
+    if sys.argv[3] == "cli":
+        sys.exit(main(["run", sys.argv[1], "-o", sys.argv[2], "-q"]))
+    from saxum.errors import ResultsWriteError
+    from saxum.runner import run_scenario
+    from saxum.scenario import load_scenario
+    try:
+        run_scenario(load_scenario(sys.argv[1]), sys.argv[2], quiet=True)
+    except ResultsWriteError:
+        print("caught")
 """)
 
 
@@ -202,7 +210,7 @@ def test_a_full_disk_is_a_clear_failure_and_the_file_resumes(tmp_path, reference
     """Before: an HDF5 error, then a segmentation fault (exit 139)."""
     (tmp_path / "arch.toml").write_text(SCENARIO)
     out = tmp_path / "arch.h5"
-    done = subprocess.run([sys.executable, "-c", _FULL_DISK, "arch.toml", str(out)],
+    done = subprocess.run([sys.executable, "-c", _FULL_DISK, "arch.toml", str(out), "cli"],
                           cwd=tmp_path, capture_output=True, text=True, timeout=HANG)
     assert done.returncode == 1, done.stderr
     assert f"could not write {out} (File too large: a full disk or a file-size limit?)" in (
@@ -213,6 +221,10 @@ def test_a_full_disk_is_a_clear_failure_and_the_file_resumes(tmp_path, reference
         assert r.status == "interrupted" and r.frame_count > 1 and r.resumable >= 1
     resume_run(out, quiet=True)
     _same_results(out, reference)
+    # in Python: the error to catch, and no crash when the interpreter exits afterwards
+    done = subprocess.run([sys.executable, "-c", _FULL_DISK, "arch.toml", "py.h5", "python"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=HANG)
+    assert done.returncode == 0 and done.stdout == "caught\n", done.stderr
 
 
 _HOLD = textwrap.dedent("""\
