@@ -9,7 +9,9 @@ flood_bridge.toml reads; the flood there is still water at 2 m with a 3 m/s flow
 
 Run: python examples/flood_bridge.py    (writes the blocks, finds by bisection the level or
                                           the velocity at failure in four cases, prints the
-                                          mechanisms, draws docs/img/flood-bridge.png)
+                                          mechanisms, draws flood-bridge.png)
+     options: --out DIR (where the picture and the blocks go: default the current directory;
+              the docs' picture: --out docs/img --blocks examples/flood-bridge-section.json)
 or:  saxum collapse examples/flood_bridge.toml --vary loads.flood.level --stands 4
          --collapses 9
 """
@@ -149,6 +151,20 @@ def main(tolerance: float = 0.005, cases=tuple(CASES), picture: Path | None = No
     return found
 
 
+def cli(argv: list[str] | None = None) -> dict:
+    """The command line (module doc): files go to the current directory unless --out."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out", type=Path, default=Path(),
+                        help="folder of the picture (default: the current directory)")
+    parser.add_argument("--blocks", type=Path, default=None,
+                        help="the section's block file (default: in --out)")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_blocks(args.blocks or args.out / BLOCKS.name, section())
+    return main(picture=args.out / "flood-bridge.png")
+
+
 if __name__ == "__main__":
-    write_blocks(BLOCKS, section())
-    main(picture=HERE.parent / "docs" / "img" / "flood-bridge.png")
+    cli()

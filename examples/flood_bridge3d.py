@@ -11,7 +11,9 @@ bed, parapets 0.4 x 1.0 m, stone 2400 and fill 2000 kg/m^3, friction 0.6, C_d = 
 Run: python examples/flood_bridge3d.py   (finds by bisection the level or the velocity at
                                            failure in three cases, prints the mechanisms and
                                            the statics, draws each case failing to
-                                           docs/img/flood-bridge3d-<tag>.png)
+                                           flood-bridge3d-<tag>.png)
+     option: --out DIR (where the pictures go: default the current directory; the docs'
+             pictures: --out docs/img)
 """
 
 import math
@@ -174,5 +176,17 @@ def _picture(sc, title: str, path: Path) -> None:
                           dpi=100)
 
 
+def cli(argv: list[str] | None = None) -> dict:
+    """The command line (module doc): pictures go to the current directory unless --out."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out", type=Path, default=Path(),
+                        help="folder of the pictures (default: the current directory)")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    return main(pictures=args.out)
+
+
 if __name__ == "__main__":
-    main(pictures=HERE.parent / "docs" / "img")
+    cli()

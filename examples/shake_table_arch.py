@@ -6,6 +6,7 @@ method", 2013; the scenario and what was assumed: examples/shake_table_arch.toml
 docs/applications.md).
 
     python examples/shake_table_arch.py      (under a minute on 2 cores)
+    option: --out DIR (where the picture goes: default the current directory)
 
 Prints the static load factor with its hinges, then per period the critical amplitude [g],
 the time of collapse and the hinge positions as angles from the crown [deg] (negative: left
@@ -72,5 +73,17 @@ def main(periods=PERIODS, *, tolerance: float = 0.02, stands: float = 0.5,
     return lam, out
 
 
+def cli(argv: list[str] | None = None):
+    """The command line (module doc): the picture goes to the current directory unless --out."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out", type=Path, default=Path(),
+                        help="folder of the picture (default: the current directory)")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    return main(picture=args.out / "shake_table_arch-curve.png")
+
+
 if __name__ == "__main__":
-    main()
+    cli()

@@ -40,3 +40,51 @@ def test_a_block_thrown_during_the_settlement_is_a_collapse():
     criterion = CollapseCriterion(after_motion=True, not_before=0.1)
     trial = run_trial(_block_on_a_settling_support(0.2, time=0.1), 0.2, criterion)
     assert trial.collapsed and trial.time < 0.1
+
+
+SLIDE = """\
+[structure]
+type = "blocks"
+file = "block.json"
+[[laws]]
+groups = ["block", "ground"]
+friction = 0.5
+[[laws]]
+groups = ["block", "block"]
+friction = 0.5
+[loads]
+load_factor_rate = 0.25
+[solver]
+dt = 1e-3
+[output]
+duration = 3.2
+interval = 0.05
+"""
+
+
+def test_a_slow_slide_begins_where_the_block_starts_to_slide(tmp_path, capsys):
+    """A flat block (1 x 0.2 m: it slides long before it could tip, at a/g = 5) under a
+    horizontal load growing as a(t) = 0.25 g t on a joint of friction 0.5 starts to slide at
+    t = 0.5 / 0.25 = 2 s (Coulomb) and moves as g (0.25 t - 0.5)^3 / 6 after: 4.5 cm, a fifth
+    of the collapse displacement, only at 2.5 s. The collapsing motion began at the first
+    output frame after 2 s (frames every 0.05 s), with the joint sliding and no hinge."""
+    from saxum.cli import main
+    from saxum.collapse import find_collapse
+    from saxum.results import Results
+
+    (tmp_path / "block.json").write_text(
+        '{"blocks": [{"vertices": [[-5, -0.2], [5, -0.2], [5, 0], [-5, 0]], "kind": "fixed",'
+        ' "group": "ground", "name": "ground"},'
+        ' {"vertices": [[0, 0], [1, 0], [1, 0.2], [0, 0.2]], "density": 2000, "name": "slab"}]}')
+    scenario = tmp_path / "slide.toml"
+    scenario.write_text(SLIDE)
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    with Results(scenario.with_suffix(".h5")) as r:
+        event = find_collapse(r)
+        began = float(r.time[event.onset_frame])
+    assert event is not None and event.block == "slab"
+    assert 2.0 < began <= 2.05 + 1e-9
+    assert main(["info", str(scenario.with_suffix(".h5"))]) == 0
+    out = capsys.readouterr().out
+    assert f"when the collapsing motion began, t = {began:.4g} s" in out
+    assert "sliding joint between ground and slab" in out and "hinge between" not in out

@@ -161,8 +161,36 @@ def test_flood_bridge3d_has_the_2d_sections_cross_section_and_stands():
     assert (structure.width, structure.spandrel_thickness) == (fb.WIDTH, fb.WALL)
     assert (structure.parapet_thickness, structure.parapet_height) == fb.PARAPET
     assert (structure.density, structure.fill_density) == (fb.STONE, fb.FILL)
-    assert structure.abutment_height + structure.spandrel_height == fb3.DECK == fb.DECK
+    # sums of heights of a few metres: one rounding each (~1e-15 m), 1e-12 m allowed
+    deck = structure.abutment_height + structure.spandrel_height
+    assert deck == pytest.approx(fb3.DECK, abs=1e-12) and fb.DECK == pytest.approx(fb3.DECK,
+                                                                                  abs=1e-12)
     sim = fb3.scenario([]).build_simulation()
     assert sim.model.body_count == 59
     trial = run_trial(sim, criterion=fb3.CRITERION)
     assert not trial.collapsed and trial.displacement < 1e-6
+
+
+@pytest.mark.parametrize("name, keyword, written", [
+    ("flood_bridge", "picture", "flood-bridge.png"),
+    ("flood_bridge3d", "pictures", None),
+    ("shake_table_arch", "picture", "shake_table_arch-curve.png"),
+])
+def test_example_scripts_write_into_the_working_directory_unless_asked(
+        name, keyword, written, tmp_path, monkeypatch):
+    """Run as scripts, the examples write their pictures (and flood_bridge its blocks) to the
+    current directory, or to --out: never over the repository's tracked files."""
+    module = _load(name)
+    calls = []
+    monkeypatch.setattr(module, "main", lambda **options: calls.append(options))
+    monkeypatch.chdir(tmp_path)
+    module.cli([])
+    module.cli(["--out", "pictures"])
+    here, asked = (Path(c[keyword]).resolve() for c in calls)
+    expected = [tmp_path, tmp_path / "pictures"]
+    if written is not None:
+        expected = [folder / written for folder in expected]
+    assert [here, asked] == expected
+    if name == "flood_bridge":
+        assert (tmp_path / "flood-bridge-section.json").is_file()
+        assert (tmp_path / "pictures" / "flood-bridge-section.json").is_file()

@@ -216,14 +216,145 @@ class _StillRun(_QuietRun):
         self.body_q = np.broadcast_to(q0 + [3e-17, 0.0, 0.0], results.body_q.shape).copy()
 
 
-def test_colour_scale_of_a_structure_at_rest_ends_at_one_nanometre(run):
-    """Displacements of round-off are drawn on a 0-1 nm scale, not on one that ends at the
-    largest round-off (3e-8 nm) with an axis offset."""
+def test_a_structure_at_rest_has_no_colour_scale_but_its_largest_displacement(run):
+    """Displacements of round-off (3e-17 m) get no colour bar (a 0-1 nm scale would suggest
+    a motion): the picture says that the structure is at rest and how far a block moved."""
     _, _, r = run
-    fig = plot_frame(_StillRun(r), -1)
+    still = _StillRun(r)
+    free = r.model["body_kind"] == sx.BodyKind.FREE
+    largest = np.linalg.norm(still.body_q[-1, free, :2] - r.model["body_q0"][free, :2],
+                             axis=1).max()
+    assert 0.0 < largest < 1e-15
+    fig = plot_frame(still, -1)
     try:
-        bar = fig.axes[1]
-        assert bar.get_ylabel() == "displacement [nm]"
-        assert bar.get_ylim() == pytest.approx((0.0, 1.0))
+        assert len(fig.axes) == 1  # no colour bar
+        notes = [t.get_text() for t in fig.axes[0].texts]
+        assert f"at rest: largest displacement {largest:.2g} m" in notes
     finally:
         plt.close(fig)
+
+
+POINT_LOAD = """\
+title = "arch under a point load"
+[structure]
+type = "semicircular_arch"
+radius = 1.0
+thickness = 0.15
+voussoirs = 9
+[[laws]]
+groups = ["*", "*"]
+friction = 0.6
+[[loads.point_loads]]
+block = "voussoir 3"
+magnitude = 2000.0
+direction = [1.0, -1.0]
+[solver]
+dt = 1e-3
+[output]
+duration = 0.01
+interval = 0.01
+"""
+
+
+def test_legend_names_the_thrust_line_and_the_point_loads(tmp_path):
+    """The point load is drawn as an arrow onto its block's centre of mass, along the force,
+    and the legend names it with its size, and the thrust line."""
+    from saxum.cli import main
+
+    scenario = tmp_path / "loaded.toml"
+    scenario.write_text(POINT_LOAD)
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    with Results(scenario.with_suffix(".h5")) as r:
+        ax = plot_frame(r, -1, thrust_line=True).axes[0]
+        centre = r.body_q[-1, r.body_name.index("voussoir 3"), :2]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "thrust line" in labels and "point load 2 kN/m" in labels
+    (arrow,) = [a for a in ax.texts if hasattr(a, "arrow_patch")]
+    assert arrow.xy == pytest.approx(tuple(centre))
+    along = np.subtract(arrow.xy, arrow.xyann)
+    assert along / np.linalg.norm(along) == pytest.approx(np.array([1.0, -1.0]) / np.sqrt(2))
+
+
+FLOODED = """\
+[structure]
+type = "blocks"
+file = "block.json"
+[[laws]]
+groups = ["*", "*"]
+friction = 0.6
+[loads.flood]
+level = 0.5
+velocity = 0.0
+[solver]
+dt = 1e-3
+[output]
+duration = 0.01
+interval = 0.01
+"""
+
+
+def test_water_is_drawn_from_the_ground_up(tmp_path):
+    """The water fills the space between the ground's top (y = 0 here) and its level, not the
+    ground and the space below it."""
+    from saxum.cli import main
+
+    (tmp_path / "block.json").write_text(
+        '{"blocks": [{"vertices": [[-2, -0.5], [2, -0.5], [2, 0], [-2, 0]], "kind": "fixed",'
+        ' "name": "ground"},'
+        ' {"vertices": [[0, 0], [0.4, 0], [0.4, 0.2], [0, 0.2]], "density": 2400}]}')
+    scenario = tmp_path / "flooded.toml"
+    scenario.write_text(FLOODED)
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    with Results(scenario.with_suffix(".h5")) as r:
+        ax = plot_frame(r, -1).axes[0]
+    water = [c for c in ax.collections if len(c.get_facecolor())
+             and np.allclose(c.get_facecolor()[0][:3], (0x9c / 255, 0xc8 / 255, 0xe8 / 255))]
+    (y,) = [np.concatenate([p.vertices[:, 1] for p in c.get_paths()]) for c in water]
+    assert y.min() == pytest.approx(0.0, abs=1e-12) and y.max() == pytest.approx(0.5)
+
+
+WALL3D = """\
+title = "3D wall under a point load"
+[structure]
+type = "wall_3d"
+courses = 2
+length = 0.6
+thickness = 0.1
+brick_length = 0.2
+brick_height = 0.06
+[[laws]]
+groups = ["*", "*"]
+friction = 0.6
+[[loads.point_loads]]
+block = "brick c2a1"
+magnitude = 50.0
+direction = [0.0, 0.0, -1.0]
+[solver]
+dt = 1e-3
+[output]
+duration = 0.01
+interval = 0.01
+"""
+
+
+def test_3d_picture_force_scale_point_load_and_rest(tmp_path):
+    """A 3D frame's legend gives the scale of the contact dots (the full-scale force and half
+    of it, with their units) and names the point load; a wall at rest gets no colour bar
+    but its largest displacement."""
+    from saxum.cli import main
+
+    scenario = tmp_path / "wall3d.toml"
+    scenario.write_text(WALL3D)
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    with Results(scenario.with_suffix(".h5")) as r:
+        fig = plot_frame(r, -1)
+        largest = np.linalg.norm(r.body_q[-1, :, :3] - r.model["body_q0"][:, :3], axis=1).max()
+        full = r.contacts(1)["force"][:, 1].max()
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    scale = [float(text.split()[-2]) for text in labels[:2]]  # the dots' scale comes first
+    assert len(scale) == 2 and scale[1] == pytest.approx(scale[0] / 2)
+    assert full <= scale[0] < 5 * full  # the next 1, 2 or 5 times a power of ten
+    assert "point load 50 N" in labels
+    assert len(fig.axes) == 1  # no colour bar: at rest
+    assert f"at rest: largest displacement {largest:.2g} m" in [t.get_text() for t in fig.texts]

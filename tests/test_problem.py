@@ -1,6 +1,10 @@
 """The 2D kernels of the contact problem, written out for 3 dof, against the generic ones that
-loop over the dimension and the dof (the path other dimensions take): the same numbers bit
-for bit, on every contact law."""
+loop over the dimension and the dof (the path other dimensions take): the same numbers to
+round-off, on every contact law. Two code paths are not compared bit for bit (a compiler may
+order or fuse the operations differently): each entry of H, W, the bias and the velocities is
+a sum of at most ~10 products of quantities no larger than the array's largest entry, so the
+paths agree within ~10 eps of it; _ROUND_OFF allows 1e-13 (about 450 eps). Copies (friction,
+the active flags, warm-started impulses) and counts stay exact."""
 
 import numpy as np
 import pytest
@@ -29,6 +33,15 @@ def stepped(request):
     return sim, state, generic
 
 
+_ROUND_OFF = 1e-13
+
+
+def _close(a, b):
+    """a and b agree to round-off of the size of b's largest entry (module doc)."""
+    scale = np.abs(b).max(initial=0.0)
+    return a.shape == b.shape and np.all(np.abs(a - b) <= _ROUND_OFF * scale)
+
+
 def _assembled(problem, contacts, q, v_begin, v):
     contacts = contacts.copy()
     v = v.copy()
@@ -49,8 +62,12 @@ def test_assembly_and_warm_start_match_the_generic_kernels(stepped):
     assert np.any(slow[3] != 0.0)  # some contacts have a shift b_n
     if sim.model.law_kind[0] == LawKind.RESTITUTION_COULOMB:
         assert not slow[5].all()  # and some are inactive
-    for a, b in zip(fast, slow, strict=True):
-        assert np.array_equal(a, b)
+    for name, a, b in zip(("H_cand", "H_ant", "W", "bias", "friction", "active", "impulse",
+                           "v"), fast, slow, strict=True):
+        if name in ("friction", "active", "impulse"):  # copies and flags
+            assert np.array_equal(a, b), name
+        else:
+            assert _close(a, b), name
     # the structure of rigid 2D contact rows that saxum.solver.nlgs.nlgs_2d relies on
     assert np.array_equal(fast[1][:, :, :2], -fast[0][:, :, :2])
 
@@ -66,6 +83,11 @@ def test_end_of_step_gaps_match_the_generic_kernel(stepped):
     for extra in (None, w):
         fast = sim.problem.end_gaps(r, state.body_v, 1e-3, 0.5, extra)
         slow = generic.end_gaps(r, state.body_v, 1e-3, 0.5, extra)
-        assert np.array_equal(sim.problem.gap_end[:k], generic.gap_end[:k])
-        assert fast == slow and fast[1] == max(0.0, -generic.gap_end[:k].min())
+        assert _close(sim.problem.gap_end[:k], generic.gap_end[:k])
+        # (contacts with r_n > 0, deepest end-of-step penetration [m]): the penetration is
+        # the largest -gap_end, so the two agree as the gaps do
+        gap_scale = np.abs(generic.gap_end[:k]).max()
+        assert fast[0] == slow[0]
+        assert fast[1] == pytest.approx(slow[1], abs=_ROUND_OFF * gap_scale)
+        assert slow[1] == max(0.0, -generic.gap_end[:k].min())
         assert fast[0] == np.count_nonzero(r[:k, 1] > 0.0)

@@ -206,7 +206,7 @@ def test_cli_exit_codes(tmp_path, capsys):
     assert "line 6: structure.voussoirs" in capsys.readouterr().err
     assert main(["info", str(bad)]) == 2  # not a results file
     assert main(["run", str(bad), "--set", "structure.voussoirs=15", "--set",
-                 "structure.radius=1e-9", "--quiet"]) == 2  # thickness >= 2 radius
+                 "structure.radius=0.04", "--quiet"]) == 2  # thickness >= 2 radius
     with pytest.raises(SystemExit) as info:
         main(["frobnicate"])
     assert info.value.code == 2

@@ -1,4 +1,5 @@
-"""saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input.
+"""saxum's command line. Exit codes: 0 done, 1 failed with a message, 2 bad input (the
+message names the key, file or option), 130 Ctrl-C outside a run's own handling.
 SI units throughout; in 2D, forces and masses are per metre of depth.
 
     saxum run SCENARIO [-o RESULTS] [--overwrite] [--set KEY=VALUE ...] [--unset KEY ...]
@@ -180,10 +181,22 @@ def _collapse_curve(args) -> None:
 def _fclib_solve(args) -> None:
     from .fclib import format_table, solve_fclib_files
 
+    bad = []
+
+    def skip(path, err):  # named now, and the others are solved
+        print(f"saxum: bad input: {err} (left out)", file=sys.stderr)
+        bad.append(str(path))
+
     rows = solve_fclib_files(args.files, tolerance=args.tolerance,
-                             max_iterations=args.max_iterations, relaxation=args.relaxation)
-    print(format_table(rows))
+                             max_iterations=args.max_iterations, relaxation=args.relaxation,
+                             on_error=skip)
+    if rows:
+        print(format_table(rows))
     unsolved = [r.name for r in rows if not r.solved]
+    if bad:
+        raise InputError(f"{len(bad)} of {len(args.files)} file(s) left out: {', '.join(bad)}"
+                         + (f"; not solved to {args.tolerance:g}: {', '.join(unsolved)}"
+                            if unsolved else ""))
     if unsolved:
         raise RuntimeError(f"not solved to {args.tolerance:g}: {', '.join(unsolved)}")
 
@@ -253,7 +266,7 @@ moving (a structure at rest: round-off)."""
 def _collapse_lines(r, ground) -> list[str]:
     """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
     harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
-    from .collapse import DYNAMIC_FRACTION, find_collapse
+    from .collapse import DYNAMIC_FRACTION, ONSET, find_collapse
     from .mechanism import frame_mechanism
 
     free = r.model["body_kind"] == 0
@@ -284,14 +297,21 @@ def _collapse_lines(r, ground) -> list[str]:
              f"by more than {event.limit:.3g} m ({DYNAMIC_FRACTION:g} x the smallest block's "
              f"size) and did not come back ({event.displacement:.3g} m at the end)",
              f"mechanism at collapse (when the collapsing motion began, t = {began:.4g} s, "
-             f"frame {event.onset_frame}):\n  " + text]
+             f"frame {event.onset_frame}):\n  " + text,
+             f"large motion began at t = {r.time[event.large_frame]:.4g} s (frame "
+             f"{event.large_frame}: a free block first moved by more than "
+             f"{ONSET * event.limit:.3g} m; under shaking a time that round-off hardly moves, "
+             "unlike the two above)"]
     if ground is not None and ground.pulse == "harmonic" and ground.ramp > 0.0:
         g = float(np.linalg.norm(r.model["gravity"]))
 
         def amplitude(t):
             return ground.scale * ground.amplitude * min(1.0, (t + ground.start) / ground.ramp)
 
-        lines.append(f"harmonic amplitude A min(1, t/ramp): {amplitude(began):.4g} m/s^2 "
+        large = float(r.time[event.large_frame])
+        lines.append(f"harmonic amplitude A min(1, t/ramp): {amplitude(large):.4g} m/s^2 "
+                     f"({amplitude(large) / g:.3g} g) when large motion began, "
+                     f"{amplitude(began):.4g} m/s^2 "
                      f"({amplitude(began) / g:.3g} g) when the collapsing motion began, "
                      f"{amplitude(event.time):.4g} m/s^2 ({amplitude(event.time) / g:.3g} g) "
                      "at collapse")
@@ -356,9 +376,54 @@ def _periods(text: str) -> list[float]:
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r}: give periods in seconds separated by "
                                          "commas, e.g. 0.5,1,2") from None
-    if not all(p > 0.0 for p in periods):
-        raise argparse.ArgumentTypeError(f"{text!r}: every period must be > 0 [s]")
+    if not all(0.0 < p < math.inf for p in periods):
+        raise argparse.ArgumentTypeError(f"{text!r}: every period must be > 0 [s] and finite")
+    if len(periods) > _MAX_PERIODS:
+        raise argparse.ArgumentTypeError(f"{len(periods)} periods: at most {_MAX_PERIODS} (each "
+                                         "is a bisection of several runs); split the list")
     return periods
+
+
+def _count(limit: int, what: str):
+    """An argparse type: a whole number from 1 to `limit` (`what` says why the limit)."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: give a whole number") from None
+        if not 1 <= value <= limit:
+            raise argparse.ArgumentTypeError(f"{text}: give a whole number from 1 to {limit} "
+                                             f"({what})")
+        return value
+    return parse
+
+
+def _demo_duration(text: str) -> float:
+    """--duration of a demo [s]: > 0, at most _MAX_DEMO_DURATION."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give a time in seconds") from None
+    if not 0.0 < value <= _MAX_DEMO_DURATION:
+        raise argparse.ArgumentTypeError(
+            f"{text}: give a time in (0, {_MAX_DEMO_DURATION:g}] s; for a longer run, copy "
+            "the demo's scenario (saxum/scenarios/ in the package) and use saxum run")
+    return value
+
+
+def _check_output(args) -> None:
+    """-o must name a file in an existing folder (export-vtk: a folder, not a file)."""
+    out = getattr(args, "output", None)
+    if out is None:
+        return
+    if args.command == "export-vtk":
+        if out.exists() and not out.is_dir():
+            raise InputError(f"-o {out}: is a file; export-vtk writes into a folder")
+    elif out.is_dir():
+        raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. "
+                         f"{out / 'results.h5' if args.command == 'run' else out / 'out.png'}")
+    elif not out.parent.is_dir():
+        raise InputError(f"-o {out}: there is no folder {out.parent}; create it first")
 
 
 def _unset_option(p: argparse.ArgumentParser) -> None:
@@ -367,6 +432,12 @@ def _unset_option(p: argparse.ArgumentParser) -> None:
                    help="remove a scenario key, so that its default applies (for a table such "
                         "as loads.ground_motion: none), e.g. --unset loads.ground_motion "
                         "(repeatable)")
+
+
+_MAX_PROCESSES = 4 * (os.cpu_count() or 1)
+_MAX_PERIODS = 1000
+_MAX_DEMO_DURATION = 1000.0  # [s]
+_MAX_SWEEPS = 1_000_000_000
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -399,8 +470,9 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="run a bundled demonstration (no file needed)")
     p.add_argument("name", choices=sorted(DEMOS), help="which demonstration")
     p.add_argument("-o", "--output", type=Path, help="picture (default: saxum-demo-NAME.png)")
-    p.add_argument("--duration", type=float, default=None,
-                   help="simulated time [s] (default: the demo's own)")
+    p.add_argument("--duration", type=_demo_duration, default=None,
+                   help=f"simulated time [s] (default: the demo's own; at most "
+                        f"{_MAX_DEMO_DURATION:g})")
     p.set_defaults(func=_demo)
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
@@ -451,8 +523,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size once the pulse is over (default 0.5; a block that is still "
                         "rocking, with decaying energy, is not collapsed)")
-    p.add_argument("--processes", type=int, default=None,
-                   help="worker processes (default: one per CPU)")
+    p.add_argument("--processes", default=None,
+                   type=_count(_MAX_PROCESSES, "more worker processes than CPUs only share "
+                                               "them"),
+                   help=f"worker processes (default: one per CPU; at most {_MAX_PROCESSES})")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override another scenario key (repeatable)")
     _unset_option(p)
@@ -468,8 +542,11 @@ def _parser() -> argparse.ArgumentParser:
     q.add_argument("files", type=Path, nargs="+", help="FCLIB .hdf5 files")
     q.add_argument("--tolerance", type=float, default=1e-8,
                    help="target natural-map error ||F_nat(r)||/||q|| (default 1e-8)")
-    q.add_argument("--max-iterations", type=int, default=100_000,
-                   help="NLGS sweeps at most (default 100000)")
+    q.add_argument("--max-iterations", type=_count(_MAX_SWEEPS, "a cap of sweeps, not a "
+                                                                 "target: the solve stops "
+                                                                 "when converged"),
+                   default=100_000, help="NLGS sweeps at most (default 100000, at most "
+                                         f"{_MAX_SWEEPS})")
     q.add_argument("--relaxation", type=float, default=1.0,
                    help="NLGS relaxation omega in (0, 1] (default 1)")
     q.set_defaults(func=_fclib_solve)
@@ -498,7 +575,7 @@ def _parser() -> argparse.ArgumentParser:
                                        "ffmpeg)")
     p.add_argument("results", type=Path, help="results file (HDF5)")
     p.add_argument("-o", "--output", type=Path, help="GIF or MP4 file (default: RESULTS.gif)")
-    p.add_argument("--fps", type=int, default=20,
+    p.add_argument("--fps", type=_count(1000, "frames per second of a film"), default=20,
                    help="animation frames per second (default 20; one per output frame)")
     p.set_defaults(func=_animate)
 
@@ -517,11 +594,15 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
     try:
+        args = _parser().parse_args(argv)
+        _check_output(args)
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
             args.func(args)
+    except KeyboardInterrupt:  # Ctrl-C outside a run's own handling (start-up, a picture)
+        print("saxum: interrupted", file=sys.stderr)
+        return 130
     except InputError as err:
         print(f"saxum: bad input: {err}", file=sys.stderr)
         return 2

@@ -55,6 +55,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .errors import InputError
+from .mechanism import CREEP
 from .model import BodyKind
 from .simulation import Simulation
 from .state import State
@@ -70,7 +71,8 @@ free block has moved by this fraction of the smallest free block's size [-] and 
 ONSET = 0.2
 """The mechanism at collapse is taken when the collapsing motion began: when a block last
 moved past this fraction of the collapse displacement [-] before the collapse (by the time a
-block has moved half its size, extra hinges open as the blocks fall apart)."""
+block has moved half its size, extra hinges open as the blocks fall apart); find_collapse
+goes back from there to where that motion started growing (module doc of find_collapse)."""
 
 
 @dataclass(frozen=True)
@@ -405,8 +407,12 @@ def collapse_curve(path, periods, stands: float, collapses: float, *,
 class CollapseEvent:
     """A run's collapse: the time [s] and output frame from which a free block stayed moved
     by more than `limit` [m] to the end of the run, that block, the largest displacement of a
-    free block at the end [m], and the output frame at which that collapsing motion began
-    (a block last moved past ONSET * limit), whose mechanism is the mechanism at collapse."""
+    free block at the end [m], the output frame at which that collapsing motion began
+    (find_collapse), whose mechanism is the mechanism at collapse, and the first output frame
+    at which a free block had moved by more than ONSET * limit (`large_frame`: where large
+    motion began; under a growing shaking, a time that round-off hardly moves, while the
+    onset and the time of collapse of a rocking structure move by seconds:
+    docs/applications.md)."""
 
     time: float
     frame: int
@@ -414,12 +420,17 @@ class CollapseEvent:
     limit: float
     displacement: float
     onset_frame: int
+    large_frame: int
 
 
 def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent | None:
     """When the run of saxum.results.Results collapsed, judged on its output frames: a free
     block moved by more than `fraction` of the smallest free block's size (DYNAMIC_FRACTION:
     a rocking block that comes back has not collapsed) and did not come back by the end.
+    The collapsing motion began at the first of the frames before it in which the largest
+    displacement of a free block grew frame after frame, up to where it last passed ONSET *
+    limit, and some free block moved faster than CREEP times the smallest block's size per
+    second: the start of a slow slide or of the last swing of a rocking structure.
     None when no block is that far at the end."""
     free = results.model["body_kind"] == BodyKind.FREE
     if not free.any() or results.frame_count == 0:
@@ -436,4 +447,13 @@ def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent 
     block = results.body_name[int(np.flatnonzero(free)[np.argmax(moved[k])])]
     still = np.flatnonzero(largest[:k] <= ONSET * limit)
     onset = int(still[-1]) + 1 if still.size else 0
-    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]), onset)
+    # A slow start (a parapet that begins to slide as the flood rises) passes ONSET * limit
+    # long after it began: go back over the frames in which that motion was already growing,
+    # down to the last frame at rest (every free block slower than CREEP sizes per second).
+    speed = np.linalg.norm(results.body_v[:, free, :d], axis=-1).max(axis=1)
+    creep = CREEP * float(results.body_size[free].min())
+    while onset > 0 and largest[onset - 1] < largest[onset] and speed[onset - 1] > creep:
+        onset -= 1
+    large = int(np.argmax(largest > ONSET * limit))
+    return CollapseEvent(float(results.time[k]), k, block, limit, float(largest[-1]), onset,
+                         large)

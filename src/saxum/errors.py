@@ -1,7 +1,7 @@
 """Errors raised on bad input. Each message names the block, parameter or pair at fault."""
 
 __all__ = ["InputError", "OverlapError", "ResultsDamageWarning", "ResultsWriteError",
-           "SimulationError", "SolverWarning"]
+           "SimulationError", "SolverWarning", "plain"]
 
 
 class InputError(ValueError):
@@ -27,3 +27,15 @@ class ResultsDamageWarning(UserWarning):
 
 class SolverWarning(UserWarning):
     """The contact solver did not converge at some steps; the step log says which."""
+
+
+def plain(value) -> str:
+    """repr of a value for a message, numpy scalars and arrays (also inside tuples and lists)
+    as Python numbers: numpy 2 writes np.float64(0.5) where a user gave 0.5."""
+    if hasattr(value, "tolist"):  # a numpy scalar or array
+        return repr(value.tolist())
+    if isinstance(value, tuple | list):
+        inner = ", ".join(plain(v) for v in value)
+        return f"({inner},)" if isinstance(value, tuple) and len(value) == 1 else (
+            f"({inner})" if isinstance(value, tuple) else f"[{inner}]")
+    return repr(value)

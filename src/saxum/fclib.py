@@ -20,6 +20,7 @@ runs saxum.solver.delassus_nlgs on W; the reported error is always the natural-m
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -292,6 +293,7 @@ def _check_local(w, q, mu, spacedim) -> None:
     if w.shape != (m, m) or m != spacedim * mu.size:
         raise InputError(f"sizes do not match: W {w.shape}, q {m}, mu {mu.size}, "
                          f"spacedim {spacedim}")
+    _check_finite(W=w.data, q=q)
     _check_mu(mu)
 
 
@@ -300,7 +302,16 @@ def _check_global(m, h, f, w, mu, spacedim) -> None:
     if m.shape != (n, n) or h.shape != (n, w.size) or w.size != spacedim * mu.size:
         raise InputError(f"sizes do not match: M {m.shape}, H {h.shape}, f {n}, w {w.size}, "
                          f"mu {mu.size}, spacedim {spacedim}")
+    _check_finite(M=m.data, H=h.data, f=f, w=w)
     _check_mu(mu)
+
+
+def _check_finite(**arrays: np.ndarray) -> None:
+    for name, values in arrays.items():
+        bad = np.count_nonzero(~np.isfinite(values))
+        if bad:
+            raise InputError(f"{name} has {bad} value(s) that are not finite numbers (NaN or "
+                             "inf): the problem cannot be solved")
 
 
 def _check_mu(mu) -> None:
@@ -496,17 +507,34 @@ def _warm_up() -> None:
 
 
 def solve_fclib_files(paths, *, tolerance: float = 1e-8, max_iterations: int = 100_000,
-                      relaxation: float = 1.0) -> list[SolveRow]:
+                      relaxation: float = 1.0,
+                      on_error: Callable[[Path, InputError], None] | None = None
+                      ) -> list[SolveRow]:
     """Read and solve each FCLIB file from zero impulses (what `saxum fclib solve` runs).
-    All files are read first, so that a bad one stops the run before any solve."""
+    All files are read first. A bad file (an InputError naming it: unreadable, or a global
+    problem whose M cannot be factorized) stops the call, or, given `on_error`, is passed to
+    on_error(path, error) and left out while the others are solved."""
     _check_solve_options(tolerance, max_iterations)
-    problems = [(Path(p).name, read_fclib(p)) for p in paths]
+    problems, good = [], []
+    for p in paths:
+        try:
+            problems.append((Path(p).name, read_fclib(p)))
+            good.append(Path(p))
+        except InputError as err:
+            if on_error is None:
+                raise
+            on_error(Path(p), err)
     _warm_up()
     rows = []
-    for name, problem in problems:
+    for (name, problem), path in zip(problems, good, strict=True):
         solve = solve_local if isinstance(problem, LocalProblem) else solve_global
-        rows.append(solve(problem, tolerance=tolerance, max_iterations=max_iterations,
-                          relaxation=relaxation, name=name))
+        try:
+            rows.append(solve(problem, tolerance=tolerance, max_iterations=max_iterations,
+                              relaxation=relaxation, name=name))
+        except InputError as err:  # a global problem whose M cannot be factorized
+            if on_error is None:
+                raise InputError(f"{path}: {err}") from None
+            on_error(path, InputError(f"{path}: {err}"))
     return rows
 
 

@@ -44,11 +44,13 @@ from .geometry3d import relative_quaternions, rotation_matrix, rotation_vectors
 from .model import BodyKind, Model, body_vertices
 from .state import State
 
-__all__ = ["Joint", "Mechanism", "course_of", "frame_contacts", "frame_mechanism",
+__all__ = ["CREEP", "Joint", "Mechanism", "course_of", "frame_contacts", "frame_mechanism",
            "hinge_lines", "joint_opening", "joint_resultants", "joint_states", "mechanism",
            "thrust_line"]
 
-_CREEP = 1e-3  # [1/s]: a slip slower than 0.1 % of a block's size per second is not a slide
+CREEP = 1e-3
+"""[1/s]: a slip (or a block) slower than this times the smallest block's size per second is
+not a slide (not moving): a structure at rest moves by round-off and creep."""
 _COURSED = re.compile(r"\bc(\d+)[ab]\d+")  # "brick c3b5" (3D walls: "c3a5" too): course 3
 
 
@@ -322,7 +324,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     speed = float(np.abs(v[:, :d]).max(initial=0.0) + (spin * model.body_radius).max(
         initial=0.0))
     touching = (labels != "open") & (force[:, 1] > 0.0)
-    slides = touching & (slip > max(slip_fraction * speed, _CREEP * size))
+    slides = touching & (slip > max(slip_fraction * speed, CREEP * size))
     pairs, cop, resultant = joint_resultants(contacts, gap_tol)
     joint = _joint_index(cand, ant)
     names = model.body_name

@@ -23,7 +23,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, plain
 from .geometry2d import normalize_polygon, polygon_properties
 from .geometry3d import (
     Polyhedron,
@@ -220,7 +220,7 @@ class ModelBuilder:
         if g.shape != (dim,) or not np.all(np.isfinite(g)):
             names = "(gx, gy)" if dim == 2 else "(gx, gy, gz)"
             raise InputError(f"gravity must be {dim} finite numbers {names} [m/s^2], got "
-                             f"{gravity}")
+                             f"{plain(gravity)}")
         self._gravity = g
 
     @property

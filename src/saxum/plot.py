@@ -5,9 +5,12 @@ backend or leaves figures open in the caller's session. A frame shows the blocks
 their displacement (or rotation) from the initial position, fixed and driven bodies hatched
 grey, and the contact forces: at each contact point a segment along the reaction whose width
 is proportional to the normal force |R_n|/dt [N/m], hinges (a joint loaded at one point only)
-as white circles and open contact points as crosses. Flood water (saxum.flood), from a results
-file's scenario or a model's field loads, is drawn behind the blocks up to its level at the
-frame's time, with the flow velocity.
+as white circles and open contact points as crosses; a scenario's point loads as arrows onto
+their blocks' centres of mass. A structure at rest (every free block moved by less than
+REST times the blocks' size: round-off) has no colour scale, only its largest displacement
+written in a corner. Flood water (saxum.flood), from a results file's scenario or a model's
+field loads, is drawn behind the blocks from the ground's top (the highest fixed body at each
+x) up to its level at the frame's time, with the flow velocity.
 """
 
 import dataclasses
@@ -34,11 +37,16 @@ from .geometry3d import rotation_vectors
 from .mechanism import Mechanism, course_of, frame_contacts, joint_states, thrust_line
 from .model import BodyKind, Model
 
-__all__ = ["animate", "joint_states", "plot_collapse_curve", "plot_frame", "plot_histories",
-           "plot_model", "save_states"]
+__all__ = ["REST", "animate", "joint_states", "plot_collapse_curve", "plot_frame",
+           "plot_histories", "plot_model", "save_states"]
+
+REST = 1e-6
+"""[-]: free blocks that all moved by less than this times their median size [m] (or turned
+by less than this [rad]) are at rest: what they moved is round-off, not worth a colour scale."""
 
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
 _FORCE_COLOUR = "#c0152f"
+_LOAD_COLOUR = "#1b7837"
 _MARKS = {  # joint_states label: marker style (white circle: the usual symbol of a hinge)
     "hinge": dict(marker="o", markersize=6.5, markerfacecolor="white", markeredgecolor="k",
                   markeredgewidth=1.1),
@@ -136,7 +144,7 @@ class _Look:
     colour_by: str | None
     factor: float  # from metres or degrees to the colour bar's unit
     mappable: ScalarMappable | None  # colour scale of the free blocks; None: plain fill
-    colour_label: str
+    colour_label: str  # the colour bar's label; without a colour scale, a note (at rest)
     force_full: float  # |R_n|/dt drawn at _WIDEST [N/m]; 0 when nothing is loaded
     force_clipped: bool  # some drawn force exceeds force_full (drawn at _WIDEST)
     strut: float  # length of a force segment [m]
@@ -163,17 +171,20 @@ def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
         hi[1] = max(hi[1], float(flood.level.value.max()), flood.heads(0.0)[1])
     pad = 0.05 * float((hi - lo).max())
     factor, mappable, label = 1.0, None, ""
+    size = blocks.size()
     if colour_by is not None:
         values = np.abs(_colour_values(blocks, qs, colour_by)[:, blocks.kind == BodyKind.FREE])
         top = float(values.max(initial=0.0))
         if colour_by == "displacement":
             factor, unit = length_unit(top)
-            # a structure at rest moves by round-off: its scale ends at 1 nm, not at 1e-8 nm
-            norm = Normalize(0.0, max(top * factor, 1.0))
-            mappable = ScalarMappable(norm, "YlGnBu")
-            label = f"displacement [{unit}]"
+            if top < REST * size:
+                label = f"at rest: largest displacement {top:.2g} m"
+            else:
+                mappable = ScalarMappable(Normalize(0.0, top * factor), "YlGnBu")
+                label = f"displacement [{unit}]"
+        elif top < np.degrees(REST):
+            label = f"at rest: largest rotation {top:.2g} deg"
         else:
-            top = top or 1.0
             mappable = ScalarMappable(Normalize(-top, top), "RdBu_r")
             label = "rotation [deg], anticlockwise +"
     # An impact lasts a step or two: scaling an animation by its largest force would draw
@@ -181,7 +192,6 @@ def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
     peaks = np.array([f.max(initial=0.0) for f in forces])
     reference = float(np.percentile(peaks, 90)) if peaks.size else 0.0
     full = _nice_ceil(reference) if reference > 0 else 0.0
-    size = blocks.size()
     return _Look((lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad), colour_by, factor,
                  mappable, label, full, peaks.size > 0 and float(peaks.max()) > full,
                  0.6 * size, 1e-3 * size)
@@ -223,28 +233,53 @@ def _model_floods(model: Model) -> list[FloodLoad]:
     return [load for load in model.field_loads if isinstance(load, FloodLoad)]
 
 
+def _bed(blocks: _Blocks, q: np.ndarray, x: np.ndarray, floor: float) -> np.ndarray:
+    """The top of the fixed and driven bodies at each x [m] (the river bed, a pier's
+    footing): the highest point of their outlines' edges over x; beyond them, the nearest
+    such top (the ground goes on past the edge of the picture); `floor` [m] without any."""
+    owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
+    nxt = np.arange(len(owner)) + 1
+    nxt[blocks.vertex_start[1:] - 1] = blocks.vertex_start[:-1]
+    support = np.flatnonzero(blocks.kind[owner] != BodyKind.FREE)
+    p = blocks.world(q)
+    (x0, y0), (x1, y1) = p[support].T, p[nxt[support]].T
+    lo, hi = np.minimum(x0, x1), np.maximum(x0, x1)
+    over = (lo[:, None] <= x) & (x <= hi[:, None])
+    sloped = (hi > lo)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = np.where(sloped, (x - x0[:, None]) / (x1 - x0)[:, None], 0.0)
+    y = np.where(sloped, y0[:, None] + s * (y1 - y0)[:, None], np.maximum(y0, y1)[:, None])
+    top = np.where(over, y, -np.inf).max(axis=0, initial=-np.inf)
+    covered = np.isfinite(top)
+    return np.interp(x, x[covered], top[covered]) if covered.any() else np.full_like(x, floor)
+
+
 def _draw_water(ax, look: _Look, blocks: _Blocks, q: np.ndarray, floods: Sequence[FloodLoad],
                 t: float) -> None:
-    """Water below its surface H(x) at time t [s] across the axes (gravity along -y), and
-    the flow velocity in a corner."""
+    """Water between the ground's top (_bed) and its surface H(x) at time t [s] across the
+    axes (gravity along -y), and the flow velocity in a corner."""
     free = blocks.kind == BodyKind.FREE
     owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
     xs = blocks.world(q)[free[owner], 0]
-    x = np.linspace(*look.xlim, 200)
+    x = np.linspace(*look.xlim, 400)
+    bed = _bed(blocks, q, x, look.ylim[0]) if floods else x
     for flood in floods:
         extent = (float(xs.min()), float(xs.max())) if xs.size else (0.0, 1.0)
         surface = flood.surface(x, t, extent)
-        ax.fill_between(x, look.ylim[0], surface, color="#9cc8e8", alpha=0.5, lw=0, zorder=0)
-        ax.plot(x, surface, color="#2a6fa8", lw=1.0, zorder=0.5)
+        wet = surface > bed
+        ax.fill_between(x, bed, surface, where=wet, color="#9cc8e8", alpha=0.5, lw=0,
+                        zorder=0)
+        ax.plot(x, np.where(wet, surface, np.nan), color="#2a6fa8", lw=1.0, zorder=0.5)
         u = flood.velocity.at(t)
         if u != 0.0:
             ax.text(0.01, 0.98, f"flow {'→' if u > 0 else '←'} {abs(u):.3g} m/s",
                     transform=ax.transAxes, va="top", fontsize=8, color="#2a6fa8")
 
 
-def _draw_contacts(ax, look: _Look, contacts: dict, slides: np.ndarray | None = None) -> None:
+def _draw_contacts(ax, look: _Look, contacts: dict,
+                   slides: np.ndarray | None = None) -> list:
     """Force segments, hinges and open points (and sliding joints at `slides` [m], when
-    given), with a legend giving the force scale."""
+    given); returns their legend handles, the force scale first."""
     rn = contacts["force"][:, 1]
     on = rn > 0
     handles = []
@@ -272,11 +307,55 @@ def _draw_contacts(ax, look: _Look, contacts: dict, slides: np.ndarray | None = 
     if slides is not None:
         handles += ax.plot(slides[:, 0], slides[:, 1], ls="none", zorder=5,
                            label=f"sliding ({len(slides)})", **_SLIDE)
-    # Below the x axis label whatever the axes' height: anchored a fixed distance in points.
+    return handles
+
+
+def _legend(ax, handles: list, forces: bool) -> None:
+    """One legend of everything drawn, below the x axis label whatever the axes' height
+    (anchored a fixed distance in points), titled by the force scale when forces are drawn."""
+    if not handles:
+        return
     below = offset_copy(ax.transAxes, ax.figure, y=-34, units="points")
-    ax.legend(handles=handles, title="normal force |R_n|/dt", loc="upper center",
-              bbox_to_anchor=(0.5, 0.0), bbox_transform=below, ncol=len(handles), fontsize=8,
-              title_fontsize=8, frameon=False, handlelength=2.5)
+    ax.legend(handles=handles, title="normal force |R_n|/dt" if forces else None,
+              loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below,
+              ncol=min(len(handles), 6), fontsize=8, title_fontsize=8, frameon=False,
+              handlelength=2.5)
+
+
+def _results_point_loads(results) -> list[tuple[int, np.ndarray]]:
+    """The point loads of the scenario a results file was run from: (body index, force
+    [N/m; 3D: N] in world axes) each."""
+    if not results.scenario_json:
+        return []
+    from .scenario import Scenario
+
+    loads = Scenario.model_validate_json(results.scenario_json).loads.point_loads
+    down = -np.eye(results.dim)[-1]
+    out = []
+    for load in loads:
+        direction = np.asarray(load.direction or down, dtype=np.float64)
+        out.append((results.body_name.index(load.block),
+                    load.magnitude * direction / np.linalg.norm(direction)))
+    return out
+
+
+def _draw_point_loads(ax, look: _Look, loads: list[tuple[int, np.ndarray]],
+                      q: np.ndarray) -> list:
+    """Arrows onto the loaded blocks' centres of mass, 2.5 force struts long; returns the
+    legend handle (none without loads)."""
+    if not loads:
+        return []
+    for b, force in loads:
+        tip = q[b, :2]
+        tail = tip - 2.5 * look.strut * force / np.linalg.norm(force)
+        ax.annotate("", xy=tip, xytext=tail, zorder=7, annotation_clip=False,
+                    arrowprops=dict(arrowstyle="-|>", color=_LOAD_COLOUR, lw=1.8,
+                                    mutation_scale=14, shrinkA=0.0, shrinkB=0.0))
+    largest = max(float(np.linalg.norm(f)) for _, f in loads)
+    factor, unit = _force_unit(largest)
+    sizes = ", ".join(f"{np.linalg.norm(f) * factor:.3g}" for _, f in loads)
+    return [Line2D([], [], color=_LOAD_COLOUR, lw=1.8, marker=">", markevery=[-1],
+                   label=f"point load{'s' if len(loads) > 1 else ''} {sizes} {unit}")]
 
 
 def _finish_axes(ax, look: _Look, title: str) -> None:
@@ -286,6 +365,9 @@ def _finish_axes(ax, look: _Look, title: str) -> None:
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_title(title, fontsize=10, wrap=True)
+    if look.mappable is None and look.colour_label:  # at rest: no colour scale, a note
+        ax.text(0.99, 0.98, look.colour_label, transform=ax.transAxes, ha="right", va="top",
+                fontsize=8, color="0.25", zorder=8)
 
 
 def _colourbar(ax, look: _Look) -> None:
@@ -295,13 +377,15 @@ def _colourbar(ax, look: _Look) -> None:
 
 def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
                 title: str | None, floods: Sequence[FloodLoad] = (), *,
-                slides: np.ndarray | None = None) -> None:
+                slides: np.ndarray | None = None) -> list:
+    """Draws output frame k; returns the legend handles of what it drew."""
     _draw_water(ax, look, blocks, results.body_q[k], floods, float(results.time[k]))
     _draw_blocks(ax, look, blocks, results.body_q[k])
-    if forces:
-        _draw_contacts(ax, look, frame_contacts(results, k), slides)
+    handles = _draw_contacts(ax, look, frame_contacts(results, k), slides) if forces else []
+    handles += _draw_point_loads(ax, look, _results_point_loads(results), results.body_q[k])
     heading = title if title is not None else results_heading(results)
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
+    return handles
 
 
 def results_heading(results) -> str:
@@ -310,15 +394,16 @@ def results_heading(results) -> str:
     return f"{title} ({results.path.name})" if title else results.path.stem
 
 
-def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> None:
+def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> list:
+    """The thrust line of frame k (mechanism.thrust_line); returns its legend handle."""
     free = blocks.kind == BodyKind.FREE
     pts = blocks.world(blocks.q0[None])[0]
     owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
     on_free = free[owner]
     centre = (float(pts[on_free, 0].mean()), float(pts[on_free, 1].min()))
     line = thrust_line(results.contacts(k), look.gap_tolerance, centre)
-    ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5, zorder=6,
-            label="thrust line")
+    return ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5, zorder=6,
+                   label="thrust line")
 
 
 def _draw_courses(ax, names: Sequence[str], blocks: _Blocks) -> None:
@@ -395,9 +480,10 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     fig = ax.figure
     slides = None if mechanism is None else np.array(
         [j.centre_of_pressure for j in mechanism.sliding]).reshape(-1, 2)
-    _draw_frame(ax, results, k, look, blocks, forces, title, floods, slides=slides)
+    handles = _draw_frame(ax, results, k, look, blocks, forces, title, floods, slides=slides)
     if thrust_line:
-        _draw_thrust_line(ax, results, k, look, blocks)
+        handles += _draw_thrust_line(ax, results, k, look, blocks)
+    _legend(ax, handles, forces)
     if mechanism is not None:
         _draw_courses(ax, results.body_name, blocks)
     _colourbar(ax, look)
@@ -608,7 +694,8 @@ def _frames_2d(results, ks: list[int], forces: bool, figsize):
 
     def draw(k: int) -> None:
         ax.clear()
-        _draw_frame(ax, results, k, look, blocks, forces, heading, floods)
+        _legend(ax, _draw_frame(ax, results, k, look, blocks, forces, heading, floods),
+                forces)
     return fig, draw
 
 

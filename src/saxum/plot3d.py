@@ -3,14 +3,17 @@
 
 The blocks' faces are filled by the block's displacement from its initial position (fixed and
 driven bodies light grey; a support much larger than the structure, such as a ground slab, is
-shown as a floor under it), and the contact points carrying load are drawn on top as red dots
-whose area is proportional to the normal force. Hinges (saxum.mechanism: joints whose loaded
-points lie on a line while the rest has opened) are drawn as thick black lines along the edge
-they turn about, open contact points as orange crosses and, with a mechanism, its sliding
-joints as purple diamonds at their centres of pressure. Flood water (saxum.flood) is its
-surface at the frame's time, translucent, drawn under the blocks, with the flow's direction
-and speed. An animation keeps the axes, colour scale and dot scale of its first frame's look
-over all frames.
+shown as a floor under it; a structure at rest, saxum.plot.REST, plain with its largest
+displacement written instead of a colour scale), and the contact points carrying load are
+drawn on top as red dots whose area is proportional to the normal force (the scale in the
+legend). Hinges (saxum.mechanism: joints whose loaded points lie on a line while the rest has
+opened) are drawn as thick black lines along the edge they turn about, open contact points as
+orange crosses, a scenario's point loads as green arrows onto their blocks' centres of mass
+and, with a mechanism, its sliding joints as purple diamonds at their centres of pressure.
+Flood water (saxum.flood) is its surface at the frame's time, translucent, drawn over the
+faces under water (their centre below the surface: the ground, the submerged blocks) and
+under those above it, with the flow's direction and speed. An animation keeps the axes,
+colour scale and dot scale of its first frame's look over all frames.
 """
 
 from dataclasses import dataclass
@@ -20,12 +23,22 @@ import numpy as np
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from .geometry3d import world_points
 from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
 from .model import BodyKind
-from .plot import _results_floods, length_unit, results_heading
+from .plot import (
+    _LOAD_COLOUR,
+    REST,
+    _nice_ceil,
+    _results_floods,
+    _results_point_loads,
+    length_unit,
+    prefixed_unit,
+    results_heading,
+)
 
 __all__ = ["frames_3d", "plot_frame_3d"]
 
@@ -40,11 +53,14 @@ class _Look3d:
     half: float  # half the side of the cube drawn [m]
     floor: np.ndarray  # bodies drawn as a floor instead of as blocks
     floor_height: float  # [m]
-    mappable: ScalarMappable
+    mappable: ScalarMappable | None  # None: at rest, plain blocks
     factor: float  # from metres to the colour bar's unit
     unit: str
+    largest: float  # largest displacement of a free block [m]
     force_full: float  # normal force drawn as the largest dot [N]; 0: none loaded
+    force_clipped: bool  # some drawn force exceeds force_full (drawn as the largest dot)
     gap_tolerance: float  # [m]
+    size: float  # median block size [m]
 
 
 def _look_3d(results, ks) -> _Look3d:
@@ -67,9 +83,12 @@ def _look_3d(results, ks) -> _Look3d:
     factor, unit = length_unit(largest)
     peaks = np.array([results.contacts(k)["force"][:, 1].max(initial=0.0) for k in ks])
     size = float(np.median(results.body_size[free] if free.any() else results.body_size))
-    return _Look3d(centre, half, floor, float(lo[2]),
-                   ScalarMappable(Normalize(0.0, max(factor * largest, 1.0)), "viridis"), factor,
-                   unit, float(np.percentile(peaks, 90)) if peaks.size else 0.0, 1e-3 * size)
+    reference = float(np.percentile(peaks, 90)) if peaks.size else 0.0
+    full = _nice_ceil(reference) if reference > 0.0 else 0.0
+    mappable = (None if largest < REST * size
+                else ScalarMappable(Normalize(0.0, factor * largest), "viridis"))
+    return _Look3d(centre, half, floor, float(lo[2]), mappable, factor, unit, largest, full,
+                   peaks.size > 0 and float(peaks.max()) > full, 1e-3 * size, size)
 
 
 def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
@@ -83,9 +102,9 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     keep = np.flatnonzero(~look.floor[owner])
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
     moved = np.linalg.norm(q[:, :3] - m["body_q0"][:, :3], axis=1)
-    colours = np.where(free[owner[keep], None],
-                       look.mappable.to_rgba(look.factor * moved[owner[keep]]),
-                       (0.85, 0.85, 0.85, 1.0))
+    fill = ((0.89, 0.835, 0.72, 1.0) if look.mappable is None  # at rest: sandstone
+            else look.mappable.to_rgba(look.factor * moved[owner[keep]]))
+    colours = np.where(free[owner[keep], None], fill, (0.85, 0.85, 0.85, 1.0))
     ax.computed_zorder = False  # the contact dots and hinges stay on top of the faces
     c0, half = look.centre, look.half
     if look.floor.any():
@@ -95,13 +114,30 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
                                                (x0, y1, z)]], facecolors="0.92",
                                              edgecolors="0.6", zorder=0))
     shown = points[free[np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))]]
-    for flood in _results_floods(results):
-        _draw_water(ax, flood, float(results.time[k]), shown if len(shown) else points,
-                    c0, half)
-    ax.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors="0.25",
-                                         linewidths=0.3, zorder=1))
+    shown = shown if len(shown) else points
+    t = float(results.time[k])
+    floods = _results_floods(results)
+    middle = np.array([f.mean(axis=0) for f in faces]).reshape(-1, 3)
+    wet = np.zeros(len(faces), dtype=bool)
+    for flood in floods:
+        wet |= middle[:, 2] < _surface(flood, t, middle[:, :2], shown)
+    # Faces under water first, then the water over them, then the faces above it.
+    for under, z in ((True, 1), (False, 3)):
+        pick = np.flatnonzero(wet == under)
+        if pick.size:
+            ax.add_collection3d(Poly3DCollection([faces[i] for i in pick],
+                                                 facecolors=colours[pick], edgecolors="0.25",
+                                                 linewidths=0.3, zorder=z))
+        if under:
+            for flood in floods:
+                _draw_water(ax, flood, t, shown, c0, half)
+    handles = _draw_point_loads(ax, _results_point_loads(results), q, look)
     if forces:
-        _draw_contacts(ax, frame_contacts(results, k), look, mechanism)
+        handles = _draw_contacts(ax, frame_contacts(results, k), look, mechanism) + handles
+    if handles:
+        ax.legend(handles=handles, fontsize=8, loc="upper left",
+                  title="normal force" if forces and look.force_full > 0.0 else None,
+                  title_fontsize=8)
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), c0, strict=True):
         setter(c - half, c + half)
     ax.set_box_aspect((1.0, 1.0, 1.0))
@@ -112,45 +148,74 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
                  fontsize=10, wrap=True)
 
 
-def _draw_contacts(ax, c: dict, look: _Look3d, mechanism: Mechanism | None) -> None:
+def _draw_contacts(ax, c: dict, look: _Look3d, mechanism: Mechanism | None) -> list:
     """Loaded points as dots (area ~ normal force), hinge lines, open points and, with a
-    mechanism, its sliding joints; with a legend."""
+    mechanism, its sliding joints; returns the legend handles, the dots' scale first."""
     normal = c["force"][:, 1]
     loaded = normal > 0.0
+    handles = []
     if loaded.any() and look.force_full > 0.0:
         size = _DOT * np.minimum(normal[loaded] / look.force_full, 1.0)
         ax.scatter(*c["point"][loaded].T, s=size, color="#c0152f", depthshade=False,
-                   zorder=2, label="contact forces (area ~ normal force)")
+                   zorder=4)
+        factor, unit = prefixed_unit(look.force_full, "N")
+        for fraction in (1.0, 0.5):
+            label = f"{look.force_full * fraction * factor:g} {unit}"
+            handles.append(Line2D([], [], ls="none", marker="o", color="#c0152f",
+                                  markersize=np.sqrt(_DOT * fraction),
+                                  label=("≥ " if fraction == 1.0 and look.force_clipped
+                                         else "") + label))
     opened = c["point"][joint_states(c, look.gap_tolerance) == "open"]
     if len(opened):
-        ax.plot(*opened.T, ls="none", marker="x", markersize=4, color="#e07b00", zorder=3,
-                label=f"open ({len(opened)})")
+        handles += ax.plot(*opened.T, ls="none", marker="x", markersize=4, color="#e07b00",
+                           zorder=5, label=f"open ({len(opened)})")
     lines = hinge_lines(c, look.gap_tolerance)
     for i, (a, b) in enumerate(lines):
-        ax.plot(*np.array([a, b]).T, color="k", lw=3.0, solid_capstyle="round", zorder=4,
-                marker="o" if np.array_equal(a, b) else None, markersize=5,
-                label=f"hinges ({len(lines)})" if i == 0 else None)
+        drawn = ax.plot(*np.array([a, b]).T, color="k", lw=3.0, solid_capstyle="round",
+                        zorder=6, marker="o" if np.array_equal(a, b) else None, markersize=5,
+                        label=f"hinges ({len(lines)})")
+        handles += drawn if i == 0 else []
     if mechanism is not None and mechanism.sliding:
         cop = np.array([j.centre_of_pressure for j in mechanism.sliding])
-        ax.plot(*cop.T, ls="none", marker="D", markersize=5.5, markerfacecolor="#7b2cbf",
-                markeredgecolor="k", markeredgewidth=0.6, zorder=5,
-                label=f"sliding ({len(cop)})")
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=8, loc="upper left")
+        handles += ax.plot(*cop.T, ls="none", marker="D", markersize=5.5,
+                           markerfacecolor="#7b2cbf", markeredgecolor="k", markeredgewidth=0.6,
+                           zorder=7, label=f"sliding ({len(cop)})")
+    return handles
+
+
+def _draw_point_loads(ax, loads: list, q: np.ndarray, look: _Look3d) -> list:
+    """Arrows onto the loaded blocks' centres of mass (1.5 median block sizes long); returns
+    the legend handle (none without loads)."""
+    if not loads:
+        return []
+    for b, force in loads:
+        arrow = 1.5 * look.size * force / np.linalg.norm(force)
+        ax.quiver(*(q[b, :3] - arrow), *arrow, color=_LOAD_COLOUR, lw=2.0,
+                  arrow_length_ratio=0.3, zorder=8)
+    largest = max(float(np.linalg.norm(f)) for _, f in loads)
+    factor, unit = prefixed_unit(largest, "N")
+    sizes = ", ".join(f"{np.linalg.norm(f) * factor:.3g}" for _, f in loads)
+    return [Line2D([], [], color=_LOAD_COLOUR, lw=2.0, marker=">", markevery=[-1],
+                   label=f"point load{'s' if len(loads) > 1 else ''} {sizes} {unit}")]
+
+
+def _surface(flood, t: float, xy: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The water level H(s) [m] at time t [s] at the plan positions xy [m], s along the
+    flow's azimuth, the free blocks' extent `points` [m] setting where the head changes."""
+    a = np.radians(flood.azimuth)
+    e = np.array([np.cos(a), np.sin(a)])
+    s = points[:, :2] @ e
+    return flood.surface(xy @ e, t, (float(s.min()), float(s.max())))
 
 
 def _draw_water(ax, flood, t: float, points: np.ndarray, centre: np.ndarray,
                 half: float) -> None:
     """The water surface z = H(s) [m] at time t [s] over the square drawn (centre, half
-    width [m]), s along the flow's azimuth from the free blocks' extent `points` [m]; the
-    flow's speed and direction in a corner."""
-    a = np.radians(flood.azimuth)
-    e = np.array([np.cos(a), np.sin(a)])
-    s = points[:, :2] @ e
+    width [m]) (_surface); the flow's speed and direction in a corner."""
     x, y = np.meshgrid(*(np.linspace(c - half, c + half, 25) for c in centre[:2]))
-    z = flood.surface(x * e[0] + y * e[1], t, (float(s.min()), float(s.max())))
+    z = _surface(flood, t, np.stack((x, y), axis=-1), points)
     ax.plot_surface(x, y, z, color="#9cc8e8", alpha=0.45, linewidth=0, shade=False,
-                    zorder=0.5)
+                    zorder=2)
     u = flood.velocity.at(t)
     if u != 0.0:
         heading = flood.azimuth if u > 0 else flood.azimuth + 180.0
@@ -161,7 +226,11 @@ def _draw_water(ax, flood, t: float, points: np.ndarray, centre: np.ndarray,
 def _figure(look: _Look3d, figsize) -> tuple[Figure, object]:
     fig = Figure(figsize=figsize or (9.0, 7.0), layout="constrained")
     ax = fig.add_subplot(projection="3d")
-    fig.colorbar(look.mappable, ax=ax, shrink=0.6, label=f"displacement [{look.unit}]")
+    if look.mappable is None:
+        fig.text(0.99, 0.01, f"at rest: largest displacement {look.largest:.2g} m",
+                 ha="right", va="bottom", fontsize=8, color="0.25")
+    else:
+        fig.colorbar(look.mappable, ax=ax, shrink=0.6, label=f"displacement [{look.unit}]")
     return fig, ax
 
 

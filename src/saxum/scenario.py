@@ -21,7 +21,9 @@ from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 from pydantic import (
+    AfterValidator,
     BaseModel,
+    BeforeValidator,
     ConfigDict,
     Field,
     ValidationError,
@@ -63,8 +65,38 @@ __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
            "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
            "load_scenario", "parse_scenario"]
 
-Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
+def _python_number(value):
+    """A numpy number as the Python one (np.bool_ as a bool, refused as a number)."""
+    if isinstance(value, np.integer | np.floating | np.bool_):
+        return value.item()
+    return value
+
+
+# Numbers are strict: an integer is a number, true/false or "2.0" is not one.
+Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
+Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
+Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
+Finite = Annotated[Real, Field(allow_inf_nan=False)]
+
+LENGTHS = (1e-6, 1e6)
+"""[m]: the lengths of a structure, from a micrometre to 1000 km; outside, a typo or another
+unit (and polygons that round-off would flatten)."""
+
+
+def _length(value: float) -> float:
+    if not LENGTHS[0] <= value <= LENGTHS[1]:
+        raise ValueError(f"not a length of a masonry structure (lengths are in metres, from "
+                         f"{LENGTHS[0]:g} to {LENGTHS[1]:g} m)")
+    return value
+
+
+Length = Annotated[Positive, AfterValidator(_length)]
+"""A length of a structure [m]."""
+
+_COUNTED = object()
+"""Marks the counts of a structure: each at most limits.count (LimitsSpec)."""
+Count = Annotated[Integer, Field(ge=1), _COUNTED]
+"""A number of things (voussoirs, courses...)."""
 
 
 class _Strict(BaseModel):
@@ -74,32 +106,46 @@ class _Strict(BaseModel):
     """Spatial dimension of a structure's model."""
 
 
-class ArchStructure(_Strict):
+class _Generated(_Strict):
+    """A structure made by a saxum.structures generator; its InputErrors are prefixed with
+    "structure: " so that the user knows where to look."""
+
+    def add_to(self, builder: ModelBuilder) -> None:
+        try:
+            self._add(builder)
+        except InputError as err:
+            raise InputError(f"structure: {err}") from None
+
+    def _add(self, builder: ModelBuilder) -> None:
+        raise NotImplementedError
+
+
+class ArchStructure(_Generated):
     """A semicircular arch of equal voussoirs with radial joints on a fixed support
     (groups "voussoir" and "support")."""
 
     type: Literal["semicircular_arch"] = "semicircular_arch"
-    radius: Positive = Field(description="mean radius R [m]")
-    thickness: Positive = Field(description="ring thickness t [m], < 2 R")
-    voussoirs: int = Field(ge=1, description="number of equal voussoirs")
+    radius: Length = Field(description="mean radius R [m]")
+    thickness: Length = Field(description="ring thickness t [m], < 2 R")
+    voussoirs: Count = Field(description="number of equal voussoirs")
     density: Positive = Field(2000.0, description="density [kg/m^3]")
 
-    def add_to(self, builder: ModelBuilder) -> None:
+    def _add(self, builder: ModelBuilder) -> None:
         add_supported_semicircular_arch(builder, radius=self.radius, thickness=self.thickness,
                                         voussoirs=self.voussoirs, density=self.density)
 
 
-class WallStructure(_Strict):
+class WallStructure(_Generated):
     """A running-bond brick wall on a fixed ground (groups "brick" and "ground")."""
 
     type: Literal["running_bond_wall"] = "running_bond_wall"
-    courses: int = Field(ge=1, description="number of courses")
-    bricks: int = Field(ge=1, description="bricks per course")
-    brick_length: Positive = Field(0.25, description="[m]")
-    brick_height: Positive = Field(0.065, description="[m]")
+    courses: Count = Field(description="number of courses")
+    bricks: Count = Field(description="bricks per course")
+    brick_length: Length = Field(0.25, description="[m]")
+    brick_height: Length = Field(0.065, description="[m]")
     density: Positive = Field(1800.0, description="[kg/m^3]")
 
-    def add_to(self, builder: ModelBuilder) -> None:
+    def _add(self, builder: ModelBuilder) -> None:
         add_grounded_running_bond_wall(builder, courses=self.courses, bricks=self.bricks,
                                        brick_length=self.brick_length,
                                        brick_height=self.brick_height, density=self.density)
@@ -140,30 +186,16 @@ SHAPE_KEYS = {"semicircular": (), "circular": ("embrace",), "segmental": ("rise"
 """The keys each arch shape needs besides span and thickness (skewback has a default)."""
 
 
-class _Generated(_Strict):
-    """A structure made by a saxum.structures generator; its InputErrors are prefixed with
-    "structure: " so that the user knows where to look."""
-
-    def add_to(self, builder: ModelBuilder) -> None:
-        try:
-            self._add(builder)
-        except InputError as err:
-            raise InputError(f"structure: {err}") from None
-
-    def _add(self, builder: ModelBuilder) -> None:
-        raise NotImplementedError
-
-
 class _Shaped(_Generated):
     """The shape of an arch ring (saxum.structures.ArchShape), checked when read."""
 
     shape: Literal["semicircular", "circular", "segmental", "pointed", "elliptical",
                    "basket_handle", "flat"]
-    span: Positive = Field(description="intrados span [m]")
-    thickness: Positive = Field(description="ring thickness [m] (flat: its depth)")
-    rise: Positive | None = None
+    span: Length = Field(description="intrados span [m]")
+    thickness: Length = Field(description="ring thickness [m] (flat: its depth)")
+    rise: Length | None = None
     embrace: Positive | None = None
-    eccentricity: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] | None = None
+    eccentricity: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] | None = None
     skewback: Positive | None = None
 
     @model_validator(mode="after")
@@ -203,9 +235,9 @@ class _Shaped(_Generated):
 class _Rings(_Shaped):
     """An arch ring in several concentric rings (saxum.structures.arch_rings)."""
 
-    voussoirs: int = Field(ge=1)
-    rings: int = Field(1, ge=1)
-    ring_thicknesses: list[Positive] | None = None
+    voussoirs: Count
+    rings: Count = 1
+    ring_thicknesses: list[Length] | None = None
     ring_stagger: bool = False
 
     def _layers(self) -> dict:
@@ -221,9 +253,9 @@ class ShapedArchStructure(_Rings):
     joints: Literal["radial", "vertical"] = "radial"
     density: Positive = 2000.0
     piers: Literal["fixed", "free"] = "fixed"
-    pier_width: Positive | None = None
-    pier_height: Positive | None = None
-    pier_courses: int = Field(1, ge=1)
+    pier_width: Length | None = None
+    pier_height: Length | None = None
+    pier_courses: Count = 1
 
     def _add(self, builder: ModelBuilder) -> None:
         add_supported_arch(builder, self.arch_shape(), voussoirs=self.voussoirs,
@@ -235,15 +267,15 @@ class ShapedArchStructure(_Rings):
 class OpeningSpec(_Strict):
     """A door or window of a wall (saxum.structures.Opening) [m, rad]."""
 
-    x: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
-    y: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
-    width: Positive
-    height: Positive
+    x: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
+    y: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 0.0
+    width: Length
+    height: Length
     head: Literal["lintel", "flat_arch", "segmental_arch", "none"] = "lintel"
-    head_depth: Positive | None = None
-    bearing: Positive | None = None
-    rise: Positive | None = None
-    voussoirs: int = Field(7, ge=1)
+    head_depth: Length | None = None
+    bearing: Length | None = None
+    rise: Length | None = None
+    voussoirs: Count = 7
     skewback: Positive = math.radians(20.0)
 
     @model_validator(mode="after")
@@ -267,13 +299,13 @@ class BondedWallStructure(_Generated):
     groups "ground", "brick", and "lintel" or "voussoir" over openings)."""
 
     type: Literal["wall"] = "wall"
-    courses: int = Field(ge=1)
-    bricks: int = Field(ge=1)
+    courses: Count
+    bricks: Count
     bond: Literal["running", "stack"] = "running"
-    brick_length: Positive = 0.25
-    brick_height: Positive = 0.065
+    brick_length: Length = 0.25
+    brick_height: Length = 0.065
     half_bricks: bool = True
-    min_piece: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.1
+    min_piece: Annotated[Real, Field(ge=0.0, lt=1.0)] = 0.1
     density: Positive = 1800.0
     openings: list[OpeningSpec] = []
     ground_splits: list[Finite] = []
@@ -290,9 +322,9 @@ class PierStructure(_Generated):
     """A pier of blocks on a fixed ground (add_pier; groups "ground", "pier")."""
 
     type: Literal["pier"] = "pier"
-    width: Positive
-    height: Positive
-    courses: int = Field(1, ge=1)
+    width: Length
+    height: Length
+    courses: Count = 1
     density: Positive = 2000.0
 
     def _add(self, builder: ModelBuilder) -> None:
@@ -305,13 +337,13 @@ class ButtressedWallStructure(_Generated):
     (add_buttressed_wall; groups "ground", "wall")."""
 
     type: Literal["buttressed_wall"] = "buttressed_wall"
-    height: Positive
-    thickness: Positive
-    courses: int = Field(ge=1)
-    buttress_width: Positive
-    buttress_height: Positive | None = None
-    setbacks: int = Field(1, ge=1)
-    block_length: Positive | None = None
+    height: Length
+    thickness: Length
+    courses: Count
+    buttress_width: Length
+    buttress_height: Length | None = None
+    setbacks: Count = 1
+    block_length: Length | None = None
     density: Positive = 2000.0
 
     def _add(self, builder: ModelBuilder) -> None:
@@ -326,19 +358,19 @@ class ArchBridgeStructure(_Rings):
     "spandrel" and, with fill = "blocks", "fill")."""
 
     type: Literal["arch_bridge"] = "arch_bridge"
-    spans: int = Field(ge=1)
-    pier_width: Positive
-    pier_height: Positive
-    abutment_width: Positive
+    spans: Count
+    pier_width: Length
+    pier_height: Length
+    abutment_width: Length
     joints: Literal["radial", "vertical"] = "radial"
-    pier_courses: int = Field(1, ge=1)
+    pier_courses: Count = 1
     piers: Literal["fixed", "free"] = "free"
-    spandrel_height: Positive | None = None
+    spandrel_height: Length | None = None
     fill: Literal["surcharge", "blocks"] = "surcharge"
-    fill_depth: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.5
-    course_height: Positive = 0.5
-    block_length: Positive = 1.0
-    min_piece: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.1
+    fill_depth: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 0.5
+    course_height: Length = 0.5
+    block_length: Length = 1.0
+    min_piece: Annotated[Real, Field(ge=0.0, lt=1.0)] = 0.1
     density: Positive = 2200.0
     fill_density: Positive = 1800.0
 
@@ -355,41 +387,41 @@ class ArchBridgeStructure(_Rings):
 
 
 
-class Arch3dStructure(_Strict):
+class Arch3dStructure(_Generated):
     """The semicircular arch of "semicircular_arch" given a depth (3D): its voussoirs and its
     support block are prisms through the depth (groups "voussoir" and "support")."""
 
     dim: ClassVar[int] = 3
     type: Literal["semicircular_arch_3d"] = "semicircular_arch_3d"
-    radius: Positive = Field(description="mean radius R [m]")
-    thickness: Positive = Field(description="ring thickness t [m], < 2 R")
-    voussoirs: int = Field(ge=1, description="number of equal voussoirs")
-    depth: Positive = Field(description="depth of the barrel [m]")
-    pieces: int = Field(1, ge=1, description="pieces of each voussoir along the depth")
+    radius: Length = Field(description="mean radius R [m]")
+    thickness: Length = Field(description="ring thickness t [m], < 2 R")
+    voussoirs: Count = Field(description="number of equal voussoirs")
+    depth: Length = Field(description="depth of the barrel [m]")
+    pieces: Count = Field(1, description="pieces of each voussoir along the depth")
     stagger: bool = Field(False, description="shift every other voussoir's joints by half")
     density: Positive = Field(2000.0, description="density [kg/m^3]")
 
-    def add_to(self, builder: ModelBuilder) -> None:
+    def _add(self, builder: ModelBuilder) -> None:
         add_semicircular_arch3d(builder, radius=self.radius, thickness=self.thickness,
                                 voussoirs=self.voussoirs, depth=self.depth, pieces=self.pieces,
                                 stagger=self.stagger, density=self.density)
 
 
-class Wall3dStructure(_Strict):
+class Wall3dStructure(_Generated):
     """A 3D wall one brick thick in running bond on a fixed ground slab, with an optional
     return wall at an interlocking L corner (groups "brick" and "ground")."""
 
     dim: ClassVar[int] = 3
     type: Literal["wall_3d"] = "wall_3d"
-    courses: int = Field(ge=1, description="number of courses")
-    length: Positive = Field(description="length of the wall along x [m]")
-    return_length: Positive | None = Field(None, description="length of the return wall [m]")
-    thickness: Positive = Field(0.12, description="[m]")
-    brick_length: Positive = Field(0.25, description="[m]")
-    brick_height: Positive = Field(0.065, description="[m]")
+    courses: Count = Field(description="number of courses")
+    length: Length = Field(description="length of the wall along x [m]")
+    return_length: Length | None = Field(None, description="length of the return wall [m]")
+    thickness: Length = Field(0.12, description="[m]")
+    brick_length: Length = Field(0.25, description="[m]")
+    brick_height: Length = Field(0.065, description="[m]")
     density: Positive = Field(1800.0, description="[kg/m^3]")
 
-    def add_to(self, builder: ModelBuilder) -> None:
+    def _add(self, builder: ModelBuilder) -> None:
         add_ground_slab(builder, (0.0, 0.0), (self.length, self.return_length or
                                               self.thickness), 0.0)
         add_wall3d(builder, courses=self.courses, length=self.length,
@@ -398,25 +430,25 @@ class Wall3dStructure(_Strict):
                    density=self.density)
 
 
-class Pier3dStructure(_Strict):
+class Pier3dStructure(_Generated):
     """A 3D pier of courses of two crossed blocks on a fixed ground slab (groups "pier" and
     "ground")."""
 
     dim: ClassVar[int] = 3
     type: Literal["pier_3d"] = "pier_3d"
-    width: Positive = Field(description="along x [m]")
-    depth: Positive = Field(description="along y [m]")
-    courses: int = Field(ge=1, description="number of courses")
-    course_height: Positive = Field(description="[m]")
+    width: Length = Field(description="along x [m]")
+    depth: Length = Field(description="along y [m]")
+    courses: Count = Field(description="number of courses")
+    course_height: Length = Field(description="[m]")
     density: Positive = Field(2200.0, description="[kg/m^3]")
 
-    def add_to(self, builder: ModelBuilder) -> None:
+    def _add(self, builder: ModelBuilder) -> None:
         add_ground_slab(builder, (0.0, 0.0), (self.width, self.depth), 0.0)
         add_pier3d(builder, width=self.width, depth=self.depth, courses=self.courses,
                    course_height=self.course_height, density=self.density)
 
 
-class Bridge3dStructure(_Strict):
+class Bridge3dStructure(_Generated):
     """A single-span stone bridge with spandrel walls (3D): a segmental barrel on two
     abutments, spandrel walls at both faces, fill blocks between them or none, parapets on
     the walls if their size is given (groups "ground", "pier", "voussoir", "spandrel", "fill",
@@ -424,27 +456,27 @@ class Bridge3dStructure(_Strict):
 
     dim: ClassVar[int] = 3
     type: Literal["bridge_3d"] = "bridge_3d"
-    span: Positive = Field(description="clear span [m]")
-    rise: Positive = Field(description="rise of the intrados [m]")
-    thickness: Positive = Field(description="ring thickness [m]")
-    voussoirs: int = Field(ge=1, description="number of voussoirs")
-    width: Positive = Field(description="width of the bridge along y [m]")
-    spandrel_thickness: Positive = Field(description="thickness of each spandrel wall [m]")
-    abutment_width: Positive = Field(description="[m]")
-    abutment_height: Positive = Field(description="[m], from the ground to the springing")
-    spandrel_height: Positive | None = Field(
+    span: Length = Field(description="clear span [m]")
+    rise: Length = Field(description="rise of the intrados [m]")
+    thickness: Length = Field(description="ring thickness [m]")
+    voussoirs: Count = Field(description="number of voussoirs")
+    width: Length = Field(description="width of the bridge along y [m]")
+    spandrel_thickness: Length = Field(description="thickness of each spandrel wall [m]")
+    abutment_width: Length = Field(description="[m]")
+    abutment_height: Length = Field(description="[m], from the ground to the springing")
+    spandrel_height: Length | None = Field(
         None, description="top of the spandrel walls (the road) above the springing [m]")
     fill: Literal["blocks", "none"] = "blocks"
     fill_density: Positive | None = Field(None, description="[kg/m^3], default `density`")
-    parapet_thickness: Positive | None = Field(None, description="[m]")
-    parapet_height: Positive | None = Field(None, description="[m]")
-    parapet_length: Positive = Field(1.0, description="parapet blocks [m]")
-    course_height: Positive = Field(0.5, description="spandrel courses [m]")
-    block_length: Positive = Field(1.0, description="spandrel blocks [m]")
-    pieces: int = Field(1, ge=1, description="pieces of each voussoir along the width")
+    parapet_thickness: Length | None = Field(None, description="[m]")
+    parapet_height: Length | None = Field(None, description="[m]")
+    parapet_length: Length = Field(1.0, description="parapet blocks [m]")
+    course_height: Length = Field(0.5, description="spandrel courses [m]")
+    block_length: Length = Field(1.0, description="spandrel blocks [m]")
+    pieces: Count = Field(1, description="pieces of each voussoir along the width")
     stagger: bool = Field(False, description="shift every other voussoir's joints by half")
-    rings: int = Field(1, ge=1, description="concentric rings of the barrel")
-    ring_thicknesses: list[Positive] | None = Field(None, description="[m], from the intrados")
+    rings: Count = Field(1, description="concentric rings of the barrel")
+    ring_thicknesses: list[Length] | None = Field(None, description="[m], from the intrados")
     ring_stagger: bool = Field(False, description="every other ring's joints shifted by half")
     density: Positive = Field(2200.0, description="[kg/m^3]")
 
@@ -455,7 +487,7 @@ class Bridge3dStructure(_Strict):
                              "(give neither for none)")
         return self
 
-    def add_to(self, builder: ModelBuilder) -> None:
+    def _add(self, builder: ModelBuilder) -> None:
         shape = ArchShape.segmental(span=self.span, rise=self.rise, thickness=self.thickness)
         parapet = (None if self.parapet_thickness is None
                    else (self.parapet_thickness, self.parapet_height))
@@ -505,10 +537,10 @@ class LawSpec(_Strict):
     exact pair wins over one with a "*", which wins over ["*", "*"])."""
 
     groups: tuple[str, str]
-    friction: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+    friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
         "gap_signorini_coulomb")
-    restitution: Annotated[float, Field(ge=0.0, le=1.0)] = 0.0
+    restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
 
     def law(self) -> ContactLaw:
         return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
@@ -566,7 +598,7 @@ class FemaP695Spec(_Strict):
 
     set: Literal["far-field", "near-field", "near-field-pulse", "near-field-no-pulse"] = (
         "far-field")
-    record: int | str
+    record: Integer | str
     component: Literal["a", "b"] | None = None
     normalized: bool = False
 
@@ -585,14 +617,14 @@ class GroundMotionSpec(_Strict):
     amplitude: Finite = 0.0
     velocity: Finite = 0.0
     period: Positive = 1.0
-    gamma: Annotated[float, Field(gt=1.0)] = 2.0
+    gamma: Annotated[Real, Field(gt=1.0)] = 2.0
     nu: Finite = 0.0
     cycles: Positive = 5.0
-    ramp: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 0.0
+    ramp: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 0.0
     direction: Vector | None = None
     azimuth: Finite = 0.0
     scale: Finite = 1.0
-    start: Annotated[float, Field(ge=0.0)] = 0.0
+    start: Annotated[Real, Field(ge=0.0)] = 0.0
     end: Positive | None = None
     baseline_correction: bool = False
     apply: Literal["inertial", "driven"] = "inertial"
@@ -660,7 +692,7 @@ class FloodSpec(_Strict):
     velocity_series: list[tuple[Finite, Finite]] | None = None
     tailwater: Finite | None = None
     water_density: Positive = 1000.0
-    drag_coefficient: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 1.4
+    drag_coefficient: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] = 1.4
     azimuth: Finite = 0.0
 
     @field_validator("level_series", "velocity_series")
@@ -768,11 +800,11 @@ class SolverSpec(_Strict):
     before a slow step tries the rest solution (0: never)."""
 
     dt: Positive = 1e-3
-    theta: Annotated[float, Field(ge=0.5, le=1.0)] = 0.5
+    theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
     tolerance: Positive = 1e-6
-    max_iterations: int = Field(5000, ge=1)
-    relaxation: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
-    rest_after: int = Field(50, ge=0)
+    max_iterations: Count = 5000
+    relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0
+    rest_after: Annotated[Integer, Field(ge=0)] = 50
 
 
 class DetectionSpec(_Strict):
@@ -782,7 +814,7 @@ class DetectionSpec(_Strict):
     alert: Positive | None = None
     margin: Positive | None = None
     interpenetration: Positive | None = None
-    refresh_every: int = Field(10, ge=1)
+    refresh_every: Count = 10
 
 
 class OutputSpec(_Strict):
@@ -790,10 +822,10 @@ class OutputSpec(_Strict):
     [s] (both rounded to whole steps); blocks (names or indices) whose coordinates and
     velocities are written at every step (`histories`)."""
 
-    duration: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+    duration: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
     interval: Positive = 0.01
     checkpoint_interval: Positive = 1.0
-    histories: list[str | int] = []
+    histories: list[str | Integer] = []
 
     def history_bodies(self, model: Model) -> tuple[int, ...]:
         """Indices of the `histories` blocks in `model`; an unknown name or index is an
@@ -811,6 +843,52 @@ class OutputSpec(_Strict):
         return tuple(out)
 
 
+class LimitsSpec(_Strict):
+    """Upper bounds that stop a mistyped number (voussoirs = 10000000) before it fills the
+    memory or runs for days; raise one in a [limits] table to run something that big on
+    purpose."""
+
+    count: Count = 10_000
+    """Each count of the structure (voussoirs, courses, bricks, rings, spans, pieces,
+    pier_courses, setbacks, an opening's voussoirs) and a harmonic motion's cycles."""
+    blocks: Count = 100_000
+    """The product of the structure's counts (about its number of blocks)."""
+    steps: Count = 100_000_000
+    """Time steps of the run (output.duration / solver.dt), and detection.refresh_every."""
+    frames: Count = 100_000
+    """Output frames and checkpoints of the run (output.duration / their interval)."""
+    sweeps: Count = 10_000_000
+    """NLGS sweeps per step (solver.max_iterations, solver.rest_after)."""
+
+
+class _LimitError(ValueError):
+    """A scenario value above its limit; `loc` is the key's path (for the line number)."""
+
+    def __init__(self, loc: tuple, message: str):
+        super().__init__(message)
+        self.loc = loc
+
+
+def _above(loc: tuple, value, what: str, limit: str, limits: LimitsSpec) -> _LimitError:
+    key = ".".join(str(p) if isinstance(p, str) else f"[{p}]" for p in loc).replace(".[", "[")
+    bound = getattr(limits, limit)
+    return _LimitError(loc, f"{key} = {value} is above the limit of {bound} {what} "
+                            f"(limits.{limit}); if you mean it, raise it: [limits] {limit} = "
+                            f"... (docs/scenario.md)")
+
+
+def _counts(table: BaseModel, loc: tuple = ()):
+    """(path, value) of every Count field in `table` and in its lists of tables."""
+    for name, field in type(table).model_fields.items():
+        value = getattr(table, name)
+        if _COUNTED in field.metadata:
+            yield (*loc, name), value
+        elif isinstance(value, list):
+            for k, item in enumerate(value):
+                if isinstance(item, BaseModel):
+                    yield from _counts(item, (*loc, name, k))
+
+
 class Scenario(_Strict):
     """A whole run. Build it with load_scenario(path) or directly in Python."""
 
@@ -821,6 +899,50 @@ class Scenario(_Strict):
     solver: SolverSpec = SolverSpec()
     detection: DetectionSpec = DetectionSpec()
     output: OutputSpec
+    limits: LimitsSpec = LimitsSpec()
+
+    @model_validator(mode="after")
+    def _within_limits(self) -> Scenario:
+        lim = self.limits
+        blocks = 1
+        for loc, n in _counts(self.structure, ("structure",)):
+            if n > lim.count:
+                raise _above(loc, n, "for a count", "count", lim)
+            if len(loc) == 2:  # the structure's own counts multiply
+                blocks *= n
+        if blocks > lim.blocks:
+            names = " x ".join(f"{loc[1]} {n}" for loc, n in _counts(self.structure, ("s",))
+                               if len(loc) == 2)
+            raise _LimitError(("structure",), f"structure: its counts multiply to {blocks} "
+                              f"({names}), above the limit of {lim.blocks} blocks "
+                              "(limits.blocks); if you mean it, raise it: [limits] blocks = "
+                              "... (docs/scenario.md)")
+        motion = self.loads.ground_motion
+        if motion is not None and motion.pulse == "harmonic" and motion.cycles > lim.count:
+            raise _above(("loads", "ground_motion", "cycles"), motion.cycles, "for a count",
+                         "count", lim)
+        s, out = self.solver, self.output
+        for name in ("max_iterations", "rest_after"):
+            if getattr(s, name) > lim.sweeps:
+                raise _above(("solver", name), getattr(s, name), "sweeps", "sweeps", lim)
+        if self.detection.refresh_every > lim.steps:
+            raise _above(("detection", "refresh_every"), self.detection.refresh_every,
+                         "steps", "steps", lim)
+        steps = out.duration / s.dt
+        if steps > lim.steps:
+            raise _LimitError(("output", "duration"), f"output.duration / solver.dt = "
+                              f"{out.duration:g} s / {s.dt:g} s = {steps:.4g} steps, above the "
+                              f"limit of {lim.steps} steps (limits.steps); if you mean it, "
+                              "raise it: [limits] steps = ... (docs/scenario.md)")
+        for name in ("interval", "checkpoint_interval"):
+            every = max(1.0, round(getattr(out, name) / s.dt))  # whole steps, as the runner
+            if steps / every > lim.frames:
+                what = "frames" if name == "interval" else "checkpoints"
+                raise _LimitError(("output", name), f"output.duration / output.{name} = "
+                                  f"{steps / every:.4g} {what}, above the limit of "
+                                  f"{lim.frames} (limits.frames); write less often, or if you "
+                                  "mean it raise it: [limits] frames = ... (docs/scenario.md)")
+        return self
 
     @field_validator("laws")
     @classmethod
@@ -860,13 +982,12 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
     the most specific law with a "*" that matches it."""
     groups = builder.groups
     for i, spec in enumerate(laws):
-        if "*" not in spec.groups:
-            builder.set_law(*spec.groups, spec.law())
-            continue
         unknown = [g for g in spec.groups if g != "*" and g not in groups]
         if unknown:
             raise InputError(f"laws[{i}].groups names group {unknown[0]!r}, which no block "
                              f"has; groups: {groups}")
+        if "*" not in spec.groups:
+            builder.set_law(*spec.groups, spec.law())
     exact = {frozenset(spec.groups) for spec in laws if "*" not in spec.groups}
     for a, b in itertools.combinations_with_replacement(groups, 2):
         if frozenset((a, b)) in exact:
@@ -982,6 +1103,12 @@ def _missing(item: str, done: str, key: str | int, node) -> InputError:
 
 
 def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
+    cause = error.get("ctx", {}).get("error")
+    if isinstance(cause, _LimitError):  # raised by a validator of the whole scenario
+        key = ".".join(str(p) for p in cause.loc)
+        line = None if key in overridden else _line_of(text, list(cause.loc))
+        where = "from --set: " if key in overridden else (f"line {line}: " if line else "")
+        return f"  {where}{cause}"
     loc = [p for p in error["loc"] if not (isinstance(p, str) and p in _TAGS)]
     key = ".".join(str(p) if isinstance(p, str) else f"[{p}]" for p in loc).replace(".[", "[")
     line = None if key in overridden else _line_of(text, loc)
@@ -994,6 +1121,9 @@ def _describe(error: dict, text: str, source: str, overridden: set[str]) -> str:
         msg = f"unknown key; allowed keys here: {', '.join(allowed)}"
     elif error["type"] == "missing":
         msg = "missing (required)"
+    elif error["type"] in ("float_type", "int_type") and isinstance(error.get("input"), bool):
+        msg = (f"{'a number' if error['type'] == 'float_type' else 'a whole number'} is "
+               f"needed, not {str(error['input']).lower()} (true and false are not numbers)")
     elif "input" in error and not isinstance(error["input"], dict | list):
         msg += f" (got {error['input']!r})"
     return f"  {where}{key}: {msg}"

@@ -105,14 +105,16 @@ def four_hinge_mechanism(intrados: np.ndarray, extrados: np.ndarray, voussoirs: 
 
 def semicircular_four_hinge(radius: float, thickness: float, voussoirs: int):
     """four_hinge_mechanism of a semicircular arch of mean radius `radius` [m] (voussoirs with
-    straight intrados and extrados between the ends of radial joints); joint j at angle
-    pi j / voussoirs from the right springing."""
+    straight intrados and extrados between the ends of radial joints), its hinges' joints
+    numbered as saxum numbers the voussoirs, from the left springing: joint j at angle
+    pi (1 - j / voussoirs) from the right springing (sorted)."""
     phi = np.pi * np.arange(voussoirs + 1) / voussoirs
     unit = np.column_stack((np.cos(phi), np.sin(phi)))
     inner, outer = (radius - thickness / 2) * unit, (radius + thickness / 2) * unit
     quads = [np.array([inner[k], outer[k], outer[k + 1], inner[k + 1]])
              for k in range(voussoirs)]
-    return four_hinge_mechanism(inner, outer, quads)
+    lam, hinges = four_hinge_mechanism(inner, outer, quads)  # joints from the right here
+    return lam, sorted((voussoirs - j, side) for j, side in hinges)
 
 
 def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3) -> sx.Simulation:

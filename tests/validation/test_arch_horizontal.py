@@ -5,7 +5,7 @@ of saxum in limit_analysis.py (kinematic theorem for rigid blocks with no tensio
 sliding; J. Heyman, Int. J. Mech. Sci. 11, 1969; A. Gago, J. Alvarez & M. Ochsendorf, 2011).
 Voussoirs here are computed from the arch's definition: quadrilaterals with straight intrados
 and extrados between the ends of radial joints, mean radius R = 1 m, t/R = 0.15, 15 voussoirs
-numbered from the right springing, density 2000 kg/m^3.
+numbered from the left springing, density 2000 kg/m^3.
 
 Test: saxum's bisection (loading from rest to a fixed lambda, mu = 1 so that no joint slides)
 finds the collapse load factor within 3 % (the issue's tolerance) and its hinges at the same

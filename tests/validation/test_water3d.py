@@ -237,7 +237,12 @@ def test_drag_on_the_exposed_area_with_shielding_in_height_and_sideways():
     lever = centroid - model.body_q0[behind, :3]
     assert drag[behind, :3] == pytest.approx(force, rel=1e-13, abs=1e-12 * p)
     assert drag[behind, 3:] == pytest.approx(np.cross(lever, force), abs=1e-12 * p)
-    assert np.all(drag[hidden] == 0.0)
+    # Hidden, but its side faces (normals +-y) are parallel to the flow only to round-off:
+    # its body axes come from LAPACK's eigh (not axis-aligned: a slanted block), so on some
+    # CPUs they face upstream by ~1e-16 and present a panel ~1e-16 m wide (0.8 m high):
+    # p_d times ~1e-16 m^2, 4.5e-13 N measured. Allowed: an area of 1e-12 m^2 (four orders
+    # above that round-off), with its lever (< 2 m) for the moments.
+    assert drag[hidden] == pytest.approx(np.zeros(6), abs=2e-12 * p)
     # the flow reversed: the last block leads (0.8 m over y 0.5..1.5) and shields the middle
     # one below 0.8 m, which shields the front one on y 0.5..1
     back = _drag(model, level, -u, cd)

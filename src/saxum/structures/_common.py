@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, plain
 from ..geometry2d import normalize_polygon
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
@@ -109,13 +109,13 @@ def check_positive(**values: float) -> None:
     """InputError naming the first value that is not a finite number > 0 [m]."""
     for name, value in values.items():
         if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
-            raise InputError(f"{name} must be a finite length > 0 [m], got {value!r}")
+            raise InputError(f"{name} must be a finite length > 0 [m], got {plain(value)}")
 
 
 def check_count(name: str, value, least: int = 1) -> None:
     """InputError unless value is a whole number >= least."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < least:
-        raise InputError(f"{name} must be a whole number >= {least}, got {value!r}")
+        raise InputError(f"{name} must be a whole number >= {least}, got {plain(value)}")
 
 
 def rectangle(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
@@ -277,7 +277,7 @@ def add_ground(builder: ModelBuilder, asm: Assembly, x0: float, x1: float, top: 
     edges = [x0, *splits, x1]
     if any(b <= a for a, b in itertools.pairwise(edges)):
         raise InputError(f"ground_splits must increase strictly inside ({x0:g}, {x1:g}) m, "
-                         f"got {list(splits)}")
+                         f"got {plain(splits)}")
     names = ["ground"] if not splits else [f"ground {k + 1}" for k in range(len(edges) - 1)]
     return [asm.add_block(builder, "ground", rectangle(a, top - depth, b, top), group="ground",
                           kind=BodyKind.FIXED, name=name)

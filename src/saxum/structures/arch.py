@@ -2,8 +2,9 @@
 semicircular, circular of any embrace, segmental, pointed, elliptical, basket-handle, flat),
 cut along radial or vertical joints, alone, on fixed supports or on piers.
 
-The older semicircular_arch family (mean radius, voussoirs numbered from the right springing)
-is kept as it is: scenarios and validation tests name its voussoirs.
+The older semicircular_arch family (by the mean radius) is kept for the scenarios and
+validation tests that use it. Every arch numbers its voussoirs from the left springing
+("voussoir 1" is the leftmost), as mechanism reports and pictures name them.
 """
 
 import math
@@ -14,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.special import ellipeinc
 
-from ..errors import InputError
+from ..errors import InputError, plain
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 from ._common import (
@@ -45,7 +46,8 @@ def add_semicircular_arch(
     centre: tuple[float, float] = (0.0, 0.0),
     group: str = "voussoir",
 ) -> list[int]:
-    """Add the voussoirs of a semicircular arch; returns their body indices, right to left.
+    """Add the voussoirs of a semicircular arch; returns their body indices, left to right
+    (named "voussoir 1" at the left springing to "voussoir <voussoirs>" at the right one).
 
     radius: mean radius R [m] (centre line of the ring); thickness t [m] of the ring;
     voussoirs: number of equal voussoirs, each spanning pi/voussoirs of the ring, with radial
@@ -68,7 +70,7 @@ def add_semicircular_arch(
     if voussoirs % 2 == 0:
         cos[voussoirs // 2], sin[voussoirs // 2] = 0.0, 1.0
     bodies = []
-    for k in range(voussoirs):
+    for n, k in enumerate(reversed(range(voussoirs))):  # joint angles run right to left
         a, b = k, k + 1
         verts = [
             (cx + r_in * cos[a], cy + r_in * sin[a]),
@@ -77,7 +79,7 @@ def add_semicircular_arch(
             (cx + r_in * cos[b], cy + r_in * sin[b]),
         ]
         bodies.append(builder.add_block(verts, density=density, group=group,
-                                        name=f"voussoir {k + 1}"))
+                                        name=f"voussoir {n + 1}"))
     return bodies
 
 
@@ -106,7 +108,7 @@ def semicircular_arch(
     gravity: tuple[float, float] = (0.0, -9.81),
 ) -> Model:
     """A semicircular arch on its support (add_supported_semicircular_arch), friction mu [-] on
-    every joint. Voussoirs are bodies 1..voussoirs, right springing first; body 0 is the
+    every joint. Voussoirs are bodies 1..voussoirs, left springing first; body 0 is the
     support."""
     builder = ModelBuilder(gravity=gravity)
     add_supported_semicircular_arch(builder, radius=radius, thickness=thickness,
@@ -213,7 +215,8 @@ class ArchShape:
         [rad], 0 < embrace <= pi (pi: semicircular; less: segmental); radial joints."""
         check_positive(span=span, thickness=thickness)
         if not (isinstance(embrace, int | float) and 0.0 < embrace <= math.pi):
-            raise InputError(f"embrace must be an angle in (0, pi] [rad], got {embrace!r}")
+            raise InputError(f"embrace must be an angle in (0, pi] [rad], got "
+                             f"{plain(embrace)}")
         half = 0.5 * embrace
         r = 0.5 * span / math.sin(half)
         centre = np.array([0.0, 0.0 if embrace == math.pi else -r * math.cos(half)])
@@ -243,7 +246,8 @@ class ArchShape:
         lancet. The extrados arcs are concentric and meet at the extrados crown."""
         check_positive(span=span, thickness=thickness)
         if not (isinstance(eccentricity, int | float) and 0.0 <= eccentricity < math.inf):
-            raise InputError(f"eccentricity must be a finite number >= 0, got {eccentricity!r}")
+            raise InputError(f"eccentricity must be a finite number >= 0, got "
+                             f"{plain(eccentricity)}")
         c = 0.5 * eccentricity * span
         r = 0.5 * (1.0 + eccentricity) * span
         gamma = math.acos(eccentricity / (1.0 + eccentricity))
@@ -308,7 +312,8 @@ class ArchShape:
         [rad] from the vertical, 0 < skewback < pi/2."""
         check_positive(span=span, depth=depth)
         if not (isinstance(skewback, int | float) and 0.0 < skewback < 0.5 * math.pi):
-            raise InputError(f"skewback must be an angle in (0, pi/2) [rad], got {skewback!r}")
+            raise InputError(f"skewback must be an angle in (0, pi/2) [rad], got "
+                             f"{plain(skewback)}")
         focus = 0.5 * span / math.tan(skewback)
 
         def intrados(s):
@@ -434,7 +439,7 @@ def _ring_fractions(shape: ArchShape, rings: int,
     if isinstance(ring_thicknesses, str) or not isinstance(ring_thicknesses, Sequence) or len(
             ring_thicknesses) != rings:
         raise InputError(f"ring_thicknesses must list one thickness [m] per ring ({rings}), "
-                         f"got {ring_thicknesses!r}")
+                         f"got {plain(ring_thicknesses)}")
     check_positive(**{f"ring_thicknesses[{i}]": t for i, t in enumerate(ring_thicknesses)})
     total = shape.thickness
     if total is None:
@@ -485,7 +490,7 @@ def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
     counts = list(voussoirs) if isinstance(voussoirs, Sequence) else [voussoirs] * rings
     if len(counts) != rings:
         raise InputError(f"voussoirs must be one count or one per ring ({rings}), got "
-                         f"{voussoirs!r}")
+                         f"{plain(voussoirs)}")
     for i, n in enumerate(counts):
         check_count(f"voussoirs[{i}]" if isinstance(voussoirs, Sequence) else "voussoirs", n)
     s = [_ring_joints(int(n), ring_stagger and i % 2 == 1) for i, n in enumerate(counts)]
@@ -544,7 +549,7 @@ def arch_rings(shape: ArchShape, voussoirs: int | Sequence[int], rings: int,
             for k in range(len(s[i]) - 1):
                 outline_top += [*(p + shift for p in between[k]), top[k + 1] + shift]
             outer = top + shift
-    check_convex(polys, names, f"rings={rings} with voussoirs={voussoirs!r} gives it that "
+    check_convex(polys, names, f"rings={rings} with voussoirs={plain(voussoirs)} gives it that "
                  f"shape; use more voussoirs or thicker rings")
     outline = clean(np.array([*outline_top, inner[-1]]), float(np.ptp(outline_top, axis=0).max()))
     return Ring(polys, outline, (inner[0], outer[0]), (inner[-1], outer[-1]), tuple(ring_of))

@@ -28,6 +28,7 @@ and the block, with its line (CSV), index (JSON) or handle and layer (DXF).
 """
 
 import csv
+import io
 import json
 import math
 from collections.abc import Iterable, Mapping
@@ -73,6 +74,12 @@ def _format(path: Path, format: str | None) -> str:
         raise InputError(f"{path}: unknown block file format {fmt!r}; use one of {FORMATS} "
                          "(from the file's extension or format=...)")
     return fmt
+
+
+def _not_text(path: Path, err: UnicodeDecodeError) -> InputError:
+    return InputError(f"{path}: not a text file (byte {err.object[err.start]:#04x} at offset "
+                      f"{err.start} is not UTF-8); a JSON or CSV block file is UTF-8 text "
+                      "(docs/scenario.md)")
 
 
 def _kind(value, where: str) -> BodyKind:
@@ -126,6 +133,8 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
         data = json.loads(path.read_text(encoding="utf-8"))
     except json.JSONDecodeError as err:
         raise InputError(f"{path}: not valid JSON: {err}") from None
+    except UnicodeDecodeError as err:
+        raise _not_text(path, err) from None
     if not isinstance(data, dict) or not isinstance(data.get("blocks"), list):
         raise InputError(f'{path}: expected an object {{"blocks": [...]}}')
     specs = []
@@ -155,7 +164,11 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
 
 
 def _read_csv(path: Path, defaults: _Defaults) -> list[BlockSpec]:
-    with path.open(newline="", encoding="utf-8") as stream:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as err:
+        raise _not_text(path, err) from None
+    with io.StringIO(text, newline="") as stream:
         reader = csv.DictReader(stream)
         columns = [c.strip() for c in reader.fieldnames or ()]
         missing = [c for c in CSV_COLUMNS[:3] if c not in columns]
@@ -253,13 +266,16 @@ def block_file_dim(path: str | Path, *, format: str | None = None) -> int:
     if fmt == "dxf" or not path.is_file():
         return 2
     if fmt == "csv":
-        with path.open(newline="", encoding="utf-8") as stream:
-            header = next(csv.reader(stream), [])
+        try:
+            with path.open(newline="", encoding="utf-8") as stream:
+                header = next(csv.reader(stream), [])
+        except UnicodeDecodeError:
+            return 2  # read_blocks says what is wrong
         return 3 if "z" in (c.strip() for c in header) else 2
     try:
         first = json.loads(path.read_text(encoding="utf-8"))["blocks"][0]["vertices"][0]
         return 3 if len(first) == 3 else 2
-    except (json.JSONDecodeError, KeyError, IndexError, TypeError):
+    except (json.JSONDecodeError, UnicodeDecodeError, KeyError, IndexError, TypeError):
         return 2  # read_blocks says what is wrong
 
 

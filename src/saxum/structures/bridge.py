@@ -6,7 +6,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, plain
 from ..geometry2d import normalize_polygon, polygon_properties
 from ..model import BodyKind, ModelBuilder
 from ._common import (
@@ -127,9 +127,9 @@ def add_arch_bridge(
     if fill not in ("blocks", "surcharge"):
         raise InputError(f"fill must be 'blocks' or 'surcharge', got {fill!r}")
     if not (math.isfinite(fill_depth) and fill_depth >= 0.0):
-        raise InputError(f"fill_depth must be a finite length >= 0 [m], got {fill_depth!r}")
+        raise InputError(f"fill_depth must be a finite length >= 0 [m], got {plain(fill_depth)}")
     if not 0.0 <= min_piece < 1.0:
-        raise InputError(f"min_piece must be in [0, 1), got {min_piece!r}")
+        raise InputError(f"min_piece must be in [0, 1), got {plain(min_piece)}")
     x0, y0 = origin
     layers = {"rings": rings, "ring_thicknesses": ring_thicknesses, "ring_stagger": ring_stagger}
     alone = arch_ring(shape, voussoirs, joints, **layers)
@@ -159,7 +159,7 @@ def add_arch_bridge(
     if not top > springing + 1e-9 * pitch:
         raise InputError(f"spandrel_height must put the spandrel walls' top above the top of "
                          f"the piers, {springing - y0 - pier_height:g} m above the springings; "
-                         f"got {spandrel_height!r}")
+                         f"got {plain(spandrel_height)}")
 
     def levels(bottom: float, height: float) -> list[float]:
         return list(np.linspace(bottom, bottom + height,

@@ -18,7 +18,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, plain
 from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
 from ._common import Assembly, check_count, check_positive, finalize, fit_edges
@@ -88,7 +88,7 @@ def _extrude(builder, model2d, depth, pieces, stagger, spans, densities=None):
     for group, density in densities.items():
         if not (math.isfinite(density) and density > 0.0):
             raise InputError(f"densities[{group!r}] must be a density > 0 [kg/m^3], got "
-                             f"{density!r}")
+                             f"{plain(density)}")
     spans = dict(spans or {})
     for group, ranges in spans.items():
         for y0, y1, _ in ranges:
@@ -232,7 +232,7 @@ def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, wid
                          f"the two spandrel walls of a bridge {width:g} m wide")
     if parapet is not None:
         if len(parapet) != 2:
-            raise InputError(f"parapet must be (thickness, height) [m], got {parapet!r}")
+            raise InputError(f"parapet must be (thickness, height) [m], got {plain(parapet)}")
         check_positive(parapet_thickness=parapet[0], parapet_height=parapet[1],
                        parapet_length=parapet_length)
         if parapet[0] > spandrel_thickness:

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, plain
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 from ._common import (
@@ -129,7 +129,7 @@ def add_wall(
     if bond not in ("running", "stack"):
         raise InputError(f"bond must be 'running' or 'stack', got {bond!r}")
     if not 0.0 <= min_piece < 1.0:
-        raise InputError(f"min_piece must be in [0, 1), got {min_piece!r}")
+        raise InputError(f"min_piece must be in [0, 1), got {plain(min_piece)}")
     x0, y0 = origin
     length, height = bricks * brick_length, courses * brick_height
     holes, heads, owner = [], [], []
