@@ -118,7 +118,8 @@ def test_an_existing_results_file_is_not_overwritten_without_overwrite(tmp_path,
     with h5py.File(out, "r+") as f:
         f["run/status"][0] = 2
     assert main(["run", str(scenario), "-q"]) == 2
-    assert f"saxum resume {out} continues" in capsys.readouterr().err
+    assert f"holds an interrupted run (t = 0.02 s) that saxum resume {out} continues" in (
+        capsys.readouterr().err)
     assert main(["run", str(scenario), "-q", "--overwrite", "--set", "solver.dt=5e-4"]) == 0
     with Results(out) as r:
         assert r.status == "finished" and r.steps["step"].size == 2 * steps

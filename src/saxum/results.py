@@ -705,9 +705,10 @@ def _describe_existing(path: Path) -> str:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ResultsDamageWarning)
             with Results(path) as r:
-                if r.status in ("interrupted", "running"):
-                    return (f" and holds a {r.status} run (t = {r.time[-1]:g} s) that saxum "
-                            f"resume {path} continues")
+                if r.status == "interrupted":
+                    at = f" (t = {r.time[-1]:g} s)" if r.frame_count else ""
+                    return (f" and holds an interrupted run{at} that saxum resume {path} "
+                            "continues")
                 return f" and holds a {r.status} run"
     except Exception:  # noqa: BLE001 - only a description
         return ""
