@@ -386,9 +386,7 @@ def _lorentz_start(mu, r, margin, x, b):
         x[2] = 0.0
 
 
-# The helpers of the Newton kernels are compiled once each and called (LLVM may still inline
-# them); inline="always" typed them again at each call site: ~1.2 s more of a first run.
-@nb.njit
+@nb.njit(inline="always")
 def _columns(h, a, bk):
     """G rows of one body: (H_body^T B)[d, i], dof x k."""
     dim = bk.shape[0]
@@ -402,7 +400,7 @@ def _columns(h, a, bk):
     return g
 
 
-@nb.njit
+@nb.njit(inline="always")
 def _hessian_inverse(bk, xk, scale):
     """(P^-1 (k x k), gradient (k)) of (1/2 r0^2) |B x|^2 + phi(x) at x."""
     if xk.shape[0] == 2:
@@ -410,6 +408,8 @@ def _hessian_inverse(bk, xk, scale):
     return _lorentz_hessian_inverse(bk, xk, scale)
 
 
+# The Hessian inverses are compiled once each and called (LLVM may still inline them);
+# inline="always" typed them again at each call site: ~1.2 s more of a first run.
 @nb.njit
 def _orthant_hessian_inverse(bk, sk, scale):
     """2D, phi = -log x_1 - log x_2."""
