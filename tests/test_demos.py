@@ -1,5 +1,8 @@
 """The bundled demos (`saxum demo NAME`) run end to end and leave a picture and results."""
 
+import subprocess
+import sys
+
 import numpy as np
 from PIL import Image
 
@@ -17,6 +20,20 @@ def test_arch_demo_stands_and_collapses(tmp_path):
     for case in ("stands", "collapses"):
         with Results(tmp_path / f"arch-{case}.h5") as r:
             assert r.status == "finished" and np.isclose(r.time[-1], 1.0)
+
+
+def test_arch_demo_compiles_no_rest_solution_kernels(tmp_path):
+    """The first run after an install compiles the kernels the demo uses (BENCHMARKS.md, the
+    first run): the standing arch steps by NLGS alone, so the rest solution's kernels, most of
+    a first run's compile time, are neither compiled nor loaded (a fresh process)."""
+    code = ("import sys; from pathlib import Path; from saxum.demos import arch_demo; "
+            "arch_demo(Path(sys.argv[1]), duration=0.2, echo=lambda *a: None); "
+            "from saxum.solver import equilibrium as e; "
+            "print(sum(len(k.signatures) for k in (e._rest_contacts, e._pattern, "
+            "e._newton_system)))")
+    out = subprocess.run([sys.executable, "-c", code, str(tmp_path / "arch.png")],
+                         capture_output=True, text=True, check=True)
+    assert out.stdout.split()[-1] == "0"
 
 
 def test_wall_demo_from_the_command_line(tmp_path, capsys):

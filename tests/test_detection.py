@@ -134,6 +134,18 @@ def test_grid_broad_phase_finds_exactly_the_overlapping_boxes(centres, size, big
     assert found == sorted(found)
 
 
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.integers(1, 300), min_size=1, max_size=6), st.randoms(use_true_random=False))
+def test_sort_pairs_orders_few_and_many_partners(partners, rnd):
+    """Pairs (i, j) in random order, some bodies i with hundreds of partners j (a ground): the
+    Shell sort of each i's j must give the lexicographic order."""
+    pairs = [(i, i + 1 + j) for i, k in enumerate(partners) for j in rnd.sample(range(400), k)]
+    rnd.shuffle(pairs)
+    out = np.array(pairs, dtype=np.int32)
+    sort_pairs(out, len(pairs), len(partners))
+    assert [tuple(p) for p in out] == sorted(pairs)
+
+
 def test_broad_phase_reports_overflow_instead_of_writing_past_the_end():
     model = running_bond_wall(courses=3, bricks=4)
     wv = np.empty_like(model.vertex_local)

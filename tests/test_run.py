@@ -117,7 +117,9 @@ def test_sigkill_leaves_a_readable_file_and_resume_matches_one_go(tmp_path, one_
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     with Results(results) as r:  # everything up to the last flush, consistent
-        assert r.status == "running"
+        # no process holds the file: the run is said interrupted, with how to resume it
+        assert r.status == "interrupted" and f"saxum resume {results}" in r.message
+        assert not r.damage
         assert 12 <= r.frame_count < 101
         assert r.steps["step"].size >= r.step[-1]
         assert r.checkpoint_steps.size >= 1

@@ -2,7 +2,8 @@
 message names the key, file or option), 130 Ctrl-C outside a run's own handling.
 SI units throughout; in 2D, forces and masses are per metre of depth.
 
-    saxum run SCENARIO [-o RESULTS] [--set KEY=VALUE ...] [--unset KEY ...] [--quiet]
+    saxum run SCENARIO [-o RESULTS] [--overwrite] [--set KEY=VALUE ...] [--unset KEY ...]
+              [--quiet]
     saxum resume RESULTS [--quiet]
     saxum demo NAME [-o PICTURE] [--duration T]      (NAME: arch, wall)
     saxum collapse SCENARIO --vary KEY --stands A --collapses B [--set KEY=VALUE ...]
@@ -28,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ._version import __version__
-from .errors import InputError, SolverWarning
+from .errors import InputError, ResultsWriteError, SolverWarning
 
 __all__ = ["main"]
 
@@ -39,7 +40,7 @@ def _run(args) -> None:
 
     scenario = load_scenario(args.scenario, args.set)
     output = args.output or Path(args.scenario).with_suffix(".h5")
-    summary = run_scenario(scenario, output, quiet=args.quiet,
+    summary = run_scenario(scenario, output, quiet=args.quiet, overwrite=args.overwrite,
                            scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
     print(describe(summary))
 
@@ -108,7 +109,7 @@ def _collapse(args) -> None:
                                                           + "-collapse.h5")
     scenario = scenario.model_copy(update={"output": scenario.output.model_copy(
         update={"duration": at.time, "interval": at.time / 20})})
-    run_scenario(scenario, output, quiet=True)
+    run_scenario(scenario, output, quiet=True, overwrite=True)  # this command's own output
     title = f"{scenario.title or Path(args.scenario).stem}, {args.vary} = {result.collapses:.6g}"
     with Results(output) as r:
         picture = output.with_suffix(".png")
@@ -201,9 +202,13 @@ def _fclib_solve(args) -> None:
 
 
 def _info(args) -> None:
+    from .errors import ResultsDamageWarning
     from .results import Results
 
-    with Results(args.results) as r:
+    with warnings.catch_warnings():  # info_text says what is damaged
+        warnings.simplefilter("ignore", ResultsDamageWarning)
+        r = Results(args.results)
+    with r:
         print(info_text(r))
 
 
@@ -213,6 +218,7 @@ def info_text(r) -> str:
     status = r.message if r.message.startswith(r.status) else (
         r.status + (f" - {r.message}" if r.message else ""))
     lines = [f"results: {r.path} (saxum {r.version})", f"status: {status}"]
+    lines += [f"damaged: {d}" for d in r.damage]
     sc = None
     if r.scenario_json:
         from .scenario import Scenario
@@ -451,6 +457,9 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="run a scenario file (TOML) to a results file (HDF5)")
     p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
     p.add_argument("-o", "--output", type=Path, help="results file (default: SCENARIO.h5)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing results file (without it, an existing file is "
+                        "an error: it may hold a run that saxum resume continues)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a scenario key, e.g. --set solver.dt=5e-4 (repeatable)")
     _unset_option(p)
@@ -500,7 +509,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="override another scenario key (repeatable)")
     _unset_option(p)
     p.add_argument("-o", "--output", type=Path,
-                   help="results of the collapsing case (default: SCENARIO-collapse.h5)")
+                   help="results of the collapsing case (default: SCENARIO-collapse.h5; "
+                        "replaced if it exists)")
     p.set_defaults(func=_collapse)
 
     p = sub.add_parser("collapse-curve", help="smallest pulse amplitude that collapses the "
@@ -611,6 +621,9 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into a program that stopped reading (| head)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
         return 0
+    except ResultsWriteError as err:
+        print(f"saxum: failed: {err}", file=sys.stderr)
+        return 1
     except Exception as err:  # noqa: BLE001 - any failure is reported as exit code 1
         print(f"saxum: failed: {type(err).__name__}: {err}", file=sys.stderr)
         return 1

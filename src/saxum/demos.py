@@ -25,7 +25,8 @@ def bundled_scenario(name: str, duration: float | None = None) -> tuple[Scenario
 
 def _run(name: str, results: Path, duration: float | None, echo) -> tuple[Path, RunSummary]:
     scenario, text = bundled_scenario(name, duration)
-    summary = run_scenario(scenario, results, quiet=True, scenario_text=text)
+    # a demo's results are its own: running it again replaces them
+    summary = run_scenario(scenario, results, quiet=True, scenario_text=text, overwrite=True)
     echo(f"{scenario.title}: {summary.steps} steps in {summary.wall_time:.1f} s; "
          f"results {results}")
     return results, summary

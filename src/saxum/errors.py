@@ -1,6 +1,7 @@
 """Errors raised on bad input. Each message names the block, parameter or pair at fault."""
 
-__all__ = ["InputError", "OverlapError", "SimulationError", "SolverWarning", "plain"]
+__all__ = ["InputError", "OverlapError", "ResultsDamageWarning", "ResultsWriteError",
+           "SimulationError", "SolverWarning", "plain"]
 
 
 class InputError(ValueError):
@@ -13,6 +14,15 @@ class OverlapError(InputError):
 
 class SimulationError(RuntimeError):
     """The time integration broke down (NaN or infinite velocities); the message gives the step."""
+
+
+class ResultsWriteError(OSError):
+    """A results file could not be written (a full disk, a file-size limit); the message says
+    up to where the file is readable and how to continue."""
+
+
+class ResultsDamageWarning(UserWarning):
+    """A results file is truncated or damaged: what was lost and what is read."""
 
 
 class SolverWarning(UserWarning):

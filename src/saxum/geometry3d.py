@@ -21,7 +21,6 @@ there is diag(J_1, J_2, J_3).
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from .errors import InputError
 
@@ -72,6 +71,8 @@ def convex_polyhedron(points, *, name: str = "block") -> Polyhedron:
         raise InputError(f"{name}: a polyhedron needs at least 4 vertices, got {len(p)}")
     if not np.all(np.isfinite(p)):
         raise InputError(f"{name}: vertex coordinates contain NaN or infinity")
+    from scipy.spatial import ConvexHull, QhullError  # here: 0.3 s of import a 2D run skips
+
     scale = float(np.ptp(p, axis=0).max())
     try:
         hull = ConvexHull(p)
@@ -187,6 +188,8 @@ def clip_polyhedron(poly: Polyhedron, normal, offset: float) -> Polyhedron | Non
     points = np.vstack((poly.vertices[side <= 0.0], cut))
     if len(points) < 4:
         return None
+    from scipy.spatial import ConvexHull, QhullError
+
     scale = float(np.ptp(poly.vertices, axis=0).max())
     try:
         hull = ConvexHull(points)

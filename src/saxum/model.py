@@ -34,7 +34,12 @@ from .geometry3d import (
 )
 from .laws import ContactLaw
 
-__all__ = ["BodyKind", "FieldLoad", "Model", "ModelBuilder"]
+__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder"]
+
+DENSITY_RANGE = (1.0, 1.0e5)
+"""Densities a free block may have [kg/m^3]: masonry is 1000-3000 and the densest metal
+(osmium) 22 600; below 1 (lighter than air) or above 1e5 a value is a unit mistake, and 1e300 or
+1e-300 would overflow or underflow the masses and the Delassus operator."""
 
 Motion = Callable[[float], Sequence[float]]
 """Imposed velocity of a driven body: t [s] -> (vx [m/s], vy [m/s], omega [rad/s]) in 2D,
@@ -247,7 +252,7 @@ class ModelBuilder:
         vertices: 2D: (x, y) pairs [m] in world coordinates, either orientation, of a convex
         polygon; 3D: (x, y, z) points [m] whose convex hull is the block (a point strictly
         inside the hull means a non-convex block, which is refused).
-        density [kg/m^3]: required (> 0) for FREE blocks, ignored otherwise.
+        density [kg/m^3]: required for FREE blocks, within DENSITY_RANGE; ignored otherwise.
         motion: for DRIVEN blocks, t [s] -> velocity of the centre of mass (see `Motion`).
         """
         index = len(self._blocks)
@@ -257,8 +262,12 @@ class ModelBuilder:
             verts = convex_polyhedron(vertices, name=name)
         else:
             verts = normalize_polygon(vertices, name=name)
+        low, high = DENSITY_RANGE
         if kind == BodyKind.FREE and not (math.isfinite(density) and density > 0.0):
             raise InputError(f"{name}: density must be a finite number > 0 [kg/m^3], got {density}")
+        if kind == BodyKind.FREE and not low <= density <= high:
+            raise InputError(f"{name}: density {density:g} kg/m^3 is outside {low:g} .. {high:g} "
+                             "kg/m^3 (masonry is 1000 .. 3000 kg/m^3; is it in kg/m^3?)")
         if kind == BodyKind.DRIVEN and motion is None:
             raise InputError(f"{name}: a DRIVEN block needs motion=t -> (vx, vy, omega)")
         if kind != BodyKind.DRIVEN and motion is not None:

@@ -28,27 +28,50 @@ before the first step, rows are appended and flushed, so a run killed at any mom
 SIGKILL) leaves a file that reads consistently up to its last flush. Rows are committed in an
 order that makes the index datasets (frames/time, checkpoints/step) the last written, and the
 reader trusts only rows that every dataset of a group has.
+
+Files that must not lie (format 2):
+- one writer at a time: a writer holds an exclusive lock (flock) on the hidden file
+  `.NAME.lock` next to NAME while it writes; a second writer gets an InputError, and a file
+  that says "running" while nobody holds its lock was left by a killed or crashed run
+  ("interrupted": `saxum resume` continues it).
+- every row of frames, steps, histories and checkpoints carries a CRC-32 (zlib) of its values
+  (the row's contacts and pair list included) in the group's `checksum` dataset, written
+  before the index dataset. The reader keeps the rows up to the first whose checksum does not
+  match, and says what it dropped (Results.damage).
+- a file shorter than the end-of-file address in its HDF5 superblock (a copy cut short, a full
+  disk) is truncated: it is read through an image padded with zeros (HDF5 then reports lost
+  metadata at once instead of retrying as an SWMR reader does), and the checksums drop the
+  rows whose data were lost.
 """
 
 from __future__ import annotations
 
 import contextlib
 import functools
+import io
 import os
+import struct
+import warnings
+import zlib
 from dataclasses import fields
 from pathlib import Path
 
 import h5py
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, ResultsDamageWarning, ResultsWriteError
 from .geometry2d import polygon_properties
 from .steplog import STEP_DTYPES, StepReport
 
-__all__ = ["Results", "ResultsWriter", "STATUS"]
+try:
+    import fcntl
+except ImportError:  # Windows: no advisory locks; one writer per file is then up to the user
+    fcntl = None
+
+__all__ = ["Results", "ResultsWriter", "STATUS", "writer_pid"]
 
 FORMAT = "saxum-results"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 STATUS = {0: "running", 1: "finished", 2: "interrupted", 3: "failed"}
 
 _CONTACT_FIELDS = {
@@ -68,6 +91,239 @@ _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
               "m/s, m/s, m/s, rad/s, rad/s, rad/s (vx, vy, vz world; wx, wy, wz body frame)")}
 """Units of body_q and body_v by dimension."""
 _STEP_FIELDS = [f.name for f in fields(StepReport)]
+
+_ROWS = {
+    # group: (columns in checksum order, the index column last; ragged parts: (subgroup, its
+    # datasets, the column counting each row's entries))
+    "frames": (("step", "body_q", "body_v", "contact_count", "time"),
+               (("contacts", tuple(_CONTACT_FIELDS), "contact_count"),)),
+    "steps": (tuple(_STEP_FIELDS), ()),
+    "histories": (("step", "body_q", "body_v", "ground_acceleration", "time"), ()),
+    "checkpoints": (("body_q", "body_v", "q_ref", "pair_count", "since_refresh", "refresh_count",
+                     "contact_count", "steps_logged", "time", "step"),
+                    (("contacts", tuple(_CONTACT_FIELDS), "contact_count"),
+                     ("", ("pairs",), "pair_count"))),
+}
+"""What a row of each appended group is, for its CRC-32 (the same order on writing and reading)."""
+
+
+def _byte_rows(column: np.ndarray) -> np.ndarray:
+    """The rows of `column` as a (rows, bytes per row) uint8 array."""
+    column = np.ascontiguousarray(column)
+    width = column.dtype.itemsize * int(np.prod(column.shape[1:], dtype=np.int64))
+    return column.view(np.uint8).reshape(column.shape[0], width)
+
+
+def _checksums(columns: list[np.ndarray],
+               ragged: list[tuple[list[np.ndarray], np.ndarray]] = ()) -> np.ndarray:
+    """CRC-32 (zlib) of each row: its bytes in every column, then the entries of each ragged
+    part (a list of arrays of entries, and the number of entries of each row) that are its."""
+    table = np.concatenate([_byte_rows(c) for c in columns], axis=1)
+    parts = []
+    for arrays, counts in ragged:
+        entries = np.concatenate([_byte_rows(a) for a in arrays], axis=1)
+        start = np.concatenate([[0], np.cumsum(counts, dtype=np.int64)])
+        parts.append((entries, np.minimum(start, len(entries))))
+    out = np.empty(len(table), dtype=np.uint32)
+    for k, row in enumerate(table):
+        crc = zlib.crc32(row)
+        for entries, start in parts:
+            crc = zlib.crc32(entries[start[k]:start[k + 1]], crc)
+        out[k] = crc
+    return out
+
+
+_ROW_NAMES = {"frames": "output frames", "steps": "step reports",
+              "histories": "history rows", "checkpoints": "checkpoints"}
+
+
+def _reason(err: Exception) -> str:
+    """What an HDF5 error says, without its time stamp and buffer addresses."""
+    text = str(err).strip("'\"")
+    if "error message = " in text:
+        return text.split("error message = ")[1].split(",")[0].strip("' ")
+    if text.endswith(")") and "(" in text:  # "Unable to ... (what went wrong)"
+        text = text[text.index("(") + 1:-1]
+    return text.replace(" after all read attempts", "")
+
+
+def _lock_path(path: Path) -> Path:
+    return path.with_name(f".{path.name}.lock")
+
+
+_HELD: set[Path] = set()
+"""Results files whose lock this process holds (a reader here must not take them for another
+process's live run)."""
+
+
+class _Lock:
+    """An exclusive advisory lock (flock) on `.NAME.lock`, held while NAME is written; the lock
+    file holds the writer's process id and is removed on release."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path.resolve()
+        self._fd = None
+        if fcntl is None:
+            return
+        lock = _lock_path(self.path)
+        while True:
+            try:
+                fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as err:
+                raise InputError(f"cannot write results file {path}: {err.strerror} "
+                                 f"({lock.parent}); give another one (-o)") from None
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                pid = writer_pid(self.path)
+                raise InputError(
+                    f"{path} is being written by another saxum process"
+                    + (f" (pid {pid})" if pid else "")
+                    + ": wait for it to finish (saxum info shows how far it is), or write "
+                    "to another file (-o)") from None
+            try:  # the lock file may have been removed by its previous holder meanwhile
+                if os.path.samestat(os.fstat(fd), os.stat(lock)):
+                    break
+            except FileNotFoundError:
+                pass
+            os.close(fd)
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()}\n".encode())
+        self._fd = fd
+        _HELD.add(self.path)
+
+    def release(self) -> None:
+        if self._fd is not None:
+            _HELD.discard(self.path)
+            try:
+                os.unlink(_lock_path(self.path))
+            except OSError:
+                pass
+            os.close(self._fd)  # closing releases the flock
+            self._fd = None
+
+
+def writer_pid(path: str | os.PathLike) -> int | None:
+    """The id of the process that is writing results file `path` now (0 if it cannot be told),
+    or None when no process holds its lock (also when the writer is this process)."""
+    path = Path(path).resolve()
+    if fcntl is None or path in _HELD:
+        return None
+    try:
+        fd = os.open(_lock_path(path), os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        text = os.pread(fd, 32, 0).decode(errors="replace").strip()
+        return int(text) if text.isdigit() else 0
+    finally:
+        os.close(fd)
+    return None
+
+
+_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def _lookup3(data: bytes) -> int:
+    """Bob Jenkins' lookup3 hash (hashlittle, initial value 0): the checksum of HDF5's
+    version 2-3 superblock (HDF5 file format specification, "Superblock", and lookup3.c,
+    public domain, 2006)."""
+    m = 0xFFFFFFFF
+
+    def rot(x, k):
+        return ((x << k) | (x >> (32 - k))) & m
+
+    a = b = c = (0xDEADBEEF + len(data)) & m
+    rest = data
+    while len(rest) > 12:
+        a = (a + int.from_bytes(rest[0:4], "little")) & m
+        b = (b + int.from_bytes(rest[4:8], "little")) & m
+        c = (c + int.from_bytes(rest[8:12], "little")) & m
+        a = ((a - c) & m) ^ rot(c, 4)
+        c = (c + b) & m
+        b = ((b - a) & m) ^ rot(a, 6)
+        a = (a + c) & m
+        c = ((c - b) & m) ^ rot(b, 8)
+        b = (b + a) & m
+        a = ((a - c) & m) ^ rot(c, 16)
+        c = (c + b) & m
+        b = ((b - a) & m) ^ rot(a, 19)
+        a = (a + c) & m
+        c = ((c - b) & m) ^ rot(b, 4)
+        b = (b + a) & m
+        rest = rest[12:]
+    if not rest:
+        return c
+    rest = rest.ljust(12, b"\0")  # the tail's missing bytes count as zeros
+    a = (a + int.from_bytes(rest[0:4], "little")) & m
+    b = (b + int.from_bytes(rest[4:8], "little")) & m
+    c = (c + int.from_bytes(rest[8:12], "little")) & m
+    for x, y, k in ((2, 1, 14), (0, 2, 11), (1, 0, 25), (2, 1, 16), (0, 2, 4), (1, 0, 14),
+                    (2, 1, 24)):
+        v = [a, b, c]
+        v[x] = ((v[x] ^ v[y]) - rot(v[y], k)) & m
+        a, b, c = v
+    return c
+
+
+def _superblock(path: Path) -> tuple[bytes, int] | None:
+    """The first 48 bytes of an HDF5 file with a version 2 or 3 superblock (as saxum writes)
+    and its end-of-file address [bytes]; None for another superblock."""
+    with open(path, "rb") as f:
+        head = f.read(48)
+    if len(head) < 48 or head[:8] != _SIGNATURE or head[8] not in (2, 3) or head[9] != 8:
+        return None
+    if struct.unpack("<I", head[44:48])[0] != _lookup3(head[:44]):
+        return None
+    return head, struct.unpack("<Q", head[28:36])[0]
+
+
+class _Image(io.RawIOBase):
+    """A read-only view of an HDF5 file for h5py's file-object driver: zeros past its end up to
+    the end-of-file address `eof` (a truncated file), and the superblock's "open for writing"
+    flags cleared (a killed or crashed run), so that HDF5 opens it without SWMR."""
+
+    def __init__(self, path: Path, head: bytes, eof: int) -> None:
+        self._f = open(path, "rb")  # noqa: SIM115 - closed with this object
+        self._size = os.fstat(self._f.fileno()).st_size
+        self._eof = max(eof, self._size)
+        head = bytearray(head)
+        head[11] = 0
+        head[44:48] = struct.pack("<I", _lookup3(bytes(head[:44])))
+        self._head = bytes(head)
+        self._pos = 0
+
+    def readable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def seek(self, offset: int, whence: int = 0) -> int:
+        self._pos = (offset, self._pos + offset, self._eof + offset)[whence]
+        return self._pos
+
+    def tell(self) -> int:
+        return self._pos
+
+    def readinto(self, buffer) -> int:
+        n = max(0, min(len(buffer), self._eof - self._pos))
+        data = os.pread(self._f.fileno(), n, self._pos) if self._pos < self._size else b""
+        view = memoryview(buffer).cast("B")
+        view[:len(data)] = data
+        view[len(data):n] = bytes(n - len(data))
+        if self._pos < len(self._head):
+            k = min(n, len(self._head) - self._pos)
+            view[:k] = self._head[self._pos:self._pos + k]
+        self._pos += n
+        return n
+
+    def close(self) -> None:
+        self._f.close()
+        super().close()
 
 
 def _grow(group: h5py.Group, name: str, dtype, tail: tuple, units: str, chunk: int = 256):
@@ -91,14 +347,40 @@ def _strings(values) -> np.ndarray:
 
 class ResultsWriter:
     """Creates `path` for a run of `model` with time step dt [s] and theta, then appends frames,
-    step reports and checkpoints. Use as a context manager or call close()."""
+    step reports and checkpoints. Use as a context manager or call close().
+
+    The file is locked while it is written: another writer of the same path gets an InputError.
+    An existing file is an InputError too unless `overwrite` (it may hold a run to resume).
+    A failed write (a full disk) raises ResultsWriteError; the file stays readable up to its
+    last complete row."""
 
     def __init__(self, path: str | os.PathLike, model, *, dt: float, theta: float,
                  scenario: str = "", scenario_json: str = "", version: str = "",
-                 histories: tuple[int, ...] = (), ground: bool = False) -> None:
+                 histories: tuple[int, ...] = (), ground: bool = False,
+                 overwrite: bool = False) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = f = h5py.File(self.path, "w", libver="latest")
+        self._file = None
+        self._steps_buffer: list[StepReport] = []
+        self._history_buffer: list[tuple] = []
+        self._groups: dict[str, _Rows] = {}
+        self._lock = _Lock(self.path)
+        try:
+            if self.path.exists() and not overwrite:
+                raise InputError(f"{self.path} already exists{_describe_existing(self.path)}: "
+                                 "give --overwrite to replace it (Python: overwrite=True), or "
+                                 "another results file (-o)")
+            self._file = _open_for_writing(self.path, "w")
+            self._create(model, dt=dt, theta=theta, scenario=scenario,
+                         scenario_json=scenario_json, version=version, histories=histories,
+                         ground=ground)
+        except BaseException:
+            self.close()
+            raise
+
+    def _create(self, model, *, dt, theta, scenario, scenario_json, version, histories,
+                ground) -> None:
+        f = self._file
         dim, dof = model.dim, model.dof
         nq = model.body_q0.shape[1]
         q_units, v_units = _UNITS[dim]
@@ -132,7 +414,10 @@ class ResultsWriter:
                 _grow(hist, "ground_acceleration", np.float64, (dim,), "m/s^2", chunk=1024)
             _grow(hist, "time", np.float64, (), "s", chunk=1024)
 
+        for g in (frames, steps, *([hist] if histories else [])):
+            _grow(g, "checksum", np.uint32, (), "-", chunk=1024)
         cp = f.create_group("checkpoints")
+        _grow(cp, "checksum", np.uint32, (), "-", chunk=16)
         _grow(cp, "time", np.float64, (), "s", chunk=16)
         _grow(cp, "body_q", np.float64, (n, nq), q_units, chunk=1)
         _grow(cp, "body_v", np.float64, (n, dof), v_units, chunk=1)
@@ -148,8 +433,6 @@ class ResultsWriter:
         run.create_dataset("status", data=np.array([0], dtype=np.int8))
         run.create_dataset("message", data=np.array([b" " * 512]), dtype="S512")
         f.swmr_mode = True
-        self._steps_buffer: list[StepReport] = []
-        self._history_buffer: list[tuple] = []
         self._history_bodies = np.asarray(histories, dtype=np.int64)
 
     @classmethod
@@ -161,12 +444,33 @@ class ResultsWriter:
         frame_every, such as the frame written when a run was interrupted), so the resumed
         run continues exactly as the run made in one go. Returns (writer, checkpoint index)."""
         path = Path(path)
-        src = Results(path)
-        steps = src.checkpoint_steps
+        lock = _Lock(path)
+        try:
+            return cls._resume(path, lock, checkpoint, frame_every)
+        except BaseException:
+            lock.release()
+            raise
+
+    @classmethod
+    def _resume(cls, path: Path, lock: _Lock, checkpoint: int,
+                frame_every: int) -> tuple[ResultsWriter, int]:
+        with warnings.catch_warnings():  # what was lost is said below, once
+            warnings.simplefilter("ignore", ResultsDamageWarning)
+            src = Results(path)
+        steps = src.checkpoint_steps[:src.resumable]
         if steps.size == 0:
-            raise InputError(f"{path}: the run left no checkpoint to resume from")
+            src.close()
+            what = ("no intact checkpoint (" + "; ".join(src.damage) + ")" if src.damage
+                    else "no checkpoint")
+            raise InputError(f"{path}: the run left {what} to resume from: run it again "
+                             "(saxum run SCENARIO -o FILE --overwrite)")
         k = int(np.arange(steps.size)[checkpoint])
         cp_step = int(steps[k])
+        if src.damage:
+            warnings.warn(f"{path} is damaged (" + "; ".join(src.damage) + "): resuming from "
+                          f"its last intact checkpoint, step {cp_step} (t = {cp_step * src.dt:g}"
+                          " s); what followed it is computed again", ResultsDamageWarning,
+                          stacklevel=3)
         tmp = path.with_name(path.name + ".resume-tmp")
         with h5py.File(tmp, "w", libver="latest") as dst:
             for key, value in src.file.attrs.items():
@@ -179,20 +483,21 @@ class ResultsWriter:
             n_steps = int(src.file["checkpoints/steps_logged"][k])
             _copy_rows(src, dst, "steps", n_steps, None)
             _copy_rows(src, dst, "checkpoints", k + 1, None)
-            if "histories" in src.file:
-                hsteps = src.file["histories/step"]
-                _copy_rows(src, dst, "histories", hsteps.shape[0],
-                           hsteps[: hsteps.shape[0]] <= cp_step)
+            if src.histories is not None:
+                hsteps = src.histories["step"]
+                _copy_rows(src, dst, "histories", hsteps.size, hsteps <= cp_step)
                 dst["histories"].attrs["body"] = src.file["histories"].attrs["body"]
         src.close()
         os.replace(tmp, path)
         self = cls.__new__(cls)
         self.path = path
-        self._file = h5py.File(path, "a", libver="latest")
+        self._lock = lock
+        self._file = _open_for_writing(path, "a")
         self._file["run/status"][0] = 0
         self._file.swmr_mode = True
         self._steps_buffer = []
         self._history_buffer = []
+        self._groups = {}
         self._history_bodies = (self._file["histories"].attrs["body"]
                                 if "histories" in self._file else np.zeros(0, np.int64))
         return self, k
@@ -211,73 +516,120 @@ class ResultsWriter:
             self._history_buffer.append((state.step, state.time, state.body_q[b].copy(),
                                          state.body_v[b].copy(), ground))
 
+    def _rows(self, group: str) -> _Rows:
+        if group not in self._groups:
+            self._groups[group] = _Rows(self._file[group])
+        return self._groups[group]
+
     def flush_steps(self) -> None:
         """Write the buffered step reports and histories."""
+        self._write(self._flush_steps)
+
+    def _flush_steps(self) -> None:
         if self._history_buffer:
-            hist = self._file["histories"]
             rows = list(zip(*self._history_buffer, strict=True))
-            _append(hist["step"], np.array(rows[0]))
-            _append(hist["body_q"], np.array(rows[2]))
-            _append(hist["body_v"], np.array(rows[3]))
-            if "ground_acceleration" in hist:
-                _append(hist["ground_acceleration"], np.array(rows[4], dtype=np.float64))
-            _append(hist["time"], np.array(rows[1]))
+            self._rows("histories").append({
+                "step": np.array(rows[0]), "time": np.array(rows[1]),
+                "body_q": np.array(rows[2]), "body_v": np.array(rows[3]),
+                "ground_acceleration": np.array(rows[4], dtype=np.float64)})
             self._history_buffer.clear()
-        if not self._steps_buffer:
-            self._file.flush()
-            return
-        steps = self._file["steps"]
-        for name in _STEP_FIELDS:
-            _append(steps[name], np.array([getattr(r, name) for r in self._steps_buffer],
-                                          dtype=steps[name].dtype))
-        self._steps_buffer.clear()
+        if self._steps_buffer:
+            self._rows("steps").append({name: np.array([getattr(r, name)
+                                                        for r in self._steps_buffer])
+                                        for name in _STEP_FIELDS})
+            self._steps_buffer.clear()
         self._file.flush()
 
     def write_frame(self, state) -> None:
         """Append the state (time, coordinates, velocities, contacts) as an output frame."""
-        self.flush_steps()
-        fr = self._file["frames"]
         c = state.contacts
-        _append_contacts(fr["contacts"], c)
-        _append(fr["contact_count"], np.array([c.count]))
-        _append(fr["body_q"], state.body_q[None])
-        _append(fr["body_v"], state.body_v[None])
-        _append(fr["step"], np.array([state.step]))
-        _append(fr["time"], np.array([state.time]))
-        self._file.flush()
+
+        def write():
+            self._flush_steps()
+            self._rows("frames").append({
+                "step": np.array([state.step]), "time": np.array([state.time]),
+                "body_q": state.body_q[None], "body_v": state.body_v[None],
+                "contact_count": np.array([c.count]),
+                **{name: getattr(c, name)[: c.count] for name in _CONTACT_FIELDS}})
+            self._file.flush()
+
+        self._write(write)
 
     def write_checkpoint(self, state, detector) -> None:
         """Append what a bit-identical restart needs: the state with its contacts and the
         broad phase's pair list (saxum.detection.Detector.checkpoint)."""
-        self.flush_steps()
-        cp = self._file["checkpoints"]
         det = detector.checkpoint()
         c = state.contacts
-        _append_contacts(cp["contacts"], c)
-        _append(cp["pairs"], det["pairs"])
-        _append(cp["q_ref"], det["q_ref"][None])
-        for name in ("pair_count", "since_refresh", "refresh_count"):
-            _append(cp[name], np.array([det[name]]))
-        _append(cp["contact_count"], np.array([c.count]))
-        _append(cp["steps_logged"], np.array([self._file["steps/step"].shape[0]]))
-        _append(cp["body_q"], state.body_q[None])
-        _append(cp["body_v"], state.body_v[None])
-        _append(cp["time"], np.array([state.time]))
-        _append(cp["step"], np.array([state.step]))
-        self._file.flush()
+
+        def write():
+            self._flush_steps()
+            self._rows("checkpoints").append({
+                "step": np.array([state.step]), "time": np.array([state.time]),
+                "body_q": state.body_q[None], "body_v": state.body_v[None],
+                "q_ref": det["q_ref"][None], "pairs": det["pairs"],
+                **{name: np.array([det[name]])
+                   for name in ("pair_count", "since_refresh", "refresh_count")},
+                "contact_count": np.array([c.count]),
+                "steps_logged": np.array([self._file["steps/step"].shape[0]]),
+                **{name: getattr(c, name)[: c.count] for name in _CONTACT_FIELDS}})
+            self._file.flush()
+
+        self._write(write)
 
     def set_status(self, status: int, message: str = "") -> None:
-        self.flush_steps()
-        self._file["run/message"][0] = message.encode()[:512].ljust(512)
-        self._file["run/status"][0] = status
-        self._file.flush()
+        """Mark the run 0 running, 1 finished, 2 interrupted or 3 failed, with a message."""
+        def write():
+            self._flush_steps()
+            self._file["run/message"][0] = message.encode()[:512].ljust(512)
+            self._file["run/status"][0] = status
+            self._file.flush()
+
+        self._write(write)
+
+    def _write(self, write) -> None:
+        """Call write(); HDF5's errors on writing (a full disk: errno ENOSPC or EFBIG) become a
+        ResultsWriteError, the file then closed, readable up to its last complete row."""
+        if self._file is None:
+            raise ResultsWriteError(f"{self.path}: the results file is closed")
+        try:
+            write()
+            return
+        except (OSError, RuntimeError) as err:
+            reason = _reason(err)
+            # HDF5 writes again when it releases the objects of the failed write and closes
+            # the file; failing again, it leaves them half closed and crashes at exit. Those
+            # writes go to /dev/null: the file keeps what it had when the write failed
+            sink = os.open(os.devnull, os.O_RDWR)
+            os.dup2(sink, self._file.id.get_vfd_handle())
+            os.close(sink)
+        self.close()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ResultsDamageWarning)
+            try:
+                with Results(self.path) as r:
+                    kept = (f"it is readable up to t = {r.time[-1]:g} s (frame "
+                            f"{r.frame_count - 1}, last checkpoint at step "
+                            f"{r.checkpoint_steps[-1]})" if r.checkpoint_steps.size
+                            else "it holds no checkpoint")
+            except Exception:  # noqa: BLE001 - said in the message
+                kept = "it cannot be read back"
+        raise ResultsWriteError(
+            f"could not write {self.path} ({reason}: a full disk or a file-size limit?): "
+            f"{kept}; make room and continue with saxum resume {self.path}")
 
     def close(self) -> None:
-        if self._file:
-            with contextlib.suppress(Exception):
-                self.flush_steps()
-            self._file.close()
-            self._file = None
+        """Write what is buffered, close the file and release its lock."""
+        try:
+            if self._file is not None:
+                with contextlib.suppress(OSError, RuntimeError):
+                    self._flush_steps()
+                # once only: closing again a file whose close failed (a full disk) crashes
+                # HDF5 when Python exits
+                f, self._file = self._file, None
+                with contextlib.suppress(OSError, RuntimeError):
+                    f.close()
+        finally:
+            self._lock.release()
 
     def __enter__(self) -> ResultsWriter:
         return self
@@ -310,9 +662,56 @@ def _contact_datasets(g: h5py.Group, dim: int) -> None:
               chunk=4096)
 
 
-def _append_contacts(g: h5py.Group, c) -> None:
-    for name in _CONTACT_FIELDS:
-        _append(g[name], getattr(c, name)[: c.count])
+class _Rows:
+    """Appends rows to one group (frames, steps, histories or checkpoints): the ragged parts,
+    the columns, the rows' CRC-32 and last the index column (_ROWS), so that a reader that
+    sees a row in the index sees all of it. Holds the group's datasets (looking them up at
+    every row would cost more than writing it)."""
+
+    def __init__(self, g: h5py.Group) -> None:
+        columns, ragged = _ROWS[g.name.lstrip("/")]
+        self.columns = [name for name in columns if name in g]
+        self.ds = {name: g[name] for name in self.columns}
+        self.ragged = [(names, {name: (g[sub] if sub else g)[name] for name in names}, count)
+                       for sub, names, count in ragged]
+        self.checksum = g["checksum"] if "checksum" in g else None  # (none in format 1)
+
+    def append(self, values: dict[str, np.ndarray]) -> None:
+        data = {name: np.asarray(values[name], dtype=ds.dtype) for name, ds in self.ds.items()}
+        parts = []
+        for names, datasets, count in self.ragged:
+            arrays = [np.asarray(values[name], dtype=datasets[name].dtype) for name in names]
+            parts.append((arrays, data[count]))
+            for name, a in zip(names, arrays, strict=True):
+                _append(datasets[name], a)
+        for name in self.columns[:-1]:
+            _append(self.ds[name], data[name])
+        if self.checksum is not None:
+            _append(self.checksum, _checksums([data[name] for name in self.columns], parts))
+        _append(self.ds[self.columns[-1]], data[self.columns[-1]])
+
+
+def _open_for_writing(path: Path, mode: str) -> h5py.File:
+    try:
+        return h5py.File(path, mode, libver="latest")
+    except OSError as err:
+        raise InputError(f"cannot write {path}: {err} (is it open in another program, such "
+                         "as an HDF5 viewer?)") from None
+
+
+def _describe_existing(path: Path) -> str:
+    """What the file at `path` holds, for the message refusing to overwrite it."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ResultsDamageWarning)
+            with Results(path) as r:
+                if r.status == "interrupted":
+                    at = f" (t = {r.time[-1]:g} s)" if r.frame_count else ""
+                    return (f" and holds an interrupted run{at} that saxum resume {path} "
+                            "continues")
+                return f" and holds a {r.status} run"
+    except Exception:  # noqa: BLE001 - only a description
+        return ""
 
 
 def _copy_rows(src: Results, dst: h5py.File, group: str, rows: int, mask) -> None:
@@ -327,11 +726,11 @@ def _copy_rows(src: Results, dst: h5py.File, group: str, rows: int, mask) -> Non
     for name, ds in s.items():
         if isinstance(ds, h5py.Group):
             continue
-        data = ds[: ds.shape[0]]
         if name == "pairs":
-            data = _ragged_rows(data, s["pair_count"][:rows], keep)
+            counts = s["pair_count"][:rows]
+            data = _ragged_rows(ds[: int(counts.sum())], counts, keep)
         else:
-            data = data[keep]
+            data = ds[:rows][keep]
         out = _grow(d, name, ds.dtype, ds.shape[1:], ds.attrs.get("units", "-"),
                     chunk=ds.chunks[0])
         _append(out, data)
@@ -339,7 +738,7 @@ def _copy_rows(src: Results, dst: h5py.File, group: str, rows: int, mask) -> Non
         counts = s["contact_count"][:rows]
         dc = d.create_group("contacts")
         for name, ds in s["contacts"].items():
-            data = _ragged_rows(ds[: ds.shape[0]], counts, keep)
+            data = _ragged_rows(ds[: int(counts.sum())], counts, keep)
             out = _grow(dc, name, ds.dtype, ds.shape[1:], ds.attrs.get("units", "-"),
                         chunk=ds.chunks[0])
             _append(out, data)
@@ -363,22 +762,70 @@ class Results:
             r.contacts(-1)["force"]       # (tangential, normal) contact forces [N/m; 3D: N]
             r.steps["converged"]          # per step: iterations, error, interpenetration...
             r.status, r.message           # finished, interrupted or failed, and why
+            r.damage                      # what a truncated or damaged file has lost
+
+    Only intact rows are read: a frame, step, history row or checkpoint whose CRC-32 does not
+    match, and every one after it, is left out and said in `damage` (and a
+    ResultsDamageWarning). A run that stopped without closing its file (killed, crashed) and
+    that no process is writing any more has status "interrupted".
     """
 
     def __init__(self, path: str | os.PathLike) -> None:
         self.path = Path(path)
         if not self.path.is_file():
             raise InputError(f"no results file at {self.path}")
+        self.damage: list[str] = []
+        self._image = None
+        live = writer_pid(self.path) is not None
+        self.file = self._open(live)
         try:
-            self.file = h5py.File(self.path, "r", swmr=True)
+            try:
+                if self.file.attrs.get("format") != FORMAT:
+                    raise InputError(f"{self.path} is not a saxum results file")
+                self._read(live)
+            except (OSError, RuntimeError, KeyError, ValueError) as err:
+                if live:  # (a run that is creating its file)
+                    raise InputError(f"{self.path} is being written and cannot be read yet "
+                                     f"({_reason(err)}): try again") from None
+                raise InputError(f"{self.path} is damaged beyond reading ({_reason(err)})"
+                                 + "".join(f"; {d}" for d in self.damage)) from None
+        except BaseException:
+            self.close()
+            raise
+        if self.damage:
+            last = f"t = {self.time[-1]:g} s" if self.frame_count else "no frame"
+            warnings.warn(f"{self.path} is damaged: " + "; ".join(self.damage)
+                          + f"; what is intact is read (frames up to {last})",
+                          ResultsDamageWarning, stacklevel=2)
+
+    def _open(self, live: bool) -> h5py.File:
+        """The file opened for reading: as an SWMR reader while its writer runs, else without
+        SWMR (an SWMR reader retries damaged metadata for minutes) and, for a file left open
+        by a killed run or cut short, through _Image."""
+        try:
+            head = None if live else _superblock(self.path)
+            if live:
+                return h5py.File(self.path, "r", swmr=True)
+            if head is not None:
+                sb, eof = head
+                size = self.path.stat().st_size
+                if size < eof:
+                    self.damage.append(f"the file is truncated ({size} of its {eof} bytes: a "
+                                       "copy cut short, or a full disk)")
+                if size < eof or sb[11]:  # byte 11: the file consistency flags
+                    self._image = _Image(self.path, sb, eof)
+                    return h5py.File(self._image, "r")
+            return h5py.File(self.path, "r")
         except OSError as err:
+            if self._image is not None:
+                self._image.close()
             hint = ("; it looks like a scenario: run it first (saxum run "
                     f"{self.path}) and give the results file" if self.path.suffix == ".toml"
                     else "")
-            raise InputError(f"{self.path} is not a readable HDF5 file: {err}{hint}") from None
-        if self.file.attrs.get("format") != FORMAT:
-            self.file.close()
-            raise InputError(f"{self.path} is not a saxum results file")
+            raise InputError(f"{self.path} is not a readable HDF5 file: {_reason(err)}{hint}"
+                             + "".join(f"; {d}" for d in self.damage)) from None
+
+    def _read(self, live: bool) -> None:
         a = self.file.attrs
         self.dim = int(a["dim"])
         self.dof = int(a["dof"])
@@ -392,8 +839,7 @@ class Results:
         self.group_names = [s.decode() for s in m["group_names"][:]]
         self.model = {k: m[k][()] for k in m if k not in ("body_name", "group_names")}
         fr = self.file["frames"]
-        self.frame_count = min(fr[k].shape[0] for k in ("time", "step", "body_q", "body_v",
-                                                         "contact_count"))
+        self.frame_count = self._intact_rows("frames")
         self.time = fr["time"][: self.frame_count]
         self.step = fr["step"][: self.frame_count]
         self.body_q = fr["body_q"][: self.frame_count]
@@ -402,15 +848,21 @@ class Results:
         self._contact_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         st = self.file["steps"]
         present = [k for k in _STEP_FIELDS if k in st]  # files before a field was added
-        n = min(st[k].shape[0] for k in present)
+        n = self._intact_rows("steps")
         self.steps = {k: st[k][:n] for k in present}
         cp = self.file["checkpoints"]
-        self.checkpoint_steps = cp["step"][: min(cp[k].shape[0] for k in cp
-                                                  if isinstance(cp[k], h5py.Dataset)
-                                                  and k != "pairs")]
+        n_cp = self._intact_rows("checkpoints")
+        self.checkpoint_steps = cp["step"][:n_cp]
         self.histories = self._read_histories()
+        self.resumable = self._resumable(cp["steps_logged"][:n_cp])
         self.status = STATUS[int(self.file["run/status"][0])]
         self.message = self.file["run/message"][0].decode().strip()
+        if self.status == "running" and not live:
+            at = f"t = {self.time[-1]:g} s" if self.frame_count else "its start"
+            self.status = "interrupted"
+            self.message = (f"interrupted (resume with saxum resume {self.path}): the run "
+                            f"stopped after {at} without closing its file (killed, crashed, "
+                            "or out of disk space)")
         per_depth = "/m" if self.dim == 2 else ""
         self.units = {"time": "s", "body_q": _UNITS[self.dim][0],
                       "body_v": _UNITS[self.dim][1], "point": "m", "gap": "m",
@@ -418,6 +870,63 @@ class Results:
                       **_STEP_UNITS}
         if self.dim == 3:
             self.units["kinetic_energy"] = "J"
+
+    def _intact_rows(self, group: str) -> int:
+        """Rows of `group` that every dataset has and whose CRC-32 matches, up to the first
+        that does not; the rows dropped are said in self.damage."""
+        g = self.file[group]
+        columns, ragged = _ROWS[group]
+        columns = [name for name in columns if name in g]
+        checked = "checksum" in g  # (not in files of format version 1)
+        n = min(g[name].shape[0] for name in columns + ["checksum"] * checked)
+        if not checked or n == 0:
+            return n
+
+        def intact(m: int) -> np.ndarray:
+            """Whether each of the first m rows is intact (raises if they cannot be read)."""
+            data = [g[name][:m] for name in columns]
+            parts = []
+            for sub, names, count in ragged:
+                h = g[sub] if sub else g
+                counts = data[columns.index(count)]
+                total = max(0, int(counts.sum()))
+                parts.append(([h[name][:total] for name in names], counts))
+            return _checksums(data, parts) == g["checksum"][:m]
+
+        try:
+            ok = intact(n)
+        except (OSError, RuntimeError, ValueError) as err:
+            # the index of the last rows is lost: the most rows, from the first, that read
+            reason, good, bad = _reason(err), 0, n
+            while bad - good > 1:
+                m = (good + bad) // 2
+                try:
+                    intact(m)
+                    good = m
+                except (OSError, RuntimeError, ValueError):
+                    bad = m
+            ok = np.zeros(n, dtype=bool)
+            ok[:good] = intact(good) if good else ok[:0]
+        else:
+            reason = "checksums do not match"
+        if ok.all():
+            return n
+        k = int(np.argmin(ok))
+        self.damage.append(f"{_ROW_NAMES[group]}: {n - k} of {n} lost, from row {k} ({reason})")
+        return k
+
+    def _resumable(self, steps_logged: np.ndarray) -> int:
+        """How many checkpoints, from the first, a resumed run can start from: those that the
+        intact step reports, frames and histories reach (a resumed run computes only what
+        follows its checkpoint)."""
+        ok = steps_logged <= self.steps["step"].size
+        lost = " ".join(self.damage)
+        if _ROW_NAMES["frames"] in lost:
+            ok &= self.checkpoint_steps <= (self.step[-1] if self.frame_count else -1)
+        if self.histories is not None and _ROW_NAMES["histories"] in lost:
+            h = self.histories["step"]
+            ok &= self.checkpoint_steps <= (h[-1] if h.size else 0)
+        return int(ok.size if ok.all() else np.argmin(ok))
 
     @functools.cached_property
     def body_size(self) -> np.ndarray:
@@ -442,8 +951,8 @@ class Results:
         h = self.file.get("histories")
         if h is None:
             return None
-        n = min(ds.shape[0] for ds in h.values())
-        out = {name: ds[:n] for name, ds in h.items()}
+        n = self._intact_rows("histories")
+        out = {name: ds[:n] for name, ds in h.items() if name != "checksum"}
         out["body"] = np.asarray(h.attrs["body"])
         out["name"] = [self.body_name[b] for b in out["body"]]
         return out
@@ -504,7 +1013,10 @@ class Results:
         }, coords=coords)
 
     def close(self) -> None:
-        self.file.close()
+        if getattr(self, "file", None) is not None:
+            self.file.close()
+        if self._image is not None:
+            self._image.close()
 
     def __enter__(self) -> Results:
         return self

@@ -13,13 +13,14 @@ from __future__ import annotations
 import math
 import signal
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from tqdm import tqdm
 
 from ._version import __version__
-from .errors import InputError, SimulationError
+from .errors import InputError, ResultsDamageWarning, ResultsWriteError, SimulationError
 from .results import Results, ResultsWriter
 from .scenario import Scenario
 
@@ -42,33 +43,41 @@ class RunSummary:
 
 
 def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
-                 scenario_text: str = "") -> RunSummary:
-    """Run `scenario` from t = 0, writing results to `output` (overwritten)."""
+                 scenario_text: str = "", overwrite: bool = False) -> RunSummary:
+    """Run `scenario` from t = 0, writing results to `output`. An existing `output` is an
+    InputError unless `overwrite` (it may hold a run that saxum resume would continue); so is
+    an `output` that another process is writing."""
     sim = scenario.build_simulation()
     state = sim.initial_state()
     writer = ResultsWriter(output, sim.model, dt=scenario.solver.dt,
                            theta=scenario.solver.theta, scenario=scenario_text,
                            scenario_json=scenario.model_dump_json(), version=__version__,
                            histories=scenario.output.history_bodies(sim.model),
-                           ground=scenario.loads.ground_motion is not None)
-    writer.write_frame(state)
-    writer.write_checkpoint(state, sim.detector)
-    sim.solver.forget()
-    return _advance(scenario, sim, state, writer, quiet)
+                           ground=scenario.loads.ground_motion is not None,
+                           overwrite=overwrite)
+    return _advance(scenario, sim, state, writer, quiet, initial=True)
 
 
 def resume_run(path: str | Path, *, quiet: bool = False) -> RunSummary:
-    """Continue the run of results file `path` from its last checkpoint to its duration."""
-    with Results(path) as res:
-        if not res.scenario_json:
-            raise InputError(f"{path}: the run was not made from a scenario; it cannot be "
-                             "resumed (its model is not stored in a rebuildable form)")
-        scenario = Scenario.model_validate_json(res.scenario_json)
-        saved = res.checkpoint(-1)
-    sim = scenario.build_simulation()
-    state = sim.restore(saved)
+    """Continue the run of results file `path` from its last intact checkpoint (saxum.results:
+    a damaged file's damaged checkpoints are not used) to its duration."""
+    with warnings.catch_warnings():  # ResultsWriter.resume says what was lost
+        warnings.simplefilter("ignore", ResultsDamageWarning)
+        with Results(path) as res:
+            if not res.scenario_json:
+                raise InputError(f"{path}: the run was not made from a scenario; it cannot be "
+                                 "resumed (its model is not stored in a rebuildable form)")
+            scenario = Scenario.model_validate_json(res.scenario_json)
+            k = res.resumable - 1
+            saved = res.checkpoint(k) if k >= 0 else None
     writer, _ = ResultsWriter.resume(
-        path, frame_every=_every(scenario.output.interval, scenario.solver.dt))
+        path, k, frame_every=_every(scenario.output.interval, scenario.solver.dt))
+    try:
+        sim = scenario.build_simulation()
+        state = sim.restore(saved)
+    except BaseException:
+        writer.close()
+        raise
     return _advance(scenario, sim, state, writer, quiet)
 
 
@@ -76,7 +85,10 @@ def _every(interval: float, dt: float) -> int:
     return max(1, round(interval / dt))
 
 
-def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSummary:
+def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
+             initial: bool = False) -> RunSummary:
+    """Step from `state` to the scenario's duration, writing frames, checkpoints and the
+    status; `initial`: write the initial state first (frame 0, checkpoint at step 0)."""
     out = scenario.output
     dt = scenario.solver.dt
     total = round(out.duration / dt)
@@ -98,6 +110,10 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
     bar = tqdm(total=total, initial=state.step, disable=quiet, unit="step", dynamic_ncols=True,
                desc="saxum", leave=True)
     try:
+        if initial:
+            writer.write_frame(state)
+            writer.write_checkpoint(state, sim.detector)
+            sim.solver.forget()
         while state.step < total:
             report = sim.step(state)
             writer.log_step(report)
@@ -124,8 +140,12 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool) -> RunSum
             writer.set_status(1, f"finished at t = {state.time:g} s")
         else:
             writer.set_status(2, f"interrupted at step {state.step} (t = {state.time:g} s)")
-    except SimulationError as err:
-        writer.set_status(3, str(err))
+    except ResultsWriteError:
+        raise
+    except Exception as err:
+        # any failure (SimulationError, or a bug) is said in the file rather than "running"
+        writer.set_status(3, str(err) if isinstance(err, SimulationError)
+                          else f"failed: {type(err).__name__}: {err}")
         raise
     finally:
         bar.close()

@@ -137,8 +137,10 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
 @nb.njit(cache=True)
 def sort_pairs(pairs, count, n):
     """Sort the first `count` pairs by (i, j), so that contact order does not depend on the grid.
-    Pairs are distinct and i < n: a counting sort on i, then each i's few j in place, O(count)
-    (a large body's many j by np.sort)."""
+    Pairs are distinct and i < n: a counting sort on i, then each i's j in place by Shell sort
+    (gaps 1, 4, 13, ... of Knuth, TAOCP vol. 3, 5.2.1): an insertion sort for a body's few j,
+    O(k^1.5) for a large body's k. (np.sort would do, but compiling it, and the slice
+    assignment's error message, costs seconds of a first run.)"""
     start = np.zeros(n + 1, np.int64)
     for k in range(count):
         start[pairs[k, 0] + 1] += 1
@@ -153,16 +155,18 @@ def sort_pairs(pairs, count, n):
     for i in range(n):
         lo = start[i]
         hi = start[i + 1]
-        if hi - lo > 16:
-            second[lo:hi] = np.sort(second[lo:hi])
-        else:
-            for k in range(lo + 1, hi):
+        gap = 1
+        while gap < (hi - lo) // 3:
+            gap = 3 * gap + 1
+        while gap > 0:
+            for k in range(lo + gap, hi):
                 j = second[k]
-                m = k - 1
+                m = k - gap
                 while m >= lo and second[m] > j:
-                    second[m + 1] = second[m]
-                    m -= 1
-                second[m + 1] = j
+                    second[m + gap] = second[m]
+                    m -= gap
+                second[m + gap] = j
+            gap //= 3
         for k in range(lo, hi):
             pairs[k, 0] = i
             pairs[k, 1] = second[k]

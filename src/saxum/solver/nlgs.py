@@ -184,7 +184,9 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
         return 0, 0.0
     error = np.inf
     it = 0
-    v_prev[:] = v
+    # v_prev = v by _relative_change's loop (a slice copy would compile its error message's
+    # string formatting, ~1 s of a first run)
+    _relative_change(v, v_prev, v_free, mass)
     while it < max_iterations:
         it += 1
         for k in range(count):
@@ -293,7 +295,9 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     rr = np.empty(3)
     error = np.inf
     it = 0
-    v_prev[:] = v
+    # v_prev = v by _relative_change's loop (a slice copy would compile its error message's
+    # string formatting, ~1 s of a first run)
+    _relative_change(v, v_prev, v_free, mass)
     while it < max_iterations:
         it += 1
         for k in range(count):

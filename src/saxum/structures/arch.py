@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import ellipeinc
 
 from ..errors import InputError, plain
 from ..laws import ContactLaw, LawKind
@@ -282,6 +281,8 @@ class ArchShape:
         extrados the parallel curve at `thickness` [m] along the normals, which are the joints.
         The intrados length is b E(theta | 1 - a^2 / b^2) (incomplete elliptic integral of the
         second kind, scipy.special.ellipeinc) for the point (-a cos theta, b sin theta)."""
+        from scipy.special import ellipeinc  # here: 0.4 s of import that other runs skip
+
         check_positive(span=span, rise=rise, thickness=thickness)
         a, b = 0.5 * span, rise
         m = 1.0 - (a / b) ** 2

@@ -21,9 +21,7 @@ stay apart.
 import warnings
 from pathlib import Path
 
-import meshio
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from ..errors import InputError
 from ..geometry3d import convex_polyhedron, polyhedron_properties
@@ -42,6 +40,9 @@ _TAGS = ("block", "gmsh:physical", "gmsh:geometrical")
 def read_mesh_blocks(path: str | Path) -> list[np.ndarray]:
     """The blocks of a mesh file as point sets [m] (n, 3), one per connected part, checked
     (module doc); InputError naming the file and the block otherwise."""
+    import meshio  # here, not at import: a run without mesh files does without its 0.1 s
+    from scipy.spatial import ConvexHull
+
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no mesh file at {path}")
