@@ -14,7 +14,7 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
-                           impulse}
+                           impulse, area [m^2/m; 3D: m^2] (saxum.contacts.Contacts.area)}
     /steps/...             one row per time step: the StepReport fields (saxum.steplog)
     /histories/...         one row per time step for the chosen blocks (attrs body: their
                            indices): time [s], step, body_q, body_v (shape [steps, blocks, 3])
@@ -61,7 +61,10 @@ _CONTACT_FIELDS = {
     "frame": (np.float64, lambda d: (d, d), "-"),
     "gap": (np.float64, lambda d: (), "m"),
     "impulse": (np.float64, lambda d: (d,), "N s/m"),
+    "area": (np.float64, lambda d: (), "m^2/m"),
 }
+"""Contact fields in frames and checkpoints; files written before `area` existed lack it, and
+are read and resumed without it."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
           3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
@@ -312,7 +315,8 @@ def _contact_datasets(g: h5py.Group, dim: int) -> None:
 
 def _append_contacts(g: h5py.Group, c) -> None:
     for name in _CONTACT_FIELDS:
-        _append(g[name], getattr(c, name)[: c.count])
+        if name in g:  # a resumed file from before a field existed goes on without it
+            _append(g[name], getattr(c, name)[: c.count])
 
 
 def _copy_rows(src: Results, dst: h5py.File, group: str, rows: int, mask) -> None:
@@ -414,6 +418,7 @@ class Results:
         self.units = {"time": "s", "body_q": _UNITS[self.dim][0],
                       "body_v": _UNITS[self.dim][1], "point": "m", "gap": "m",
                       "impulse": "N s" + per_depth, "force": "N" + per_depth,
+                      "area": "m^2" + per_depth,
                       **_STEP_UNITS}
         if self.dim == 3:
             self.units["kinetic_energy"] = "J"
@@ -454,7 +459,7 @@ class Results:
         k = range(self.frame_count)[frame]
         lo, hi = self._contact_start[k], self._contact_start[k + 1]
         g = self.file["frames/contacts"]
-        out = {name: g[name][lo:hi] for name in _CONTACT_FIELDS}
+        out = {name: g[name][lo:hi] for name in _CONTACT_FIELDS if name in g}
         out["force"] = out["impulse"] / self.dt
         return out
 
@@ -479,7 +484,7 @@ class Results:
                                                "pair_count", "since_refresh", "refresh_count",
                                                "steps_logged")}
         out["contacts"] = {name: cp["contacts"][name][start[k]:start[k + 1]]
-                           for name in _CONTACT_FIELDS}
+                           for name in _CONTACT_FIELDS if name in cp["contacts"]}
         out["pairs"] = cp["pairs"][pstart[k]:pstart[k + 1]]
         return out
 
