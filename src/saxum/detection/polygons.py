@@ -127,21 +127,16 @@ def _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay):
 
 
 @nb.njit(inline="always")
-def _write(candidate, antagonist, key, law, point, frame, gap, area, c, cand, ant, k, law_index,
-           px, py, nx, ny, g, a):
-    """Row c of the contact arrays: frame rows t = (n_y, -n_x), n."""
-    candidate[c] = cand
-    antagonist[c] = ant
-    key[c] = k
-    law[c] = law_index
-    point[c, 0] = px
-    point[c, 1] = py
-    frame[c, 0, 0] = ny
-    frame[c, 0, 1] = -nx
-    frame[c, 1, 0] = nx
-    frame[c, 1, 1] = ny
-    gap[c] = g
-    area[c] = a
+def _alert_length(length, g0, g1, alert):
+    """The part [m] of a segment of projected length `length` [m] whose gap, linear from g0 at
+    one end to g1 at the other, is within alert [m]."""
+    if length <= 0.0:
+        return 0.0
+    if g0 <= alert and g1 <= alert:
+        return length
+    if g0 > alert and g1 > alert:
+        return 0.0
+    return length * (alert - min(g0, g1)) / abs(g1 - g0)
 
 
 @nb.njit(cache=True)
@@ -237,26 +232,27 @@ def polygon_contacts(
         s_lo = max(s0, 0.0)
         s_hi = min(s1, length)
         x0, y0, g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
-        if ds <= 0.0:  # an incident face normal to the reference face: one point, no area
-            if g0 <= alert:
-                _write(candidate, antagonist, key, law, point, frame, gap, area, count, cand,
-                       ant, base * 2, law_index, x0, y0, nx, ny, g0, 0.0)
-                count += 1
-            continue
         x1, y1, g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
-        if g0 <= alert and g1 <= alert:
-            share = 0.5 * max(s_hi - s_lo, 0.0)
-            _write(candidate, antagonist, key, law, point, frame, gap, area, count, cand, ant,
-                   base * 2, law_index, x0, y0, nx, ny, g0, share)
-            _write(candidate, antagonist, key, law, point, frame, gap, area, count + 1, cand,
-                   ant, base * 2 + 1, law_index, x1, y1, nx, ny, g1, share)
-            count += 2
-        elif g0 <= alert or g1 <= alert:
-            # the part of the segment within alert, the gap being linear along it
-            within = max(s_hi - s_lo, 0.0) * (alert - min(g0, g1)) / abs(g1 - g0)
-            one = g1 <= alert
-            _write(candidate, antagonist, key, law, point, frame, gap, area, count, cand, ant,
-                   base * 2 + one, law_index, x1 if one else x0, y1 if one else y0, nx, ny,
-                   g1 if one else g0, within)
+        ends = 2 if ds > 0.0 else 1
+        if g0 <= alert and g1 <= alert:  # flush faces, the common case: half each
+            share = 0.5 * max(s_hi - s_lo, 0.0) if ds > 0.0 else 0.0
+        else:
+            share = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
+        for slot in range(ends):
+            px, py, g = (x0, y0, g0) if slot == 0 else (x1, y1, g1)
+            if g > alert:
+                continue
+            candidate[count] = cand
+            antagonist[count] = ant
+            key[count] = base * 2 + slot
+            law[count] = law_index
+            point[count, 0] = px
+            point[count, 1] = py
+            frame[count, 0, 0] = ny
+            frame[count, 0, 1] = -nx
+            frame[count, 1, 0] = nx
+            frame[count, 1, 1] = ny
+            gap[count] = g
+            area[count] = share
             count += 1
     return count, reused
