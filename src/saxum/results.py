@@ -453,9 +453,10 @@ class Results:
         return out
 
     def contacts(self, frame: int) -> dict[str, np.ndarray]:
-        """The contacts of output frame `frame`: the stored fields and `force` = impulse / dt
-        [N/m; 3D: N], the mean contact force over the step, in the contact frame (t, n) (3D:
-        (t, n, s))."""
+        """The contacts of output frame `frame`: the stored fields (`area` [m; 3D: m^2], the
+        share of the joint each point stands for, absent from files of saxum before it) and
+        `force` = impulse / dt [N/m; 3D: N], the mean contact force over the step, in the
+        contact frame (t, n) (3D: (t, n, s))."""
         k = range(self.frame_count)[frame]
         lo, hi = self._contact_start[k], self._contact_start[k + 1]
         g = self.file["frames/contacts"]
