@@ -195,3 +195,49 @@ def test_area_is_kept_by_copy_and_reserve():
     assert np.array_equal(c.copy().area[: c.count], expected)
     c.reserve(10 * c.capacity)
     assert np.array_equal(c.area[: c.count], expected)
+
+
+def test_results_frames_and_checkpoints_store_the_areas(tmp_path):
+    from saxum.results import Results, ResultsWriter
+    from saxum.structures import wall
+
+    model = wall(courses=3, bricks=2, friction=0.6)
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    with ResultsWriter(tmp_path / "w.h5", model, dt=1e-3, theta=0.5) as w:
+        sim.run(state, 0.01)
+        w.write_frame(state)
+        w.write_checkpoint(state, sim.detector)
+    expected = state.contacts.area[: state.contacts.count]
+    assert expected.sum() > 0.0
+    with Results(tmp_path / "w.h5") as r:
+        assert np.array_equal(r.contacts(-1)["area"], expected)
+        assert r.units["area"] == "m^2/m"
+        restored = sim.restore(r.checkpoint(-1)).contacts
+    assert np.array_equal(restored.area[: restored.count], expected)
+
+
+def test_results_written_before_areas_are_read_and_resumed_without_them(tmp_path):
+    import h5py
+
+    from saxum.results import Results, ResultsWriter
+    from saxum.structures import wall
+
+    model = wall(courses=3, bricks=2, friction=0.6)
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    path = tmp_path / "old.h5"
+    with ResultsWriter(path, model, dt=1e-3, theta=0.5) as w:
+        sim.run(state, 0.005)
+        w.write_frame(state)
+        w.write_checkpoint(state, sim.detector)
+    with h5py.File(path, "a") as f:  # the layout of files from before Contacts.area
+        del f["frames/contacts/area"], f["checkpoints/contacts/area"]
+    with Results(path) as r:
+        assert "area" not in r.contacts(-1) and "area" not in r.checkpoint(-1)["contacts"]
+        count = r.contacts(-1)["gap"].size
+    writer, _ = ResultsWriter.resume(path)
+    with writer:
+        writer.write_frame(state)
+    with Results(path) as r:
+        assert r.frame_count == 2 and r.contacts(-1)["gap"].size == count
