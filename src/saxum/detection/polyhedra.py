@@ -286,13 +286,15 @@ def polyhedron_contacts(
                 break
         if m == 0:
             continue
+        for k in range(m):
+            dist[k] = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
         sx, sy, sz = _cross(tx, ty, tz, nx, ny, nz)  # s = t x n, as _write's frame
-        face_area = _alert_area(px, py, pz, src, m, ax, ay, az, tx, ty, tz, nx, ny, nz, sx, sy,
-                                sz, alert)
+        face_area = _alert_area(px, py, pz, dist, src, m, ax, ay, az, tx, ty, tz, sx, sy, sz,
+                                alert)
         # keep the points within the alert distance
         kept = 0
         for k in range(m):
-            g = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
+            g = dist[k]
             if g <= alert:
                 px[src, kept] = px[src, k]
                 py[src, kept] = py[src, k]
@@ -344,18 +346,18 @@ def polyhedron_contacts(
 
 
 @nb.njit(inline="always")
-def _alert_area(px, py, pz, src, m, ax, ay, az, tx, ty, tz, nx, ny, nz, sx, sy, sz, alert):
-    """Area [m^2], projected on the reference face's plane (axes t, s through a, normal n),
-    of the part of the convex polygon px/py/pz[src, :m] whose gap n . (p - a) is within alert
-    [m]: the shoelace formula over the polygon clipped by that half-space, its vertices taken
+def _alert_area(px, py, pz, gap, src, m, ax, ay, az, tx, ty, tz, sx, sy, sz, alert):
+    """Area [m^2], projected on the reference face's plane (axes t, s through a), of the part
+    of the convex polygon px/py/pz[src, :m] whose gap (gap[:m] [m]) is within alert [m]: the
+    shoelace formula over the polygon clipped by that half-space, its vertices taken
     in turn (each kept vertex, then the crossing of the edge that leaves it, if any)."""
     twice = 0.0
     u_first = w_first = u_prev = w_prev = 0.0
     emitted = 0
     for k in range(m):
         k1 = (k + 1) % m
-        g0 = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
-        g1 = nx * (px[src, k1] - ax) + ny * (py[src, k1] - ay) + nz * (pz[src, k1] - az)
+        g0 = gap[k]
+        g1 = gap[k1]
         for crossing in range(2):
             if crossing == 0 and g0 > alert:
                 continue
