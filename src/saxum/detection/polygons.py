@@ -129,12 +129,8 @@ def _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay):
 @nb.njit(inline="always")
 def _alert_length(length, g0, g1, alert):
     """The part [m] of a segment of projected length `length` [m] whose gap, linear from g0 at
-    one end to g1 at the other, is within alert [m]."""
-    if length <= 0.0:
-        return 0.0
-    if g0 <= alert and g1 <= alert:
-        return length
-    if g0 > alert and g1 > alert:
+    one end to g1 at the other, is within alert [m], where one end at most is within alert."""
+    if length <= 0.0 or min(g0, g1) > alert:
         return 0.0
     return length * (alert - min(g0, g1)) / abs(g1 - g0)
 
@@ -236,7 +232,7 @@ def polygon_contacts(
         ends = 2 if ds > 0.0 else 1
         if g0 <= alert and g1 <= alert:  # flush faces, the common case: half each
             share = 0.5 * max(s_hi - s_lo, 0.0) if ds > 0.0 else 0.0
-        else:
+        else:  # one end beyond alert: the other stands for the part within it
             share = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
         for slot in range(ends):
             px, py, g = (x0, y0, g0) if slot == 0 else (x1, y1, g1)
