@@ -191,6 +191,8 @@ def polyhedron_contacts(
     py = np.empty((2, size))
     pz = np.empty((2, size))
     dist = np.empty(size)
+    pu = np.empty(size)
+    pw = np.empty(size)
     picked = np.empty(MAX_POINTS, dtype=np.int64)
     order = np.empty(MAX_POINTS, dtype=np.int64)
     count = 0
@@ -304,6 +306,9 @@ def polyhedron_contacts(
         if kept == 0 or _corner_only(wv, fvs, fv, inc_face, nx, ny, nz, ax, ay, az, px, py,
                                      pz, src, kept, tie):
             continue
+        for k in range(kept):  # coordinates in the face's plane, for the picks and the areas
+            pu[k] = tx * px[src, k] + ty * py[src, k] + tz * pz[src, k]
+            pw[k] = sx * px[src, k] + sy * py[src, k] + sz * pz[src, k]
         base = ((pair_key + flip) * features + ref_face - face_start[ant]) * features + (
             inc_face - face_start[cand])
         first = count
@@ -315,8 +320,7 @@ def polyhedron_contacts(
             best = -np.inf
             pick = 0
             for k in range(kept):
-                h = (dt * (tx * px[src, k] + ty * py[src, k] + tz * pz[src, k])
-                     + ds * (sx * px[src, k] + sy * py[src, k] + sz * pz[src, k]))
+                h = dt * pu[k] + ds * pw[k]
                 if h > best:
                     best = h
                     pick = k
@@ -330,8 +334,7 @@ def polyhedron_contacts(
                         + abs(point[c, 2] - pz[src, pick])) <= 1e-3 * alert:
                     fresh = False
                     break
-                reach = max(reach, dt * (tx * point[c, 0] + ty * point[c, 1] + tz * point[c, 2])
-                            + ds * (sx * point[c, 0] + sy * point[c, 1] + sz * point[c, 2]))
+                reach = max(reach, dt * pu[picked[c - first]] + ds * pw[picked[c - first]])
             if slot >= 4 and best <= reach + 1e-3 * alert * math.hypot(dt, ds):
                 fresh = False
             if fresh:
@@ -340,8 +343,7 @@ def polyhedron_contacts(
                        pz[src, pick], tx, ty, tz, nx, ny, nz, dist[pick])
                 picked[count - first] = pick
                 count += 1
-        _share_area(face_area, picked, order, count - first, px, py, pz, src, tx, ty, tz, sx,
-                    sy, sz, area[first:count])
+        _share_area(face_area, picked, order, count - first, pu, pw, area, first)
     return count
 
 
@@ -383,12 +385,12 @@ def _alert_area(px, py, pz, gap, src, m, ax, ay, az, tx, ty, tz, sx, sy, sz, ale
 
 
 @nb.njit(inline="always")
-def _share_area(face_area, picked, order, n, px, py, pz, src, tx, ty, tz, sx, sy, sz, out):
-    """out[r] = face_area [m^2] times the weight of contact point r, the vertex picked[r] of
-    the convex polygon px/py/pz[src]: the picked points in the polygon's order about their
-    mean c, each gets half of the two fan triangles (c, P_r-1, P_r) and (c, P_r, P_r+1) beside
-    it (the median dual cell of a polygon's vertex); equal shares when they span no area.
-    order: work array of at least n ints."""
+def _share_area(face_area, picked, order, n, pu, pw, area, first):
+    """area[first + r] = face_area [m^2] times the weight of contact point r, the vertex
+    picked[r] of a convex polygon with coordinates pu, pw [m] in the reference face's plane:
+    the picked points in the polygon's order about their mean c, each gets half of the two fan
+    triangles (c, P_r-1, P_r) and (c, P_r, P_r+1) beside it (the median dual cell of a
+    polygon's vertex); equal shares when they span no area. order: work array of n ints."""
     for r in range(n):
         # insertion sort of at most MAX_POINTS rows by their place in the polygon
         k = r
@@ -398,27 +400,21 @@ def _share_area(face_area, picked, order, n, px, py, pz, src, tx, ty, tz, sx, sy
         order[k] = r
     cu = cw = 0.0
     for r in range(n):
-        k = picked[r]
-        cu += tx * px[src, k] + ty * py[src, k] + tz * pz[src, k]
-        cw += sx * px[src, k] + sy * py[src, k] + sz * pz[src, k]
+        cu += pu[picked[r]]
+        cw += pw[picked[r]]
+        area[first + r] = 0.0
     cu /= n
     cw /= n
     total = 0.0
     for r in range(n):
-        out[order[r]] = 0.0
-    for r in range(n):
         a = picked[order[r]]
         b = picked[order[(r + 1) % n]]
-        au = tx * px[src, a] + ty * py[src, a] + tz * pz[src, a] - cu
-        aw = sx * px[src, a] + sy * py[src, a] + sz * pz[src, a] - cw
-        bu = tx * px[src, b] + ty * py[src, b] + tz * pz[src, b] - cu
-        bw = sx * px[src, b] + sy * py[src, b] + sz * pz[src, b] - cw
-        triangle = 0.5 * abs(au * bw - aw * bu)
-        out[order[r]] += 0.5 * triangle
-        out[order[(r + 1) % n]] += 0.5 * triangle
+        triangle = 0.5 * abs((pu[a] - cu) * (pw[b] - cw) - (pw[a] - cw) * (pu[b] - cu))
+        area[first + order[r]] += 0.5 * triangle
+        area[first + order[(r + 1) % n]] += 0.5 * triangle
         total += triangle
-    for r in range(n):
-        out[r] = face_area * out[r] / total if total > 0.0 else face_area / n
+    for r in range(first, first + n):
+        area[r] = face_area * area[r] / total if total > 0.0 else face_area / n
 
 
 @nb.njit(inline="always")
