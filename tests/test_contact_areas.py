@@ -220,6 +220,7 @@ def test_results_frames_and_checkpoints_store_the_areas(tmp_path):
 def test_results_written_before_areas_are_read_and_resumed_without_them(tmp_path):
     import h5py
 
+    from saxum.mechanism import frame_mechanism
     from saxum.results import Results, ResultsWriter
     from saxum.structures import wall
 
@@ -236,6 +237,7 @@ def test_results_written_before_areas_are_read_and_resumed_without_them(tmp_path
     with Results(path) as r:
         assert "area" not in r.contacts(-1) and "area" not in r.checkpoint(-1)["contacts"]
         count = r.contacts(-1)["gap"].size
+        frame_mechanism(r, -1)  # builds its Contacts from the fields the file has
     writer, _ = ResultsWriter.resume(path)
     with writer:
         writer.write_frame(state)
