@@ -225,17 +225,15 @@ def polygon_contacts(
         ds = s1 - s0
         law_index = group_law[body_group[cand], body_group[ant]]
         base = (((i * nbody + j) * 2 + flip) * max_vertices + ref) * max_vertices + inc
-        s_lo = max(s0, 0.0)
-        s_hi = min(s1, length)
-        x0, y0, g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
-        x1, y1, g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
-        ends = 2 if ds > 0.0 else 1
-        if g0 <= alert and g1 <= alert:  # flush faces, the common case: half each
-            share = 0.5 * max(s_hi - s_lo, 0.0) if ds > 0.0 else 0.0
-        else:  # one end beyond alert: the other stands for the part within it
-            share = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
-        for slot in range(ends):
-            px, py, g = (x0, y0, g0) if slot == 0 else (x1, y1, g1)
+        first = count
+        for slot in range(2):
+            if slot == 0:
+                s_clip = max(s0, 0.0)
+            else:
+                s_clip = min(s1, length)
+                if ds <= 0.0:
+                    break
+            px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
             if g > alert:
                 continue
             candidate[count] = cand
@@ -249,6 +247,13 @@ def polygon_contacts(
             frame[count, 1, 0] = nx
             frame[count, 1, 1] = ny
             gap[count] = g
-            area[count] = share
             count += 1
+        s_lo = max(s0, 0.0)
+        s_hi = min(s1, length)
+        if count - first == 2:  # flush faces, the common case: half each
+            area[first] = area[first + 1] = 0.5 * max(s_hi - s_lo, 0.0)
+        elif count > first:  # one end beyond alert (or ds = 0): the other stands for the rest
+            g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
+            g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
+            area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
     return count, reused
