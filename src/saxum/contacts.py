@@ -3,6 +3,7 @@
 A contact alpha joins a candidate body (which carries the contact point) and an antagonist body
 (which carries the frame). In 2D the frame is (t, n), n the antagonist's outward face normal and
 t = (n_y, -n_x), so that (t, n) is right-handed; local vectors are stored as (t, n) components.
+Each point carries the `area` of the contact face it stands for, which laws in stresses need.
 `key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
 of the common segment), so that the solver can start from the previous impulses. Detection
 writes contacts in increasing key order, which makes matching a linear merge.
@@ -41,6 +42,12 @@ class Contacts:
         """Gap on the predicted configuration [m] (negative: interpenetration), shape [capacity]."""
         self.impulse = np.zeros((capacity, d))
         """Contact impulse R over the step in the local frame [N s], shape [capacity, dim]."""
+        self.area = np.zeros(capacity)
+        """Share of the contact face the point stands for [m^2; 2D: m^2/m, a length along the
+        face], shape [capacity]: the contact's stress is its force / area. The points of a face
+        contact share its overlap (the part within the alert distance), so a joint's areas sum
+        to its overlap length (2D) or polygon area (3D); a vertex against a face gets a small
+        area, an edge against an edge (3D) none (saxum.detection.polygons, .polyhedra)."""
 
     def reserve(self, capacity: int) -> None:
         """Make room for `capacity` contacts; existing rows are kept."""
@@ -53,7 +60,8 @@ class Contacts:
 
     @staticmethod
     def _fields() -> tuple[str, ...]:
-        return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse")
+        return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse",
+                "area")
 
     def copy(self) -> "Contacts":
         """A deep copy of the valid rows."""

@@ -390,7 +390,8 @@ def frame_mechanism(results, frame: int, **options) -> Mechanism:
     contacts = Contacts(results.dim, max(1, stored["gap"].size))
     contacts.count = stored["gap"].size
     for name in Contacts._fields():
-        getattr(contacts, name)[: contacts.count] = stored[name]
+        if name in stored:  # files from before a field existed
+            getattr(contacts, name)[: contacts.count] = stored[name]
     state = State(float(results.time[k]), results.body_q[k], results.body_v[k], contacts,
                   int(results.step[k]))
     return mechanism(bodies, state, results.dt, **options)

@@ -14,7 +14,7 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
-                           impulse}
+                           impulse, area [m^2/m; 3D: m^2] (saxum.contacts.Contacts.area)}
     /steps/...             one row per time step: the StepReport fields (saxum.steplog)
     /histories/...         one row per time step for the chosen blocks (attrs body: their
                            indices): time [s], step, body_q, body_v (shape [steps, blocks, 3])
@@ -84,7 +84,10 @@ _CONTACT_FIELDS = {
     "frame": (np.float64, lambda d: (d, d), "-"),
     "gap": (np.float64, lambda d: (), "m"),
     "impulse": (np.float64, lambda d: (d,), "N s/m"),
+    "area": (np.float64, lambda d: (), "m^2/m"),
 }
+"""Contact fields in frames and checkpoints; files written before `area` existed lack it, and
+are read and resumed without it."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
           3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
@@ -672,7 +675,10 @@ class _Rows:
         columns, ragged = _ROWS[g.name.lstrip("/")]
         self.columns = [name for name in columns if name in g]
         self.ds = {name: g[name] for name in self.columns}
-        self.ragged = [(names, {name: (g[sub] if sub else g)[name] for name in names}, count)
+        # a file resumed from before a contact field existed goes on without it (format 1,
+        # which has no checksums to keep consistent)
+        self.ragged = [(names, {name: (g[sub] if sub else g)[name] for name in names
+                                if name in (g[sub] if sub else g)}, count)
                        for sub, names, count in ragged]
         self.checksum = g["checksum"] if "checksum" in g else None  # (none in format 1)
 
@@ -680,9 +686,10 @@ class _Rows:
         data = {name: np.asarray(values[name], dtype=ds.dtype) for name, ds in self.ds.items()}
         parts = []
         for names, datasets, count in self.ragged:
-            arrays = [np.asarray(values[name], dtype=datasets[name].dtype) for name in names]
+            present = [name for name in names if name in datasets]
+            arrays = [np.asarray(values[name], dtype=datasets[name].dtype) for name in present]
             parts.append((arrays, data[count]))
-            for name, a in zip(names, arrays, strict=True):
+            for name, a in zip(present, arrays, strict=True):
                 _append(datasets[name], a)
         for name in self.columns[:-1]:
             _append(self.ds[name], data[name])
@@ -867,6 +874,7 @@ class Results:
         self.units = {"time": "s", "body_q": _UNITS[self.dim][0],
                       "body_v": _UNITS[self.dim][1], "point": "m", "gap": "m",
                       "impulse": "N s" + per_depth, "force": "N" + per_depth,
+                      "area": "m^2" + per_depth,
                       **_STEP_UNITS}
         if self.dim == 3:
             self.units["kinetic_energy"] = "J"
@@ -958,13 +966,14 @@ class Results:
         return out
 
     def contacts(self, frame: int) -> dict[str, np.ndarray]:
-        """The contacts of output frame `frame`: the stored fields and `force` = impulse / dt
-        [N/m; 3D: N], the mean contact force over the step, in the contact frame (t, n) (3D:
-        (t, n, s))."""
+        """The contacts of output frame `frame`: the stored fields (`area` [m; 3D: m^2], the
+        share of the joint each point stands for, absent from files of saxum before it) and
+        `force` = impulse / dt [N/m; 3D: N], the mean contact force over the step, in the
+        contact frame (t, n) (3D: (t, n, s))."""
         k = range(self.frame_count)[frame]
         lo, hi = self._contact_start[k], self._contact_start[k + 1]
         g = self.file["frames/contacts"]
-        out = {name: g[name][lo:hi] for name in _CONTACT_FIELDS}
+        out = {name: g[name][lo:hi] for name in _CONTACT_FIELDS if name in g}
         out["force"] = out["impulse"] / self.dt
         return out
 
@@ -989,7 +998,7 @@ class Results:
                                                "pair_count", "since_refresh", "refresh_count",
                                                "steps_logged")}
         out["contacts"] = {name: cp["contacts"][name][start[k]:start[k + 1]]
-                           for name in _CONTACT_FIELDS}
+                           for name in _CONTACT_FIELDS if name in cp["contacts"]}
         out["pairs"] = cp["pairs"][pstart[k]:pstart[k + 1]]
         return out
 

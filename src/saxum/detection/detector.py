@@ -127,7 +127,7 @@ class Detector:
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
             self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-            contacts.point, contacts.frame, contacts.gap,
+            contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
 
     def _refresh(self, q: np.ndarray) -> None:
@@ -247,7 +247,7 @@ class PolyhedronDetector(Detector):
             m.edge_vertex, m.edge_face, m.body_group, m.group_law, self.alert,
             self.reference_bias, self._max_faces, self._max_edges, self._max_face_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-            contacts.point, contacts.frame, contacts.gap,
+            contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
 
 

@@ -27,6 +27,15 @@ bodies' points move by at most d_o, d_r and the reference body turns by dtheta_r
 stay below the recorded slack, every comparison comes out as it did and the kept choice is the
 one the full test would make, so it is used as is: the same contacts bit for bit, without the
 test's cost for blocks that barely move.
+
+Contact areas (per metre of depth, so lengths [m]), for laws written in stresses: the points of a
+contact share equally the length, projected on the reference face, of the part of the common
+segment whose gap is within the alert distance (the gap is linear along it). Two faces in contact
+give each end half the overlap length, and the areas of a joint sum to its overlap length; a
+vertex against a face (an incident face at an angle theta to the reference face) stands for
+about alert / tan(theta), small beside the faces unless they are nearly flush, which is the
+part of the faces close enough to interact; an incident face normal to the reference face
+gives one point of zero area.
 """
 
 import numba as nb
@@ -107,11 +116,30 @@ def _choose_faces(wv, wn, i0, ni, j0, nj, alert, ref_tol, tie):
     return _FLIPPED if flip else _KEPT, ref, inc, slack, 0.5 * (second - most)
 
 
+@nb.njit(inline="always")
+def _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay):
+    """The point of the incident segment p0-p1 at abscissa s_clip [m] along the reference face
+    (p0 at s0, ds = s1 - s0 >= 0; p0 itself when ds = 0) and its gap n . (p - a) [m]."""
+    f = (s_clip - s0) / ds if ds > 0.0 else 0.0
+    px = p0x + f * (p1x - p0x)
+    py = p0y + f * (p1y - p0y)
+    return px, py, nx * (px - ax) + ny * (py - ay)
+
+
+@nb.njit(inline="always")
+def _alert_length(length, g0, g1, alert):
+    """The part [m] of a segment of projected length `length` [m] whose gap, linear from g0 at
+    one end to g1 at the other, is within alert [m], where one end at most is within alert."""
+    if length <= 0.0 or min(g0, g1) > alert:
+        return 0.0
+    return length * (alert - min(g0, g1)) / abs(g1 - g0)
+
+
 @nb.njit(cache=True)
 def polygon_contacts(
     pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, alert, ref_tol,
     max_vertices, q, radius, motion, turn, record, faces, slack,
-    candidate, antagonist, key, law, point, frame, gap,
+    candidate, antagonist, key, law, point, frame, gap, area,
 ):
     """Contacts of the first npairs pairs of polygons with world vertices wv [m] and outward
     unit normals wn of the edges that start at them.
@@ -128,6 +156,8 @@ def polygon_contacts(
     full test runs on every pair and fills faces (int32 [npairs, 3]: choice, reference edge,
     incident edge) and slack (float [npairs, 2]); otherwise a pair whose bounds stay within its
     slack uses its row of faces (choice _NO_CHOICE: run the full test).
+
+    area [m^2/m, a length]: the share of the contact face each point stands for (module doc).
     """
     nbody = vertex_start.shape[0] - 1
     tie = 1e-6 * alert  # the detector's closed_gap: separations closer than this are equal
@@ -195,6 +225,7 @@ def polygon_contacts(
         ds = s1 - s0
         law_index = group_law[body_group[cand], body_group[ant]]
         base = (((i * nbody + j) * 2 + flip) * max_vertices + ref) * max_vertices + inc
+        first = count
         for slot in range(2):
             if slot == 0:
                 s_clip = max(s0, 0.0)
@@ -202,10 +233,7 @@ def polygon_contacts(
                 s_clip = min(s1, length)
                 if ds <= 0.0:
                     break
-            f = (s_clip - s0) / ds if ds > 0.0 else 0.0
-            px = p0x + f * (p1x - p0x)
-            py = p0y + f * (p1y - p0y)
-            g = nx * (px - ax) + ny * (py - ay)
+            px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
             if g > alert:
                 continue
             candidate[count] = cand
@@ -220,4 +248,12 @@ def polygon_contacts(
             frame[count, 1, 1] = ny
             gap[count] = g
             count += 1
+        s_lo = max(s0, 0.0)
+        s_hi = min(s1, length)
+        if count - first == 2:  # flush faces, the common case: half each
+            area[first] = area[first + 1] = 0.5 * max(s_hi - s_lo, 0.0)
+        elif count > first:  # one end beyond alert (or ds = 0): the other stands for the rest
+            g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
+            g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
+            area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
     return count, reused

@@ -20,6 +20,16 @@ the two blocks; beyond the alert distance there is no contact.
   point and an edge against a face two. Taking the points by direction, rather than by how the
   clipping made them, keeps their identity when a corner of one face crosses an edge of the
   other by round-off, as happens all the time in a wall built flush.
+- Contact areas, for laws written in stresses: the area, projected on the reference face, of
+  the part of the clipped polygon whose gap is within the alert distance is shared among the
+  face contact's points as the median dual of their polygon does: about the mean c of the
+  points, taken in the polygon's order, each fan triangle (c, P_k, P_k+1) gives half its area
+  to either corner, and the shares are scaled to sum to the area (a quarter each for the four
+  corners of a rectangle; equal shares where the points span no area). The areas of a joint
+  thus sum to its overlap polygon's area. An edge or a vertex against a face (an incident face
+  at an angle theta to it) stands for the part of that face within the alert distance: a strip
+  (alert - gap) / tan(theta) wide along the edge, a corner of it for a vertex, small beside the
+  faces unless they are nearly flush; an edge-edge contact has zero area.
 - Corners only: where the incident face lies in the reference face's plane (within the
   closed gap) and the two meet only along a line or at a point, the blocks touch edge to edge
   or corner to corner (a stone over a head joint and the next stone of the course below, the
@@ -161,7 +171,7 @@ def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert,
 def polyhedron_contacts(
     pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
     edge_face, body_group, group_law, alert, ref_tol, max_faces, max_edges, max_face_vertices,
-    candidate, antagonist, key, law, point, frame, gap,
+    candidate, antagonist, key, law, point, frame, gap, area,
 ):
     """Contacts of the first npairs pairs of polyhedra (module doc), world vertices wv [m] and
     outward unit face normals wn; q the configuration (centres of mass [m]).
@@ -171,6 +181,7 @@ def polyhedron_contacts(
     preferred to edge pairs unless these separate more by ref_tol (biases that keep contact
     identities stable across steps). Output arrays need room for MAX_POINTS * npairs contacts.
     Returns the number of contacts written, in increasing key order for pairs sorted by (i, j).
+    area [m^2]: the share of the contact polygon each point stands for (module doc).
     """
     nbody = vertex_start.shape[0] - 1
     tie = 1e-6 * alert  # the detector's closed_gap: separations closer than this are equal
@@ -180,6 +191,10 @@ def polyhedron_contacts(
     py = np.empty((2, size))
     pz = np.empty((2, size))
     dist = np.empty(size)
+    pu = np.empty(size)
+    pw = np.empty(size)
+    picked = np.empty(MAX_POINTS, dtype=np.int64)
+    order = np.empty(MAX_POINTS, dtype=np.int64)
     count = 0
     for p in range(npairs):
         i = pairs[p, 0]
@@ -215,6 +230,7 @@ def polyhedron_contacts(
                    ((pair_key * features + ref) * features + inc) * SLOTS, law_index,
                    cx, cy, cz, tx / norm, ty / norm, tz / norm, ux, uy, uz,
                    ux * (cx - ox) + uy * (cy - oy) + uz * (cz - oz))
+            area[count] = 0.0
             count += 1
             continue
         flip = s_j > s_i + ref_tol
@@ -272,10 +288,15 @@ def polyhedron_contacts(
                 break
         if m == 0:
             continue
+        for k in range(m):
+            dist[k] = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
+        sx, sy, sz = _cross(tx, ty, tz, nx, ny, nz)  # s = t x n, as _write's frame
+        face_area = _alert_area(px, py, pz, dist, src, m, ax, ay, az, tx, ty, tz, sx, sy, sz,
+                                alert)
         # keep the points within the alert distance
         kept = 0
         for k in range(m):
-            g = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
+            g = dist[k]
             if g <= alert:
                 px[src, kept] = px[src, k]
                 py[src, kept] = py[src, k]
@@ -285,7 +306,9 @@ def polyhedron_contacts(
         if kept == 0 or _corner_only(wv, fvs, fv, inc_face, nx, ny, nz, ax, ay, az, px, py,
                                      pz, src, kept, tie):
             continue
-        sx, sy, sz = _cross(tx, ty, tz, nx, ny, nz)
+        for k in range(kept):  # coordinates in the face's plane, for the picks and the areas
+            pu[k] = tx * px[src, k] + ty * py[src, k] + tz * pz[src, k]
+            pw[k] = sx * px[src, k] + sy * py[src, k] + sz * pz[src, k]
         base = ((pair_key + flip) * features + ref_face - face_start[ant]) * features + (
             inc_face - face_start[cand])
         first = count
@@ -297,8 +320,7 @@ def polyhedron_contacts(
             best = -np.inf
             pick = 0
             for k in range(kept):
-                h = (dt * (tx * px[src, k] + ty * py[src, k] + tz * pz[src, k])
-                     + ds * (sx * px[src, k] + sy * py[src, k] + sz * pz[src, k]))
+                h = dt * pu[k] + ds * pw[k]
                 if h > best:
                     best = h
                     pick = k
@@ -312,16 +334,87 @@ def polyhedron_contacts(
                         + abs(point[c, 2] - pz[src, pick])) <= 1e-3 * alert:
                     fresh = False
                     break
-                reach = max(reach, dt * (tx * point[c, 0] + ty * point[c, 1] + tz * point[c, 2])
-                            + ds * (sx * point[c, 0] + sy * point[c, 1] + sz * point[c, 2]))
+                reach = max(reach, dt * pu[picked[c - first]] + ds * pw[picked[c - first]])
             if slot >= 4 and best <= reach + 1e-3 * alert * math.hypot(dt, ds):
                 fresh = False
             if fresh:
                 _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
                        base * SLOTS + slot, law_index, px[src, pick], py[src, pick],
                        pz[src, pick], tx, ty, tz, nx, ny, nz, dist[pick])
+                picked[count - first] = pick
                 count += 1
+        _share_area(face_area, picked, order, count - first, pu, pw, area, first)
     return count
+
+
+@nb.njit(inline="always")
+def _alert_area(px, py, pz, gap, src, m, ax, ay, az, tx, ty, tz, sx, sy, sz, alert):
+    """Area [m^2], projected on the reference face's plane (axes t, s through a), of the part
+    of the convex polygon px/py/pz[src, :m] whose gap (gap[:m] [m]) is within alert [m]: the
+    shoelace formula over the polygon clipped by that half-space, its vertices taken
+    in turn (each kept vertex, then the crossing of the edge that leaves it, if any)."""
+    twice = 0.0
+    u_first = w_first = u_prev = w_prev = 0.0
+    emitted = 0
+    for k in range(m):
+        k1 = (k + 1) % m
+        g0 = gap[k]
+        g1 = gap[k1]
+        for crossing in range(2):
+            if crossing == 0 and g0 > alert:
+                continue
+            if crossing == 1 and (g0 <= alert) == (g1 <= alert):
+                continue
+            f = (alert - g0) / (g1 - g0) if crossing == 1 else 0.0
+            x = px[src, k] + f * (px[src, k1] - px[src, k]) - ax
+            y = py[src, k] + f * (py[src, k1] - py[src, k]) - ay
+            z = pz[src, k] + f * (pz[src, k1] - pz[src, k]) - az
+            u = tx * x + ty * y + tz * z
+            w = sx * x + sy * y + sz * z
+            if emitted == 0:
+                u_first = u
+                w_first = w
+            else:
+                twice += u_prev * w - w_prev * u
+            u_prev = u
+            w_prev = w
+            emitted += 1
+    if emitted < 3:
+        return 0.0
+    return 0.5 * abs(twice + u_prev * w_first - w_prev * u_first)
+
+
+@nb.njit(inline="always")
+def _share_area(face_area, picked, order, n, pu, pw, area, first):
+    """area[first + r] = face_area [m^2] times the weight of contact point r, the vertex
+    picked[r] of a convex polygon with coordinates pu, pw [m] in the reference face's plane:
+    the picked points in the polygon's order about their mean c, each gets half of the two fan
+    triangles (c, P_r-1, P_r) and (c, P_r, P_r+1) beside it (the median dual cell of a
+    polygon's vertex); equal shares when they span no area. order: work array of n ints."""
+    for r in range(n):
+        # insertion sort of at most MAX_POINTS rows by their place in the polygon
+        k = r
+        while k > 0 and picked[order[k - 1]] > picked[r]:
+            order[k] = order[k - 1]
+            k -= 1
+        order[k] = r
+    cu = cw = 0.0
+    for r in range(n):
+        cu += pu[picked[r]]
+        cw += pw[picked[r]]
+        area[first + r] = 0.0
+    cu /= n
+    cw /= n
+    total = 0.0
+    for r in range(n):
+        a = picked[order[r]]
+        b = picked[order[(r + 1) % n]]
+        triangle = 0.5 * abs((pu[a] - cu) * (pw[b] - cw) - (pw[a] - cw) * (pu[b] - cu))
+        area[first + order[r]] += 0.5 * triangle
+        area[first + order[(r + 1) % n]] += 0.5 * triangle
+        total += triangle
+    for r in range(first, first + n):
+        area[r] = face_area * area[r] / total if total > 0.0 else face_area / n
 
 
 @nb.njit(inline="always")
