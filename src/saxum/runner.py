@@ -134,7 +134,11 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
         # the last state, unless the loop (or the start of the run) has just written it
         if state.step > first and (state.step % frame_every or state.step == total):
             writer.write_frame(state)
-        if state.step > first and (state.step % checkpoint_every or state.step == total):
+        # (not where the solver carries state from earlier steps, as NLGS following changing
+        # loads does: a run resumed there would not step as the run in one go; it resumes from
+        # the last periodic checkpoint, recomputing the steps after it)
+        if (state.step > first and (state.step % checkpoint_every or state.step == total)
+                and (status == "finished" or not sim.solver.carries_state())):
             writer.write_checkpoint(state, sim.detector)
         if status == "finished":
             writer.set_status(1, f"finished at t = {state.time:g} s")

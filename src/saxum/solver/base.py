@@ -40,3 +40,9 @@ class ContactSolver(ABC):
         the rest solutions it extrapolates), so that stepping on gives what a new solver
         would: the runner calls it at every checkpoint, which a resumed run starts from."""
         return None
+
+    def carries_state(self) -> bool:
+        """Whether the solver holds something from earlier steps that forget() would drop,
+        so that stepping on differs from a new solver's steps (a checkpoint written now would
+        not resume bit for bit)."""
+        return False

@@ -125,6 +125,10 @@ class Hybrid(ContactSolver):
 
     def forget(self) -> None:
         self._first.forget()  # the others never follow loads (rest_after 0)
+        self._failures = self._wait = 0  # the back-off, which decides where to switch
+
+    def carries_state(self) -> bool:
+        return self._first.carries_state() or self._failures > 0 or self._wait > 0
 
     @property
     def rest_attempts(self) -> int:

@@ -103,6 +103,11 @@ class LoadFollowing:
         self._weight = (None, None)  # (inv_mass, M^-1/2 of the free bodies, as f is laid out)
         self._quiet = 0  # steps in a row whose loads did not change
 
+    def holds(self) -> bool:
+        """Whether anything is kept that clear() would drop."""
+        return (bool(self._anchors) or self.response.ready or self._quiet != 0
+                or any(x is not None for x in (self._keys, self._last_loads, self._pending)))
+
     def clear(self) -> None:
         self.response.clear()
         self._anchors.clear()

@@ -94,6 +94,9 @@ class NLGS(ContactSolver):
     def forget(self) -> None:
         self._following.clear()
 
+    def carries_state(self) -> bool:
+        return self._following.holds()
+
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
         c = problem.contacts
