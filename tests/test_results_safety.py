@@ -280,3 +280,25 @@ def test_a_density_that_is_not_masonry_is_refused(tmp_path, capsys, density):
     assert main(["run", str(scenario), "--set", f"structure.density={density!r}", "-q"]) == 2
     assert "density" in capsys.readouterr().err
     assert not (tmp_path / "a.h5").exists()
+
+
+def test_a_resume_that_fails_while_copying_leaves_no_stray_file(tmp_path, reference,
+                                                                 monkeypatch):
+    """Resuming rewrites the file through FILE.resume-tmp; a failure there (a full disk, an
+    interrupt) removes that file and leaves the results as they were, resumable again."""
+    import saxum.results
+
+    path = tmp_path / "arch.h5"
+    shutil.copy(reference, path)
+
+    def fail(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(saxum.results, "_copy_rows", fail)
+    with pytest.raises(OSError):
+        saxum.results.ResultsWriter.resume(path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arch.h5"]
+    monkeypatch.undo()
+    _same_results(path, reference)
+    writer, _ = saxum.results.ResultsWriter.resume(path)  # and the lock was released
+    writer.close()

@@ -475,21 +475,26 @@ class ResultsWriter:
                           " s); what followed it is computed again", ResultsDamageWarning,
                           stacklevel=3)
         tmp = path.with_name(path.name + ".resume-tmp")
-        with h5py.File(tmp, "w", libver="latest") as dst:
-            for key, value in src.file.attrs.items():
-                dst.attrs[key] = value
-            for name in ("scenario", "scenario_json", "model", "run"):
-                src.file.copy(src.file[name], dst, name)
-            fsteps = src.step
-            _copy_rows(src, dst, "frames", src.frame_count,
-                       (fsteps <= cp_step) & (fsteps % frame_every == 0))
-            n_steps = int(src.file["checkpoints/steps_logged"][k])
-            _copy_rows(src, dst, "steps", n_steps, None)
-            _copy_rows(src, dst, "checkpoints", k + 1, None)
-            if src.histories is not None:
-                hsteps = src.histories["step"]
-                _copy_rows(src, dst, "histories", hsteps.size, hsteps <= cp_step)
-                dst["histories"].attrs["body"] = src.file["histories"].attrs["body"]
+        try:
+            with h5py.File(tmp, "w", libver="latest") as dst:
+                for key, value in src.file.attrs.items():
+                    dst.attrs[key] = value
+                for name in ("scenario", "scenario_json", "model", "run"):
+                    src.file.copy(src.file[name], dst, name)
+                fsteps = src.step
+                _copy_rows(src, dst, "frames", src.frame_count,
+                           (fsteps <= cp_step) & (fsteps % frame_every == 0))
+                n_steps = int(src.file["checkpoints/steps_logged"][k])
+                _copy_rows(src, dst, "steps", n_steps, None)
+                _copy_rows(src, dst, "checkpoints", k + 1, None)
+                if src.histories is not None:
+                    hsteps = src.histories["step"]
+                    _copy_rows(src, dst, "histories", hsteps.size, hsteps <= cp_step)
+                    dst["histories"].attrs["body"] = src.file["histories"].attrs["body"]
+        except BaseException:  # a failed copy (a full disk, Ctrl-C) leaves no stray file
+            src.close()
+            tmp.unlink(missing_ok=True)
+            raise
         src.close()
         os.replace(tmp, path)
         self = cls.__new__(cls)
