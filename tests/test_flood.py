@@ -100,12 +100,12 @@ def test_level_series_and_velocity_series_are_linear_in_time():
     load = FloodLoad(level_series=[(0.0, 0.0), (10.0, 2.0)],
                      velocity_series=[(0.0, 0.0), (5.0, 3.0)])
     assert load.heads(-1.0) == (0.0, 0.0)
-    # interpolated: a few operations on values of ~1 (round-off ~1e-16), 1e-12 allowed; the
-    # ends are the series' values themselves
+    # interpolated or held past the ends: a few operations on values of ~1 (round-off ~1e-16),
+    # 1e-12 allowed
     assert load.heads(2.5) == pytest.approx((0.5, 0.5), abs=1e-12)
-    assert load.heads(20.0) == (2.0, 2.0)
+    assert load.heads(20.0) == pytest.approx((2.0, 2.0), abs=1e-12)
     assert load.velocity.at(2.5) == pytest.approx(1.5, abs=1e-12)
-    assert load.velocity.at(9.0) == 3.0
+    assert load.velocity.at(9.0) == pytest.approx(3.0, abs=1e-12)
     model = _model([[(0.0, 0.0), (1.0, 0.0), (1.0, 3.0), (0.0, 3.0)]])
     f = load.forces(model, t=5.0)[1]
     assert f[1] == pytest.approx(1000.0 * G * 1.0)  # 1 m of water on a 1 m wide block
