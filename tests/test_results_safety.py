@@ -9,11 +9,11 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 
 import h5py
 import numpy as np
 import pytest
+from results_check import same_results, start_saxum, wait_for_frames
 
 from saxum.cli import main
 from saxum.errors import InputError, ResultsDamageWarning
@@ -50,47 +50,16 @@ def reference(tmp_path_factory):
     return path
 
 
-def _same_results(a_path, b_path):
-    with Results(a_path) as a, Results(b_path) as b:
-        assert a.frame_count == b.frame_count and not a.damage
-        for name in ("time", "step", "body_q", "body_v"):
-            assert np.array_equal(getattr(a, name), getattr(b, name)), name
-        for name in a.steps:
-            assert np.array_equal(a.steps[name], b.steps[name]), name
-        for name in ("step", "body_q", "body_v"):
-            assert np.array_equal(a.histories[name], b.histories[name]), name
-        assert np.array_equal(a.checkpoint_steps, b.checkpoint_steps)
-
-
-def _saxum(args, cwd, **kw):
-    return subprocess.Popen([sys.executable, "-m", "saxum", *args], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
-
-
-def _wait_for_frames(path, count, proc):
-    deadline = time.monotonic() + HANG
-    while time.monotonic() < deadline:
-        assert proc.poll() is None, proc.communicate()
-        try:
-            with Results(path) as r:
-                if r.frame_count >= count:
-                    return
-        except InputError:  # not created yet
-            pass
-        time.sleep(0.05)
-    raise AssertionError("no frames appeared")
-
-
 def test_a_second_writer_is_refused_and_the_first_file_stays_intact(tmp_path, reference):
     (tmp_path / "arch.toml").write_text(SCENARIO)
     out = tmp_path / "arch.h5"
-    first = _saxum(["run", "arch.toml", "-q"], tmp_path)
-    _wait_for_frames(out, 3, first)
+    first = start_saxum(["run", "arch.toml", "-q"], tmp_path)
+    wait_for_frames(out, 3, first)
     first.send_signal(signal.SIGSTOP)  # so that it is surely still writing meanwhile
     try:
         with Results(out) as r:
             assert r.status == "running"  # its writer holds the file
-        second = _saxum(["run", "arch.toml", "-q", "--overwrite"], tmp_path)
+        second = start_saxum(["run", "arch.toml", "-q", "--overwrite"], tmp_path)
         _, err = second.communicate(timeout=HANG)
     finally:
         first.send_signal(signal.SIGCONT)
@@ -99,7 +68,7 @@ def test_a_second_writer_is_refused_and_the_first_file_stays_intact(tmp_path, re
     assert "Traceback" not in err and "HDF5" not in err
     stdout, err = first.communicate(timeout=HANG)
     assert first.returncode == 0 and "finished" in stdout, err
-    _same_results(out, reference)
+    same_results(out, reference)
 
 
 def test_an_existing_results_file_is_not_overwritten_without_overwrite(tmp_path, capsys):
@@ -163,7 +132,7 @@ def test_a_truncated_file_is_said_truncated_and_never_resumed_from_lost_data(
         return
     # it resumed from an intact checkpoint: then it gives what the run in one go gives
     assert out["resume"] == "0" and "resuming from its last intact checkpoint" in err["resume"]
-    _same_results(cut, reference)
+    same_results(cut, reference)
 
 
 def test_a_damaged_frame_drops_it_and_what_follows_and_resume_starts_before(tmp_path,
@@ -187,7 +156,7 @@ def test_a_damaged_frame_drops_it_and_what_follows_and_resume_starts_before(tmp_
     with pytest.warns(ResultsDamageWarning, match="resuming from its last intact checkpoint, "
                                                   "step 100"):
         resume_run(bad, quiet=True)
-    _same_results(bad, reference)
+    same_results(bad, reference)
 
 
 _FULL_DISK = textwrap.dedent("""\
@@ -221,7 +190,7 @@ def test_a_full_disk_is_a_clear_failure_and_the_file_resumes(tmp_path, reference
     with Results(out) as r:
         assert r.status == "interrupted" and r.frame_count > 1 and r.resumable >= 1
     resume_run(out, quiet=True)
-    _same_results(out, reference)
+    same_results(out, reference)
     # in Python: the error to catch, and no crash when the interpreter exits afterwards
     done = subprocess.run([sys.executable, "-c", _FULL_DISK, "arch.toml", "py.h5", "python"],
                           cwd=tmp_path, capture_output=True, text=True, timeout=HANG)
@@ -299,6 +268,6 @@ def test_a_resume_that_fails_while_copying_leaves_no_stray_file(tmp_path, refere
         saxum.results.ResultsWriter.resume(path)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["arch.h5"]
     monkeypatch.undo()
-    _same_results(path, reference)
+    same_results(path, reference, checkpoints=True)
     writer, _ = saxum.results.ResultsWriter.resume(path)  # and the lock was released
     writer.close()

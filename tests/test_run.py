@@ -1,16 +1,15 @@
 """Running scenarios: the command line end to end, results left by a killed run, Ctrl-C, and
 resume giving bit for bit what the run made in one go gives."""
 
-import os
 import signal
 import subprocess
 import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 from PIL import Image
+from results_check import same_results, start_saxum, wait_for_frames
 
 import saxum as sx
 from saxum.cli import main
@@ -49,21 +48,6 @@ def one_go(tmp_path_factory):
     return path
 
 
-def _same_results(a_path, b_path):
-    with Results(a_path) as a, Results(b_path) as b:
-        assert a.frame_count == b.frame_count
-        for name in ("time", "step", "body_q", "body_v"):
-            assert np.array_equal(getattr(a, name), getattr(b, name)), name
-        for k in range(a.frame_count):
-            ca, cb = a.contacts(k), b.contacts(k)
-            for name in ca:
-                assert np.array_equal(ca[name], cb[name]), (k, name)
-        for name in a.steps:
-            assert np.array_equal(a.steps[name], b.steps[name]), name
-        for name in a.histories:
-            assert np.array_equal(a.histories[name], b.histories[name]), name
-
-
 def test_results_of_a_run(one_go):
     with Results(one_go) as r:
         assert r.status == "finished"
@@ -87,33 +71,12 @@ def test_results_of_a_run(one_go):
         assert "ground_acceleration" not in h
 
 
-def _start(args, cwd):
-    env = dict(os.environ)
-    return subprocess.Popen([sys.executable, "-m", "saxum.cli", *args], cwd=cwd, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-
-
-def _wait_for_frames(path, count, proc, timeout=120.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        assert proc.poll() is None, f"the run ended before it could be stopped: {proc.stderr}"
-        if path.exists():
-            try:
-                with Results(path) as r:
-                    if r.frame_count >= count:
-                        return
-            except Exception:  # noqa: BLE001 - the file is still being created
-                pass
-        time.sleep(0.02)
-    raise AssertionError("no frames appeared")
-
-
 def test_sigkill_leaves_a_readable_file_and_resume_matches_one_go(tmp_path, one_go):
     scenario = tmp_path / "arch.toml"
     scenario.write_text(SCENARIO)
     results = tmp_path / "arch.h5"
-    proc = _start(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
-    _wait_for_frames(results, 12, proc)
+    proc = start_saxum(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
+    wait_for_frames(results, 12, proc)
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     with Results(results) as r:  # everything up to the last flush, consistent
@@ -127,7 +90,7 @@ def test_sigkill_leaves_a_readable_file_and_resume_matches_one_go(tmp_path, one_
     _same_frames_prefix(results, one_go, left)
     summary = resume_run(results, quiet=True)
     assert summary.status == "finished"
-    _same_results(results, one_go)
+    same_results(results, one_go)
 
 
 def _same_frames_prefix(path, reference, count):
@@ -139,8 +102,8 @@ def test_ctrl_c_stops_cleanly_says_how_to_resume_and_resume_matches(tmp_path, on
     scenario = tmp_path / "arch.toml"
     scenario.write_text(SCENARIO)
     results = tmp_path / "arch.h5"
-    proc = _start(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
-    _wait_for_frames(results, 8, proc)
+    proc = start_saxum(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
+    wait_for_frames(results, 8, proc)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 0, err
@@ -150,7 +113,7 @@ def test_ctrl_c_stops_cleanly_says_how_to_resume_and_resume_matches(tmp_path, on
         stopped = r.step[-1]
         assert r.checkpoint_steps[-1] == stopped  # a checkpoint where it stopped
     assert main(["resume", str(results), "--quiet"]) == 0
-    _same_results(results, one_go)
+    same_results(results, one_go)
 
 
 def test_cli_run_and_info(tmp_path, capsys):
@@ -354,8 +317,8 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
     one_go = tmp_path / "one_go.h5"
     run_scenario(parse_scenario(SHAKEN_WALL), one_go, quiet=True)
     results = tmp_path / "wall.h5"
-    proc = _start(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
-    _wait_for_frames(results, 60, proc)
+    proc = start_saxum(["run", str(scenario), "-o", str(results), "--quiet"], tmp_path)
+    wait_for_frames(results, 60, proc)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 0, err
@@ -365,4 +328,4 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
         assert stopped < 2000  # stopped before the end
         assert r.checkpoint_steps[-1] % 500 == 0  # the last checkpoint is a periodic one
     assert main(["resume", str(results), "--quiet"]) == 0
-    _same_results(results, one_go)
+    same_results(results, one_go)
