@@ -39,19 +39,54 @@ def _first_step(solver):
     return sim, state, report
 
 
-def test_hybrid_switches_where_nlgs_is_too_slow():
+def test_hybrid_tries_the_conic_solver_at_the_cap():
     """A stack-bond tower of 20 x 2 bricks from a cold start, no rest solution: NLGS alone
     falls by ~1e-4 per sweep and stops at its cap 5000 sweeps away from rest (velocities of
-    ~1e-3 m/s); the hybrid sees the rate, switches to the conic fixed point and ends the step
-    at rest (to round-off), confirmed by one NLGS sweep."""
+    ~1e-3 m/s); the hybrid runs the same 5000 sweeps, then the conic fixed point, whose
+    result one NLGS sweep confirms: the step ends at rest (to round-off)."""
     _, nlgs_state, nlgs = _first_step(sx.NLGS(rest_after=0))
     assert not nlgs.converged and nlgs.iterations == 5000
     sim, state, report = _first_step(sx.Hybrid(rest_after=0))
-    assert report.converged and report.iterations < 5000
+    assert report.converged and report.iterations == 5001
     assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("conic")
     assert sim.solver.finished == {"nlgs": 0, "conic": 1}
     assert np.abs(state.body_v).max() < 1e-9 < np.abs(nlgs_state.body_v).max()
     assert "finished by the conic solver at 1 step(s)" in sim.log.summary()
+
+
+def test_hybrid_does_not_switch_on_a_predicted_rate():
+    """The same tower with a cap NLGS reaches (it converges after ~18 000 sweeps, the error
+    falling all the way): the hybrid waits for NLGS, which the first hybrid did not (it
+    switched where the rate predicted the cap), and gives NLGS's step bit for bit."""
+    _, nlgs_state, nlgs = _first_step(sx.NLGS(rest_after=0, max_iterations=20_000))
+    assert nlgs.converged and nlgs.iterations > 10_000
+    sim, state, report = _first_step(sx.Hybrid(rest_after=0, max_iterations=20_000))
+    assert sim.solver.attempts == 0 and sim.log.solver[-1] == 0
+    assert report.iterations == nlgs.iterations and report.error == nlgs.error
+    assert np.array_equal(state.body_v, nlgs_state.body_v)
+    assert np.array_equal(state.body_q, nlgs_state.body_q)
+
+
+def _worse_conic(self, problem, impulse, v_free, v):
+    """A conic step that ends far from the solution: every impulse zero (v = v_free)."""
+    impulse[...] = 0.0
+    v[...] = v_free
+
+
+def test_hybrid_keeps_nlgs_iterate_where_the_conic_one_is_worse(monkeypatch):
+    """Where the conic step's iterate is worse by NLGS's criterion (patched to zero impulses),
+    the hybrid puts NLGS's iterate back: the step ends as NLGS alone ends it, bit for bit
+    (the first hybrid swept on from the conic iterate)."""
+    from saxum.solver.hybrid import ConicSolver
+
+    _, nlgs_state, nlgs = _first_step(sx.NLGS(rest_after=0))
+    monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
+    sim, state, report = _first_step(sx.Hybrid(rest_after=0))
+    assert (sim.solver.attempts, sim.solver.rejected) == (1, 1)
+    assert sim.log.solver[-1] == 0 and not report.converged
+    assert report.error == nlgs.error and report.iterations == nlgs.iterations + 1
+    assert np.array_equal(state.body_v, nlgs_state.body_v)
+    assert np.array_equal(state.body_q, nlgs_state.body_q)
 
 
 def test_hybrid_is_nlgs_where_nlgs_converges():
@@ -220,19 +255,22 @@ def test_results_written_before_the_solver_column_still_read(tmp_path):
         assert "steps finished by" not in info_text(r)
 
 
-def test_hybrid_backs_off_after_failed_switches(monkeypatch):
-    """With a conic step that finds nothing (patched out), every switch fails: after k failed
-    switches in a row the next 2^k - 1 steps are NLGS's alone (the tower's cold-started steps
-    stall under NLGS for many steps)."""
+def test_hybrid_backs_off_after_failed_attempts(monkeypatch):
+    """With a conic step that is always worse (patched), every attempt fails: after k failed
+    attempts in a row the next 2^k - 1 steps are NLGS's alone (the tower's cold-started steps
+    hit the cap under NLGS for many steps)."""
     from saxum.solver.hybrid import ConicSolver
 
-    monkeypatch.setattr(ConicSolver, "conic", lambda self, *args: None)
+    monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
     sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
                         solver=sx.Hybrid(rest_after=0))
     state = sim.initial_state()
+    attempts = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sx.SolverWarning)
         for _ in range(7):
             sim.step(state)
-    # switch (fails: wait 1), NLGS, switch (fails again: wait 3), NLGS x 3, switch
-    assert sim.log.solver.tolist() == [1, 0, 1, 0, 0, 0, 1]
+            attempts.append(sim.solver.attempts)
+    # attempt (fails: wait 1), NLGS, attempt (fails again: wait 3), NLGS x 3, attempt
+    assert attempts == [1, 1, 2, 2, 2, 2, 3]
+    assert sim.solver.rejected == 3 and not sim.log.solver.any()

@@ -9,18 +9,19 @@ there: the reported error is NLGS's own criterion (saxum.solver.nlgs), the same 
 solved by NLGS alone reports, so that every step is judged alike.
 
 Hybrid: NLGS exactly as saxum.solver.NLGS runs it (the same sweeps, the same rest solution),
-in windows of `window` sweeps. After each window it measures the error's factor per sweep
-over that window, rate = (e_k / e_k-1)^(1 / window) (e the least error so far: NLGS's error
-oscillates). It gives up on NLGS when the error stalls (rate above 1 - 1e-5) or falls too
-slowly to reach the tolerance within the sweeps left (log(tol / e) / log(rate) more than
-max_iterations minus the sweeps done): the sweep cap is not waited for. A stall without
-relaxation is first retried with relaxation 0.7 (the remedy for a cycling iterate; FCLIB's
-OneObject); then the conic fixed point runs from NLGS's iterate and NLGS confirms it (or,
-where the fixed point found nothing better than NLGS's iterate, sweeps on from it with the
-sweeps left: the cap is the same as NLGS's). After k switches in a row that did not end
-converged, the next 2^k - 1 solves (k at most 6) are NLGS's alone: on the friction threshold
-the fixed point crawls too, and each switch costs seconds on a few hundred contacts. Where
-NLGS converges, the hybrid is NLGS: the same iterates bit for bit, one more Python call per
+in windows of `window` sweeps, and never worse than NLGS alone by NLGS's own criterion. After
+each window it measures the error's factor per sweep over that window on the least error so
+far, rate = (e_k / e_k-1)^(1 / window) (NLGS's error oscillates). Only a measured stall (rate
+above 1 - 1e-5: the error no longer falls) or the sweep cap makes it try the conic fixed
+point, once per solve, from NLGS's iterate; a predicted rate does not (NLGS finishes such
+steps, slowly: docs/method.md). One NLGS sweep from the fixed point's result judges it: it is
+kept, and NLGS sweeps on from it with the sweeps left, only where that sweep converged or its
+error (the relative change NLGS reports) is below NLGS's last sweep's; else NLGS's iterate is
+put back bit for bit and NLGS goes on as if alone, so that the step ends where NLGS alone
+would have ended it. After k attempts in a row on solves that did not end converged, the
+next 2^k - 1 solves (k at most 6) are NLGS's alone: on the friction threshold the fixed point
+crawls too, and each attempt costs seconds on a few hundred contacts. Where NLGS converges
+without a stall the hybrid is NLGS: the same iterates bit for bit, one more Python call per
 window.
 """
 
@@ -40,8 +41,6 @@ __all__ = ["ConicSolver", "Hybrid"]
 
 _STALLED = 1e-5
 """An error falling by less than this fraction per sweep over a window stalls."""
-_RELAXED = 0.7
-"""Relaxation tried when NLGS stalls without relaxation."""
 _BACKOFF = 6
 """Failed switches in a row after which the hybrid waits the longest, 2^6 - 1 solves."""
 
@@ -99,8 +98,9 @@ class ConicSolver(ContactSolver):
 @dataclass
 class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that
-    switches to the conic fixed point where NLGS stalls (module doc); window: sweeps between
-    two measurements of the error's rate."""
+    tries the conic fixed point where NLGS stalls or at its cap, and keeps what it finds only
+    where it is better by NLGS's own criterion (module doc); window: sweeps between two
+    measurements of the error, and the sweeps that judge a conic iterate."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -113,18 +113,19 @@ class Hybrid(ContactSolver):
             raise InputError(f"solver.window must be >= 1, got {self.window}")
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
                            self.rest_after)
-        self._more = {omega: NLGS(self.tolerance, self.max_iterations, omega, rest_after=0)
-                      for omega in {self.relaxation, _RELAXED}}
+        self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self.finished = {"nlgs": 0, "conic": 0}
         """Solves (steps and projections) finished by each solver."""
-        self.relaxed = 0
-        """Solves on which NLGS was retried with relaxation 0.7."""
+        self.attempts = 0
+        """Solves on which the conic fixed point ran (a stall or the cap)..."""
+        self.rejected = 0
+        """... and those on which its iterate was not better (NLGS went on from its own)."""
         self._failures = 0
         self._wait = 0
 
     def forget(self) -> None:
-        self._first.forget()  # the others never follow loads (rest_after 0)
+        self._first.forget()  # the other never follows loads (rest_after 0)
         self._failures = self._wait = 0  # the back-off, which decides where to switch
 
     def carries_state(self) -> bool:
@@ -144,33 +145,41 @@ class Hybrid(ContactSolver):
         first = self.window
         if self.rest_after > 0 and problem.count > 0:
             first += max(self.rest_after, -(-_REST_WORK // problem.count))
-        nlgs = self._first
-        nlgs.max_iterations = min(first, self.max_iterations)
-        report = nlgs.solve(problem, impulse, v_free, v)
-        done = report.iterations
-        best = math.inf  # the least error at the end of a window
-        omega = self.relaxation
-        judge = self._wait == 0  # else NLGS alone (back-off, _switch)
+        self._first.max_iterations = min(first, self.max_iterations)
+        report = self._first.solve(problem, impulse, v_free, v)
+        done = report.iterations  # sweeps on the path kept (the cap counts these)
+        judging = 0  # the sweeps that judged a conic iterate NLGS did not keep
+        solver = "nlgs"
+        least = math.inf  # the least error at the end of a window
+        attempt = self._wait == 0  # else NLGS alone (back-off)
         self._wait = max(self._wait - 1, 0)
-        while not report.converged and done < self.max_iterations:
-            if judge and math.isfinite(best):  # two windows measured: the rate over the last
-                rate = self._rate(best, report.error, nlgs.max_iterations)
-                best = min(best, report.error)
-                stalled = rate > 1.0 - _STALLED
-                if stalled and omega == 1.0:
-                    omega = _RELAXED
-                    self.relaxed += 1
-                elif stalled or (0.0 < rate and math.log(self.tolerance / best) / math.log(rate)
-                                 > self.max_iterations - done):
-                    return self._switch(problem, impulse, v_free, v, done, omega)
-            else:
-                best = min(best, report.error)
-            nlgs = self._more[omega]
-            nlgs.max_iterations = min(self.window, self.max_iterations - done)
-            report = nlgs.solve(problem, impulse, v_free, v)
+        attempted = False
+        while not report.converged:
+            capped = done >= self.max_iterations
+            stalled = math.isfinite(least) and self._rate(least, report.error,
+                                                          self.window) > 1.0 - _STALLED
+            least = min(least, report.error)
+            if attempt and not attempted and (stalled or capped):
+                attempted = True
+                self.attempts += 1
+                judged = self._attempt(problem, impulse, v_free, v, report.error)
+                if judged is None:  # NLGS's iterate is back: NLGS goes on as if alone
+                    judging += 1
+                else:
+                    report, solver = judged, "conic"
+                    done += judged.iterations
+            if report.converged or done >= self.max_iterations:
+                break
+            self._more.max_iterations = min(self.window, self.max_iterations - done)
+            report = self._more.solve(problem, impulse, v_free, v)
             done += report.iterations
-        self.finished["nlgs"] += 1
-        return SolverReport(done, report.error, report.converged, "nlgs")
+        if attempted:
+            # back-off: after k attempts in a row on solves that did not end converged, the
+            # next 2^k - 1 solves do not try (the fixed point crawls on such steps too)
+            self._failures = 0 if report.converged else min(self._failures + 1, _BACKOFF)
+            self._wait = 2 ** self._failures - 1 if self._failures else 0
+        self.finished[solver] += 1
+        return SolverReport(done + judging, report.error, report.converged, solver)
 
     @staticmethod
     def _rate(before: float, after: float, sweeps: int) -> float:
@@ -179,16 +188,17 @@ class Hybrid(ContactSolver):
             return 1.0
         return (min(after, before) / before) ** (1.0 / sweeps)
 
-    def _switch(self, problem, impulse, v_free, v, done, omega) -> SolverReport:
+    def _attempt(self, problem, impulse, v_free, v, error: float) -> SolverReport | None:
+        """The conic fixed point from NLGS's iterate, judged by one NLGS sweep from its
+        result: that sweep's report where it converged or its error is below NLGS's last
+        sweep's `error`; else None, with NLGS's iterate put back (impulse and v bit for bit)."""
+        kept = impulse.copy(), v.copy()
         self._conic.conic(problem, impulse, v_free, v)
-        # NLGS confirms, or sweeps on with the sweeps left where the fixed point did not reach
-        # a solution (it returns NLGS's iterate when none of its own has a smaller error)
-        nlgs = self._more[omega]
-        nlgs.max_iterations = max(self.max_iterations - done, 1)
-        report = nlgs.solve(problem, impulse, v_free, v)
-        self.finished["conic"] += 1
-        # back-off: after k switches in a row that did not end converged, the next 2^k solves
-        # do not switch (the fixed point crawls on such steps, docs/method.md)
-        self._failures = 0 if report.converged else min(self._failures + 1, _BACKOFF)
-        self._wait = 2 ** self._failures - 1 if self._failures else 0
-        return SolverReport(done + report.iterations, report.error, report.converged, "conic")
+        self._more.max_iterations = 1
+        report = self._more.solve(problem, impulse, v_free, v)
+        if report.converged or report.error < error:
+            return report
+        self.rejected += 1
+        impulse[...] = kept[0]
+        v[...] = kept[1]
+        return None
