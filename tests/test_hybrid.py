@@ -258,12 +258,12 @@ def test_results_written_before_the_solver_column_still_read(tmp_path):
 def test_hybrid_backs_off_after_failed_attempts(monkeypatch):
     """With a conic step that is always worse (patched), every attempt fails: after k failed
     attempts in a row the next 2^k - 1 steps are NLGS's alone (the tower's cold-started steps
-    hit the cap under NLGS for many steps)."""
+    hit a cap of 1000 sweeps under NLGS for more than 12 steps)."""
     from saxum.solver.hybrid import ConicSolver
 
     monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
     sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
-                        solver=sx.Hybrid(rest_after=0))
+                        solver=sx.Hybrid(rest_after=0, max_iterations=1000))
     state = sim.initial_state()
     attempts = []
     with warnings.catch_warnings():
