@@ -296,3 +296,22 @@ def test_hybrid_is_nlgs_on_the_burnum_record():
     assert sim.solver.attempts == 0
     assert np.array_equal(states[0][0], states[1][0])
     assert np.array_equal(states[0][1], states[1][1])
+
+
+def test_a_rejected_attempt_counts_for_the_back_off(monkeypatch):
+    """An attempt whose iterate NLGS rejects costs seconds on a large step for nothing, even
+    where NLGS then converges: the next solve does not try. (The tower with a cap NLGS reaches;
+    every window counted as a stall, the conic step patched to be worse.)"""
+    from saxum.solver import hybrid
+    from saxum.solver.hybrid import ConicSolver
+
+    monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
+    monkeypatch.setattr(hybrid, "_PATIENCE", 0)
+    sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
+                        solver=sx.Hybrid(rest_after=0, max_iterations=20_000))
+    state = sim.initial_state()
+    attempts = []
+    for _ in range(2):
+        assert sim.step(state).converged
+        attempts.append(sim.solver.attempts)
+    assert attempts == [1, 1] and sim.solver.rejected == 1

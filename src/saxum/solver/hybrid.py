@@ -20,10 +20,11 @@ the sweeps left, only where that sweep converged or its error (the relative chan
 reports) is below half NLGS's last sweep's; else NLGS's iterate is put back bit for bit and
 NLGS goes on as if alone (at the cap: the step ends as NLGS alone ends it). Where NLGS's
 sweeps from a kept conic iterate end above that iterate's error, the step ends at it. After
-k attempts in a row on solves that did not end converged, the next 2^k - 1 solves (k at most
-6) are NLGS's alone: on the friction threshold the fixed point crawls too, and each attempt
-costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
-hybrid is NLGS: the same iterates bit for bit, one more Python call per window.
+k attempts in a row that were rejected or did not end their solve converged, the next 2^k -
+1 solves (k at most 6) are NLGS's alone: on the friction threshold the fixed point crawls
+too, and each attempt costs seconds on a few hundred contacts. Where NLGS converges without
+such a stall the hybrid is NLGS: the same iterates bit for bit, one more Python call per
+window.
 """
 
 import math
@@ -192,9 +193,11 @@ class Hybrid(ContactSolver):
             v[...] = kept[2]
             report = kept[0]
         if attempted:
-            # back-off: after k attempts in a row on solves that did not end converged, the
-            # next 2^k - 1 solves do not try (the fixed point crawls on such steps too)
-            self._failures = 0 if report.converged else min(self._failures + 1, _BACKOFF)
+            # back-off: after k attempts in a row that were rejected or on solves that did not
+            # end converged, the next 2^k - 1 solves do not try (the fixed point crawls on
+            # such steps too, and a rejected attempt costs seconds for nothing)
+            won = solver == "conic" and report.converged
+            self._failures = 0 if won else min(self._failures + 1, _BACKOFF)
             self._wait = 2 ** self._failures - 1 if self._failures else 0
         self.finished[solver] += 1
         return SolverReport(done + judging, report.error, report.converged, solver)
