@@ -232,7 +232,9 @@ def test_scenario_picks_the_hybrid():
     solver = parse_scenario(text, overrides=["solver.kind=hybrid", "solver.tolerance=1e-7"]
                             ).build_simulation().solver
     assert isinstance(solver, sx.Hybrid) and solver.tolerance == pytest.approx(1e-7)
-    assert isinstance(parse_scenario(text).build_simulation().solver, sx.NLGS)
+    assert isinstance(parse_scenario(text).build_simulation().solver, sx.Hybrid)  # the default
+    nlgs = parse_scenario(text, overrides=["solver.kind=nlgs"]).build_simulation().solver
+    assert isinstance(nlgs, sx.NLGS)
     with pytest.raises(sx.InputError, match="kind"):
         parse_scenario(text, overrides=["solver.kind=newton"])
 
