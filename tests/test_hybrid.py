@@ -49,7 +49,7 @@ def test_hybrid_tries_the_conic_solver_at_the_cap():
     sim, state, report = _first_step(sx.Hybrid(rest_after=0))
     assert report.converged and report.iterations == 5001
     assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("conic")
-    assert sim.solver.finished == {"nlgs": 0, "conic": 1}
+    assert sim.solver.finished == {"nlgs": 0, "conic": 1, "newton": 0}
     assert np.abs(state.body_v).max() < 1e-9 < np.abs(nlgs_state.body_v).max()
     assert "finished by the conic solver at 1 step(s)" in sim.log.summary()
 
@@ -68,23 +68,30 @@ def test_hybrid_does_not_switch_on_a_predicted_rate():
 
 
 def _worse_conic(self, problem, impulse, v_free, v):
-    """A conic step that ends far from the solution: every impulse zero (v = v_free)."""
+    """A conic (or Newton) step that ends far from the solution: every impulse zero
+    (v = v_free)."""
     impulse[...] = 0.0
     v[...] = v_free
 
 
-def test_hybrid_keeps_nlgs_iterate_where_the_conic_one_is_worse(monkeypatch):
-    """Where the conic step's iterate is worse by NLGS's criterion (patched to zero impulses),
-    the hybrid puts NLGS's iterate back: the step ends as NLGS alone ends it, bit for bit
-    (the first hybrid swept on from the conic iterate)."""
-    from saxum.solver.hybrid import ConicSolver
+def _worse_attempts(monkeypatch):
+    """Both of the hybrid's attempts patched to end far from the solution."""
+    from saxum.solver.hybrid import ConicSolver, Hybrid
 
-    _, nlgs_state, nlgs = _first_step(sx.NLGS(rest_after=0))
     monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
+    monkeypatch.setattr(Hybrid, "_newton", _worse_conic)
+
+
+def test_hybrid_keeps_nlgs_iterate_where_the_conic_one_is_worse(monkeypatch):
+    """Where the conic step's iterate (and Newton's) is worse by NLGS's criterion (patched to
+    zero impulses), the hybrid puts NLGS's iterate back: the step ends as NLGS alone ends it,
+    bit for bit (the first hybrid swept on from the conic iterate)."""
+    _, nlgs_state, nlgs = _first_step(sx.NLGS(rest_after=0))
+    _worse_attempts(monkeypatch)
     sim, state, report = _first_step(sx.Hybrid(rest_after=0))
     assert (sim.solver.attempts, sim.solver.rejected) == (1, 1)
     assert sim.log.solver[-1] == 0 and not report.converged
-    assert report.error == nlgs.error and report.iterations == nlgs.iterations + 1
+    assert report.error == nlgs.error and report.iterations == nlgs.iterations + 2
     assert np.array_equal(state.body_v, nlgs_state.body_v)
     assert np.array_equal(state.body_q, nlgs_state.body_q)
 
@@ -200,6 +207,16 @@ def test_conic_result_reports_the_error_of_its_impulses(problem):
                   (1.0 + np.abs(r).max()))
 
 
+@settings(max_examples=30, deadline=None)
+@given(local_problems())
+def test_newton_result_reports_the_error_of_its_impulses(problem):
+    from saxum.solver.newton import alart_curnier_newton
+
+    result = alart_curnier_newton(problem.W, problem.q, problem.mu, problem.spacedim)
+    error = natural_map_error(problem.W, problem.q, problem.mu, result.r, problem.spacedim)
+    assert math.isclose(result.error, error, rel_tol=1e-12, abs_tol=1e-300)
+
+
 def test_conic_alone_on_a_sliding_contact():
     """The conic solver alone on a one-contact problem with a known solution: a block
     pressed onto a plane and pushed sideways harder than friction holds it slides, r on the
@@ -258,12 +275,10 @@ def test_results_written_before_the_solver_column_still_read(tmp_path):
 
 
 def test_hybrid_backs_off_after_failed_attempts(monkeypatch):
-    """With a conic step that is always worse (patched), every attempt fails: after k failed
+    """With attempts that are always worse (patched), every attempt fails: after k failed
     attempts in a row the next 2^k - 1 steps are NLGS's alone (the tower's cold-started steps
     hit a cap of 1000 sweeps under NLGS for more than 12 steps)."""
-    from saxum.solver.hybrid import ConicSolver
-
-    monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
+    _worse_attempts(monkeypatch)
     sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
                         solver=sx.Hybrid(rest_after=0, max_iterations=1000))
     state = sim.initial_state()
@@ -303,11 +318,10 @@ def test_hybrid_is_nlgs_on_the_burnum_record():
 def test_a_rejected_attempt_counts_for_the_back_off(monkeypatch):
     """An attempt whose iterate NLGS rejects costs seconds on a large step for nothing, even
     where NLGS then converges: the next solve does not try. (The tower with a cap NLGS reaches;
-    every window counted as a stall, the conic step patched to be worse.)"""
+    every window counted as a stall, the attempts patched to be worse.)"""
     from saxum.solver import hybrid
-    from saxum.solver.hybrid import ConicSolver
 
-    monkeypatch.setattr(ConicSolver, "conic", _worse_conic)
+    _worse_attempts(monkeypatch)
     monkeypatch.setattr(hybrid, "_PATIENCE", 0)
     sim = sx.Simulation(wall(courses=20, bricks=2, bond="stack"), dt=1e-3,
                         solver=sx.Hybrid(rest_after=0, max_iterations=20_000))

@@ -34,8 +34,9 @@ import numpy as np
 
 from ..errors import InputError
 from .assembled import assemble_local
-from .base import ContactSolver, SolverReport
+from .base import SOLVER_NAMES, ContactSolver, SolverReport
 from .conic import body_conic
+from .newton import alart_curnier_newton
 from .nlgs import _REST_WORK, NLGS
 from .problem import ContactProblem
 
@@ -52,6 +53,12 @@ _BETTER = 0.5
 times NLGS's last sweep (or converges): NLGS's error varies by more than that from window to
 window on stalled steps, and a step left at a near-equal iterate changes the run for no gain
 (on the Burnum ramp the fixed point ended a capped step at 3.5247e-6 against NLGS's 3.53e-6)."""
+_NEWTON_ITERATIONS = 60
+"""Newton iterations at most per attempt (the shaken stack's capped step: 40 to 2.4e-9 from
+zero impulses, 1 s on 78 contacts; on 770 contacts of the shaken 3D L wall each costs ~0.2 s)."""
+_NEWTON_TOLERANCE = 1e-2
+"""Newton's natural-map tolerance relative to the hybrid's: its last iterations are quadratic
+and cheap, and the judging sweep must converge from its result."""
 _BACKOFF = 6
 """Failed switches in a row after which the hybrid waits the longest, 2^6 - 1 solves."""
 
@@ -126,12 +133,15 @@ class Hybrid(ContactSolver):
                            self.rest_after)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
-        self.finished = {"nlgs": 0, "conic": 0}
+        self.finished = {name: 0 for name in SOLVER_NAMES}
         """Solves (steps and projections) finished by each solver."""
         self.attempts = 0
         """Solves on which the conic fixed point ran (a stall or the cap)..."""
         self.rejected = 0
-        """... and those on which its iterate was not better (NLGS went on from its own)."""
+        """... and those on which neither its iterate nor Newton's was better (NLGS went on
+        from its own)."""
+        self.newton_iterations = 0
+        """Semismooth Newton iterations done, in all."""
         self._failures = 0
         self._wait = 0
 
@@ -159,7 +169,7 @@ class Hybrid(ContactSolver):
         self._first.max_iterations = min(first, self.max_iterations)
         report = self._first.solve(problem, impulse, v_free, v)
         done = report.iterations  # sweeps on the path kept (the cap counts these)
-        judging = 0  # the sweeps that judged a conic iterate NLGS did not keep
+        judging = 0  # the sweeps that judged iterates NLGS did not keep
         solver = "nlgs"
         least = math.inf  # the least error at the end of a window...
         since = 0  # ... and the windows since it last fell
@@ -175,11 +185,10 @@ class Hybrid(ContactSolver):
                                               or done >= self.max_iterations):
                 attempted = True
                 self.attempts += 1
-                judged = self._attempt(problem, impulse, v_free, v, report.error)
-                if judged is None:  # NLGS's iterate is back: NLGS goes on as if alone
-                    judging += 1
-                else:
-                    report, solver = judged, "conic"
+                judged, wasted = self._attempt(problem, impulse, v_free, v, report.error)
+                judging += wasted
+                if judged is not None:
+                    report, solver = judged, judged.solver
                     done += judged.iterations
                     kept = judged, impulse.copy(), v.copy()
             if report.converged or done >= self.max_iterations:
@@ -196,24 +205,43 @@ class Hybrid(ContactSolver):
             # back-off: after k attempts in a row that were rejected or on solves that did not
             # end converged, the next 2^k - 1 solves do not try (the fixed point crawls on
             # such steps too, and a rejected attempt costs seconds for nothing)
-            won = solver == "conic" and report.converged
+            won = solver != "nlgs" and report.converged
             self._failures = 0 if won else min(self._failures + 1, _BACKOFF)
             self._wait = 2 ** self._failures - 1 if self._failures else 0
         self.finished[solver] += 1
         return SolverReport(done + judging, report.error, report.converged, solver)
 
-    def _attempt(self, problem, impulse, v_free, v, error: float) -> SolverReport | None:
-        """The conic fixed point from NLGS's iterate, judged by one NLGS sweep from its
-        result: that sweep's report where it converged or its error is below _BETTER times
-        NLGS's last sweep's `error`; else None, with NLGS's iterate put back (impulse and v
-        bit for bit)."""
+    def _attempt(self, problem, impulse, v_free, v, error: float):
+        """The conic fixed point from NLGS's iterate, then (where NLGS rejects it)
+        semismooth Newton from zero impulses, each judged by one NLGS sweep from its result.
+        Returns (report, rejected): the first judging sweep's report that converged or whose
+        error is below _BETTER times NLGS's last sweep's `error` (its solver's name in
+        SolverReport.solver), or None with NLGS's iterate put back (impulse and v bit for
+        bit); rejected: the judging sweeps of the iterates not kept."""
         kept = impulse.copy(), v.copy()
-        self._conic.conic(problem, impulse, v_free, v)
-        self._more.max_iterations = 1
-        report = self._more.solve(problem, impulse, v_free, v)
-        if report.converged or report.error < _BETTER * error:
-            return report
+        for name, candidate in (("conic", self._conic.conic), ("newton", self._newton)):
+            if name == "newton":
+                impulse[...] = kept[0]
+                v[...] = kept[1]
+            candidate(problem, impulse, v_free, v)
+            self._more.max_iterations = 1
+            report = self._more.solve(problem, impulse, v_free, v)
+            if report.converged or report.error < _BETTER * error:
+                return (SolverReport(report.iterations, report.error, report.converged, name),
+                        int(name == "newton"))
         self.rejected += 1
         impulse[...] = kept[0]
         v[...] = kept[1]
-        return None
+        return None, 2
+
+    def _newton(self, problem, impulse, v_free, v) -> None:
+        """Semismooth Newton (saxum.solver.newton) from zero impulses on the step's assembled
+        local problem; writes impulse and v. From NLGS's iterate at the friction threshold it
+        crawls as NLGS does (docs/method.md)."""
+        local = assemble_local(problem, v_free)
+        if local.active.size == 0:
+            return
+        result = alart_curnier_newton(local.w, local.q, local.mu, problem.model.dim, None,
+                                      _NEWTON_TOLERANCE * self.tolerance, _NEWTON_ITERATIONS)
+        self.newton_iterations += result.iterations
+        local.scatter(result.r, v_free, impulse, v)
