@@ -798,8 +798,8 @@ def _unit(direction, key: str, dim: int | None = None):
 class SolverSpec(_Strict):
     """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
     before a slow step tries the rest solution (0: never); kind: "hybrid" (NLGS that switches to
-    the conic fixed point where its error stalls or at the cap: saxum.solver.Hybrid), or
-    "nlgs" alone."""
+    the conic fixed point or semismooth Newton where its error stalls or at the cap:
+    saxum.solver.Hybrid), or "nlgs" alone."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
