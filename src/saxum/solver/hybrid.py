@@ -1,5 +1,6 @@
 """Time-step solvers beyond NLGS: the conic fixed point alone (ConicSolver) and the hybrid
-(Hybrid) that runs NLGS and switches to it where NLGS stalls.
+(Hybrid) that runs NLGS and tries the conic fixed point, then semismooth Newton
+(saxum.solver.newton), where NLGS stalls or at its cap.
 
 ConicSolver assembles the rows H* of the step's active contacts (saxum.solver.assembled),
 solves the step by De Saxce's fixed point with Clarabel in body space (saxum.solver.conic's
@@ -17,14 +18,15 @@ sweep cap makes it try the conic fixed point, once per solve, from NLGS's iterat
 that predicts the cap does not (NLGS finishes such steps, slowly: docs/method.md). One NLGS
 sweep from the fixed point's result judges it: it is kept, and NLGS sweeps on from it with
 the sweeps left, only where that sweep converged or its error (the relative change NLGS
-reports) is below half NLGS's last sweep's; else NLGS's iterate is put back bit for bit and
-NLGS goes on as if alone (at the cap: the step ends as NLGS alone ends it). Where NLGS's
-sweeps from a kept conic iterate end above that iterate's error, the step ends at it. After
-k attempts in a row that were rejected or did not end their solve converged, the next 2^k -
-1 solves (k at most 6) are NLGS's alone: on the friction threshold the fixed point crawls
-too, and each attempt costs seconds on a few hundred contacts. Where NLGS converges without
-such a stall the hybrid is NLGS: the same iterates bit for bit, one more Python call per
-window.
+reports) is below half NLGS's last sweep's; else semismooth Newton runs from zero impulses
+(from NLGS's iterate it crawls as NLGS does at the friction threshold) and is judged the
+same way; where neither is kept NLGS's iterate is put back bit for bit and NLGS goes on as
+if alone (at the cap: the step ends as NLGS alone ends it). Where NLGS's sweeps from a kept
+iterate end above that iterate's error, the step ends at it. After k attempts in a row
+that were rejected or did not end their solve converged, the next 2^k - 1 solves (k at most
+6) are NLGS's alone: on the friction threshold the fixed point crawls too, and each attempt
+costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
+hybrid is NLGS: the same iterates bit for bit, one more Python call per window.
 """
 
 import math
