@@ -797,8 +797,9 @@ def _unit(direction, key: str, dim: int | None = None):
 
 class SolverSpec(_Strict):
     """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
-    before a slow step tries the rest solution (0: never); kind: "nlgs", or "hybrid" (NLGS that
-    switches to the conic fixed point where its error stalls: saxum.solver.Hybrid)."""
+    before a slow step tries the rest solution (0: never); kind: "hybrid" (NLGS that switches to
+    the conic fixed point or semismooth Newton where its error stalls or at the cap:
+    saxum.solver.Hybrid), or "nlgs" alone."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
@@ -806,7 +807,7 @@ class SolverSpec(_Strict):
     max_iterations: Count = 5000
     relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0
     rest_after: Annotated[Integer, Field(ge=0)] = 50
-    kind: Literal["nlgs", "hybrid"] = "nlgs"
+    kind: Literal["nlgs", "hybrid"] = "hybrid"
 
 
 class DetectionSpec(_Strict):

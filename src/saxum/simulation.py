@@ -21,7 +21,7 @@ from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean
 from .model import BodyKind, Model
-from .solver import NLGS, SOLVER_NAMES, ContactProblem, ContactSolver, PositionProjection
+from .solver import SOLVER_NAMES, ContactProblem, ContactSolver, Hybrid, PositionProjection
 from .state import State
 from .steplog import StepLog, StepReport
 
@@ -29,7 +29,8 @@ __all__ = ["Simulation"]
 
 
 class Simulation:
-    """Steps a Model with Moreau-Jean time stepping and a contact solver (NLGS by default).
+    """Steps a Model with Moreau-Jean time stepping and a contact solver (by default the
+    hybrid: NLGS, and the conic fixed point where NLGS stalls; saxum.solver.Hybrid).
 
     dt [s]: time step; theta [-]: Moreau-Jean parameter in [0.5, 1].
     Every step appends a StepReport to `self.log`.
@@ -47,7 +48,7 @@ class Simulation:
         self.model = model
         self.kinematics = rigid_kind(model.dim)
         self.integrator = MoreauJean(dt, theta)
-        self.solver = solver if solver is not None else NLGS()
+        self.solver = solver if solver is not None else Hybrid()
         self.detector = detector_for(model, detection)
         self.problem = ContactProblem(model)
         self.projection = PositionProjection(model, self.detector.interpenetration)
@@ -209,7 +210,8 @@ class Simulation:
         bad = bad[bad > (self.log.step[first - 1] if first else 0)]
         if bad.size:
             warnings.warn(
-                f"NLGS did not converge at {bad.size} of {len(self.log) - first} steps "
+                f"the contact solver did not converge at {bad.size} of "
+                f"{len(self.log) - first} steps "
                 f"(first at step {bad[0]}); see Simulation.log", SolverWarning, stacklevel=2
             )
         return self.log
