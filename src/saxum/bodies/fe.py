@@ -1,0 +1,250 @@
+"""Deformable blocks: the finite-element body kind (issue 14; design-deformable-and-joints.md).
+
+A DEFORMABLE block is a mesh of linear triangles whose node velocities are integrated by the
+same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K, in a co-rotated
+frame per block; the mechanics (meshing, assembly, frames, free velocity, stresses, energies)
+are saxum.fe's (FEBlocks). What is specific to the contact dynamics is here: the model's side
+(FEBodies: meshes, candidates, contact areas), the step's stages for the loop (FEKind), and
+the contact rows of an FE side:
+
+    U = F v_node - ...   (rows of H* on the node: the contact frame F),
+    W_aa += F R G_pp R^T F^T,   v_q += R G_qp R^T F^T dR   (G = M~^-1 in the frame, q in the
+    block), [Jean99, sec. 5; design section 3].
+Candidates are boundary nodes (saxum.detection.fe_nodes), antagonists rigid blocks' edges.
+"""
+
+from dataclasses import dataclass
+
+import numba as nb
+import numpy as np
+
+from ..errors import InputError
+from ..fe.blocks import FEBlocks
+from ..fe.material import Elastic
+from ..fe.mesh import Mesh, mesh_polygon
+
+__all__ = ["FEBodies", "FEKind", "build_fe_bodies"]
+
+
+@dataclass(frozen=True)
+class FEBodies:
+    """The deformable blocks of a model (2D): their meshes and materials, and what detection
+    reads; nodes are numbered block after block (saxum.fe.FEBlocks' numbering)."""
+
+    body: np.ndarray
+    """Body index of each deformable block, shape [n_fe], int32."""
+    fe_index: np.ndarray
+    """Deformable block index of each body, -1 for rigid bodies, shape [body_count], int32."""
+    meshes: tuple[Mesh, ...]
+    materials: tuple[Elastic, ...]
+    node_x0: np.ndarray
+    """Reference (initial) node positions [m], shape [n_nodes, 2]."""
+    node_area: np.ndarray
+    """Tributary boundary length of each node [m] (half of each adjacent boundary edge; 0
+    inside): the contact area of a node, shape [n_nodes]."""
+    boundary_start: np.ndarray
+    """Block f's contact candidates are boundary_node[boundary_start[f]:...[f+1]], int64."""
+    boundary_node: np.ndarray
+    """Boundary nodes (global numbers), sorted per block, int64."""
+
+    @property
+    def count(self) -> int:
+        return len(self.body)
+
+    @property
+    def node_count(self) -> int:
+        return len(self.node_x0)
+
+
+def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: list[Elastic],
+                    sizes: list[float | None], names: list[str], body_count: int) -> FEBodies:
+    """Mesh each polygon (vertices [k, 2] [m]) with elements of about its size [m] (None: a
+    fifth of its smallest side) with saxum.fe.mesh_polygon."""
+    meshes, areas = [], []
+    for poly, material, size, name in zip(polygons, materials, sizes, names, strict=True):
+        if not isinstance(material, Elastic):
+            raise InputError(f"{name}: material must be a saxum.fe.Elastic, got {material!r}")
+        if size is None:
+            size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).min())
+        mesh = mesh_polygon(poly, size, name=name)
+        meshes.append(mesh)
+        ends = mesh.nodes[mesh.facets]
+        half = 0.5 * np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+        area = np.zeros(len(mesh.nodes))
+        np.add.at(area, mesh.facets[:, 0], half)
+        np.add.at(area, mesh.facets[:, 1], half)
+        areas.append(area)
+    node_start = np.cumsum([0] + [len(m.nodes) for m in meshes])
+    fe_index = np.full(body_count, -1, dtype=np.int32)
+    fe_index[bodies] = np.arange(len(bodies), dtype=np.int32)
+    return FEBodies(
+        body=np.array(bodies, dtype=np.int32), fe_index=fe_index, meshes=tuple(meshes),
+        materials=tuple(materials),
+        node_x0=np.ascontiguousarray(np.concatenate([m.nodes for m in meshes])),
+        node_area=np.concatenate(areas),
+        boundary_start=np.cumsum([0] + [len(m.boundary_nodes) for m in meshes]).astype(np.int64),
+        boundary_node=np.concatenate([m.boundary_nodes + s for m, s in
+                                      zip(meshes, node_start, strict=False)]).astype(np.int64),
+    )
+
+
+class FEKind:
+    """The deformable body kind of one simulation (time step h [s], theta [-]): the blocks'
+    mechanics (saxum.fe.FEBlocks, M~^-1 for this h and theta), their frames, and the node
+    velocities of the step."""
+
+    def __init__(self, fe: FEBodies, h: float, theta: float) -> None:
+        self.model = fe
+        self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
+        self.rotation, self.centroid = self.blocks.frames(fe.node_x0)
+        """Frame of each block: rotation [n_fe, 2, 2] and centre of mass [n_fe, 2] [m]."""
+        n = fe.node_count
+        self.v_free = np.zeros((n, 2))
+        """Free node velocities of the step [m/s]."""
+        self.v = np.zeros((n, 2))
+        """Node velocities during and after the contact solve [m/s]."""
+        self.x_pred = np.zeros((n, 2))
+        """Node positions of the predicted configuration (for detection) [m]."""
+
+    def free_velocity(self, node_x: np.ndarray, node_v: np.ndarray,
+                      acceleration: np.ndarray) -> None:
+        """v_free of all nodes under a uniform acceleration [m/s^2] (gravity and the model's
+        accelerations, theta-weighted), from positions node_x [m] and velocities node_v [m/s]
+        at the start of the step, in the frames of node_x (frozen over the step); v = v_free."""
+        b = self.blocks
+        self.rotation, self.centroid = b.frames(node_x)
+        self.v_free[:] = b.free_velocity(node_x, node_v, b.weight(acceleration), self.rotation,
+                                         self.centroid)
+        self.v[:] = self.v_free
+
+    def predict(self, node_x: np.ndarray, node_v: np.ndarray) -> None:
+        """x_pred = x + (1 - theta) h v (the configuration detection sees)."""
+        self.x_pred[:] = self.blocks.predict_positions(node_x, node_v)
+
+    def update(self, node_x: np.ndarray, node_v: np.ndarray, body_q: np.ndarray) -> None:
+        """End of step: x += h [(1 - theta) v_i + theta v_i+1], v = v_i+1; the blocks' body
+        rows get their new frames (centre of mass, angle)."""
+        self.blocks.update_positions(node_x, node_v, self.v)
+        node_v[:] = self.v
+        rotation, centroid = self.blocks.frames(node_x)
+        body_q[self.model.body, :2] = centroid
+        body_q[self.model.body, 2] = np.arctan2(rotation[:, 1, 0], rotation[:, 0, 0])
+
+    def kinetic_energy(self, node_v: np.ndarray) -> float:
+        """1/2 sum v^T M v over the blocks [J per m of depth]."""
+        return float(self.blocks.kinetic_energy(node_v).sum())
+
+    def strain_energy(self, node_x: np.ndarray) -> float:
+        """1/2 sum u^T K u over the blocks, u co-rotated [J per m of depth]."""
+        return float(self.blocks.strain_energy(node_x, *self.blocks.frames(node_x)).sum())
+
+    def assemble_contacts(self, problem, v: np.ndarray) -> None:
+        """The FE sides of problem's contacts (candidate = node, side_kind 1): rows of H* = the
+        frame, Delassus block += F G_pp F^T, and the warm start v_node += M~^-1 H R."""
+        c = problem.contacts
+        b = self.blocks
+        fe_contact_rows(c.side_kind, c.side_node, c.frame, c.impulse, problem.count,
+                        problem.active, b.node_block, b.node_start, b.inv_start, b.inv,
+                        self.rotation, problem.h_cand, problem.delassus, self.v)
+
+    def end_gaps(self, problem, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None,
+                 h: float, theta: float) -> tuple[int, float]:
+        """ContactProblem.end_gaps for problems with FE sides (no projection: w is None)."""
+        c = problem.contacts
+        return fe_end_gaps(c.side_kind, c.side_node, c.candidate, c.antagonist, problem.h_cand,
+                           problem.h_ant, c.gap, problem.count, impulse, v, self.v, h, theta,
+                           problem.gap_end)
+
+
+@nb.njit(inline="always")
+def _compliance(inverse, base, n2, q, p, c, s):
+    """World 2 x 2 block R G[q, p] R^T of M~^-1 (frame G), nodes q, p local to the block."""
+    r0 = base + 2 * q * n2 + 2 * p
+    r1 = r0 + n2
+    g00 = inverse[r0]
+    g01 = inverse[r0 + 1]
+    g10 = inverse[r1]
+    g11 = inverse[r1 + 1]
+    # R G
+    a00 = c * g00 - s * g10
+    a01 = c * g01 - s * g11
+    a10 = s * g00 + c * g10
+    a11 = s * g01 + c * g11
+    # (R G) R^T
+    return (a00 * c - a01 * s, a00 * s + a01 * c, a10 * c - a11 * s, a10 * s + a11 * c)
+
+
+@nb.njit(inline="always")
+def push_node_impulse(inverse, inv_start, node_start, block, p, c, s, fx, fy, v):
+    """v_q += R G[q, p] R^T (fx, fy) for every node q of the block of node p: the change of
+    the block's velocities from an impulse (fx, fy) [N s] on node p (global numbers)."""
+    n0 = node_start[block]
+    n2 = 2 * (node_start[block + 1] - n0)
+    base = inv_start[block]
+    lx = c * fx + s * fy
+    ly = -s * fx + c * fy
+    pl = p - n0
+    for q in range(n2 // 2):
+        r0 = base + 2 * q * n2 + 2 * pl
+        r1 = r0 + n2
+        gx = inverse[r0] * lx + inverse[r0 + 1] * ly
+        gy = inverse[r1] * lx + inverse[r1 + 1] * ly
+        v[n0 + q, 0] += c * gx - s * gy
+        v[n0 + q, 1] += s * gx + c * gy
+
+
+@nb.njit(cache=True)
+def fe_contact_rows(side_kind, side_node, frame, impulse, count, active, node_block,
+                    node_start, inv_start, inverse, rotation, h_cand, delassus, v):
+    """For contacts whose candidate is an FE node: h_cand = [F, 0], W += F G_pp F^T (world
+    compliance of the node), and the warm start on the nodes (inactive: R = 0)."""
+    for a in range(count):
+        if side_kind[a, 0] != 1:
+            continue
+        p = side_node[a, 0, 0]
+        f = node_block[p]
+        c = rotation[f, 0, 0]
+        s = rotation[f, 1, 0]
+        n0 = node_start[f]
+        n2 = 2 * (node_start[f + 1] - n0)
+        g00, g01, g10, g11 = _compliance(inverse, inv_start[f], n2, p - n0, p - n0, c, s)
+        for r in range(2):
+            h_cand[a, r, 0] = frame[a, r, 0]
+            h_cand[a, r, 1] = frame[a, r, 1]
+            h_cand[a, r, 2] = 0.0
+        for r in range(2):
+            gx = g00 * frame[a, r, 0] + g01 * frame[a, r, 1]
+            gy = g10 * frame[a, r, 0] + g11 * frame[a, r, 1]
+            for q in range(2):
+                delassus[a, q, r] += frame[a, q, 0] * gx + frame[a, q, 1] * gy
+        if not active[a]:
+            continue
+        fx = frame[a, 0, 0] * impulse[a, 0] + frame[a, 1, 0] * impulse[a, 1]
+        fy = frame[a, 0, 1] * impulse[a, 0] + frame[a, 1, 1] * impulse[a, 1]
+        push_node_impulse(inverse, inv_start, node_start, f, p, c, s, fx, fy, v)
+
+
+@nb.njit(cache=True)
+def fe_end_gaps(side_kind, side_node, cand, ant, h_cand, h_ant, gap, count, impulse, v, node_v,
+                h, theta, gap_end):
+    """gap_end = g + theta h U_n with U_n from the node velocity on FE sides; returns
+    (contacts with R_n > 0, largest interpenetration [m])."""
+    loaded = 0
+    worst = 0.0
+    for a in range(count):
+        c = cand[a]
+        b = ant[a]
+        un = 0.0
+        for d in range(v.shape[1]):
+            un += h_ant[a, 1, d] * v[b, d]
+        if side_kind[a, 0] == 1:
+            p = side_node[a, 0, 0]
+            un += h_cand[a, 1, 0] * node_v[p, 0] + h_cand[a, 1, 1] * node_v[p, 1]
+        else:
+            for d in range(v.shape[1]):
+                un += h_cand[a, 1, d] * v[c, d]
+        g = gap[a] + theta * h * un
+        gap_end[a] = g
+        loaded += impulse[a, 1] > 0.0
+        worst = max(worst, -g)
+    return loaded, worst
