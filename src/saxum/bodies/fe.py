@@ -39,9 +39,11 @@ class FEBodies:
     materials: tuple[Elastic, ...]
     node_x0: np.ndarray
     """Reference (initial) node positions [m], shape [n_nodes, 2]."""
-    node_area: np.ndarray
-    """Tributary boundary length of each node [m] (half of each adjacent boundary edge; 0
-    inside): the contact area of a node, shape [n_nodes]."""
+    node_side: np.ndarray
+    """Half of each of the (up to two) boundary edges at a node, as its outward normal times
+    half its length [m], in the block's reference axes, shape [n_nodes, 2, 2] (zeros inside):
+    a node's contact area on a face of normal n is sum max(0, -n . R s), the part of its
+    tributary boundary that faces the antagonist."""
     boundary_start: np.ndarray
     """Block f's contact candidates are boundary_node[boundary_start[f]:...[f+1]], int64."""
     boundary_node: np.ndarray
@@ -60,7 +62,7 @@ def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: li
                     sizes: list[float | None], names: list[str], body_count: int) -> FEBodies:
     """Mesh each polygon (vertices [k, 2] [m]) with elements of about its size [m] (None: a
     fifth of its smallest side) with saxum.fe.mesh_polygon."""
-    meshes, areas = [], []
+    meshes, sides = [], []
     for poly, material, size, name in zip(polygons, materials, sizes, names, strict=True):
         if not isinstance(material, Elastic):
             raise InputError(f"{name}: material must be a saxum.fe.Elastic, got {material!r}")
@@ -68,12 +70,12 @@ def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: li
             size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).min())
         mesh = mesh_polygon(poly, size, name=name)
         meshes.append(mesh)
-        ends = mesh.nodes[mesh.facets]
-        half = 0.5 * np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
-        area = np.zeros(len(mesh.nodes))
-        np.add.at(area, mesh.facets[:, 0], half)
-        np.add.at(area, mesh.facets[:, 1], half)
-        areas.append(area)
+        edge = mesh.nodes[mesh.facets[:, 1]] - mesh.nodes[mesh.facets[:, 0]]
+        half = 0.5 * np.column_stack((edge[:, 1], -edge[:, 0]))  # outward: counter-clockwise
+        side = np.zeros((len(mesh.nodes), 2, 2))
+        side[mesh.facets[:, 0], 0] = half  # each boundary node starts one edge, ends another
+        side[mesh.facets[:, 1], 1] = half
+        sides.append(side)
     node_start = np.cumsum([0] + [len(m.nodes) for m in meshes])
     fe_index = np.full(body_count, -1, dtype=np.int32)
     fe_index[bodies] = np.arange(len(bodies), dtype=np.int32)
@@ -81,7 +83,7 @@ def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: li
         body=np.array(bodies, dtype=np.int32), fe_index=fe_index, meshes=tuple(meshes),
         materials=tuple(materials),
         node_x0=np.ascontiguousarray(np.concatenate([m.nodes for m in meshes])),
-        node_area=np.concatenate(areas),
+        node_side=np.concatenate(sides),
         boundary_start=np.cumsum([0] + [len(m.boundary_nodes) for m in meshes]).astype(np.int64),
         boundary_node=np.concatenate([m.boundary_nodes + s for m, s in
                                       zip(meshes, node_start, strict=False)]).astype(np.int64),

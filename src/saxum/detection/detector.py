@@ -137,9 +137,9 @@ class Detector:
         )
         contacts.side_kind[: contacts.count] = 0
         if m.fe is not None:
-            self._node_contacts(contacts)
+            self._node_contacts(q, contacts)
 
-    def _node_contacts(self, contacts: Contacts) -> None:
+    def _node_contacts(self, q: np.ndarray, contacts: Contacts) -> None:
         """Append the contacts of deformable blocks' boundary nodes, in increasing key order."""
         m = self.model
         fe = m.fe
@@ -149,8 +149,8 @@ class Detector:
         vertex_count = len(m.vertex_local)
         key_base = 4 * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
         count = node_contacts(
-            self._fe_pairs, len(self._fe_pairs), fe.fe_index, node_x, fe.boundary_start,
-            fe.boundary_node, fe.node_area, self._wv, self._wn, m.edge_length,
+            self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
+            fe.boundary_node, fe.node_side, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
             vertex_count, first, contacts.candidate, contacts.antagonist, contacts.key,
             contacts.law, contacts.point, contacts.frame, contacts.gap, contacts.area,

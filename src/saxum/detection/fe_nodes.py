@@ -6,9 +6,13 @@ For a node x outside a convex polygon, the largest signed distance to its edges'
 g = max_e n_e . (x - a_e), is the distance to the nearest edge when the node projects onto
 that edge; a node within `alert` of it becomes a contact on that edge: frame (t, n) with n the
 edge's outward normal and t = (n_y, -n_x) as in saxum.detection.polygons, point = the node,
-area = the node's tributary boundary length. A node beyond an edge's ends is left to the
+area = the part of the node's tributary boundary (half of each adjacent boundary edge) that
+faces the edge: sum max(0, -n . s) over its two half edges s (outward normal times half the
+length, turned by the block's frame). A node beyond an edge's ends is left to the
 polygon's corner, which would be a rigid candidate against an FE edge (not yet detected).
 """
+
+import math
 
 import numba as nb
 
@@ -16,8 +20,8 @@ __all__ = ["node_contacts"]
 
 
 @nb.njit(cache=True)
-def node_contacts(pairs, pair_count, fe_index, node_x, boundary_start, boundary_node, node_area,
-                  wv, wn, edge_length, body_vertex_start, body_group, group_law, alert,
+def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, boundary_node,
+                  node_side, wv, wn, edge_length, body_vertex_start, body_group, group_law, alert,
                   key_base, vertex_count, count, candidate, antagonist, key, law, point, frame,
                   gap, area, side_kind, side_node, side_weight):
     """Append the node contacts of the pairs (body i, body j) in which exactly one body is
@@ -35,6 +39,8 @@ def node_contacts(pairs, pair_count, fe_index, node_x, boundary_start, boundary_
         if law_index < 0:
             continue
         f = fe_index[fb]
+        cf = math.cos(q[fb, 2])
+        sf = math.sin(q[fb, 2])
         v0 = body_vertex_start[rb]
         v1 = body_vertex_start[rb + 1]
         for m in range(boundary_start[f], boundary_start[f + 1]):
@@ -66,7 +72,12 @@ def node_contacts(pairs, pair_count, fe_index, node_x, boundary_start, boundary_
             frame[count, 1, 0] = nx
             frame[count, 1, 1] = ny
             gap[count] = g
-            area[count] = node_area[p]
+            a = 0.0
+            for k in range(2):
+                sx = cf * node_side[p, k, 0] - sf * node_side[p, k, 1]
+                sy = sf * node_side[p, k, 0] + cf * node_side[p, k, 1]
+                a += max(0.0, -(nx * sx + ny * sy))
+            area[count] = a
             side_kind[count, 0] = 1
             side_kind[count, 1] = 0
             side_node[count, 0, 0] = p
