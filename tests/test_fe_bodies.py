@@ -66,3 +66,47 @@ def test_node_contacts_on_the_ground():
 def test_only_nlgs_solves_deformable_models():
     with pytest.raises(sx.InputError, match="NLGS"):
         _block_on_ground(solver=Hybrid())
+
+
+def _stack(top_material):
+    """A 0.4 x 0.2 deformable block on the ground and a 0.2 x 0.2 block centred on it,
+    deformable or rigid (top_material None); settled for 0.3 s with damping."""
+    b = ModelBuilder()
+    b.add_block([(-1, -0.2), (1, -0.2), (1, 0), (-1, 0)], kind=BodyKind.FIXED, group="ground")
+    damped = Elastic(1.0e7, 0.2, 2000.0, damping=(0.0, 0.005))
+    b.add_block([(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)], material=damped, mesh_size=0.05,
+                group="base")
+    corners = [(0.1, 0.2), (0.3, 0.2), (0.3, 0.4), (0.1, 0.4)]
+    if top_material is None:
+        b.add_block(corners, density=2000.0, group="top")
+    else:
+        b.add_block(corners, material=top_material, mesh_size=0.05, group="top")
+    law = sx.ContactLaw(friction=0.6)
+    for g1, g2 in [("base", "ground"), ("base", "base"), ("top", "base"), ("top", "top"),
+                   ("top", "ground")]:
+        b.set_law(g1, g2, law)
+    model = b.finalize()
+    sim = Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.3)
+    c = state.contacts
+    n = c.count
+    on_ground = c.antagonist[:n] == 0
+    weight = 9.81 * 2000.0 * np.array([0.08, 0.04])
+    upward = (c.impulse[:n, 0] * c.frame[:n, 0, 1] + c.impulse[:n, 1] * c.frame[:n, 1, 1]) / 1e-3
+    on_top = np.where(c.candidate[:n] == 2, upward, -upward)  # the force on the top block
+    return upward, on_top, on_ground, weight, state
+
+
+@pytest.mark.parametrize("top", ["deformable", "rigid"])
+def test_stack_carries_its_weight(top):
+    """The ground carries both blocks' weight, the interface the top block's (the vertical
+    component of the contact forces [N/m], within 1 %,
+    once the damped vibration has settled); a rigid top block rests on the deformable one's
+    nodes (node against its edge) and corners (its vertices against the facets)."""
+    material = Elastic(1.0e7, 0.2, 2000.0, damping=(0.0, 0.005)) if top == "deformable" else None
+    upward, on_top, on_ground, weight, state = _stack(material)
+    assert upward[on_ground].sum() == pytest.approx(weight.sum(), rel=0.01)
+    assert on_top[~on_ground].sum() == pytest.approx(weight[1], rel=0.01)
+    if top == "rigid":
+        assert np.abs(state.body_v[2]).max() < 1e-3

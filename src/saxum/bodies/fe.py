@@ -48,6 +48,11 @@ class FEBodies:
     """Block f's contact candidates are boundary_node[boundary_start[f]:...[f+1]], int64."""
     boundary_node: np.ndarray
     """Boundary nodes (global numbers), sorted per block, int64."""
+    facet_start: np.ndarray
+    """Block f's boundary edges are facet_node[facet_start[f]:facet_start[f+1]], int64."""
+    facet_node: np.ndarray
+    """Boundary edges (global node numbers, counter-clockwise: outward normal = the edge
+    turned by -90 degrees), shape [n_facets, 2], int64: the antagonist edges."""
 
     @property
     def count(self) -> int:
@@ -87,6 +92,9 @@ def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: li
         boundary_start=np.cumsum([0] + [len(m.boundary_nodes) for m in meshes]).astype(np.int64),
         boundary_node=np.concatenate([m.boundary_nodes + s for m, s in
                                       zip(meshes, node_start, strict=False)]).astype(np.int64),
+        facet_start=np.cumsum([0] + [len(m.facets) for m in meshes]).astype(np.int64),
+        facet_node=np.concatenate([m.facets + s for m, s in
+                                   zip(meshes, node_start, strict=False)]).astype(np.int64),
     )
 
 
@@ -145,17 +153,18 @@ class FEKind:
         frame, Delassus block += F G_pp F^T, and the warm start v_node += M~^-1 H R."""
         c = problem.contacts
         b = self.blocks
-        fe_contact_rows(c.side_kind, c.side_node, c.frame, c.impulse, problem.count,
-                        problem.active, b.node_block, b.node_start, b.inv_start, b.inv,
-                        self.rotation, problem.h_cand, problem.delassus, self.v)
+        fe_contact_rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse,
+                        problem.count, problem.active, b.node_block, b.node_start, b.inv_start,
+                        b.inv, self.rotation, problem.h_cand, problem.h_ant, problem.delassus,
+                        self.v)
 
     def end_gaps(self, problem, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None,
                  h: float, theta: float) -> tuple[int, float]:
         """ContactProblem.end_gaps for problems with FE sides (no projection: w is None)."""
         c = problem.contacts
-        return fe_end_gaps(c.side_kind, c.side_node, c.candidate, c.antagonist, problem.h_cand,
-                           problem.h_ant, c.gap, problem.count, impulse, v, self.v, h, theta,
-                           problem.gap_end)
+        return fe_end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
+                           problem.h_cand, problem.h_ant, c.gap, problem.count, impulse, v,
+                           self.v, h, theta, problem.gap_end)
 
 
 @nb.njit(inline="always")
@@ -195,56 +204,112 @@ def push_node_impulse(inverse, inv_start, node_start, block, p, c, s, fx, fy, v)
         v[n0 + q, 1] += s * gx + c * gy
 
 
+@nb.njit(inline="always")
+def side_velocity(rows, a, kind, nodes, weights, body, v, node_v):
+    """(U_t, U_n) [m/s] of one side of contact a: rows . v_body for a rigid side (kind 0), sum
+    w_i rows . v_node_i for an FE side (rows [t; n] on the node, signed by side)."""
+    u0 = 0.0
+    u1 = 0.0
+    if kind == 1:
+        for i in range(nodes.shape[0]):
+            w = weights[i]
+            if w != 0.0:
+                p = nodes[i]
+                u0 += w * (rows[a, 0, 0] * node_v[p, 0] + rows[a, 0, 1] * node_v[p, 1])
+                u1 += w * (rows[a, 1, 0] * node_v[p, 0] + rows[a, 1, 1] * node_v[p, 1])
+    else:
+        for d in range(v.shape[1]):
+            u0 += rows[a, 0, d] * v[body, d]
+            u1 += rows[a, 1, d] * v[body, d]
+    return u0, u1
+
+
+@nb.njit(inline="always")
+def side_push(rows, a, kind, nodes, weights, body, dt, dn, inv_mass, v, node_block,
+              node_start, inv_start, inverse, rotation, node_v):
+    """v += M^-1 H_side (dt, dn) on one side: the body's diagonal M^-1 for a rigid side, R M~^-1
+    R^T of the nodes' block for an FE side (each node w_i of the impulse)."""
+    if kind == 1:
+        fx = rows[a, 0, 0] * dt + rows[a, 1, 0] * dn
+        fy = rows[a, 0, 1] * dt + rows[a, 1, 1] * dn
+        for i in range(nodes.shape[0]):
+            w = weights[i]
+            if w != 0.0:
+                p = nodes[i]
+                f = node_block[p]
+                push_node_impulse(inverse, inv_start, node_start, f, p, rotation[f, 0, 0],
+                                  rotation[f, 1, 0], w * fx, w * fy, node_v)
+    else:
+        for d in range(v.shape[1]):
+            v[body, d] += inv_mass[body, d] * (rows[a, 0, d] * dt + rows[a, 1, d] * dn)
+
+
 @nb.njit(cache=True)
-def fe_contact_rows(side_kind, side_node, frame, impulse, count, active, node_block,
-                    node_start, inv_start, inverse, rotation, h_cand, delassus, v):
-    """For contacts whose candidate is an FE node: h_cand = [F, 0], W += F G_pp F^T (world
-    compliance of the node), and the warm start on the nodes (inactive: R = 0)."""
+def fe_contact_rows(side_kind, side_node, side_weight, frame, impulse, count, active,
+                    node_block, node_start, inv_start, inverse, rotation, h_cand, h_ant,
+                    delassus, node_v):
+    """For the FE sides of the contacts (side_kind 1): rows of H* = +-[F, 0] on the nodes
+    (candidate +, antagonist -), W += F (sum_pq w_p w_q R G[p, q] R^T) F^T, and the warm start
+    node_v += M~^-1 H R on their nodes (inactive contacts: R = 0, set by assembly)."""
     for a in range(count):
-        if side_kind[a, 0] != 1:
-            continue
-        p = side_node[a, 0, 0]
-        f = node_block[p]
-        c = rotation[f, 0, 0]
-        s = rotation[f, 1, 0]
-        n0 = node_start[f]
-        n2 = 2 * (node_start[f + 1] - n0)
-        g00, g01, g10, g11 = _compliance(inverse, inv_start[f], n2, p - n0, p - n0, c, s)
-        for r in range(2):
-            h_cand[a, r, 0] = frame[a, r, 0]
-            h_cand[a, r, 1] = frame[a, r, 1]
-            h_cand[a, r, 2] = 0.0
-        for r in range(2):
-            gx = g00 * frame[a, r, 0] + g01 * frame[a, r, 1]
-            gy = g10 * frame[a, r, 0] + g11 * frame[a, r, 1]
-            for q in range(2):
-                delassus[a, q, r] += frame[a, q, 0] * gx + frame[a, q, 1] * gy
-        if not active[a]:
-            continue
-        fx = frame[a, 0, 0] * impulse[a, 0] + frame[a, 1, 0] * impulse[a, 1]
-        fy = frame[a, 0, 1] * impulse[a, 0] + frame[a, 1, 1] * impulse[a, 1]
-        push_node_impulse(inverse, inv_start, node_start, f, p, c, s, fx, fy, v)
+        for side in range(2):
+            if side_kind[a, side] != 1:
+                continue
+            rows = h_cand if side == 0 else h_ant
+            sign = 1.0 if side == 0 else -1.0
+            for r in range(2):
+                rows[a, r, 0] = sign * frame[a, r, 0]
+                rows[a, r, 1] = sign * frame[a, r, 1]
+                rows[a, r, 2] = 0.0
+            f = node_block[side_node[a, side, 0]]
+            c = rotation[f, 0, 0]
+            s = rotation[f, 1, 0]
+            n0 = node_start[f]
+            n2 = 2 * (node_start[f + 1] - n0)
+            g00 = g01 = g10 = g11 = 0.0
+            for i in range(side_node.shape[2]):
+                wi = side_weight[a, side, i]
+                if wi == 0.0:
+                    continue
+                for j in range(side_node.shape[2]):
+                    wj = side_weight[a, side, j]
+                    if wj == 0.0:
+                        continue
+                    h00, h01, h10, h11 = _compliance(inverse, inv_start[f], n2,
+                                                     side_node[a, side, i] - n0,
+                                                     side_node[a, side, j] - n0, c, s)
+                    g00 += wi * wj * h00
+                    g01 += wi * wj * h01
+                    g10 += wi * wj * h10
+                    g11 += wi * wj * h11
+            for r in range(2):
+                gx = g00 * frame[a, r, 0] + g01 * frame[a, r, 1]
+                gy = g10 * frame[a, r, 0] + g11 * frame[a, r, 1]
+                for q in range(2):
+                    delassus[a, q, r] += frame[a, q, 0] * gx + frame[a, q, 1] * gy
+            if not active[a]:
+                continue
+            fx = rows[a, 0, 0] * impulse[a, 0] + rows[a, 1, 0] * impulse[a, 1]
+            fy = rows[a, 0, 1] * impulse[a, 0] + rows[a, 1, 1] * impulse[a, 1]
+            for i in range(side_node.shape[2]):
+                w = side_weight[a, side, i]
+                if w != 0.0:
+                    push_node_impulse(inverse, inv_start, node_start, f,
+                                      side_node[a, side, i], c, s, w * fx, w * fy, node_v)
 
 
 @nb.njit(cache=True)
-def fe_end_gaps(side_kind, side_node, cand, ant, h_cand, h_ant, gap, count, impulse, v, node_v,
-                h, theta, gap_end):
-    """gap_end = g + theta h U_n with U_n from the node velocity on FE sides; returns
-    (contacts with R_n > 0, largest interpenetration [m])."""
+def fe_end_gaps(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, gap, count,
+                impulse, v, node_v, h, theta, gap_end):
+    """gap_end = g + theta h U_n with each side's velocity by its kind; returns (contacts with
+    R_n > 0, largest interpenetration [m])."""
     loaded = 0
     worst = 0.0
     for a in range(count):
-        c = cand[a]
-        b = ant[a]
-        un = 0.0
-        for d in range(v.shape[1]):
-            un += h_ant[a, 1, d] * v[b, d]
-        if side_kind[a, 0] == 1:
-            p = side_node[a, 0, 0]
-            un += h_cand[a, 1, 0] * node_v[p, 0] + h_cand[a, 1, 1] * node_v[p, 1]
-        else:
-            for d in range(v.shape[1]):
-                un += h_cand[a, 1, d] * v[c, d]
+        un = (side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
+                            cand[a], v, node_v)[1]
+              + side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
+                              ant[a], v, node_v)[1])
         g = gap[a] + theta * h * un
         gap_end[a] = g
         loaded += impulse[a, 1] > 0.0

@@ -145,16 +145,16 @@ class Detector:
         fe = m.fe
         node_x = fe.node_x0 if self._node_x is None else self._node_x
         first = contacts.count
-        contacts.reserve(first + len(self._fe_pairs) * int(np.diff(fe.boundary_start).max()))
-        vertex_count = len(m.vertex_local)
+        room = int(np.diff(fe.boundary_start).max()) + m.max_vertices
+        contacts.reserve(first + len(self._fe_pairs) * room)
         key_base = 4 * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
         count = node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
-            fe.boundary_node, fe.node_side, self._wv, self._wn, m.edge_length,
-            m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
-            vertex_count, first, contacts.candidate, contacts.antagonist, contacts.key,
-            contacts.law, contacts.point, contacts.frame, contacts.gap, contacts.area,
-            contacts.side_kind, contacts.side_node, contacts.side_weight)
+            fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
+            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
+            first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
+            contacts.side_node, contacts.side_weight)
         order = first + np.argsort(contacts.key[first:count], kind="stable")
         for name in contacts._fields():
             array = getattr(contacts, name)

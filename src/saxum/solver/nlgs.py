@@ -166,9 +166,9 @@ class NLGS(ContactSolver):
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
             problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
             self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
-            b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation, b.node_mass,
-            kind.v_free, kind.v, np.empty_like(kind.v), self.tolerance, self.max_iterations,
-            self.relaxation)
+            c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
+            b.node_mass, kind.v_free, kind.v, np.empty_like(kind.v), self.tolerance,
+            self.max_iterations, self.relaxation)
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
 

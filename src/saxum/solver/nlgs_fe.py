@@ -2,8 +2,9 @@
 local-global iteration as saxum.solver.nlgs.nlgs_2d, each contact side read and updated by
 its kind (design-deformable-and-joints.md section 3):
 
-    rigid side:  U += H*_side v_body,          v_body += M^-1 H_side dR
-    FE side:     U += F v_node,                v_q += R G[q, p] R^T F^T dR  (q in the block)
+    rigid side:  U += H*_side v_body,              v_body += M^-1 H_side dR
+    FE side:     U += +-F sum_p w_p v_p,          v_q += +-R sum_p w_p G[q, p] R^T F^T dR
+                 (p the side's nodes, q all nodes of their block; + candidate, - antagonist)
 
 G = M~^-1 in the block's frame (saxum.fe.FEBlocks.inv). Models without deformable blocks never
 come here, so their sweeps are nlgs_2d's, bit for bit. The convergence criterion is nlgs_2d's
@@ -15,7 +16,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ..bodies.fe import push_node_impulse
+from ..bodies.fe import side_push, side_velocity
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 
 __all__ = ["nlgs_fe_2d"]
@@ -56,7 +57,8 @@ def _relative_change(v, v_prev, v_free, mass, node_v, node_prev, node_free, node
 
 @nb.njit(cache=True)
 def nlgs_fe_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass,
-               mass, v_free, v, v_prev, impulse, side_kind, side_node, node_block, node_start,
+               mass, v_free, v, v_prev, impulse, side_kind, side_node, side_weight, node_block,
+               node_start,
                inv_start, inverse, rotation, node_mass, node_free, node_v, node_prev, tolerance,
                max_iterations, relaxation):
     """NLGS sweeps (module doc); returns (sweeps done, final error). Updates v, node_v and
@@ -83,19 +85,12 @@ def nlgs_fe_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count
                 continue
             c = cand[a]
             b = ant[a]
-            u0 = 0.0
-            u1 = 0.0
-            for d in range(3):
-                u0 += h_ant[a, 0, d] * v[b, d]
-                u1 += h_ant[a, 1, d] * v[b, d]
-            if side_kind[a, 0] == 1:
-                p = side_node[a, 0, 0]
-                u0 += h_cand[a, 0, 0] * node_v[p, 0] + h_cand[a, 0, 1] * node_v[p, 1]
-                u1 += h_cand[a, 1, 0] * node_v[p, 0] + h_cand[a, 1, 1] * node_v[p, 1]
-            else:
-                for d in range(3):
-                    u0 += h_cand[a, 0, d] * v[c, d]
-                    u1 += h_cand[a, 1, d] * v[c, d]
+            uc0, uc1 = side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0],
+                                     side_weight[a, 0], c, v, node_v)
+            ua0, ua1 = side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1],
+                                     side_weight[a, 1], b, v, node_v)
+            u0 = uc0 + ua0
+            u1 = uc1 + ua1
             wtt = delassus[a, 0, 0]
             wtn = delassus[a, 0, 1]
             wnn = delassus[a, 1, 1]
@@ -111,18 +106,12 @@ def nlgs_fe_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count
                 rn = relaxation * rn + (1.0 - relaxation) * rn0
             dt = rt - rt0
             dn = rn - rn0
-            for d in range(3):
-                v[b, d] += inv_mass[b, d] * (h_ant[a, 0, d] * dt + h_ant[a, 1, d] * dn)
-            if side_kind[a, 0] == 1:
-                p = side_node[a, 0, 0]
-                f = node_block[p]
-                fx = h_cand[a, 0, 0] * dt + h_cand[a, 1, 0] * dn
-                fy = h_cand[a, 0, 1] * dt + h_cand[a, 1, 1] * dn
-                push_node_impulse(inverse, inv_start, node_start, f, p, rotation[f, 0, 0],
-                                  rotation[f, 1, 0], fx, fy, node_v)
-            else:
-                for d in range(3):
-                    v[c, d] += inv_mass[c, d] * (h_cand[a, 0, d] * dt + h_cand[a, 1, d] * dn)
+            side_push(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1], b, dt,
+                      dn, inv_mass, v, node_block, node_start, inv_start, inverse, rotation,
+                      node_v)
+            side_push(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0], c, dt,
+                      dn, inv_mass, v, node_block, node_start, inv_start, inverse, rotation,
+                      node_v)
             impulse[a, 0] = rt
             impulse[a, 1] = rn
         error = _relative_change(v, v_prev, v_free, mass, node_v, node_prev, node_free,
