@@ -1,6 +1,8 @@
 """Deformable blocks as a body kind (issue 14): model, detection of node contacts, the loop's
 guards. Physics validation: tests/validation/test_fe_*.py."""
 
+import textwrap
+
 import numpy as np
 import pytest
 
@@ -110,3 +112,42 @@ def test_stack_carries_its_weight(top):
     assert on_top[~on_ground].sum() == pytest.approx(weight[1], rel=0.01)
     if top == "rigid":
         assert np.abs(state.body_v[2]).max() < 1e-3
+
+
+def test_scenario_materials_make_groups_deformable():
+    """[[materials]] groups = [...] turns the free blocks of those groups into deformable
+    ones with the material's density; a wrong group or a bad modulus names the table."""
+    from saxum.scenario import parse_scenario
+
+    text = textwrap.dedent("""\
+        [structure]
+        type = "semicircular_arch"
+        radius = 1.0
+        thickness = 0.15
+        voussoirs = 5
+
+        [[laws]]
+        groups = ["*", "*"]
+        friction = 0.6
+
+        [[materials]]
+        groups = ["voussoir"]
+        E = 1.0e10
+        nu = 0.2
+        density = 2400.0
+        mesh_size = 0.05
+
+        [output]
+        duration = 0.01
+        """)
+    model = parse_scenario(text).build_model()
+    voussoirs = [b for b, name in enumerate(model.body_name) if "voussoir" in name]
+    assert model.fe.count == len(voussoirs) == 5
+    assert (model.body_kind[voussoirs] == BodyKind.DEFORMABLE).all()
+    assert (model.body_density[voussoirs] == 2400.0).all()
+    with pytest.raises(sx.InputError, match=r"materials\[0\].*'pier'"):
+        parse_scenario(text.replace('groups = ["voussoir"]', 'groups = ["pier"]')).build_model()
+    with pytest.raises(sx.InputError, match=r"line 13: materials\[0\]\.E"):
+        parse_scenario(text.replace("E = 1.0e10", "E = -1.0")).build_model()
+    with pytest.raises(sx.InputError, match=r"materials\[0\]: .*Poisson's ratio"):
+        parse_scenario(text.replace("nu = 0.2", "nu = 0.7")).build_model()

@@ -303,6 +303,29 @@ class ModelBuilder:
                                    mesh_size))
         return index
 
+    def set_material(self, group: str, material: Elastic, mesh_size: float | None = None) -> int:
+        """Make every free block of `group` deformable (2D): a finite-element mesh of elements
+        of about mesh_size [m] (default: a fifth of each block's smallest side) of `material`
+        (saxum.fe.Elastic), whose density replaces the block's. Returns how many blocks."""
+        if self.dim != 2:
+            raise InputError(f"materials: deformable blocks are 2D only, group {group!r} is in "
+                             "a 3D model")
+        if not isinstance(material, Elastic):
+            raise InputError(f"materials: group {group!r} needs a saxum.fe.Elastic material, "
+                             f"got {material!r}")
+        if group not in self.groups:
+            raise InputError(f"materials names group {group!r}, which no block has; groups: "
+                             f"{self.groups}")
+        changed = 0
+        for block in self._blocks:
+            if block.group == group and block.kind in (BodyKind.FREE, BodyKind.DEFORMABLE):
+                block.kind, block.density = BodyKind.DEFORMABLE, material.density
+                block.material, block.mesh_size = material, mesh_size
+                changed += 1
+        if not changed:
+            raise InputError(f"materials: group {group!r} has no free block to make deformable")
+        return changed
+
     def drive(self, name: str, motion: Motion) -> int:
         """Make the FIXED block called `name` (a support) DRIVEN by motion: t [s] -> velocity
         of its centre of mass (see `Motion`), e.g. a settlement; returns its index."""
