@@ -151,3 +151,61 @@ def test_scenario_materials_make_groups_deformable():
         parse_scenario(text.replace("E = 1.0e10", "E = -1.0")).build_model()
     with pytest.raises(sx.InputError, match=r"materials\[0\]: .*Poisson's ratio"):
         parse_scenario(text.replace("nu = 0.2", "nu = 0.7")).build_model()
+
+
+PIER = textwrap.dedent("""\
+    [structure]
+    type = "pier"
+    width = 0.3
+    height = 0.6
+    courses = 2
+
+    [[laws]]
+    groups = ["*", "*"]
+    friction = 0.6
+
+    [[materials]]
+    groups = ["pier"]
+    E = 1.0e7
+    nu = 0.2
+    density = 2000.0
+    damping = [0.0, 0.002]
+    mesh_size = 0.075
+
+    [solver]
+    dt = 1e-3
+
+    [output]
+    duration = 0.06
+    interval = 0.01
+    checkpoint_interval = 0.02
+    """)
+
+
+def test_results_and_restart_are_bit_identical(tmp_path):
+    """A run of two deformable courses on the ground writes the nodes and the contact sides in
+    its frames and checkpoints; restarting from a checkpoint in the middle gives the last
+    frame bit for bit (two runs on this machine, as tests/results_check.py compares)."""
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+
+    scenario = parse_scenario(PIER)
+    path = tmp_path / "pier.h5"
+    run_scenario(scenario, path, quiet=True)
+    with Results(path) as r:
+        assert r.node_x.shape == (r.frame_count, scenario.build_model().fe.node_count, 2)
+        last = {"node_x": r.node_x[-1], "node_v": r.node_v[-1], "body_q": r.body_q[-1]}
+        contacts = r.contacts(r.frame_count - 1)
+        assert (contacts["side_kind"][:, 0] == 1).all()  # every contact has a node candidate
+        saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 40)[0]))
+    sim = scenario.build_simulation()
+    state = sim.restore(saved)
+    for _ in range(20):
+        sim.step(state)
+    for name, value in last.items():
+        assert np.array_equal(getattr(state, name), value), name
+    c = state.contacts
+    for name, value in contacts.items():
+        if name != "force":
+            assert np.array_equal(getattr(c, name)[: c.count], value), name

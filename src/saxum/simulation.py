@@ -112,8 +112,6 @@ class Simulation:
     def restore(self, saved: dict) -> State:
         """The state of a checkpoint (saxum.results.Results.checkpoint), with the detector put
         back as it was, so that stepping on gives bit for bit what the original run gave."""
-        if self.fe is not None:
-            raise InputError("resuming a run with deformable blocks is not supported yet")
         contacts = Contacts(self.model.dim, max(len(saved["contacts"]["key"]), 1))
         contacts.count = len(saved["contacts"]["key"])
         for name, values in saved["contacts"].items():
@@ -123,9 +121,13 @@ class Simulation:
         time, step = float(saved["time"]), int(saved["step"])
         # exact for runs from t = 0 (time is then the float k h itself)
         start = time - step * self.integrator.dt
-        return State(time=time, body_q=np.array(saved["body_q"]),
-                     body_v=np.array(saved["body_v"]), contacts=contacts,
-                     step=step, start_time=start)
+        state = State(time=time, body_q=np.array(saved["body_q"]),
+                      body_v=np.array(saved["body_v"]), contacts=contacts,
+                      step=step, start_time=start)
+        if self.fe is not None:
+            state.node_x = np.array(saved["node_x"])
+            state.node_v = np.array(saved["node_v"])
+        return state
 
     def external_force(self, t: float, out: np.ndarray, q: np.ndarray | None = None) -> None:
         """out = F(t) [N, N m] per body and dof: weight, uniform accelerations, applied forces

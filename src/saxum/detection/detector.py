@@ -176,20 +176,27 @@ class Detector:
             self._slack = np.zeros((len(self._pairs), 2))
         sort_pairs(self._pairs, count, m.body_count)
         if m.fe is not None:
-            deformable = (m.fe.fe_index[self._pairs[:count]] >= 0).any(axis=1)
-            self._fe_pairs = self._pairs[:count][deformable].copy()
-            kept = self._pairs[:count][~deformable]
-            count = len(kept)
-            self._pairs[:count] = kept
+            count = self._split_deformable(count)
         self.pair_count = count
         self._q_ref[:] = q
         self._since_refresh = 0
         self.refresh_count += 1
 
+    def _split_deformable(self, count: int) -> int:
+        """Move the pairs with a deformable block out of the first `count` pairs into
+        _fe_pairs, keeping the order of both; returns how many are left."""
+        deformable = (self.model.fe.fe_index[self._pairs[:count]] >= 0).any(axis=1)
+        self._fe_pairs = self._pairs[:count][deformable].copy()
+        kept = self._pairs[:count][~deformable]
+        self._pairs[: len(kept)] = kept
+        return len(kept)
+
     def checkpoint(self) -> dict:
         """The detector's own state, which a bit-identical restart needs: the broad phase's
-        pair list, the configuration it was built on and the steps since."""
-        return {"pairs": self._pairs[: self.pair_count].copy(), "pair_count": self.pair_count,
+        pair list (with the pairs of deformable blocks after the others), the configuration it
+        was built on and the steps since."""
+        pairs = np.concatenate((self._pairs[: self.pair_count], self._fe_pairs))
+        return {"pairs": pairs, "pair_count": len(pairs),
                 "q_ref": self._q_ref.copy(), "since_refresh": self._since_refresh,
                 "refresh_count": self.refresh_count}
 
@@ -199,6 +206,8 @@ class Detector:
         if len(self._pairs) < count:
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
         self._pairs[:count] = saved["pairs"]
+        if self.model.fe is not None:
+            count = self._split_deformable(count)
         if len(self._faces) < len(self._pairs):
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
