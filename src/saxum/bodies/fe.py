@@ -13,6 +13,7 @@ the contact rows of an FE side:
 Candidates are boundary nodes (saxum.detection.fe_nodes), antagonists rigid blocks' edges.
 """
 
+import math
 from dataclasses import dataclass
 
 import numba as nb
@@ -132,9 +133,11 @@ class FEKind:
         self.x_pred[:] = self.blocks.predict_positions(node_x, node_v)
 
     def update(self, node_x: np.ndarray, node_v: np.ndarray, body_q: np.ndarray) -> None:
-        """End of step: x += h [(1 - theta) v_i + theta v_i+1], v = v_i+1; the blocks' body
-        rows get their new frames (centre of mass, angle)."""
-        self.blocks.update_positions(node_x, node_v, self.v)
+        """End of step: x += h [(1 - theta) v_i + theta v_i+1] with the rigid rotation of each
+        block applied exactly (turn_positions), v = v_i+1; the blocks' body rows get their new
+        frames (centre of mass, angle)."""
+        b = self.blocks
+        turn_positions(node_x, node_v, self.v, b.node_start, b.node_mass, b.h, b.theta)
         node_v[:] = self.v
         rotation, centroid = self.blocks.frames(node_x)
         body_q[self.model.body, :2] = centroid
@@ -165,6 +168,50 @@ class FEKind:
         return fe_end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
                            problem.h_cand, problem.h_ant, c.gap, problem.count, impulse, v,
                            self.v, h, theta, problem.gap_end)
+
+
+@nb.njit(cache=True)
+def turn_positions(x, v, v_next, node_start, node_mass, h, theta):
+    """x += h v_m, v_m = (1 - theta) v + theta v_next, with each block's mean rotation turned
+    exactly: v_m = V + omega e_z x (x - c) + w (V, omega the velocity of the centre of mass c
+    and the angular velocity of the block's momentum, w the rest), then
+        x <- c + h V + Rot(h omega) (x - c) + h w.
+    The linear update x + h v_m would move a node of a spinning block along the chord of its
+    circle and stretch the block by (h omega)^2 / 2 per step, a strain the co-rotated frame
+    cannot remove (E (h omega)^2 / 2: 0.2 MPa for stone spinning at 20 rad/s with h = 1 ms);
+    turned exactly, a rigid spin strains nothing. Without rotation it is the linear update."""
+    for b in range(node_start.shape[0] - 1):
+        total = cx = cy = vx = vy = 0.0
+        for i in range(node_start[b], node_start[b + 1]):
+            m = node_mass[i]
+            total += m
+            cx += m * x[i, 0]
+            cy += m * x[i, 1]
+            vx += m * ((1.0 - theta) * v[i, 0] + theta * v_next[i, 0])
+            vy += m * ((1.0 - theta) * v[i, 1] + theta * v_next[i, 1])
+        cx /= total
+        cy /= total
+        vx /= total
+        vy /= total
+        momentum = inertia = 0.0
+        for i in range(node_start[b], node_start[b + 1]):
+            m = node_mass[i]
+            rx = x[i, 0] - cx
+            ry = x[i, 1] - cy
+            ux = (1.0 - theta) * v[i, 0] + theta * v_next[i, 0] - vx
+            uy = (1.0 - theta) * v[i, 1] + theta * v_next[i, 1] - vy
+            momentum += m * (rx * uy - ry * ux)
+            inertia += m * (rx * rx + ry * ry)
+        omega = momentum / inertia
+        c = math.cos(h * omega)
+        s = math.sin(h * omega)
+        for i in range(node_start[b], node_start[b + 1]):
+            rx = x[i, 0] - cx
+            ry = x[i, 1] - cy
+            wx = (1.0 - theta) * v[i, 0] + theta * v_next[i, 0] - vx + omega * ry
+            wy = (1.0 - theta) * v[i, 1] + theta * v_next[i, 1] - vy - omega * rx
+            x[i, 0] = cx + h * vx + (c * rx - s * ry) + h * wx
+            x[i, 1] = cy + h * vy + (s * rx + c * ry) + h * wy
 
 
 @nb.njit(inline="always")
