@@ -209,3 +209,36 @@ def test_results_and_restart_are_bit_identical(tmp_path):
     for name, value in contacts.items():
         if name != "force":
             assert np.array_equal(getattr(c, name)[: c.count], value), name
+
+
+def test_stresses_in_results_and_paraview_export(tmp_path):
+    """Results.stresses gives the cell stresses of the stored nodes (the same as the run's
+    own), the piers are compressed on average, and the ParaView export writes the triangle
+    meshes with them as a third part."""
+    import meshio
+
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+    from saxum.vtk import export_vtk
+
+    scenario = parse_scenario(PIER)
+    path = tmp_path / "pier.h5"
+    run_scenario(scenario, path, quiet=True)
+    sim = scenario.build_simulation()
+    state = sim.initial_state()
+    sim.run(state, 0.06)
+    with Results(path) as r:
+        stored = r.stresses(-1)
+        blocks = sim.fe.blocks
+        own = blocks.stresses(state.node_x, *blocks.frames(state.node_x))[0]
+        assert np.array_equal(stored["stress"], own)
+        assert stored["stress"][:, 1].mean() < 0.0  # sigma_yy: compression under the weight
+        assert (stored["compression"] >= 0.0).all() and (stored["tension"] >= 0.0).all()
+        pvd = export_vtk(r, tmp_path / "vtk", frames=[-1])
+        k = r.frame_count - 1
+    assert f"elements_{k:06d}.vtu" in pvd.read_text()
+    mesh = meshio.read(tmp_path / "vtk" / "pier" / f"elements_{k:06d}.vtu")
+    assert mesh.cells_dict["triangle"].shape == (len(stored["stress"]), 3)
+    assert np.allclose(mesh.cell_data["compression"][0], stored["compression"], rtol=1e-12,
+                       atol=0.0)

@@ -1022,6 +1022,23 @@ class Results:
         out["force"] = out["impulse"] / self.dt
         return out
 
+    def stresses(self, frame: int) -> dict[str, np.ndarray]:
+        """Cell stresses of the deformable blocks at output frame `frame` [Pa], world axes,
+        from the stored node positions (saxum.fe.FEBlocks.stresses): "stress" (sxx, syy, sxy)
+        [cells, 3], "principal" ascending [cells, 2], "compression" and "tension" (the largest
+        of each, >= 0) [cells]; {} without deformable blocks."""
+        if self.node_x is None:
+            return {}
+        if getattr(self, "_fe_blocks", None) is None:
+            from .bodies.fe import stored_blocks
+
+            self._fe_blocks = stored_blocks(self.model)
+        blocks = self._fe_blocks
+        x = self.node_x[range(self.frame_count)[frame]]
+        stress, principal, compression, tension = blocks.stresses(x, *blocks.frames(x))
+        return {"stress": stress, "principal": principal, "compression": compression,
+                "tension": tension}
+
     def vertices(self, body: int, frame: int) -> np.ndarray:
         """World vertices [m] of `body` at output frame `frame`, shape (n, dim)."""
         from .model import body_vertices

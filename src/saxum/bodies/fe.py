@@ -24,7 +24,7 @@ from ..fe.blocks import FEBlocks
 from ..fe.material import Elastic
 from ..fe.mesh import Mesh, mesh_polygon
 
-__all__ = ["FEBodies", "FEKind", "build_fe_bodies"]
+__all__ = ["FEBodies", "FEKind", "build_fe_bodies", "stored_blocks"]
 
 
 @dataclass(frozen=True)
@@ -97,6 +97,21 @@ def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: li
         facet_node=np.concatenate([m.facets + s for m, s in
                                    zip(meshes, node_start, strict=False)]).astype(np.int64),
     )
+
+
+def stored_blocks(model: dict) -> FEBlocks:
+    """The deformable blocks' mechanics (saxum.fe.FEBlocks) rebuilt from a results file's
+    model datasets (fe_node_x0, fe_node_start, fe_cell_node, fe_cell_start, fe_material), for
+    stresses and energies of stored node positions."""
+    node_start, cell_start = model["fe_node_start"], model["fe_cell_start"]
+    meshes = [Mesh.from_cells(model["fe_node_x0"][a:b],
+                              model["fe_cell_node"][c:d] - a)
+              for a, b, c, d in zip(node_start[:-1], node_start[1:], cell_start[:-1],
+                                    cell_start[1:], strict=True)]
+    materials = [Elastic(row[0], row[1], row[2], damping=(row[3], row[4]),
+                         thickness=row[5] if row[5] > 0.0 else None)
+                 for row in model["fe_material"]]
+    return FEBlocks.build(meshes, materials, 1.0, 0.5)  # (h, theta: unused here)
 
 
 class FEKind:
