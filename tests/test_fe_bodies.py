@@ -242,3 +242,26 @@ def test_stresses_in_results_and_paraview_export(tmp_path):
     assert mesh.cells_dict["triangle"].shape == (len(stored["stress"]), 3)
     assert np.allclose(mesh.cell_data["compression"][0], stored["compression"], rtol=1e-12,
                        atol=0.0)
+
+
+def test_plot_draws_the_meshes_by_compression(tmp_path):
+    """saxum plot of a run with deformable blocks fills their triangles by the largest
+    compression, with a colour bar in MPa."""
+    from matplotlib.collections import PolyCollection
+
+    from saxum.plot import plot_frame
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+
+    path = tmp_path / "pier.h5"
+    run_scenario(parse_scenario(PIER), path, quiet=True)
+    with Results(path) as r:
+        fig = plot_frame(r, -1, tmp_path / "pier.png")
+        cells = len(r.model["fe_cell_node"])
+    ax = fig.axes[0]
+    meshes = [c for c in ax.collections
+              if isinstance(c, PolyCollection) and len(c.get_paths()) == cells]
+    assert len(meshes) == 1
+    assert any(a.get_ylabel() == "largest compression [MPa]" for a in fig.axes[1:])
+    assert (tmp_path / "pier.png").stat().st_size > 0
