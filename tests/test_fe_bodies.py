@@ -265,3 +265,20 @@ def test_plot_draws_the_meshes_by_compression(tmp_path):
     assert len(meshes) == 1
     assert any(a.get_ylabel() == "largest compression [MPa]" for a in fig.axes[1:])
     assert (tmp_path / "pier.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("size, match", [(5.0, "larger than the block"),
+                                         (0.001, "nodes, more than max_nodes")])
+def test_bad_mesh_size_names_the_block(size, match):
+    b = ModelBuilder()
+    b.add_block([(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)], material=STONE, mesh_size=size,
+                name="keystone")
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    with pytest.raises(sx.InputError, match=f"keystone: mesh size.*{match}"):
+        b.finalize()
+
+
+def test_a_fixed_block_cannot_be_deformable():
+    with pytest.raises(sx.InputError, match="only a free 2D block can be deformable"):
+        ModelBuilder().add_block([(0, 0), (1, 0), (1, 1), (0, 1)], material=STONE,
+                                 kind=BodyKind.FIXED)
