@@ -130,8 +130,8 @@ def test_free_velocity_solves_the_theta_method_in_the_step_frame(dim):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_impulses_and_condensed_compliance_agree_with_m_tilde(dim):
-    """apply_nodal_impulses, apply_impulse (one block, a few nodes) and the boundary
-    compliance G = Q B M~^-1 B^T Q^T against a sparse solve with M~."""
+    """apply_nodal_impulses, apply_impulse (one block, a few nodes), the boundary compliance
+    G = Q B M~^-1 B^T Q^T and the update through it against a sparse solve with M~."""
     blocks = BLOCKS_2D if dim == 2 else BLOCKS_3D
     rng = np.random.default_rng(11)
     rotation_step = np.array([_rotation(dim, 0.2), _rotation(dim, -0.45)])
@@ -158,6 +158,13 @@ def test_impulses_and_condensed_compliance_agree_with_m_tilde(dim):
     assert np.abs((v - v0).ravel() - expected).max() < 1e-10 * np.abs(expected).max()
 
     g = blocks.boundary_compliance(rotation_step)
+    v = v0.copy()
+    blocks.apply_boundary_impulse(g, b, nodes, impulses, v)
+    bnd = blocks.boundary_node[blocks.boundary_start[b]:blocks.boundary_start[b + 1]]
+    expected = expected.reshape(v.shape)
+    assert np.abs(v[bnd] - v0[bnd] - expected[bnd]).max() < 1e-10 * np.abs(expected).max()
+    interior = np.setdiff1d(np.arange(blocks.n_nodes), bnd)
+    assert np.array_equal(v[interior], v0[interior])
     for b in range(blocks.n_blocks):
         bnd = blocks.boundary_node[blocks.boundary_start[b]:blocks.boundary_start[b + 1]]
         dofs = (dim * bnd[:, None] + np.arange(dim)).ravel()

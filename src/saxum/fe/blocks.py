@@ -58,6 +58,7 @@ from saxum.fe.mesh import Mesh
 
 __all__ = [
     "FEBlocks",
+    "apply_boundary_impulse",
     "apply_impulse",
     "apply_nodal_impulses",
     "boundary_compliance",
@@ -274,6 +275,13 @@ class FEBlocks:
         axes) at `nodes` [k] (global node indices of that block), in place; rotation = R_s."""
         apply_impulse(self.node_start, self.inv_start, self.inv, block,
                       np.asarray(nodes, dtype=np.int64), impulses, rotation, v)
+
+    def apply_boundary_impulse(self, compliance, block, nodes, impulses, v) -> None:
+        """v[boundary nodes of block] += G P, P = impulses [k, d] [N s] at its boundary nodes
+        `nodes` [k], G = boundary_compliance(R_s), in place (interior nodes untouched)."""
+        apply_boundary_impulse(self.boundary_start, self.boundary_node, self.node_boundary,
+                               self.compliance_start, compliance, block,
+                               np.asarray(nodes, dtype=np.int64), impulses, v)
 
     def boundary_compliance(self, rotation) -> np.ndarray:
         """G_world = R_s (B M~^-1 B^T) R_s^T of every block's boundary nodes [1/kg], flat with
@@ -600,6 +608,30 @@ def apply_impulse(node_start, inv_start, inv, block, nodes, impulses, rotation, 
                 s = 0.0
                 for m in range(d):
                     s += rotation[block, k, m] * dv[m]
+                v[i, k] += s
+
+
+@nb.njit(cache=True)
+def apply_boundary_impulse(boundary_start, boundary_node, node_boundary, compliance_start,
+                           compliance, block, nodes, impulses, v):
+    """v[q] += sum_p G[q, p] P_p for every boundary node q of `block` [m/s], P = impulses
+    [k, d] [N s] (world axes) at its boundary nodes `nodes` [k] (global indices), G the world
+    compliance from boundary_compliance(): the velocity update of an NLGS contact update,
+    O(d^2 B_b k), only the boundary (candidate) nodes are touched."""
+    d = v.shape[1]
+    first = boundary_start[block]
+    nbnd = boundary_start[block + 1] - first
+    size = d * nbnd
+    base = compliance_start[block]
+    for j in range(len(nodes)):
+        p = node_boundary[nodes[j]] - first
+        for q in range(nbnd):
+            i = boundary_node[first + q]
+            for k in range(d):
+                row = base + (d * q + k) * size + d * p
+                s = 0.0
+                for m in range(d):
+                    s += compliance[row + m] * impulses[j, m]
                 v[i, k] += s
 
 
