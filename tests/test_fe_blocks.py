@@ -130,8 +130,9 @@ def test_free_velocity_solves_the_theta_method_in_the_step_frame(dim):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_impulses_and_condensed_compliance_agree_with_m_tilde(dim):
-    """apply_nodal_impulses, apply_impulse (one block, a few nodes), the boundary compliance
-    G = Q B M~^-1 B^T Q^T and the update through it against a sparse solve with M~."""
+    """apply_nodal_impulses, apply_impulse (one block, a few nodes), the update of the
+    boundary nodes only, the boundary compliance G = Q B M~^-1 B^T Q^T and one of its node
+    blocks against a sparse solve with M~."""
     blocks = BLOCKS_2D if dim == 2 else BLOCKS_3D
     rng = np.random.default_rng(11)
     rotation_step = np.array([_rotation(dim, 0.2), _rotation(dim, -0.45)])
@@ -157,14 +158,15 @@ def test_impulses_and_condensed_compliance_agree_with_m_tilde(dim):
     expected = world(p)
     assert np.abs((v - v0).ravel() - expected).max() < 1e-10 * np.abs(expected).max()
 
-    g = blocks.boundary_compliance(rotation_step)
     v = v0.copy()
-    blocks.apply_boundary_impulse(g, b, nodes, impulses, v)
+    blocks.apply_boundary_impulse(b, nodes, impulses, rotation_step, v)
     bnd = blocks.boundary_node[blocks.boundary_start[b]:blocks.boundary_start[b + 1]]
     expected = expected.reshape(v.shape)
     assert np.abs(v[bnd] - v0[bnd] - expected[bnd]).max() < 1e-10 * np.abs(expected).max()
     interior = np.setdiff1d(np.arange(blocks.n_nodes), bnd)
     assert np.array_equal(v[interior], v0[interior])
+
+    g = blocks.boundary_compliance(rotation_step)
     for b in range(blocks.n_blocks):
         bnd = blocks.boundary_node[blocks.boundary_start[b]:blocks.boundary_start[b + 1]]
         dofs = (dim * bnd[:, None] + np.arange(dim)).ravel()
@@ -174,6 +176,9 @@ def test_impulses_and_condensed_compliance_agree_with_m_tilde(dim):
         expected = np.asarray(full)[dofs]
         got = g[blocks.compliance_start[b]:blocks.compliance_start[b + 1]].reshape(len(dofs), -1)
         assert np.abs(got - expected).max() < 1e-10 * np.abs(expected).max()
+        pair = blocks.compliance_block(b, bnd[2], bnd[-1], rotation_step)
+        assert np.abs(pair - expected[dim * 2:dim * 3, -dim:]).max() < \
+            1e-10 * np.abs(expected).max()
 
 
 def test_spin_and_step_rotation_of_a_rigid_spin():
