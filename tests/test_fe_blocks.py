@@ -227,6 +227,15 @@ def test_positions_energies_and_weight():
     assert math.isclose(energy[0], 0.5 * (lam + 2 * mu) * e * e * area * 0.3, rel_tol=1e-9)
 
 
+def test_boundary_areas_add_up_to_the_perimeter_and_the_surface():
+    for blocks, sizes in ((BLOCKS_2D, [0.6 + 0.4 + 2 * math.hypot(0.1, 0.3)] * 2),
+                          (BLOCKS_3D, [2 * (0.08 + 0.04 + 0.02)] * 2)):
+        sums = [blocks.boundary_area[a:e].sum() for a, e in
+                zip(blocks.boundary_start[:-1], blocks.boundary_start[1:], strict=True)]
+        assert np.allclose(sums, sizes, rtol=1e-12, atol=0)
+        assert np.all(blocks.boundary_area > 0)
+
+
 def test_bad_step_and_block_lists_are_refused():
     mesh = mesh_polygon(TRAPEZOID, 0.2)
     material = Elastic(1e8, 0.2, 2000.0)

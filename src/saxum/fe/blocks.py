@@ -92,8 +92,10 @@ class FEBlocks:
     shape functions on the reference cell [1/m], cell_lame [Mc, 2] (lambda, mu) [Pa] (plane
     stress: effective lambda), cell_volume [Mc] [m^2 in 2D, m^3 in 3D];
     boundary_start, boundary_node [B] (contact candidates), node_boundary [N] (slot of a node in
-    boundary_node, -1 inside); facet_start, facet_node [F, d] outward boundary edges/triangles
-    (antagonists);
+    boundary_node, -1 inside), boundary_area [B] tributary boundary of each candidate in the
+    reference configuration (2D: half of each adjacent boundary edge, a length [m]; 3D: a third
+    of each adjacent boundary triangle [m^2]); facet_start, facet_node [F, d] outward boundary
+    edges/triangles (antagonists);
     M, K: block-diagonal CSR over all N d dofs (dof d * node + component) as (indptr, indices,
     data) triples m_* and k_*, [kg] and [N/m]; alpha [nb] [1/s], beta [nb] [s]; material
     [nb, 6] rows of Elastic.row();
@@ -117,6 +119,7 @@ class FEBlocks:
     boundary_start: np.ndarray
     boundary_node: np.ndarray
     node_boundary: np.ndarray
+    boundary_area: np.ndarray
     facet_start: np.ndarray
     facet_node: np.ndarray
     m_indptr: np.ndarray
@@ -169,6 +172,14 @@ class FEBlocks:
         cell_block = np.repeat(np.arange(len(meshes)), np.diff(cell_start))
         node_boundary = np.full(len(x0), -1, dtype=np.int64)
         node_boundary[boundary_node] = np.arange(len(boundary_node))
+        xf = x0[facet_node]
+        if dim == 2:
+            facet_size = np.linalg.norm(xf[:, 1] - xf[:, 0], axis=1)
+        else:
+            facet_size = 0.5 * np.linalg.norm(np.cross(xf[:, 1] - xf[:, 0], xf[:, 2] - xf[:, 0]),
+                                              axis=1)
+        boundary_area = np.zeros(len(boundary_node))
+        np.add.at(boundary_area, node_boundary[facet_node], facet_size[:, None] / dim)
         masses, stiffnesses = zip(*(mass_stiffness(m, mat)
                                     for m, mat in zip(meshes, materials, strict=True)),
                                   strict=True)
@@ -192,6 +203,7 @@ class FEBlocks:
             cell_lame=lame, cell_volume=volume,
             boundary_start=boundary_start.astype(np.int64),
             boundary_node=boundary_node.astype(np.int64), node_boundary=node_boundary,
+            boundary_area=boundary_area,
             facet_start=facet_start.astype(np.int64), facet_node=facet_node.astype(np.int64),
             m_indptr=M.indptr.astype(np.int64), m_indices=M.indices.astype(np.int64),
             m_data=M.data, k_indptr=K.indptr.astype(np.int64),
