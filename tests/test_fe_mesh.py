@@ -99,6 +99,12 @@ def test_bad_mesh_size_and_node_count_are_refused():
     assert len(mesh_polyhedron(BRICK, BRICK_FACES, 0.02, max_nodes=1386).nodes) == 1386
 
 
+def test_self_crossing_polygon_is_refused():
+    bow_tie = [[0, 0], [1, 1], [1, 0], [0, 1]]
+    with pytest.raises(InputError, match="arch: polygon edges 0 and 2 cross"):
+        mesh_polygon(bow_tie, 0.2, name="arch")
+
+
 def test_non_convex_polyhedron_and_bad_cells_are_refused():
     notch = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.1, 0.1, 0.1]])
     faces = [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 4, 2], [1, 3, 4], [2, 4, 3]]
