@@ -13,7 +13,6 @@ the contact rows of an FE side:
 Candidates are boundary nodes (saxum.detection.fe_nodes), antagonists rigid blocks' edges.
 """
 
-import math
 from dataclasses import dataclass
 
 import numba as nb
@@ -122,8 +121,9 @@ class FEKind:
     def __init__(self, fe: FEBodies, h: float, theta: float) -> None:
         self.model = fe
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
-        self.rotation, self.centroid = self.blocks.frames(fe.node_x0)
-        """Frame of each block: rotation [n_fe, 2, 2] and centre of mass [n_fe, 2] [m]."""
+        self.rotation = self.blocks.frames(fe.node_x0)[0]
+        """The frame of M~^-1 in the step, per block [n_fe, 2, 2] (FEBlocks.step_frames'
+        rotation_step: the start frame turned on by the block's spin)."""
         n = fe.node_count
         self.v_free = np.zeros((n, 2))
         """Free node velocities of the step [m/s]."""
@@ -136,11 +136,11 @@ class FEKind:
                       acceleration: np.ndarray) -> None:
         """v_free of all nodes under a uniform acceleration [m/s^2] (gravity and the model's
         accelerations, theta-weighted), from positions node_x [m] and velocities node_v [m/s]
-        at the start of the step, in the frames of node_x (frozen over the step); v = v_free."""
+        at the start of the step, in the step's frames (FEBlocks.step_frames); v = v_free."""
         b = self.blocks
-        self.rotation, self.centroid = b.frames(node_x)
-        self.v_free[:] = b.free_velocity(node_x, node_v, b.weight(acceleration), self.rotation,
-                                         self.centroid)
+        rotation, centroid, spin, self.rotation = b.step_frames(node_x, node_v)
+        self.v_free[:] = b.free_velocity(node_x, node_v, b.weight(acceleration), rotation,
+                                         centroid, spin, self.rotation)
         self.v[:] = self.v_free
 
     def predict(self, node_x: np.ndarray, node_v: np.ndarray) -> None:
@@ -148,11 +148,9 @@ class FEKind:
         self.x_pred[:] = self.blocks.predict_positions(node_x, node_v)
 
     def update(self, node_x: np.ndarray, node_v: np.ndarray, body_q: np.ndarray) -> None:
-        """End of step: x += h [(1 - theta) v_i + theta v_i+1] with the rigid rotation of each
-        block applied exactly (turn_positions), v = v_i+1; the blocks' body rows get their new
-        frames (centre of mass, angle)."""
-        b = self.blocks
-        turn_positions(node_x, node_v, self.v, b.node_start, b.node_mass, b.h, b.theta)
+        """End of step: x += h [(1 - theta) v_i + theta v_i+1], v = v_i+1; the blocks' body
+        rows get their new frames (centre of mass, angle)."""
+        self.blocks.update_positions(node_x, node_v, self.v)
         node_v[:] = self.v
         rotation, centroid = self.blocks.frames(node_x)
         body_q[self.model.body, :2] = centroid
@@ -183,50 +181,6 @@ class FEKind:
         return fe_end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
                            problem.h_cand, problem.h_ant, c.gap, problem.count, impulse, v,
                            self.v, h, theta, problem.gap_end)
-
-
-@nb.njit(cache=True)
-def turn_positions(x, v, v_next, node_start, node_mass, h, theta):
-    """x += h v_m, v_m = (1 - theta) v + theta v_next, with each block's mean rotation turned
-    exactly: v_m = V + omega e_z x (x - c) + w (V, omega the velocity of the centre of mass c
-    and the angular velocity of the block's momentum, w the rest), then
-        x <- c + h V + Rot(h omega) (x - c) + h w.
-    The linear update x + h v_m would move a node of a spinning block along the chord of its
-    circle and stretch the block by (h omega)^2 / 2 per step, a strain the co-rotated frame
-    cannot remove (E (h omega)^2 / 2: 0.2 MPa for stone spinning at 20 rad/s with h = 1 ms);
-    turned exactly, a rigid spin strains nothing. Without rotation it is the linear update."""
-    for b in range(node_start.shape[0] - 1):
-        total = cx = cy = vx = vy = 0.0
-        for i in range(node_start[b], node_start[b + 1]):
-            m = node_mass[i]
-            total += m
-            cx += m * x[i, 0]
-            cy += m * x[i, 1]
-            vx += m * ((1.0 - theta) * v[i, 0] + theta * v_next[i, 0])
-            vy += m * ((1.0 - theta) * v[i, 1] + theta * v_next[i, 1])
-        cx /= total
-        cy /= total
-        vx /= total
-        vy /= total
-        momentum = inertia = 0.0
-        for i in range(node_start[b], node_start[b + 1]):
-            m = node_mass[i]
-            rx = x[i, 0] - cx
-            ry = x[i, 1] - cy
-            ux = (1.0 - theta) * v[i, 0] + theta * v_next[i, 0] - vx
-            uy = (1.0 - theta) * v[i, 1] + theta * v_next[i, 1] - vy
-            momentum += m * (rx * uy - ry * ux)
-            inertia += m * (rx * rx + ry * ry)
-        omega = momentum / inertia
-        c = math.cos(h * omega)
-        s = math.sin(h * omega)
-        for i in range(node_start[b], node_start[b + 1]):
-            rx = x[i, 0] - cx
-            ry = x[i, 1] - cy
-            wx = (1.0 - theta) * v[i, 0] + theta * v_next[i, 0] - vx + omega * ry
-            wy = (1.0 - theta) * v[i, 1] + theta * v_next[i, 1] - vy - omega * rx
-            x[i, 0] = cx + h * vx + (c * rx - s * ry) + h * wx
-            x[i, 1] = cy + h * vy + (s * rx + c * ry) + h * wy
 
 
 @nb.njit(inline="always")

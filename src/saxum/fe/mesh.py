@@ -147,6 +147,10 @@ def mesh_polygon(vertices, size: float, max_nodes: int = DEFAULT_MAX_NODES,
     is larger than the block or the mesh would have more than max_nodes nodes."""
     vertices = _vertices(name, vertices, 2)
     size = _check_size(name, size, _diameter(vertices))
+    crossing = _crossing_edges(vertices)
+    if crossing is not None:
+        raise InputError(f"{name}: polygon edges {crossing[0]} and {crossing[1]} cross; give the "
+                         "vertices of a simple polygon in order around it")
     x, y = vertices[:, 0], vertices[:, 1]
     area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
     if abs(area) <= 1e-12 * _diameter(vertices) ** 2:
@@ -170,6 +174,25 @@ def mesh_polygon(vertices, size: float, max_nodes: int = DEFAULT_MAX_NODES,
                          "crossing edges?)")
     _check_count(name, len(out["vertices"]), max_nodes, size)
     return Mesh.from_cells(out["vertices"], out["triangles"], name)
+
+
+def _crossing_edges(vertices):
+    """(i, j) of two non-adjacent edges that intersect (edge k from vertex k to k + 1), or None."""
+    k = len(vertices)
+    a = vertices
+    b = np.roll(vertices, -1, axis=0)
+
+    def side(p, q, r):
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+
+    for i in range(k):
+        for j in range(i + 2, k):
+            if i == 0 and j == k - 1:
+                continue  # adjacent through vertex 0
+            if side(a[i], b[i], a[j]) * side(a[i], b[i], b[j]) <= 0 and \
+                    side(a[j], b[j], a[i]) * side(a[j], b[j], b[i]) <= 0:
+                return i, j
+    return None
 
 
 def _rectangle(vertices):
