@@ -23,6 +23,7 @@ from saxum.scenario import (
     GroundMotionSpec,
     LawSpec,
     Loads,
+    MaterialSpec,
     MeshStructure,
     OpeningSpec,
     OutputSpec,
@@ -359,7 +360,8 @@ def test_docs_describe_every_key():
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, ShapedArchStructure,
                   BondedWallStructure, OpeningSpec, PierStructure, ButtressedWallStructure,
                   ArchBridgeStructure, Arch3dStructure, Wall3dStructure, Pier3dStructure,
-                  Bridge3dStructure, MeshStructure, LawSpec, Loads, PointLoad, Settlement,
+                  Bridge3dStructure, MeshStructure, LawSpec, MaterialSpec, Loads, PointLoad,
+                  Settlement,
                   GroundMotionSpec, FemaP695Spec, FloodSpec, SolverSpec, DetectionSpec,
                   OutputSpec):
         for key in model.model_fields:

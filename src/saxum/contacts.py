@@ -4,6 +4,8 @@ A contact alpha joins a candidate body (which carries the contact point) and an 
 (which carries the frame). In 2D the frame is (t, n), n the antagonist's outward face normal and
 t = (n_y, -n_x), so that (t, n) is right-handed; local vectors are stored as (t, n) components.
 Each point carries the `area` of the contact face it stands for, which laws in stresses need.
+A side is a rigid body or nodes of a deformable block (`side_kind`, design-deformable-and-
+joints.md section 3).
 `key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
 of the common segment), so that the solver can start from the previous impulses. Detection
 writes contacts in increasing key order, which makes matching a linear merge.
@@ -48,6 +50,15 @@ class Contacts:
         contact share its overlap (the part within the alert distance), so a joint's areas sum
         to its overlap length (2D) or polygon area (3D); a vertex against a face gets a small
         area, an edge against an edge (3D) none (saxum.detection.polygons, .polyhedra)."""
+        self.side_kind = np.zeros((capacity, 2), dtype=np.int8)
+        """Kind of the (candidate, antagonist) sides: 0 a rigid body, 1 nodes of a deformable
+        block (saxum.bodies.fe), shape [capacity, 2], int8."""
+        self.side_node = np.zeros((capacity, 2, d), dtype=np.int32)
+        """FE sides: the nodes whose velocities make the side's material point (a candidate:
+        one boundary node), shape [capacity, 2, dim], int32."""
+        self.side_weight = np.zeros((capacity, 2, d))
+        """FE sides: the shape-function weights of side_node at the point [-] (a candidate
+        node: 1), shape [capacity, 2, dim]."""
 
     def reserve(self, capacity: int) -> None:
         """Make room for `capacity` contacts; existing rows are kept."""
@@ -61,7 +72,7 @@ class Contacts:
     @staticmethod
     def _fields() -> tuple[str, ...]:
         return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse",
-                "area")
+                "area", "side_kind", "side_node", "side_weight")
 
     def copy(self) -> "Contacts":
         """A deep copy of the valid rows."""

@@ -23,7 +23,9 @@ from typing import Protocol
 
 import numpy as np
 
+from .bodies.fe import FEBodies, build_fe_bodies
 from .errors import InputError, plain
+from .fe.material import Elastic
 from .geometry2d import normalize_polygon, polygon_properties
 from .geometry3d import (
     Polyhedron,
@@ -64,11 +66,14 @@ class FieldLoad(Protocol):
 
 
 class BodyKind(IntEnum):
-    """FREE bodies move under forces and contacts; FIXED never move; DRIVEN follow a Motion."""
+    """FREE bodies move under forces and contacts; FIXED never move; DRIVEN follow a Motion;
+    DEFORMABLE blocks are finite-element meshes (saxum.bodies.fe), whose body row holds their
+    co-rotated frame."""
 
     FREE = 0
     FIXED = 1
     DRIVEN = 2
+    DEFORMABLE = 3
 
 
 @dataclass(frozen=True)
@@ -148,6 +153,8 @@ class Model:
     edge_face: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int32))
     """3D: the faces left and right of each edge (from its first vertex to its second, seen
     from outside), indices into the face arrays, shape [edge_count, 2], int32."""
+    fe: "FEBodies | None" = None
+    """The deformable blocks' meshes and matrices (saxum.bodies.fe), None if there are none."""
     max_vertices: int = field(init=False)
 
     def __post_init__(self) -> None:
@@ -186,6 +193,8 @@ class _Block:
     group: str
     kind: BodyKind
     motion: Motion | None
+    material: Elastic | None = None
+    mesh_size: float | None = None
 
 
 class ModelBuilder:
@@ -246,6 +255,8 @@ class ModelBuilder:
         kind: BodyKind = BodyKind.FREE,
         motion: Motion | None = None,
         name: str | None = None,
+        material: Elastic | None = None,
+        mesh_size: float | None = None,
     ) -> int:
         """Add a convex block; returns its body index.
 
@@ -254,6 +265,9 @@ class ModelBuilder:
         inside the hull means a non-convex block, which is refused).
         density [kg/m^3]: required for FREE blocks, within DENSITY_RANGE; ignored otherwise.
         motion: for DRIVEN blocks, t [s] -> velocity of the centre of mass (see `Motion`).
+        material (2D): an elastic material (saxum.fe.Elastic) makes the block DEFORMABLE, a
+        finite-element mesh of elements of about mesh_size [m] (default: a fifth of the
+        block's smallest side) whose density is the material's.
         """
         index = len(self._blocks)
         name = name if name is not None else f"block {index}"
@@ -262,10 +276,18 @@ class ModelBuilder:
             verts = convex_polyhedron(vertices, name=name)
         else:
             verts = normalize_polygon(vertices, name=name)
+        if material is not None:
+            if kind != BodyKind.FREE or self.dim != 2:
+                raise InputError(f"{name}: only a free 2D block can be deformable (material=); "
+                                 f"this one is {kind.name} in {self.dim}D")
+            kind, density = BodyKind.DEFORMABLE, material.density
+        elif mesh_size is not None:
+            raise InputError(f"{name}: mesh_size is for deformable blocks; give material=")
         low, high = DENSITY_RANGE
-        if kind == BodyKind.FREE and not (math.isfinite(density) and density > 0.0):
+        massive = kind in (BodyKind.FREE, BodyKind.DEFORMABLE)
+        if massive and not (math.isfinite(density) and density > 0.0):
             raise InputError(f"{name}: density must be a finite number > 0 [kg/m^3], got {density}")
-        if kind == BodyKind.FREE and not low <= density <= high:
+        if massive and not low <= density <= high:
             raise InputError(f"{name}: density {density:g} kg/m^3 is outside {low:g} .. {high:g} "
                              "kg/m^3 (masonry is 1000 .. 3000 kg/m^3; is it in kg/m^3?)")
         if kind == BodyKind.DRIVEN and motion is None:
@@ -276,9 +298,33 @@ class ModelBuilder:
             )
         if not group:
             raise InputError(f"{name}: group must be a non-empty name")
-        density = density if kind == BodyKind.FREE else 0.0
-        self._blocks.append(_Block(name, verts, float(density), group, kind, motion))
+        density = density if massive else 0.0
+        self._blocks.append(_Block(name, verts, float(density), group, kind, motion, material,
+                                   mesh_size))
         return index
+
+    def set_material(self, group: str, material: Elastic, mesh_size: float | None = None) -> int:
+        """Make every free block of `group` deformable (2D): a finite-element mesh of elements
+        of about mesh_size [m] (default: a fifth of each block's smallest side) of `material`
+        (saxum.fe.Elastic), whose density replaces the block's. Returns how many blocks."""
+        if self.dim != 2:
+            raise InputError(f"materials: deformable blocks are 2D only, group {group!r} is in "
+                             "a 3D model")
+        if not isinstance(material, Elastic):
+            raise InputError(f"materials: group {group!r} needs a saxum.fe.Elastic material, "
+                             f"got {material!r}")
+        if group not in self.groups:
+            raise InputError(f"materials names group {group!r}, which no block has; groups: "
+                             f"{self.groups}")
+        changed = 0
+        for block in self._blocks:
+            if block.group == group and block.kind in (BodyKind.FREE, BodyKind.DEFORMABLE):
+                block.kind, block.density = BodyKind.DEFORMABLE, material.density
+                block.material, block.mesh_size = material, mesh_size
+                changed += 1
+        if not changed:
+            raise InputError(f"materials: group {group!r} has no free block to make deformable")
+        return changed
 
     def drive(self, name: str, motion: Motion) -> int:
         """Make the FIXED block called `name` (a support) DRIVEN by motion: t [s] -> velocity
@@ -382,11 +428,23 @@ class ModelBuilder:
             field_loads=tuple(self._field_loads),
             dim=self.dim,
             dof=dof,
+            fe=self._deformable(),
             **geometry,
         )
         for load in model.field_loads:
             load.check(model)
         return model
+
+    def _deformable(self) -> "FEBodies | None":
+        """The meshes and matrices of the DEFORMABLE blocks (None if there are none)."""
+        blocks = [(b, blk) for b, blk in enumerate(self._blocks)
+                  if blk.kind == BodyKind.DEFORMABLE]
+        if not blocks:
+            return None
+        return build_fe_bodies([b for b, _ in blocks], [blk.vertices for _, blk in blocks],
+                               [blk.material for _, blk in blocks],
+                               [blk.mesh_size for _, blk in blocks],
+                               [blk.name for _, blk in blocks], len(self._blocks))
 
     def _geometry_2d(self) -> dict:
         """Mass properties and the polygons' vertex and edge arrays, body frame = world axes
@@ -455,7 +513,8 @@ class ModelBuilder:
                     edge_face=np.concatenate(edge_faces).astype(np.int32))
 
     def _check_laws(self, groups: list[str]) -> None:
-        mobile = {blk.group for blk in self._blocks if blk.kind == BodyKind.FREE}
+        mobile = {blk.group for blk in self._blocks
+                  if blk.kind in (BodyKind.FREE, BodyKind.DEFORMABLE)}
         for key in self._laws:
             unknown = [g for g in key if g not in groups]
             if unknown:

@@ -323,6 +323,18 @@ def _finish_axes(ax, look: _Look, title: str) -> None:
                 fontsize=8, color="0.25", zorder=8)
 
 
+def _draw_elements(ax, results, k: int) -> None:
+    """The deformable blocks' triangles at frame k over their polygons, filled by the largest
+    compression (the smallest principal stress, when negative) [MPa], with its colour bar."""
+    cells = results.model["fe_cell_node"]
+    compression = results.stresses(k)["compression"] * 1e-6
+    mappable = ScalarMappable(Normalize(0.0, max(float(compression.max()), 1e-12)), "magma_r")
+    triangles = PolyCollection(results.node_x[k][cells], facecolors=mappable.to_rgba(
+        compression), edgecolors="0.5", linewidths=0.2, zorder=2.5)
+    ax.add_collection(triangles)
+    ax.figure.colorbar(mappable, ax=ax, shrink=0.8, label="largest compression [MPa]")
+
+
 def _colourbar(ax, look: _Look) -> None:
     if look.mappable is not None:
         ax.figure.colorbar(look.mappable, ax=ax, shrink=0.8, label=look.colour_label)
@@ -407,7 +419,8 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     figsize [in] (default: 9 in wide, as tall as the structure needs); saved to `path` at dpi
     when given (figsize * dpi pixels). 3D results: a perspective picture
     (saxum.plot3d.plot_frame_3d), coloured by displacement, with hinge lines and the
-    mechanism's sliding joints."""
+    mechanism's sliding joints. Deformable blocks (results with node positions) are drawn as
+    their meshes, filled by the largest compression [MPa]."""
     k = _frame_index(results, frame)
     if results.dim == 3:
         if thrust_line or ax is not None or colour_by != "displacement":
@@ -426,6 +439,8 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
     slides = None if mechanism is None else np.array(
         [j.centre_of_pressure for j in mechanism.sliding]).reshape(-1, 2)
     handles = _draw_frame(ax, results, k, look, blocks, forces, title, floods, slides=slides)
+    if results.node_x is not None:
+        _draw_elements(ax, results, k)
     if thrust_line:
         handles += _draw_thrust_line(ax, results, k, look, blocks)
     _legend(ax, handles, forces)

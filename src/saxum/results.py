@@ -88,6 +88,12 @@ _CONTACT_FIELDS = {
 }
 """Contact fields in frames and checkpoints; files written before `area` existed lack it, and
 are read and resumed without it."""
+_FE_CONTACT_FIELDS = {
+    "side_kind": (np.int8, lambda d: (2,), "-"),
+    "side_node": (np.int32, lambda d: (2, d), "-"),
+    "side_weight": (np.float64, lambda d: (2, d), "-"),
+}
+"""The contact sides (saxum.contacts), written only for models with deformable blocks."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
           3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
@@ -98,16 +104,18 @@ _STEP_FIELDS = [f.name for f in fields(StepReport)]
 _ROWS = {
     # group: (columns in checksum order, the index column last; ragged parts: (subgroup, its
     # datasets, the column counting each row's entries))
-    "frames": (("step", "body_q", "body_v", "contact_count", "time"),
-               (("contacts", tuple(_CONTACT_FIELDS), "contact_count"),)),
+    "frames": (("step", "body_q", "body_v", "node_x", "node_v", "contact_count", "time"),
+               (("contacts", (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS), "contact_count"),)),
     "steps": (tuple(_STEP_FIELDS), ()),
     "histories": (("step", "body_q", "body_v", "ground_acceleration", "time"), ()),
-    "checkpoints": (("body_q", "body_v", "q_ref", "pair_count", "since_refresh", "refresh_count",
-                     "contact_count", "steps_logged", "time", "step"),
-                    (("contacts", tuple(_CONTACT_FIELDS), "contact_count"),
+    "checkpoints": (("body_q", "body_v", "node_x", "node_v", "q_ref", "pair_count",
+                     "since_refresh", "refresh_count", "contact_count", "steps_logged", "time",
+                     "step"),
+                    (("contacts", (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS), "contact_count"),
                      ("", ("pairs",), "pair_count"))),
 }
-"""What a row of each appended group is, for its CRC-32 (the same order on writing and reading)."""
+"""What a row of each appended group is, for its CRC-32 (the same order on writing and reading);
+node_x, node_v and the contact sides are there only for models with deformable blocks."""
 
 
 def _byte_rows(column: np.ndarray) -> np.ndarray:
@@ -398,8 +406,9 @@ class ResultsWriter:
         _grow(frames, "step", np.int64, (), "-")
         _grow(frames, "body_q", np.float64, (n, nq), q_units)
         _grow(frames, "body_v", np.float64, (n, dof), v_units)
+        _node_datasets(frames, model, 256)
         _grow(frames, "contact_count", np.int64, (), "-")
-        _contact_datasets(frames.create_group("contacts"), dim)
+        _contact_datasets(frames.create_group("contacts"), dim, model.fe is not None)
         _grow(frames, "time", np.float64, (), "s")
 
         steps = f.create_group("steps")
@@ -424,11 +433,12 @@ class ResultsWriter:
         _grow(cp, "time", np.float64, (), "s", chunk=16)
         _grow(cp, "body_q", np.float64, (n, nq), q_units, chunk=1)
         _grow(cp, "body_v", np.float64, (n, dof), v_units, chunk=1)
+        _node_datasets(cp, model, 1)
         _grow(cp, "q_ref", np.float64, (n, nq), q_units, chunk=1)
         for name in ("contact_count", "pair_count", "since_refresh", "refresh_count",
                      "steps_logged"):
             _grow(cp, name, np.int64, (), "-", chunk=16)
-        _contact_datasets(cp.create_group("contacts"), dim)
+        _contact_datasets(cp.create_group("contacts"), dim, model.fe is not None)
         _grow(cp, "pairs", np.int32, (2,), "-", chunk=4096)
         _grow(cp, "step", np.int64, (), "-", chunk=16)
 
@@ -557,8 +567,10 @@ class ResultsWriter:
             self._rows("frames").append({
                 "step": np.array([state.step]), "time": np.array([state.time]),
                 "body_q": state.body_q[None], "body_v": state.body_v[None],
+                "node_x": state.node_x[None], "node_v": state.node_v[None],
                 "contact_count": np.array([c.count]),
-                **{name: getattr(c, name)[: c.count] for name in _CONTACT_FIELDS}})
+                **{name: getattr(c, name)[: c.count]
+                   for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)}})
             self._file.flush()
 
         self._write(write)
@@ -574,12 +586,14 @@ class ResultsWriter:
             self._rows("checkpoints").append({
                 "step": np.array([state.step]), "time": np.array([state.time]),
                 "body_q": state.body_q[None], "body_v": state.body_v[None],
+                "node_x": state.node_x[None], "node_v": state.node_v[None],
                 "q_ref": det["q_ref"][None], "pairs": det["pairs"],
                 **{name: np.array([det[name]])
                    for name in ("pair_count", "since_refresh", "refresh_count")},
                 "contact_count": np.array([c.count]),
                 "steps_logged": np.array([self._file["steps/step"].shape[0]]),
-                **{name: getattr(c, name)[: c.count] for name in _CONTACT_FIELDS}})
+                **{name: getattr(c, name)[: c.count]
+                   for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)}})
             self._file.flush()
 
         self._write(write)
@@ -661,10 +675,31 @@ def _write_model(g: h5py.Group, model) -> None:
     for name, units in fields:
         ds = g.create_dataset(name, data=np.asarray(getattr(model, name)))
         ds.attrs["units"] = units
+    if model.fe is not None:
+        fe = model.fe
+        for name, data, units in (
+                ("fe_body", fe.body, "-"), ("fe_node_x0", fe.node_x0, "m"),
+                ("fe_node_start", np.cumsum([0] + [len(m.nodes) for m in fe.meshes]), "-"),
+                ("fe_cell_node", np.concatenate([m.cells + s for m, s in zip(
+                    fe.meshes, np.cumsum([0] + [len(m.nodes) for m in fe.meshes]),
+                    strict=False)]), "-"),
+                ("fe_cell_start", np.cumsum([0] + [len(m.cells) for m in fe.meshes]), "-"),
+                ("fe_material", np.array([m.row() for m in fe.materials]),
+                 "Pa, -, kg/m^3, 1/s, s, m")):
+            g.create_dataset(name, data=np.asarray(data)).attrs["units"] = units
 
 
-def _contact_datasets(g: h5py.Group, dim: int) -> None:
-    for name, (dtype, tail, units) in _CONTACT_FIELDS.items():
+def _node_datasets(g: h5py.Group, model, chunk: int) -> None:
+    """node_x [m], node_v [m/s] of the deformable blocks' nodes, for models that have them."""
+    if model.fe is not None:
+        nodes = (model.fe.node_count, model.dim)
+        _grow(g, "node_x", np.float64, nodes, "m", chunk=chunk)
+        _grow(g, "node_v", np.float64, nodes, "m/s", chunk=chunk)
+
+
+def _contact_datasets(g: h5py.Group, dim: int, sides: bool = False) -> None:
+    fields = {**_CONTACT_FIELDS, **(_FE_CONTACT_FIELDS if sides else {})}
+    for name, (dtype, tail, units) in fields.items():
         # 2D quantities are per metre of depth, 3D ones are not
         _grow(g, name, dtype, tail(dim), units if dim == 2 else units.replace("/m", ""),
               chunk=4096)
@@ -856,6 +891,10 @@ class Results:
         self.step = fr["step"][: self.frame_count]
         self.body_q = fr["body_q"][: self.frame_count]
         self.body_v = fr["body_v"][: self.frame_count]
+        self.node_x = fr["node_x"][: self.frame_count] if "node_x" in fr else None
+        """Deformable blocks' node positions [m] per frame [frames, nodes, dim] (or None)."""
+        self.node_v = fr["node_v"][: self.frame_count] if "node_v" in fr else None
+        """... and velocities [m/s]."""
         counts = fr["contact_count"][: self.frame_count]
         self._contact_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         st = self.file["steps"]
@@ -903,7 +942,7 @@ class Results:
                 h = g[sub] if sub else g
                 counts = data[columns.index(count)]
                 total = max(0, int(counts.sum()))
-                parts.append(([h[name][:total] for name in names], counts))
+                parts.append(([h[name][:total] for name in names if name in h], counts))
             return _checksums(data, parts) == g["checksum"][:m]
 
         try:
@@ -978,9 +1017,27 @@ class Results:
         k = range(self.frame_count)[frame]
         lo, hi = self._contact_start[k], self._contact_start[k + 1]
         g = self.file["frames/contacts"]
-        out = {name: g[name][lo:hi] for name in _CONTACT_FIELDS if name in g}
+        out = {name: g[name][lo:hi] for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)
+               if name in g}
         out["force"] = out["impulse"] / self.dt
         return out
+
+    def stresses(self, frame: int) -> dict[str, np.ndarray]:
+        """Cell stresses of the deformable blocks at output frame `frame` [Pa], world axes,
+        from the stored node positions (saxum.fe.FEBlocks.stresses): "stress" (sxx, syy, sxy)
+        [cells, 3], "principal" ascending [cells, 2], "compression" and "tension" (the largest
+        of each, >= 0) [cells]; {} without deformable blocks."""
+        if self.node_x is None:
+            return {}
+        if getattr(self, "_fe_blocks", None) is None:
+            from .bodies.fe import stored_blocks
+
+            self._fe_blocks = stored_blocks(self.model)
+        blocks = self._fe_blocks
+        x = self.node_x[range(self.frame_count)[frame]]
+        stress, principal, compression, tension = blocks.stresses(x, *blocks.frames(x))
+        return {"stress": stress, "principal": principal, "compression": compression,
+                "tension": tension}
 
     def vertices(self, body: int, frame: int) -> np.ndarray:
         """World vertices [m] of `body` at output frame `frame`, shape (n, dim)."""
@@ -999,11 +1056,13 @@ class Results:
         start = np.concatenate([[0], np.cumsum(counts)])
         pcounts = cp["pair_count"][:n]
         pstart = np.concatenate([[0], np.cumsum(pcounts)])
-        out = {name: cp[name][k] for name in ("time", "step", "body_q", "body_v", "q_ref",
-                                               "pair_count", "since_refresh", "refresh_count",
-                                               "steps_logged")}
+        out = {name: cp[name][k] for name in ("time", "step", "body_q", "body_v", "node_x",
+                                               "node_v", "q_ref", "pair_count",
+                                               "since_refresh", "refresh_count",
+                                               "steps_logged") if name in cp}
         out["contacts"] = {name: cp["contacts"][name][start[k]:start[k + 1]]
-                           for name in _CONTACT_FIELDS if name in cp["contacts"]}
+                           for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)
+                           if name in cp["contacts"]}
         out["pairs"] = cp["pairs"][pstart[k]:pstart[k + 1]]
         return out
 

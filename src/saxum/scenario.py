@@ -33,6 +33,7 @@ from pydantic import (
 
 from .detection import DetectionSettings
 from .errors import InputError
+from .fe.material import Elastic
 from .laws import ContactLaw, LawKind
 from .model import BodyKind, Model, ModelBuilder
 from .simulation import Simulation
@@ -60,8 +61,9 @@ from .structures import (
 __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
            "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
            "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "FloodSpec",
-           "GroundMotionSpec", "LawSpec", "Loads", "MeshStructure", "OpeningSpec", "OutputSpec",
-           "Pier3dStructure", "PierStructure", "PointLoad", "Scenario", "Settlement",
+           "GroundMotionSpec", "LawSpec", "Loads", "MaterialSpec", "MeshStructure",
+           "OpeningSpec", "OutputSpec", "Pier3dStructure", "PierStructure", "PointLoad",
+           "Scenario", "Settlement",
            "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
            "load_scenario", "parse_scenario"]
 
@@ -547,6 +549,26 @@ class LawSpec(_Strict):
                           restitution=self.restitution)
 
 
+class MaterialSpec(_Strict):
+    """Makes the free blocks of `groups` deformable (2D; saxum.fe.Elastic, docs/scenario.md):
+    Young's modulus E [Pa], Poisson's ratio nu, density [kg/m^3] (replaces the structure's for
+    these blocks), Rayleigh damping (alpha [1/s], beta [s]), thickness [m] for plane stress
+    (default: plane strain), mesh_size [m] (default: a fifth of a block's smallest side)."""
+
+    groups: list[str] = Field(min_length=1)
+    E: Positive
+    nu: Finite
+    density: Positive
+    damping: tuple[Annotated[Real, Field(ge=0.0, allow_inf_nan=False)],
+                   Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]] = (0.0, 0.0)
+    thickness: Positive | None = None
+    mesh_size: Positive | None = None
+
+    def material(self) -> Elastic:
+        return Elastic(self.E, self.nu, self.density, damping=self.damping,
+                       thickness=self.thickness)
+
+
 Vector = tuple[Finite, Finite] | tuple[Finite, Finite, Finite]
 """A direction or vector: 2 components in 2D, 3 in 3D (z vertical)."""
 
@@ -898,6 +920,7 @@ class Scenario(_Strict):
     title: str = ""
     structure: Structure
     laws: list[LawSpec] = Field(min_length=1)
+    materials: list[MaterialSpec] = []
     loads: Loads = Loads()
     solver: SolverSpec = SolverSpec()
     detection: DetectionSpec = DetectionSpec()
@@ -963,6 +986,12 @@ class Scenario(_Strict):
         dim = self.structure.dim
         builder = ModelBuilder(dim=dim, gravity=self.loads.gravity_for(dim))
         self.structure.add_to(builder)
+        for i, spec in enumerate(self.materials):
+            for group in spec.groups:
+                try:
+                    builder.set_material(group, spec.material(), spec.mesh_size)
+                except InputError as error:
+                    raise InputError(f"materials[{i}]: {error}") from None
         _set_laws(builder, self.laws)
         self.loads.add_to(builder)
         return builder.finalize()

@@ -10,12 +10,14 @@ predicted and updated positions, rows of H*, kinetic energy) comes from the body
 (saxum.bodies), so a new kind of body is one module, not a change of the loop.
 """
 
+import logging
 import math
 import warnings
 
 import numpy as np
 
 from .bodies import rigid as rigid_kind
+from .bodies.fe import FEKind
 from .contacts import Contacts
 from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
@@ -26,6 +28,8 @@ from .state import State
 from .steplog import StepLog, StepReport
 
 __all__ = ["Simulation"]
+
+_log = logging.getLogger(__name__)
 
 
 class Simulation:
@@ -54,6 +58,15 @@ class Simulation:
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
+        self.fe = None if model.fe is None else FEKind(model.fe, dt, theta)
+        """The deformable blocks' body kind (saxum.bodies.fe), None without them."""
+        self.problem.fe = self.fe
+        if self.fe is not None:
+            if not isinstance(self.solver, NLGS):
+                raise InputError("a model with deformable blocks is solved by NLGS only; "
+                                 "use solver.kind = \"nlgs\" (the default)")
+            _log.info("deformable blocks: the rest solution, load following and the position "
+                      "projection are skipped (they are written for rigid blocks)")
         n, dof = model.body_count, model.dof
         self._force = np.zeros((n, dof))
         self._v = np.zeros((n, dof))
@@ -109,9 +122,13 @@ class Simulation:
         time, step = float(saved["time"]), int(saved["step"])
         # exact for runs from t = 0 (time is then the float k h itself)
         start = time - step * self.integrator.dt
-        return State(time=time, body_q=np.array(saved["body_q"]),
-                     body_v=np.array(saved["body_v"]), contacts=contacts,
-                     step=step, start_time=start)
+        state = State(time=time, body_q=np.array(saved["body_q"]),
+                      body_v=np.array(saved["body_v"]), contacts=contacts,
+                      step=step, start_time=start)
+        if self.fe is not None:
+            state.node_x = np.array(saved["node_x"])
+            state.node_v = np.array(saved["node_v"])
+        return state
 
     def external_force(self, t: float, out: np.ndarray, q: np.ndarray | None = None) -> None:
         """out = F(t) [N, N m] per body and dof: weight, uniform accelerations, applied forces
@@ -128,11 +145,7 @@ class Simulation:
         theta = self.integrator.theta
         out[:] = self._weight
         for acc in self.model.accelerations:
-            if t1 > t0 and hasattr(acc, "mean_over"):
-                a = acc.mean_over(t0, t1)
-            else:
-                a0, a1 = acc(t0), acc(t1)
-                a = [(1.0 - theta) * a0[d] + theta * a1[d] for d in range(self.model.dim)]
+            a = self._step_acceleration(acc, t0, t1)
             for d in range(self.model.dim):
                 out[:, d] += self._free_mass * a[d]
         for bodies, force in self.model.forces:
@@ -141,6 +154,22 @@ class Simulation:
             np.add.at(out, bodies, (1.0 - theta) * f0 + theta * f1)
         for load in self.model.field_loads:
             load.add(self.model, q, t0 + theta * (t1 - t0), out)
+
+    def _step_acceleration(self, acc, t0: float, t1: float):
+        """A uniform acceleration's value for the step [t0, t1] [m/s^2] (see _step_force)."""
+        if t1 > t0 and hasattr(acc, "mean_over"):
+            return acc.mean_over(t0, t1)
+        theta = self.integrator.theta
+        a0, a1 = acc(t0), acc(t1)
+        return [(1.0 - theta) * a0[d] + theta * a1[d] for d in range(self.model.dim)]
+
+    def _node_acceleration(self, t0: float, t1: float) -> np.ndarray:
+        """Gravity plus the model's uniform accelerations over the step [m/s^2], which act on
+        the deformable blocks' nodes (forces and field loads act on rigid blocks only)."""
+        a = self.model.gravity.copy()
+        for acc in self.model.accelerations:
+            a += np.asarray(self._step_acceleration(acc, t0, t1), dtype=np.float64)
+        return a
 
     def step(self, state: State) -> StepReport:
         """Advance `state` in place by one time step; returns the step's report."""
@@ -161,9 +190,16 @@ class Simulation:
             kin.driven_velocity(state.body_q, driven, self._v_free)
         self._v[:] = self._v_free
         kin.predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)
+        fe = self.fe
+        if fe is not None:
+            fe.free_velocity(state.node_x, state.node_v, self._node_acceleration(state.time, t1))
+            fe.predict(state.node_x, state.node_v)
 
         contacts = self._spare
-        self.detector.detect(self._q_pred, contacts)
+        if fe is None:
+            self.detector.detect(self._q_pred, contacts)
+        else:
+            self.detector.detect(self._q_pred, contacts, fe.x_pred)
         contacts.warm_start_from(state.contacts)
         problem = self.problem
         problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
@@ -172,7 +208,11 @@ class Simulation:
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)
-        projected = self.projection.project(problem, self.solver, h, depth)
+        if fe is None:
+            projected = self.projection.project(problem, self.solver, h, depth)
+        else:
+            fe.update(state.node_x, state.node_v, state.body_q)
+            projected = None
         if projected is not None:
             w = self.projection.pseudo_velocity
             kin.update_positions(state.body_q, w, w, h, 1.0)
@@ -183,6 +223,8 @@ class Simulation:
         state.step += 1
 
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
+        if fe is not None:
+            energy += fe.kinetic_energy(state.node_v)
         if not math.isfinite(energy):
             raise SimulationError(
                 f"velocities became NaN or infinite at step {state.step} (t = {t1:g} s); "

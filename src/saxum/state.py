@@ -1,6 +1,6 @@
 """The state: where the structure is now (time, coordinates, velocities, contact impulses)."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -17,7 +17,9 @@ class State:
     both shape [body_count, 3] (3D: body_q [body_count, 7], body_v [body_count, 6], see
     saxum.model), and the contacts of the last step with their impulses. `step` counts the
     steps since `start_time` [s]: step k ends at start_time + k h, computed from k rather than
-    summed, so that frame times carry no accumulated round-off."""
+    summed, so that frame times carry no accumulated round-off. Deformable blocks
+    (saxum.bodies.fe) add their node positions node_x [m] and velocities node_v [m/s], shape
+    [node_count, dim] (empty without them)."""
 
     time: float
     body_q: np.ndarray
@@ -25,6 +27,8 @@ class State:
     contacts: Contacts
     step: int = 0
     start_time: float = 0.0
+    node_x: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    node_v: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
     @classmethod
     def initial(cls, model: Model, *, time: float = 0.0) -> "State":
@@ -35,9 +39,11 @@ class State:
             body_v[model.body_motion == k] = np.asarray(motion(time), dtype=np.float64)
         bodies.rigid(model.dim).driven_velocity(
             model.body_q0, np.flatnonzero(model.body_motion >= 0), body_v)
+        nodes = np.zeros((0, model.dim)) if model.fe is None else model.fe.node_x0
         return cls(time=time, body_q=model.body_q0.copy(), body_v=body_v,
-                   contacts=Contacts(model.dim), start_time=time)
+                   contacts=Contacts(model.dim), start_time=time, node_x=nodes.copy(),
+                   node_v=np.zeros_like(nodes))
 
     def copy(self) -> "State":
         return State(self.time, self.body_q.copy(), self.body_v.copy(), self.contacts.copy(),
-                     self.step, self.start_time)
+                     self.step, self.start_time, self.node_x.copy(), self.node_v.copy())

@@ -6,13 +6,19 @@
     directory/<stem>/blocks_<frame>.vtu     part 0: one polygon cell per block
     directory/<stem>/contacts_<frame>.vtu   part 1: one vertex cell per contact
 
+and, for results with deformable blocks (2D), part 2:
+
+    directory/<stem>/elements_<frame>.vtu   their triangle meshes, with node displacement and
+                                            velocity and cell stresses [Pa] (Results.stresses)
+
 where <stem> is the results file's name without its suffix and <frame> the output frame index
 (6 digits). Points are 3D (z = 0 for 2D results) and vectors have 3 components. Blocks carry cell
 data: displacement [m] of the centre of mass from its initial position, velocity [m/s], rotation
 [rad] from the initial orientation, angular_velocity [rad/s], body_index, body_kind (0 free,
-1 fixed, 2 driven). Contacts carry point data: normal_force and tangential_force [N/m] (mean
-over the step, impulse / dt), force [N/m] (world vector R_t t + R_n n), normal (unit, world),
-gap [m], candidate and antagonist (body indices); use ParaView's Glyph filter on force.
+1 fixed, 2 driven, 3 deformable: its polygon moved by its co-rotated frame). Contacts carry
+point data: normal_force and tangential_force [N/m] (mean over the step, impulse / dt), force
+[N/m] (world vector R_t t + R_n n), normal (unit, world), gap [m], candidate and antagonist
+(body indices); use ParaView's Glyph filter on force.
 
 3D results: each block is written as its polygonal faces (one polygon cell per face, every face
 carrying its block's data, so that ParaView's Threshold on body_index picks whole blocks);
@@ -58,8 +64,10 @@ def export_vtk(results: Results | str | os.PathLike, directory: str | os.PathLik
                             byte_order="LittleEndian")
     datasets = ET.SubElement(collection, "Collection")
     for k in selected:
-        for part, (name, mesh) in enumerate((("blocks", blocks(results, k)),
-                                             ("contacts", _contacts(results, k)))):
+        parts = [("blocks", blocks(results, k)), ("contacts", _contacts(results, k))]
+        if results.node_x is not None:
+            parts.append(("elements", _elements(results, k)))
+        for part, (name, mesh) in enumerate(parts):
             file = f"{stem}/{name}_{k:06d}.vtu"
             # A frame without contacts goes uncompressed: meshio's zlib header for 0 bytes
             # claims a last block of 32768 bytes.
@@ -136,6 +144,24 @@ def _faces(res: Results, k: int) -> meshio.Mesh:
         for name, a in body_data.items():
             data[name].append(a[owner[faces]])
     return meshio.Mesh(points, cells, cell_data=data)
+
+
+def _elements(res: Results, k: int) -> meshio.Mesh:
+    """The deformable blocks' meshes at output frame k: triangle cells over the nodes [m],
+    with point data displacement [m] and velocity [m/s], cell data stress (sxx, syy, sxy) and
+    principal (ascending) [Pa], compression and tension (the largest of each, >= 0) [Pa] and
+    body_index."""
+    m = res.model
+    stresses = res.stresses(k)
+    owner = m["fe_body"][np.repeat(np.arange(len(m["fe_body"])), np.diff(m["fe_cell_start"]))]
+    cell_data = {"stress": [_pad3(stresses["stress"])],
+                 "principal": [_pad3(stresses["principal"])],
+                 "compression": [stresses["compression"]], "tension": [stresses["tension"]],
+                 "body_index": [owner.astype(np.int32)]}
+    point_data = {"displacement": _pad3(res.node_x[k] - m["fe_node_x0"]),
+                  "velocity": _pad3(res.node_v[k])}
+    return meshio.Mesh(_pad3(res.node_x[k]), [("triangle", m["fe_cell_node"])],
+                       point_data=point_data, cell_data=cell_data)
 
 
 def _contacts(res: Results, k: int) -> meshio.Mesh:

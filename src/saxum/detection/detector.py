@@ -12,6 +12,7 @@ from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
+from .fe_nodes import node_contacts
 from .polygons import polygon_contacts
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
 
@@ -59,7 +60,7 @@ class Detector:
 
     def __init__(self, model: Model, settings: DetectionSettings | None = None) -> None:
         settings = settings or DetectionSettings()
-        free = model.body_kind == BodyKind.FREE
+        free = np.isin(model.body_kind, (BodyKind.FREE, BodyKind.DEFORMABLE))
         scale = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
         self.model = model
         self.alert = settings.alert if settings.alert is not None else 0.02 * scale
@@ -96,9 +97,14 @@ class Detector:
         self.refresh_count = 0
         self.kept_faces = 0
         """Pairs of the last detection whose choice of faces was kept (polygon_contacts)."""
+        self._fe_pairs = np.empty((0, 2), dtype=np.int32)
+        """Pairs with a deformable block (saxum.detection.fe_nodes), split off the broad
+        phase's list, which keeps the rigid pairs."""
 
-    def detect(self, q: np.ndarray, contacts: Contacts) -> None:
-        """Fill `contacts` (impulses untouched) with the contacts of configuration q."""
+    def detect(self, q: np.ndarray, contacts: Contacts, node_x: np.ndarray | None = None) -> None:
+        """Fill `contacts` (impulses untouched) with the contacts of configuration q and, for
+        deformable blocks, node positions node_x [m] (default: the reference ones)."""
+        self._node_x = node_x
         self._world_geometry(q)
         moved = self._motion_since_refresh(q)
         refresh = self._since_refresh >= self.refresh_every or moved > 0.5 * self.margin
@@ -129,6 +135,31 @@ class Detector:
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
+        contacts.side_kind[: contacts.count] = 0
+        if m.fe is not None:
+            self._node_contacts(q, contacts)
+
+    def _node_contacts(self, q: np.ndarray, contacts: Contacts) -> None:
+        """Append the contacts of deformable blocks' boundary nodes, in increasing key order."""
+        m = self.model
+        fe = m.fe
+        node_x = fe.node_x0 if self._node_x is None else self._node_x
+        first = contacts.count
+        room = int(np.diff(fe.boundary_start).max()) + m.max_vertices
+        contacts.reserve(first + len(self._fe_pairs) * room)
+        key_base = 4 * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
+        count = node_contacts(
+            self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
+            fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
+            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
+            first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
+            contacts.side_node, contacts.side_weight)
+        order = first + np.argsort(contacts.key[first:count], kind="stable")
+        for name in contacts._fields():
+            array = getattr(contacts, name)
+            array[first:count] = array[order]
+        contacts.count = count
 
     def _refresh(self, q: np.ndarray) -> None:
         m = self.model
@@ -144,15 +175,28 @@ class Detector:
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
         sort_pairs(self._pairs, count, m.body_count)
+        if m.fe is not None:
+            count = self._split_deformable(count)
         self.pair_count = count
         self._q_ref[:] = q
         self._since_refresh = 0
         self.refresh_count += 1
 
+    def _split_deformable(self, count: int) -> int:
+        """Move the pairs with a deformable block out of the first `count` pairs into
+        _fe_pairs, keeping the order of both; returns how many are left."""
+        deformable = (self.model.fe.fe_index[self._pairs[:count]] >= 0).any(axis=1)
+        self._fe_pairs = self._pairs[:count][deformable].copy()
+        kept = self._pairs[:count][~deformable]
+        self._pairs[: len(kept)] = kept
+        return len(kept)
+
     def checkpoint(self) -> dict:
         """The detector's own state, which a bit-identical restart needs: the broad phase's
-        pair list, the configuration it was built on and the steps since."""
-        return {"pairs": self._pairs[: self.pair_count].copy(), "pair_count": self.pair_count,
+        pair list (with the pairs of deformable blocks after the others), the configuration it
+        was built on and the steps since."""
+        pairs = np.concatenate((self._pairs[: self.pair_count], self._fe_pairs))
+        return {"pairs": pairs, "pair_count": len(pairs),
                 "q_ref": self._q_ref.copy(), "since_refresh": self._since_refresh,
                 "refresh_count": self.refresh_count}
 
@@ -162,6 +206,8 @@ class Detector:
         if len(self._pairs) < count:
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
         self._pairs[:count] = saved["pairs"]
+        if self.model.fe is not None:
+            count = self._split_deformable(count)
         if len(self._faces) < len(self._pairs):
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))

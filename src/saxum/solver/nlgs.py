@@ -46,6 +46,7 @@ from .equilibrium import rest_solution
 from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
+from .nlgs_fe import nlgs_fe_2d
 from .problem import ContactProblem
 
 __all__ = ["NLGS"]
@@ -105,6 +106,8 @@ class NLGS(ContactSolver):
             self._inv_mass = inv_mass
             self._mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
                                    where=inv_mass > 0.0)
+        if getattr(problem, "fe", None) is not None:
+            return self._solve_deformable(problem, impulse, v_free, v)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         width = 18 if problem.model.dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
@@ -148,6 +151,26 @@ class NLGS(ContactSolver):
             self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
         return SolverReport(iterations=iterations, error=error, converged=converged)
+
+
+    def _solve_deformable(self, problem: ContactProblem, impulse: np.ndarray,
+                          v_free: np.ndarray, v: np.ndarray) -> SolverReport:
+        """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
+        and no load following: both are for rigid blocks (Simulation logs it)."""
+        if self._v_prev.shape != v.shape:
+            self._v_prev = np.empty_like(v)
+        c = problem.contacts
+        kind = problem.fe
+        b = kind.blocks
+        iterations, error = nlgs_fe_2d(
+            c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
+            problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
+            self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
+            c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
+            b.node_mass, kind.v_free, kind.v, np.empty_like(kind.v), self.tolerance,
+            self.max_iterations, self.relaxation)
+        return SolverReport(iterations=iterations, error=error,
+                            converged=error <= self.tolerance)
 
 
 @nb.njit(cache=True)

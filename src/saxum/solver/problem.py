@@ -35,6 +35,9 @@ class ContactProblem:
         self._jacobians = bodies.rigid(model.dim).contact_jacobians
         self._written_out = model.dim == 2 and model.dof == 3
         """Use the kernels written out for 2D (False: the generic ones, which tests compare)."""
+        self.fe = None
+        """The deformable body kind (saxum.bodies.fe.FEKind) when the model has deformable
+        blocks: their contacts' rows, Delassus blocks and node velocities."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -77,6 +80,8 @@ class ContactProblem:
                          m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
                          m.law_restitution, h, theta, closed_gap, c.impulse, v, self.h_cand,
                          self.h_ant, self.delassus, self.bias, self.friction, self.active)
+            if self.fe is not None:
+                self.fe.assemble_contacts(self, v)
             return
         self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k, self.h_cand,
                         self.h_ant)
@@ -93,6 +98,8 @@ class ContactProblem:
         (saxum.solver.projection) when w is given. Returns (contacts with R_n > 0, largest
         interpenetration -gap_end [m], 0 if none)."""
         c = self.contacts
+        if self.fe is not None:
+            return self.fe.end_gaps(self, impulse, v, w, h, theta)
         h_w = 0.0 if w is None else h
         w = v if w is None else w
         kernel = _end_gaps_2d if self._written_out else _end_gaps

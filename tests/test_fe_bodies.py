@@ -1,0 +1,284 @@
+"""Deformable blocks as a body kind (issue 14): model, detection of node contacts, the loop's
+guards. Physics validation: tests/validation/test_fe_*.py."""
+
+import textwrap
+
+import numpy as np
+import pytest
+
+import saxum as sx
+from saxum.fe import Elastic
+from saxum.model import BodyKind, ModelBuilder
+from saxum.simulation import Simulation
+from saxum.solver.hybrid import Hybrid
+
+STONE = Elastic(1.0e9, 0.2, 2400.0)
+
+
+def _block_on_ground(width=0.4, solver=None):
+    b = ModelBuilder()
+    b.add_block([(-1, -0.2), (1, -0.2), (1, 0), (-1, 0)], kind=BodyKind.FIXED, group="ground")
+    b.add_block([(0, 0), (width, 0), (width, 0.2), (0, 0.2)], material=STONE, mesh_size=0.05,
+                group="block")
+    law = sx.ContactLaw(friction=0.6)
+    b.set_law("block", "ground", law)
+    b.set_law("block", "block", law)
+    model = b.finalize()
+    return model, Simulation(model, dt=1e-3, **({} if solver is None else {"solver": solver}))
+
+
+def test_material_makes_a_deformable_body():
+    model, _ = _block_on_ground()
+    assert model.body_kind[1] == BodyKind.DEFORMABLE
+    assert model.fe.count == 1 and model.fe.body[0] == 1
+    assert not model.body_inv_mass[1].any()  # the rigid kernels leave its body row alone
+    assert model.body_mass[1] == pytest.approx(2400.0 * 0.4 * 0.2, rel=1e-12)
+
+
+def test_mesh_size_without_material_is_refused():
+    b = ModelBuilder()
+    with pytest.raises(sx.InputError, match="mesh_size"):
+        b.add_block([(0, 0), (1, 0), (1, 1), (0, 1)], density=2000.0, mesh_size=0.1)
+
+
+def test_deformable_3d_block_is_refused():
+    b = ModelBuilder(dim=3)
+    cube = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    with pytest.raises(sx.InputError, match="deformable"):
+        b.add_block(cube, material=STONE)
+
+
+def test_node_contacts_on_the_ground():
+    """The bottom nodes touch the ground: one contact each, FE candidate side, keys increasing,
+    areas summing to the block's width."""
+    model, sim = _block_on_ground(width=0.4)
+    state = sim.initial_state()
+    sim.step(state)
+    c = state.contacts
+    n = c.count
+    bottom = np.flatnonzero(np.abs(model.fe.node_x0[:, 1]) < 1e-12)
+    assert n == len(bottom)
+    assert (c.side_kind[:n, 0] == 1).all() and (c.side_kind[:n, 1] == 0).all()
+    assert sorted(c.side_node[:n, 0, 0]) == sorted(bottom)
+    assert (np.diff(c.key[:n]) > 0).all()
+    assert c.area[:n].sum() == pytest.approx(0.4, rel=1e-12)
+    assert (c.impulse[:n, 1] > 0.0).all()
+
+
+def test_only_nlgs_solves_deformable_models():
+    with pytest.raises(sx.InputError, match="NLGS"):
+        _block_on_ground(solver=Hybrid())
+
+
+def _stack(top_material):
+    """A 0.4 x 0.2 deformable block on the ground and a 0.2 x 0.2 block centred on it,
+    deformable or rigid (top_material None); settled for 0.3 s with damping."""
+    b = ModelBuilder()
+    b.add_block([(-1, -0.2), (1, -0.2), (1, 0), (-1, 0)], kind=BodyKind.FIXED, group="ground")
+    damped = Elastic(1.0e7, 0.2, 2000.0, damping=(0.0, 0.005))
+    b.add_block([(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)], material=damped, mesh_size=0.05,
+                group="base")
+    corners = [(0.1, 0.2), (0.3, 0.2), (0.3, 0.4), (0.1, 0.4)]
+    if top_material is None:
+        b.add_block(corners, density=2000.0, group="top")
+    else:
+        b.add_block(corners, material=top_material, mesh_size=0.05, group="top")
+    law = sx.ContactLaw(friction=0.6)
+    for g1, g2 in [("base", "ground"), ("base", "base"), ("top", "base"), ("top", "top"),
+                   ("top", "ground")]:
+        b.set_law(g1, g2, law)
+    model = b.finalize()
+    sim = Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.3)
+    c = state.contacts
+    n = c.count
+    on_ground = c.antagonist[:n] == 0
+    weight = 9.81 * 2000.0 * np.array([0.08, 0.04])
+    upward = (c.impulse[:n, 0] * c.frame[:n, 0, 1] + c.impulse[:n, 1] * c.frame[:n, 1, 1]) / 1e-3
+    on_top = np.where(c.candidate[:n] == 2, upward, -upward)  # the force on the top block
+    return upward, on_top, on_ground, weight, state
+
+
+@pytest.mark.parametrize("top", ["deformable", "rigid"])
+def test_stack_carries_its_weight(top):
+    """The ground carries both blocks' weight, the interface the top block's (the vertical
+    component of the contact forces [N/m], within 1 %,
+    once the damped vibration has settled); a rigid top block rests on the deformable one's
+    nodes (node against its edge) and corners (its vertices against the facets)."""
+    material = Elastic(1.0e7, 0.2, 2000.0, damping=(0.0, 0.005)) if top == "deformable" else None
+    upward, on_top, on_ground, weight, state = _stack(material)
+    assert upward[on_ground].sum() == pytest.approx(weight.sum(), rel=0.01)
+    assert on_top[~on_ground].sum() == pytest.approx(weight[1], rel=0.01)
+    if top == "rigid":
+        assert np.abs(state.body_v[2]).max() < 1e-3
+
+
+def test_scenario_materials_make_groups_deformable():
+    """[[materials]] groups = [...] turns the free blocks of those groups into deformable
+    ones with the material's density; a wrong group or a bad modulus names the table."""
+    from saxum.scenario import parse_scenario
+
+    text = textwrap.dedent("""\
+        [structure]
+        type = "semicircular_arch"
+        radius = 1.0
+        thickness = 0.15
+        voussoirs = 5
+
+        [[laws]]
+        groups = ["*", "*"]
+        friction = 0.6
+
+        [[materials]]
+        groups = ["voussoir"]
+        E = 1.0e10
+        nu = 0.2
+        density = 2400.0
+        mesh_size = 0.05
+
+        [output]
+        duration = 0.01
+        """)
+    model = parse_scenario(text).build_model()
+    voussoirs = [b for b, name in enumerate(model.body_name) if "voussoir" in name]
+    assert model.fe.count == len(voussoirs) == 5
+    assert (model.body_kind[voussoirs] == BodyKind.DEFORMABLE).all()
+    assert (model.body_density[voussoirs] == 2400.0).all()
+    with pytest.raises(sx.InputError, match=r"materials\[0\].*'pier'"):
+        parse_scenario(text.replace('groups = ["voussoir"]', 'groups = ["pier"]')).build_model()
+    with pytest.raises(sx.InputError, match=r"line 13: materials\[0\]\.E"):
+        parse_scenario(text.replace("E = 1.0e10", "E = -1.0")).build_model()
+    with pytest.raises(sx.InputError, match=r"materials\[0\]: .*Poisson's ratio"):
+        parse_scenario(text.replace("nu = 0.2", "nu = 0.7")).build_model()
+
+
+PIER = textwrap.dedent("""\
+    [structure]
+    type = "pier"
+    width = 0.3
+    height = 0.6
+    courses = 2
+
+    [[laws]]
+    groups = ["*", "*"]
+    friction = 0.6
+
+    [[materials]]
+    groups = ["pier"]
+    E = 1.0e7
+    nu = 0.2
+    density = 2000.0
+    damping = [0.0, 0.002]
+    mesh_size = 0.075
+
+    [solver]
+    dt = 1e-3
+
+    [output]
+    duration = 0.06
+    interval = 0.01
+    checkpoint_interval = 0.02
+    """)
+
+
+def test_results_and_restart_are_bit_identical(tmp_path):
+    """A run of two deformable courses on the ground writes the nodes and the contact sides in
+    its frames and checkpoints; restarting from a checkpoint in the middle gives the last
+    frame bit for bit (two runs on this machine, as tests/results_check.py compares)."""
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+
+    scenario = parse_scenario(PIER)
+    path = tmp_path / "pier.h5"
+    run_scenario(scenario, path, quiet=True)
+    with Results(path) as r:
+        assert r.node_x.shape == (r.frame_count, scenario.build_model().fe.node_count, 2)
+        last = {"node_x": r.node_x[-1], "node_v": r.node_v[-1], "body_q": r.body_q[-1]}
+        contacts = r.contacts(r.frame_count - 1)
+        assert (contacts["side_kind"][:, 0] == 1).all()  # every contact has a node candidate
+        saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 40)[0]))
+    sim = scenario.build_simulation()
+    state = sim.restore(saved)
+    for _ in range(20):
+        sim.step(state)
+    for name, value in last.items():
+        assert np.array_equal(getattr(state, name), value), name
+    c = state.contacts
+    for name, value in contacts.items():
+        if name != "force":
+            assert np.array_equal(getattr(c, name)[: c.count], value), name
+
+
+def test_stresses_in_results_and_paraview_export(tmp_path):
+    """Results.stresses gives the cell stresses of the stored nodes (the same as the run's
+    own), the piers are compressed on average, and the ParaView export writes the triangle
+    meshes with them as a third part."""
+    import meshio
+
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+    from saxum.vtk import export_vtk
+
+    scenario = parse_scenario(PIER)
+    path = tmp_path / "pier.h5"
+    run_scenario(scenario, path, quiet=True)
+    sim = scenario.build_simulation()
+    state = sim.initial_state()
+    sim.run(state, 0.06)
+    with Results(path) as r:
+        stored = r.stresses(-1)
+        blocks = sim.fe.blocks
+        own = blocks.stresses(state.node_x, *blocks.frames(state.node_x))[0]
+        assert np.array_equal(stored["stress"], own)
+        assert stored["stress"][:, 1].mean() < 0.0  # sigma_yy: compression under the weight
+        assert (stored["compression"] >= 0.0).all() and (stored["tension"] >= 0.0).all()
+        pvd = export_vtk(r, tmp_path / "vtk", frames=[-1])
+        k = r.frame_count - 1
+    assert f"elements_{k:06d}.vtu" in pvd.read_text()
+    mesh = meshio.read(tmp_path / "vtk" / "pier" / f"elements_{k:06d}.vtu")
+    assert mesh.cells_dict["triangle"].shape == (len(stored["stress"]), 3)
+    assert np.allclose(mesh.cell_data["compression"][0], stored["compression"], rtol=1e-12,
+                       atol=0.0)
+
+
+def test_plot_draws_the_meshes_by_compression(tmp_path):
+    """saxum plot of a run with deformable blocks fills their triangles by the largest
+    compression, with a colour bar in MPa."""
+    from matplotlib.collections import PolyCollection
+
+    from saxum.plot import plot_frame
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+
+    path = tmp_path / "pier.h5"
+    run_scenario(parse_scenario(PIER), path, quiet=True)
+    with Results(path) as r:
+        fig = plot_frame(r, -1, tmp_path / "pier.png")
+        cells = len(r.model["fe_cell_node"])
+    ax = fig.axes[0]
+    meshes = [c for c in ax.collections
+              if isinstance(c, PolyCollection) and len(c.get_paths()) == cells]
+    assert len(meshes) == 1
+    assert any(a.get_ylabel() == "largest compression [MPa]" for a in fig.axes[1:])
+    assert (tmp_path / "pier.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("size, match", [(5.0, "larger than the block"),
+                                         (0.001, "nodes, more than max_nodes")])
+def test_bad_mesh_size_names_the_block(size, match):
+    b = ModelBuilder()
+    b.add_block([(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)], material=STONE, mesh_size=size,
+                name="keystone")
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    with pytest.raises(sx.InputError, match=f"keystone: mesh size.*{match}"):
+        b.finalize()
+
+
+def test_a_fixed_block_cannot_be_deformable():
+    with pytest.raises(sx.InputError, match="only a free 2D block can be deformable"):
+        ModelBuilder().add_block([(0, 0), (1, 0), (1, 1), (0, 1)], material=STONE,
+                                 kind=BodyKind.FIXED)
