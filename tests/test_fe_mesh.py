@@ -1,9 +1,12 @@
-"""Meshes of deformable blocks: coverage, outward boundary facets, conformity, bad input."""
+"""Meshes of deformable blocks: coverage, outward boundary facets, conformity, quality (least
+angle over random convex polygons), bad input."""
 
 import math
 
+import hypothesis.strategies as st
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
 from scipy.spatial import ConvexHull
 
 from saxum.errors import InputError
@@ -39,7 +42,8 @@ def test_polygon_mesh_covers_the_block_with_outward_boundary(vertices):
     mesh = mesh_polygon(vertices, 0.05)
     _check_2d(mesh, _polygon_area(vertices), np.mean(vertices, axis=0))
     edges = np.linalg.norm(np.diff(mesh.nodes[mesh.cells[:, [0, 1, 2, 0]]], axis=1), axis=2)
-    # Triangle's maximum area sqrt(3)/4 size^2 and 30 degree angles bound the edges
+    # lattice spacing size, boundary spacing <= 3/2 size, lattice >= 0.6 size inside: the
+    # longest edge spans the band between boundary and lattice, well under 2 size
     assert edges.max() < 2.0 * 0.05
 
 
@@ -117,3 +121,61 @@ def test_non_convex_polyhedron_and_bad_cells_are_refused():
         Mesh.from_cells(nodes, [[0, 1, 2], [0, 1, 1], [1, 3, 2]])
     with pytest.raises(InputError, match="outside 0..3"):
         Mesh.from_cells(nodes, [[0, 1, 4], [1, 3, 2]])
+
+
+def _least_angles(nodes, cells):
+    """Least interior angle of each triangle [degrees]."""
+    x = nodes[cells]
+    angles = []
+    for k in range(3):
+        u, w = x[:, (k + 1) % 3] - x[:, k], x[:, (k + 2) % 3] - x[:, k]
+        cos = np.sum(u * w, axis=1) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1))
+        angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+    return np.min(angles, axis=0)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.floats(0.0, 2.0 * math.pi), min_size=3, max_size=9, unique=True),
+       st.floats(0.15, 1.0), st.floats(-math.pi, math.pi), st.floats(0.05, 1.0),
+       st.floats(0.2, 0.8) | st.none())
+def test_random_convex_polygon_mesh_is_conforming_with_angles_bounded(angles, aspect, turn,
+                                                                      fraction, collinear):
+    """Points on an ellipse (semi-axes 1 m and `aspect` m, turned by `turn`) in angle order are
+    a convex polygon; `collinear` puts an extra vertex on edge 0 at that fraction. Size is the
+    given fraction of the shortest edge. The least angle is bounded by min(20 degrees, a third
+    of the sharpest corner): measured over 2400 random polygons it is >= 0.398 times the
+    sharpest corner and >= 23.8 degrees where no corner is below 30 degrees."""
+    t = np.sort(angles)
+    c, s = math.cos(turn), math.sin(turn)
+    v = np.stack([np.cos(t), aspect * np.sin(t)], axis=1) @ np.array([[c, s], [-s, c]])
+    edge = np.roll(v, -1, axis=0) - v
+    length = np.linalg.norm(edge, axis=1)
+    assume(length.min() > 0.02)
+    cos = -np.sum(np.roll(edge, 1, axis=0) * edge, axis=1) / (np.roll(length, 1) * length)
+    corner = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))).min()
+    assume(corner > 1.0)
+    if collinear is not None:
+        v = np.insert(v, 1, v[0] + collinear * edge[0], axis=0)
+        edge = np.roll(v, -1, axis=0) - v
+        length = np.linalg.norm(edge, axis=1)
+    size = fraction * length.min()
+    assume(2.0 / size < 60)
+    mesh = mesh_polygon(v, size, max_nodes=10_000)
+    _check_2d(mesh, _polygon_area(v), v.mean(axis=0))
+    # every vertex is a node; every facet lies on an edge of the polygon, within it
+    assert np.all(np.linalg.norm(mesh.nodes[None] - v[:, None], axis=2).min(axis=1) == 0.0)
+    x = mesh.nodes[mesh.facets]
+    normal = np.stack([edge[:, 1], -edge[:, 0]], axis=1) / length[:, None]
+    offset = x[:, :, None, :] - v[None, None]
+    across = np.abs(np.einsum("fpkd,kd->fpk", offset, normal)).max(axis=1)
+    along = np.einsum("fpkd,kd->fpk", offset, edge / length[:, None]) / length
+    inside = (along.min(axis=1) >= -1e-12) & (along.max(axis=1) <= 1 + 1e-12)
+    assert np.all(np.any((across <= 1e-12) & inside, axis=1))
+    assert _least_angles(mesh.nodes, mesh.cells).min() >= min(20.0, corner / 3.0)
+
+
+def test_non_convex_polygon_is_refused():
+    chevron = [[0, 0], [0.4, 0.1], [0.8, 0], [0.8, 0.3], [0, 0.3]]
+    with pytest.raises(InputError, match=r"voussoir 2: the polygon is not convex \(vertex 1 "
+                                         r"of the counter-clockwise outline is a reflex corner"):
+        mesh_polygon(chevron, 0.1, name="voussoir 2")

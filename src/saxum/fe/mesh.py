@@ -1,8 +1,8 @@
 """Meshes of deformable blocks: linear triangles (2D) and tetrahedra (3D).
 
-Polygons are meshed with Shewchuk's Triangle (the `triangle` wheel: quality Delaunay, minimum
-angle 30 degrees, maximum area that of the equilateral triangle of side `size`), rectangles
-with a structured grid. Polyhedra: parallelepipeds (bricks) get a structured grid of Kuhn
+Convex polygons are meshed by the Delaunay triangulation (Qhull) of points every ~size along
+the edges and of an equilateral lattice of spacing `size` inside; rectangles get a structured
+grid. Polyhedra: parallelepipeds (bricks) get a structured grid of Kuhn
 tetrahedra (6 per hexahedron, conforming); any other convex polyhedron is coned from its
 centroid over its faces and then refined uniformly by red refinement (J. Bey, "Tetrahedral grid
 refinement", Computing 55 (1995) 355-378: each tetrahedron into 8 through its edge midpoints,
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from itertools import combinations, permutations
 
 import numpy as np
-import triangle
+from scipy.spatial import Delaunay
 
 from saxum.errors import InputError, plain
 
@@ -140,11 +140,17 @@ def _diameter(vertices):
 
 def mesh_polygon(vertices, size: float, max_nodes: int = DEFAULT_MAX_NODES,
                  name: str = "block") -> Mesh:
-    """Triangle mesh of a simple polygon (vertices [k, 2] [m], either orientation) with
-    elements of about `size` [m]: Triangle with minimum angle 30 degrees and maximum area
-    sqrt(3)/4 size^2; a rectangle gets a structured grid of ceil(side / size) cells per side,
-    each square split into two triangles along alternating diagonals. InputError if the size
-    is larger than the block or the mesh would have more than max_nodes nodes."""
+    """Triangle mesh of a convex polygon (vertices [k, 2] [m], either orientation; collinear
+    vertices allowed) with elements of about `size` [m]: boundary points every ~size along each
+    edge, interior points on an equilateral lattice of spacing `size` at least 0.6 size inside,
+    and the Delaunay triangulation of all of them (Qhull through scipy.spatial.Delaunay), whose
+    union is their convex hull, the polygon. Least angle >= min(20 degrees, sharpest corner / 3)
+    for a size below the shortest edge (property-tested); a size above it leaves the triangles
+    at a short edge sharper (down to 11 degrees measured for 1-3 times the shortest edge).
+    A rectangle gets a structured grid of ceil(side / size)
+    cells per side, each square split into two triangles along alternating diagonals.
+    InputError if the polygon crosses itself (a repeated vertex counts) or is not convex, the
+    size is larger than the block or the mesh would have more than max_nodes nodes."""
     vertices = _vertices(name, vertices, 2)
     size = _check_size(name, size, _diameter(vertices))
     crossing = _crossing_edges(vertices)
@@ -160,20 +166,71 @@ def mesh_polygon(vertices, size: float, max_nodes: int = DEFAULT_MAX_NODES,
     rectangle = _rectangle(vertices)
     if rectangle is not None:
         return _structured(name, *rectangle, size, max_nodes)
-    # Triangle's quality meshes have about one node per 2 triangles of the maximum area
-    estimate = int(abs(area) / (math.sqrt(3.0) / 4.0 * size * size) / 2.0)
+    reflex = _reflex_vertex(vertices)
+    if reflex is not None:
+        raise InputError(f"{name}: the polygon is not convex (vertex {reflex} of the "
+                         "counter-clockwise outline is a reflex corner); split it into convex "
+                         "blocks")
+    edge = np.roll(vertices, -1, axis=0) - vertices
+    perimeter = float(np.linalg.norm(edge, axis=1).sum())
+    # the lattice has one node per sqrt(3)/2 size^2 of area, the boundary one per size of length
+    estimate = int(abs(area) / (math.sqrt(3.0) / 2.0 * size * size) + perimeter / size)
     if estimate > 10 * max_nodes:
         _check_count(name, estimate, max_nodes, size, about="about ")
-    k = len(vertices)
-    segments = np.stack([np.arange(k), (np.arange(k) + 1) % k], axis=1)
-    max_area = math.sqrt(3.0) / 4.0 * size * size
-    out = triangle.triangulate({"vertices": vertices, "segments": segments},
-                               f"pq30a{max_area:.17g}Q")
-    if "triangles" not in out or len(out["triangles"]) == 0:
-        raise InputError(f"{name}: Triangle could not mesh the polygon (is it simple, without "
-                         "crossing edges?)")
-    _check_count(name, len(out["vertices"]), max_nodes, size)
-    return Mesh.from_cells(out["vertices"], out["triangles"], name)
+    nodes = np.concatenate([_edge_points(vertices, size), _lattice_points(vertices, size)])
+    _check_count(name, len(nodes), max_nodes, size)
+    cells = Delaunay(nodes).simplices
+    # Qhull returns flat triangles on three collinear boundary points (a vertical facet of the
+    # points lifted onto the paraboloid; in about half the meshes of random polygons) besides
+    # the proper ones on their two edges: they cover nothing and are dropped
+    flat = np.abs(_signed_volumes(nodes, cells)) <= 1e-12 * _diameter(vertices) ** 2
+    return Mesh.from_cells(nodes, cells[~flat], name)
+
+
+def _reflex_vertex(vertices):
+    """Index of a reflex corner of a counter-clockwise polygon (turn to the right beyond
+    round-off), or None; collinear vertices (no turn) are allowed."""
+    edge = np.roll(vertices, -1, axis=0) - vertices
+    length = np.linalg.norm(edge, axis=1)
+    following = np.roll(edge, -1, axis=0)
+    turn = (edge[:, 0] * following[:, 1] - edge[:, 1] * following[:, 0]) / \
+        (length * np.roll(length, -1))
+    bad = np.flatnonzero(turn < -1e-9)
+    return None if len(bad) == 0 else int((bad[0] + 1) % len(vertices))
+
+
+def _edge_points(vertices, size):
+    """The vertices and n - 1 evenly spaced points inside each edge [m], n = length / size
+    rounded to the nearest integer (at least 1): spacings between 2/3 and 3/2 size, which keeps
+    the boundary triangles of an edge just longer than `size` from being halved."""
+    points = []
+    for a, b in zip(vertices, np.roll(vertices, -1, axis=0), strict=True):
+        n = max(1, math.floor(float(np.linalg.norm(b - a)) / size + 0.5))
+        points.append(a + np.arange(n)[:, None] / n * (b - a))
+    return np.concatenate(points)
+
+
+def _lattice_points(vertices, size):
+    """Nodes of an equilateral triangular lattice of spacing `size` [m], with rows parallel to
+    the longest edge of the counter-clockwise convex polygon, that lie at least 0.6 size inside
+    every edge (the distance to a convex polygon's boundary is the least distance to its edge
+    lines). 0.6 rather than 0.5: the least angle over 2400 random convex polygons rose from 21
+    to 24 degrees (corners >= 30 degrees), for a few percent fewer nodes."""
+    edge = np.roll(vertices, -1, axis=0) - vertices
+    length = np.linalg.norm(edge, axis=1)
+    tangent = edge / length[:, None]
+    inward = np.stack([-tangent[:, 1], tangent[:, 0]], axis=1)
+    k = int(np.argmax(length))
+    local = (vertices - vertices[k]) @ np.stack([tangent[k], inward[k]], axis=1)
+    row = math.sqrt(3.0) / 2.0 * size
+    j = np.arange(1, int(local[:, 1].max() / row) + 1)
+    i = np.arange(math.floor(local[:, 0].min() / size) - 1,
+                  math.ceil(local[:, 0].max() / size) + 1)
+    u = (i[None, :] + 0.5 * (j[:, None] % 2)) * size
+    w = np.broadcast_to(j[:, None] * row, u.shape)
+    points = vertices[k] + u.reshape(-1, 1) * tangent[k] + w.reshape(-1, 1) * inward[k]
+    depth = np.min(np.einsum("pkd,kd->pk", points[:, None] - vertices[None], inward), axis=1)
+    return points[depth >= 0.6 * size]
 
 
 def _crossing_edges(vertices):
