@@ -11,8 +11,8 @@ from test_fe_mesh import BRICK, BRICK_FACES
 
 from saxum.fe import Elastic, FEBlocks, damping, mass_stiffness, mesh_polygon, mesh_polyhedron
 
-# A rectangle with an extra vertex on its base is not meshed as a rectangle: Triangle's
-# unstructured mesh, the harder case for a patch test
+# A rectangle with an extra vertex on its base is not meshed as a rectangle: the Delaunay
+# (unstructured) mesh, the harder case for a patch test
 L, H = 0.8, 0.3
 PENTAGON = [[0, 0], [0.37, 0], [L, 0], [L, H], [0, H]]
 RECTANGLE = [[0, 0], [L, 0], [L, H], [0, H]]

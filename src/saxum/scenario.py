@@ -821,7 +821,8 @@ class SolverSpec(_Strict):
     """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
     before a slow step tries the rest solution (0: never); kind: "hybrid" (NLGS that switches to
     the conic fixed point or semismooth Newton where its error stalls or at the cap:
-    saxum.solver.Hybrid), or "nlgs" alone."""
+    saxum.solver.Hybrid), or "nlgs" alone; unset: "hybrid", or "nlgs" for a model with
+    deformable blocks (the conic and Newton attempts are written for rigid blocks)."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
@@ -829,7 +830,7 @@ class SolverSpec(_Strict):
     max_iterations: Count = 5000
     relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0
     rest_after: Annotated[Integer, Field(ge=0)] = 50
-    kind: Literal["nlgs", "hybrid"] = "hybrid"
+    kind: Literal["nlgs", "hybrid"] | None = None
 
 
 class DetectionSpec(_Strict):
@@ -999,9 +1000,11 @@ class Scenario(_Strict):
     def build_simulation(self, model: Model | None = None) -> Simulation:
         """A Simulation of this scenario's model with its solver and detection settings."""
         s, d = self.solver, self.detection
+        model = model if model is not None else self.build_model()
+        kind = s.kind if s.kind is not None else ("nlgs" if model.fe is not None else "hybrid")
         return Simulation(
-            model if model is not None else self.build_model(), dt=s.dt, theta=s.theta,
-            solver=(Hybrid if s.kind == "hybrid" else NLGS)(
+            model, dt=s.dt, theta=s.theta,
+            solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
                 rest_after=s.rest_after),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,

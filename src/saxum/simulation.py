@@ -23,7 +23,14 @@ from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean
 from .model import BodyKind, Model
-from .solver import SOLVER_NAMES, ContactProblem, ContactSolver, Hybrid, PositionProjection
+from .solver import (
+    NLGS,
+    SOLVER_NAMES,
+    ContactProblem,
+    ContactSolver,
+    Hybrid,
+    PositionProjection,
+)
 from .state import State
 from .steplog import StepLog, StepReport
 
@@ -52,7 +59,9 @@ class Simulation:
         self.model = model
         self.kinematics = rigid_kind(model.dim)
         self.integrator = MoreauJean(dt, theta)
-        self.solver = solver if solver is not None else Hybrid()
+        if solver is None:
+            solver = NLGS() if model.fe is not None else Hybrid()
+        self.solver = solver
         self.detector = detector_for(model, detection)
         self.problem = ContactProblem(model)
         self.projection = PositionProjection(model, self.detector.interpenetration)
@@ -64,7 +73,7 @@ class Simulation:
         if self.fe is not None:
             if not isinstance(self.solver, NLGS):
                 raise InputError("a model with deformable blocks is solved by NLGS only; "
-                                 "use solver.kind = \"nlgs\" (the default)")
+                                 "use solver.kind = \"nlgs\" (the default for them)")
             _log.info("deformable blocks: the rest solution, load following and the position "
                       "projection are skipped (they are written for rigid blocks)")
         n, dof = model.body_count, model.dof
