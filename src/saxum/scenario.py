@@ -77,6 +77,7 @@ Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
 Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
 Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[Real, Field(allow_inf_nan=False)]
+NonNegative = Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
 
 LENGTHS = (1e-6, 1e6)
 """[m]: the lengths of a structure, from a micrometre to 1000 km; outside, a typo or another
@@ -538,13 +539,37 @@ class LawSpec(_Strict):
 
     groups: tuple[str, str]
     friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
-    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
-        "gap_signorini_coulomb")
+    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
+                  "viscous", "cohesive"] = "gap_signorini_coulomb"
     restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
+    k_n: NonNegative = 0.0
+    """Normal stiffness [Pa/m] (elastic, cohesive)."""
+    k_t: NonNegative = 0.0
+    """Tangential stiffness [Pa/m] (elastic: optional, cohesive)."""
+    c_n: NonNegative = 0.0
+    """Normal damping [Pa s/m] (elastic, optional)."""
+    eta: NonNegative = 0.0
+    """Viscosity of the viscous friction [Pa s/m] (viscous)."""
+    f_t: NonNegative = 0.0
+    """Tensile strength [Pa] (cohesive)."""
+    cohesion: NonNegative = 0.0
+    """Cohesion c [Pa] (cohesive)."""
+    g_i: NonNegative = 0.0
+    """Mode I fracture energy G_I [J/m^2] (cohesive)."""
+    g_ii: NonNegative = 0.0
+    """Mode II fracture energy G_II [J/m^2] (cohesive)."""
 
-    def law(self) -> ContactLaw:
-        return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
-                          restitution=self.restitution)
+    def law(self, name: str = "") -> ContactLaw:
+        """The ContactLaw; `name` (e.g. "laws[2]") is how its errors name it."""
+        kind = _LAW_KINDS.get(self.kind, self.kind.upper())
+        return ContactLaw(friction=self.friction, kind=LawKind[kind],
+                          restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
+                          c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
+                          g_i=self.g_i, g_ii=self.g_ii, name=name)
+
+
+_LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
+"""Scenario names of law kinds that are not LawKind's names in lower case."""
 
 
 Vector = tuple[Finite, Finite] | tuple[Finite, Finite, Finite]
@@ -990,7 +1015,7 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
             raise InputError(f"laws[{i}].groups names group {unknown[0]!r}, which no block "
                              f"has; groups: {groups}")
         if "*" not in spec.groups:
-            builder.set_law(*spec.groups, spec.law())
+            builder.set_law(*spec.groups, spec.law(f"laws[{i}]"))
     exact = {frozenset(spec.groups) for spec in laws if "*" not in spec.groups}
     for a, b in itertools.combinations_with_replacement(groups, 2):
         if frozenset((a, b)) in exact:
@@ -1006,7 +1031,7 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
             raise InputError(f"laws: groups {a!r} and {b!r} match both "
                              f"{list(chosen[0].groups)} and {list(other.groups)}; give "
                              f'a law for ["{a}", "{b}"]')
-        builder.set_law(a, b, chosen[0].law())
+        builder.set_law(a, b, chosen[0].law(f"laws[{laws.index(chosen[0])}]"))
 
 
 def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scenario:
