@@ -1009,29 +1009,30 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
     """Set the laws of exact pairs as given, and for every other pair of the builder's groups
     the most specific law with a "*" that matches it."""
     groups = builder.groups
+    built = [spec.law(f"laws[{i}]") for i, spec in enumerate(laws)]
     for i, spec in enumerate(laws):
         unknown = [g for g in spec.groups if g != "*" and g not in groups]
         if unknown:
             raise InputError(f"laws[{i}].groups names group {unknown[0]!r}, which no block "
                              f"has; groups: {groups}")
         if "*" not in spec.groups:
-            builder.set_law(*spec.groups, spec.law(f"laws[{i}]"))
+            builder.set_law(*spec.groups, built[i])
     exact = {frozenset(spec.groups) for spec in laws if "*" not in spec.groups}
     for a, b in itertools.combinations_with_replacement(groups, 2):
         if frozenset((a, b)) in exact:
             continue
-        matches = [spec for spec in laws
+        matches = [i for i, spec in enumerate(laws)
                    if "*" in spec.groups and all(g in ("*", a, b) for g in spec.groups)]
-        best = max((2 - spec.groups.count("*") for spec in matches), default=None)
+        best = max((2 - laws[i].groups.count("*") for i in matches), default=None)
         if best is None:
             continue
-        chosen = [spec for spec in matches if 2 - spec.groups.count("*") == best]
-        other = next((spec for spec in chosen if spec.law() != chosen[0].law()), None)
+        chosen = [i for i in matches if 2 - laws[i].groups.count("*") == best]
+        other = next((i for i in chosen if built[i] != built[chosen[0]]), None)
         if other is not None:
             raise InputError(f"laws: groups {a!r} and {b!r} match both "
-                             f"{list(chosen[0].groups)} and {list(other.groups)}; give "
-                             f'a law for ["{a}", "{b}"]')
-        builder.set_law(a, b, chosen[0].law(f"laws[{laws.index(chosen[0])}]"))
+                             f"{list(laws[chosen[0]].groups)} and {list(laws[other].groups)}; "
+                             f'give a law for ["{a}", "{b}"]')
+        builder.set_law(a, b, built[chosen[0]])
 
 
 def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scenario:
