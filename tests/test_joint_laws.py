@@ -33,7 +33,7 @@ def _dry_wall(dim: int) -> sx.Model:
         b = sx.ModelBuilder(dim=3, gravity=(7.0, 0.0, -9.81))
         for k in range(3):
             x, z = 0.05 * k, 0.2 * k
-            b.add_block([(x + i, j, z + k) for i in (0, 0.3) for j in (0, 0.2) for k in (0, 0.2)],
+            b.add_block([(x + i, j, z + c) for i in (0, 0.3) for j in (0, 0.2) for c in (0, 0.2)],
                         density=2000.0)
         b.add_block([(i, j, k) for i in (-1, 2) for j in (-1, 1) for k in (-0.2, 0)],
                     kind=sx.BodyKind.FIXED, group="ground")

@@ -4,7 +4,8 @@ joint, saxum.laws COHESIVE).
 A free slab bonded to a fixed base by a cohesive joint of area A (the sum of its points'
 Contacts.area) is pressed by a constant normal stress sigma and sheared by a force that grows
 linearly in time, gravity off; a moment H/2 times the shear force cancels the shear's lever
-arm about the joint, so the joint's normal stress stays uniform. The joint is a bond in
+arm about the joint, so the joint's normal stress stays uniform. 2D, and 3D (a square slab on
+4 points, sheared along x). The joint is a bond in
 parallel with Coulomb friction: friction sticks up to mu sigma A, then the bond strains and
 carries k_t s up to the cohesion c, then softens linearly to zero at the slip 2 G_II / c
 (bilinear law, P.P. Camanho & C.G. Davila, NASA/TM-2002-211737, 2002; the Mohr-Coulomb
@@ -20,6 +21,8 @@ the softening branch by about a step's slip over the softening length; measured 
 """
 
 import numpy as np
+import pytest
+from test_joint_pull_off import box
 
 import saxum as sx
 
@@ -29,17 +32,33 @@ RATE = 2.0e7  # [N/m/s]: peak after ~0.026 s
 H = 1.0e-5  # [s]
 
 
-def test_direct_shear_peak_residual_and_mode_two_energy():
-    b = sx.ModelBuilder(gravity=(0.0, 0.0))
-    b.add_block([(-0.4, -0.2), (2.6, -0.2), (2.6, 0.0), (-0.4, 0.0)], kind=sx.BodyKind.FIXED,
-                group="ground")
-    slab = b.add_block([(0.0, 0.0), (WIDTH, 0.0), (WIDTH, HEIGHT), (0.0, HEIGHT)],
-                       density=1.0e4)
+def _force_on(body: int, c) -> np.ndarray:
+    """The contacts' force on `body` in world axes [N/m; 3D: N]: R / h in the frames."""
+    n = c.count
+    world = np.einsum("ar,ard->ad", c.impulse[:n], c.frame[:n]) / H
+    sign = np.where(c.candidate[:n] == body, 1.0, np.where(c.antagonist[:n] == body, -1.0, 0.0))
+    return sign @ world
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_direct_shear_peak_residual_and_mode_two_energy(dim):
+    b = sx.ModelBuilder(gravity=(0.0,) * dim, dim=dim)
+    if dim == 2:
+        b.add_block([(-0.4, -0.2), (2.6, -0.2), (2.6, 0.0), (-0.4, 0.0)],
+                    kind=sx.BodyKind.FIXED, group="ground")
+        slab = b.add_block([(0.0, 0.0), (WIDTH, 0.0), (WIDTH, HEIGHT), (0.0, HEIGHT)],
+                           density=1.0e4)
+        b.add_force([slab], lambda t: (RATE * t, -SIGMA * WIDTH, RATE * t * HEIGHT / 2.0))
+    else:
+        b.add_block(box(-0.4, 2.6, -0.4, 2.6, -0.2, 0.0), kind=sx.BodyKind.FIXED,
+                    group="ground")
+        slab = b.add_block(box(0.0, WIDTH, 0.0, WIDTH, 0.0, HEIGHT), density=1.0e4)
+        b.add_force([slab], lambda t: (WIDTH * RATE * t, 0.0, -SIGMA * WIDTH**2, 0.0,
+                                       -WIDTH * RATE * t * HEIGHT / 2.0, 0.0))
     law = sx.ContactLaw(friction=MU, kind=sx.LawKind.COHESIVE, k_n=K, k_t=K, f_t=1.0e5,
                         cohesion=C, g_i=10.0, g_ii=G_II)
     b.set_law("block", "ground", law)
     b.set_law("block", "block", sx.ContactLaw(friction=MU))
-    b.add_force([slab], lambda t: (RATE * t, -SIGMA * WIDTH, RATE * t * HEIGHT / 2.0))
     sim = sx.Simulation(b.finalize(), dt=H)
     state = sim.initial_state()
     c = state.contacts
@@ -50,8 +69,9 @@ def test_direct_shear_peak_residual_and_mode_two_energy():
     for _ in range(20_000):
         sim.step(state)
         c = state.contacts
-        shear.append(-c.impulse[: c.count, 0].sum() / H)
-        normal.append(c.impulse[: c.count, 1].sum() / H)
+        on_slab = _force_on(slab, c)
+        shear.append(-on_slab[0])
+        normal.append(on_slab[dim - 1])
         slip.append(state.body_q[slab, 0] - x0)
         broken = broken + 1 if c.damage[: c.count].min() >= 1.0 else 0
         if broken == 20:  # sliding on friction alone for 20 steps

@@ -1,7 +1,8 @@
 """Pull-off of two bonded blocks (mode I of the cohesive joint, saxum.laws COHESIVE).
 
 A free block bonded to a fixed one by a cohesive joint of area A (the sum of its contact
-points' Contacts.area), pulled off by a force that grows linearly in time, gravity off. The
+points' Contacts.area), pulled off by a force that grows linearly in time, gravity off; in 2D
+(2 points) and 3D (4 points, a square joint). The
 bilinear law (P.P. Camanho & C.G. Davila, NASA/TM-2002-211737, 2002) in pure mode I carries a
 tensile stress k_n g up to the strength f_t, then softens linearly to zero at the opening
 2 G_I / f_t: the joint's force peaks at f_t A and the work it absorbs until it is fully
@@ -18,6 +19,7 @@ one step's opening increment over the softening length (measured 0.4 %).
 """
 
 import numpy as np
+import pytest
 
 import saxum as sx
 
@@ -32,27 +34,40 @@ def cohesive(friction: float = 0.6, **kw) -> sx.ContactLaw:
     return sx.ContactLaw(friction=friction, kind=sx.LawKind.COHESIVE, **params)
 
 
-def test_pull_off_peak_force_and_fracture_energy():
-    b = sx.ModelBuilder(gravity=(0.0, 0.0))
-    b.add_block([(-0.2, -0.2), (0.4, -0.2), (0.4, 0.0), (-0.2, 0.0)], kind=sx.BodyKind.FIXED,
-                group="ground")
-    # a heavy block (4000 kg/m) keeps the snap after the peak slow enough for the step
-    top = b.add_block([(0.0, 0.0), (0.2, 0.0), (0.2, 2.0), (0.0, 2.0)], density=1.0e4)
+def box(x0, x1, y0, y1, z0, z1) -> list[tuple[float, float, float]]:
+    """The 8 corners of an axis-aligned box [m]."""
+    return [(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)]
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_pull_off_peak_force_and_fracture_energy(dim):
+    b = sx.ModelBuilder(gravity=(0.0,) * dim, dim=dim)
+    # a heavy block (4000 kg/m in 2D, 8000 kg in 3D) keeps the snap after the peak slow
+    # enough for the step
+    if dim == 2:
+        b.add_block([(-0.2, -0.2), (0.4, -0.2), (0.4, 0.0), (-0.2, 0.0)],
+                    kind=sx.BodyKind.FIXED, group="ground")
+        top = b.add_block([(0.0, 0.0), (0.2, 0.0), (0.2, 2.0), (0.0, 2.0)], density=1.0e4)
+        b.add_force([top], lambda t: (0.0, RATE * t, 0.0))
+    else:
+        b.add_block(box(-0.2, 0.4, -0.2, 0.4, -0.2, 0.0), kind=sx.BodyKind.FIXED,
+                    group="ground")
+        top = b.add_block(box(0.0, 0.2, 0.0, 0.2, 0.0, 2.0), density=1.0e5)
+        b.add_force([top], lambda t: (0.0, 0.0, 0.2 * RATE * t, 0.0, 0.0, 0.0))
     b.set_law("block", "ground", cohesive())
     b.set_law("block", "block", sx.ContactLaw(friction=0.6))
-    b.add_force([top], lambda t: (0.0, RATE * t, 0.0))
     sim = sx.Simulation(b.finalize(), dt=H)
     state = sim.initial_state()
     c = state.contacts
-    assert c.count == 2 and np.all(c.damage[: c.count] == 0.0)  # bonded at the start
+    assert c.count == 2 * (dim - 1) and np.all(c.damage[: c.count] == 0.0)  # bonded
     area = c.area[: c.count].sum()
-    y0 = state.body_q[top, 1]
+    y0 = state.body_q[top, dim - 1]
     force, rise = [0.0], [0.0]
     for _ in range(20_000):
         sim.step(state)
         c = state.contacts
         force.append(-c.impulse[: c.count, 1].sum() / H)
-        rise.append(state.body_q[top, 1] - y0)
+        rise.append(state.body_q[top, dim - 1] - y0)
         if c.count == 0 or c.damage[: c.count].min() >= 1.0:
             break
     else:
