@@ -225,3 +225,12 @@ def test_joint_laws_need_nlgs():
     text = WALL.replace("dt = 2e-4", 'dt = 2e-4\nkind = "hybrid"')
     with pytest.raises(sx.InputError, match="NLGS"):
         parse_scenario(text).build_simulation()
+
+
+def test_fclib_export_refuses_joint_laws():
+    from saxum.fclib import step_problem
+    sim = parse_scenario(WALL).build_simulation()
+    state = sim.initial_state()
+    sim.step(state)
+    with pytest.raises(sx.InputError, match="joint laws"):
+        step_problem(sim, state)

@@ -66,7 +66,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["ContactLaw", "LawKind", "Parameter"]
+__all__ = ["SMOOTH_KINDS", "ContactLaw", "LawKind", "Parameter"]
 
 
 class LawKind(IntEnum):

@@ -1,6 +1,7 @@
 """A block on an elastic joint (saxum.laws ELASTIC) oscillates like a mass on a spring.
 
-A block of mass m rests on a fixed base through an elastic joint of normal stiffness k_n
+A block of mass m (2D, and a cube on 4 points in 3D) rests on a fixed base through an
+elastic joint of normal stiffness k_n
 [Pa/m] and area A (the sum of its points' Contacts.area); released with the joint
 unstressed, it oscillates about the static closure m g / (k_n A) with the angular frequency
 omega = sqrt(k_n A / m), and with a normal damping c_n [Pa s/m] its amplitude decays with the
@@ -20,6 +21,7 @@ import math
 
 import numpy as np
 import pytest
+from test_joint_pull_off import box
 
 import saxum as sx
 
@@ -27,12 +29,18 @@ K_N = 1.0e8  # [Pa/m]
 G = 9.81
 
 
-def _oscillation(c_n: float, periods: float):
-    """(time [s], height of the block's centre minus its static height [m], omega, zeta)."""
-    b = sx.ModelBuilder(gravity=(0.0, -G))
-    b.add_block([(-1.0, -0.2), (1.0, -0.2), (1.0, 0.0), (-1.0, 0.0)], kind=sx.BodyKind.FIXED,
-                group="ground")
-    block = b.add_block([(0.0, 0.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5)], density=2000.0)
+def _oscillation(c_n: float, periods: float, dim: int = 2):
+    """(time [s], height of the block's centre minus its static height [m], omega, zeta);
+    dim 3: a 0.5 m cube on 4 points."""
+    b = sx.ModelBuilder(gravity=(0.0,) * (dim - 1) + (-G,), dim=dim)
+    if dim == 2:
+        b.add_block([(-1.0, -0.2), (1.0, -0.2), (1.0, 0.0), (-1.0, 0.0)],
+                    kind=sx.BodyKind.FIXED, group="ground")
+        block = b.add_block([(0.0, 0.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5)], density=2000.0)
+    else:
+        b.add_block(box(-1.0, 1.0, -1.0, 1.0, -0.2, 0.0), kind=sx.BodyKind.FIXED,
+                    group="ground")
+        block = b.add_block(box(0.0, 0.5, 0.0, 0.5, 0.0, 0.5), density=2000.0)
     b.set_law("block", "ground", sx.ContactLaw(friction=0.6, kind=sx.LawKind.ELASTIC, k_n=K_N,
                                                c_n=c_n))
     b.set_law("block", "block", sx.ContactLaw(friction=0.6))
@@ -46,17 +54,18 @@ def _oscillation(c_n: float, periods: float):
     h = 2.0 * math.pi / omega / 200.0
     sim = sx.Simulation(model, dt=h)
     state = sim.initial_state()
-    static = model.body_q0[block, 1] - mass * G / (K_N * area)
+    static = model.body_q0[block, dim - 1] - mass * G / (K_N * area)
     steps = round(periods * 200)
     y = np.empty(steps)
     for i in range(steps):
         sim.step(state)
-        y[i] = state.body_q[block, 1] - static
+        y[i] = state.body_q[block, dim - 1] - static
     return h * np.arange(1, steps + 1), y, omega, zeta
 
 
-def test_elastic_joint_oscillates_at_the_spring_frequency():
-    t, y, omega, _ = _oscillation(0.0, 10.5)
+@pytest.mark.parametrize("dim", [2, 3])
+def test_elastic_joint_oscillates_at_the_spring_frequency(dim):
+    t, y, omega, _ = _oscillation(0.0, 10.5, dim)
     up = np.flatnonzero((y[:-1] < 0.0) & (y[1:] >= 0.0))
     crossing = t[up] + (t[up + 1] - t[up]) * (-y[up] / (y[up + 1] - y[up]))
     period = np.diff(crossing).mean()
