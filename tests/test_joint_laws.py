@@ -234,3 +234,21 @@ def test_fclib_export_refuses_joint_laws():
     sim.step(state)
     with pytest.raises(sx.InputError, match="joint laws"):
         step_problem(sim, state)
+
+
+def test_paraview_contacts_carry_damage(tmp_path):
+    import meshio
+
+    from saxum.results import Results
+    from saxum.vtk import export_vtk
+
+    out = tmp_path / "wall.h5"
+    text = WALL.replace("duration = 0.3", "duration = 0.28").replace("interval = 0.01",
+                                                                     "interval = 0.14")
+    run_scenario(parse_scenario(text), out, quiet=True)
+    with Results(out) as r:
+        pvd = export_vtk(r, tmp_path / "vtk")
+        damage = r.contacts(2)["damage"]
+    assert damage.max() > 0.0
+    mesh = meshio.read(pvd.parent / "wall" / "contacts_000002.vtu")
+    assert np.array_equal(mesh.point_data["damage"], damage)
