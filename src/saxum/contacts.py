@@ -7,12 +7,15 @@ Each point carries the `area` of the contact face it stands for, which laws in s
 A side is a rigid body or nodes of a deformable block (`side_kind`, design-deformable-and-
 joints.md section 3).
 `key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
-of the common segment), so that the solver can start from the previous impulses. Detection
-writes contacts in increasing key order, which makes matching a linear merge.
+of the common segment), so that the solver can start from the previous impulses and the joint
+laws keep their state (slip, damage, history: saxum.laws). Detection writes contacts in
+increasing key order, which makes matching a linear merge.
 """
 
 import numba as nb
 import numpy as np
+
+from .laws import LawKind
 
 __all__ = ["Contacts"]
 
@@ -59,6 +62,15 @@ class Contacts:
         self.side_weight = np.zeros((capacity, 2, d))
         """FE sides: the shape-function weights of side_node at the point [-] (a candidate
         node: 1), shape [capacity, 2, dim]."""
+        self.slip = np.zeros((capacity, d - 1))
+        """Tangential jump s of a joint law [m], shape [capacity, dim - 1]: the spring's
+        elongation (ELASTIC) or the jump since bonding (COHESIVE); 0 for other laws."""
+        self.damage = np.zeros(capacity)
+        """Damage d in [0, 1] of a COHESIVE joint [-] (1: a Coulomb contact), shape
+        [capacity]; 0 for other laws. It never decreases."""
+        self.history = np.zeros(capacity)
+        """Largest scaled opening kappa reached by a COHESIVE joint [-] (saxum.laws), shape
+        [capacity]; 0 for other laws."""
 
     def reserve(self, capacity: int) -> None:
         """Make room for `capacity` contacts; existing rows are kept."""
@@ -72,7 +84,7 @@ class Contacts:
     @staticmethod
     def _fields() -> tuple[str, ...]:
         return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse",
-                "area", "side_kind", "side_node", "side_weight")
+                "area", "side_kind", "side_node", "side_weight", "slip", "damage", "history")
 
     def copy(self) -> "Contacts":
         """A deep copy of the valid rows."""
@@ -82,17 +94,29 @@ class Contacts:
             getattr(c, k)[: self.count] = getattr(self, k)[: self.count]
         return c
 
-    def warm_start_from(self, previous: "Contacts") -> int:
-        """Copy impulses of persisting contacts (same key) from `previous`; returns how many."""
-        return _warm_start(
-            self.key[: self.count], self.impulse[: self.count],
-            previous.key[: previous.count], previous.impulse[: previous.count],
+    def warm_start_from(self, previous: "Contacts", law_kind: np.ndarray | None = None) -> int:
+        """Copy the impulses and the joint state (slip, damage, history) of persisting
+        contacts (same key) from `previous`; returns how many. A new contact starts with
+        zero impulse and slip, and, under a COHESIVE law (law_kind: Model.law_kind), fully
+        damaged: a joint that was not bonded at the start does not bond later."""
+        n, m = self.count, previous.count
+        return _carry(
+            self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
+            self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
+            self.history[:n], previous.history[:m], self.law[:n],
+            _NO_LAWS if law_kind is None else law_kind,
         )
 
 
+_COHESIVE = int(LawKind.COHESIVE)
+_NO_LAWS = np.zeros(0, dtype=np.int8)
+
+
 @nb.njit(cache=True)
-def _warm_start(key, impulse, old_key, old_impulse):
-    """Merge of two key lists that detection writes in increasing order: O(count), no sort."""
+def _carry(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage, history,
+           old_history, law, law_kind):
+    """Merge of two key lists that detection writes in increasing order: O(count), no sort;
+    rows of a key found in old_key are copied, the others reset (module doc)."""
     hits = 0
     k = 0
     for a in range(key.shape[0]):
@@ -102,8 +126,17 @@ def _warm_start(key, impulse, old_key, old_impulse):
         if k < old_key.shape[0] and old_key[k] == key[a]:
             for r in range(impulse.shape[1]):
                 impulse[a, r] = old_impulse[k, r]
+            for r in range(slip.shape[1]):
+                slip[a, r] = old_slip[k, r]
+            damage[a] = old_damage[k]
+            history[a] = old_history[k]
             hits += 1
         else:
             for r in range(impulse.shape[1]):
                 impulse[a, r] = 0.0
+            for r in range(slip.shape[1]):
+                slip[a, r] = 0.0
+            cracked = law_kind.shape[0] > 0 and law_kind[law[a]] == _COHESIVE
+            damage[a] = 1.0 if cracked else 0.0
+            history[a] = 0.0
     return hits

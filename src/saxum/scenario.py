@@ -34,7 +34,7 @@ from pydantic import (
 from .detection import DetectionSettings
 from .errors import InputError
 from .fe.material import Elastic
-from .laws import ContactLaw, LawKind
+from .laws import SMOOTH_KINDS, ContactLaw, LawKind
 from .model import BodyKind, Model, ModelBuilder
 from .simulation import Simulation
 from .solver import NLGS, Hybrid
@@ -79,6 +79,7 @@ Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
 Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
 Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[Real, Field(allow_inf_nan=False)]
+NonNegative = Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
 
 LENGTHS = (1e-6, 1e6)
 """[m]: the lengths of a structure, from a micrometre to 1000 km; outside, a typo or another
@@ -540,13 +541,37 @@ class LawSpec(_Strict):
 
     groups: tuple[str, str]
     friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
-    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
-        "gap_signorini_coulomb")
+    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
+                  "viscous", "cohesive"] = "gap_signorini_coulomb"
     restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
+    k_n: NonNegative = 0.0
+    """Normal stiffness [Pa/m] (elastic, cohesive)."""
+    k_t: NonNegative = 0.0
+    """Tangential stiffness [Pa/m] (elastic: optional, cohesive)."""
+    c_n: NonNegative = 0.0
+    """Normal damping [Pa s/m] (elastic, optional)."""
+    eta: NonNegative = 0.0
+    """Viscosity of the viscous friction [Pa s/m] (viscous)."""
+    f_t: NonNegative = 0.0
+    """Tensile strength [Pa] (cohesive)."""
+    cohesion: NonNegative = 0.0
+    """Cohesion c [Pa] (cohesive)."""
+    g_i: NonNegative = 0.0
+    """Mode I fracture energy G_I [J/m^2] (cohesive)."""
+    g_ii: NonNegative = 0.0
+    """Mode II fracture energy G_II [J/m^2] (cohesive)."""
 
-    def law(self) -> ContactLaw:
-        return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
-                          restitution=self.restitution)
+    def law(self, name: str = "") -> ContactLaw:
+        """The ContactLaw; `name` (e.g. "laws[2]") is how its errors name it."""
+        kind = _LAW_KINDS.get(self.kind, self.kind.upper())
+        return ContactLaw(friction=self.friction, kind=LawKind[kind],
+                          restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
+                          c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
+                          g_i=self.g_i, g_ii=self.g_ii, name=name)
+
+
+_LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
+"""Scenario names of law kinds that are not LawKind's names in lower case."""
 
 
 class MaterialSpec(_Strict):
@@ -821,8 +846,9 @@ class SolverSpec(_Strict):
     """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
     before a slow step tries the rest solution (0: never); kind: "hybrid" (NLGS that switches to
     the conic fixed point or semismooth Newton where its error stalls or at the cap:
-    saxum.solver.Hybrid), or "nlgs" alone; unset: "hybrid", or "nlgs" for a model with
-    deformable blocks (the conic and Newton attempts are written for rigid blocks)."""
+    saxum.solver.Hybrid), or "nlgs" alone; None (the default): "hybrid", or "nlgs" for a
+    model with joint laws or deformable blocks, which only NLGS solves (saxum.solver.laws_local,
+    saxum.solver.nlgs_fe)."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
@@ -1001,7 +1027,8 @@ class Scenario(_Strict):
         """A Simulation of this scenario's model with its solver and detection settings."""
         s, d = self.solver, self.detection
         model = model if model is not None else self.build_model()
-        kind = s.kind if s.kind is not None else ("nlgs" if model.fe is not None else "hybrid")
+        kind = s.kind or ("nlgs" if model.fe is not None
+                          or np.isin(model.law_kind, SMOOTH_KINDS).any() else "hybrid")
         return Simulation(
             model, dt=s.dt, theta=s.theta,
             solver=(Hybrid if kind == "hybrid" else NLGS)(
@@ -1017,29 +1044,30 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
     """Set the laws of exact pairs as given, and for every other pair of the builder's groups
     the most specific law with a "*" that matches it."""
     groups = builder.groups
+    built = [spec.law(f"laws[{i}]") for i, spec in enumerate(laws)]
     for i, spec in enumerate(laws):
         unknown = [g for g in spec.groups if g != "*" and g not in groups]
         if unknown:
             raise InputError(f"laws[{i}].groups names group {unknown[0]!r}, which no block "
                              f"has; groups: {groups}")
         if "*" not in spec.groups:
-            builder.set_law(*spec.groups, spec.law())
+            builder.set_law(*spec.groups, built[i])
     exact = {frozenset(spec.groups) for spec in laws if "*" not in spec.groups}
     for a, b in itertools.combinations_with_replacement(groups, 2):
         if frozenset((a, b)) in exact:
             continue
-        matches = [spec for spec in laws
+        matches = [i for i, spec in enumerate(laws)
                    if "*" in spec.groups and all(g in ("*", a, b) for g in spec.groups)]
-        best = max((2 - spec.groups.count("*") for spec in matches), default=None)
+        best = max((2 - laws[i].groups.count("*") for i in matches), default=None)
         if best is None:
             continue
-        chosen = [spec for spec in matches if 2 - spec.groups.count("*") == best]
-        other = next((spec for spec in chosen if spec.law() != chosen[0].law()), None)
+        chosen = [i for i in matches if 2 - laws[i].groups.count("*") == best]
+        other = next((i for i in chosen if built[i] != built[chosen[0]]), None)
         if other is not None:
             raise InputError(f"laws: groups {a!r} and {b!r} match both "
-                             f"{list(chosen[0].groups)} and {list(other.groups)}; give "
-                             f'a law for ["{a}", "{b}"]')
-        builder.set_law(a, b, chosen[0].law())
+                             f"{list(laws[chosen[0]].groups)} and {list(laws[other].groups)}; "
+                             f'give a law for ["{a}", "{b}"]')
+        builder.set_law(a, b, built[chosen[0]])
 
 
 def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scenario:

@@ -16,8 +16,9 @@ import numpy as np
 from .. import bodies
 from ..bodies import rigid2d
 from ..contacts import Contacts
-from ..laws import LawKind
+from ..laws import SMOOTH_KINDS, LawKind
 from ..model import Model
+from .laws_local import law_map_width, law_terms
 
 __all__ = ["ContactProblem"]
 
@@ -38,6 +39,8 @@ class ContactProblem:
         self.fe = None
         """The deformable body kind (saxum.bodies.fe.FEKind) when the model has deformable
         blocks: their contacts' rows, Delassus blocks and node velocities."""
+        self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())
+        """Whether some law is a joint law (saxum.solver.laws_local): then law_map is filled."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -57,6 +60,9 @@ class ContactProblem:
         """Contact enters the solve this step (else R = 0), shape [capacity]."""
         self.gap_end = np.zeros(capacity)
         """Estimated gap at the end of the step [m] (end_gaps), shape [capacity]."""
+        self.law_map = np.zeros((capacity, law_map_width(d)))
+        """The joint laws' modified local problems (saxum.solver.laws_local; column 0 is 0
+        for contacts of dry laws), shape [capacity, law_map_width(dim)]."""
 
     def assemble(
         self, contacts: Contacts, q: np.ndarray, v_begin: np.ndarray, h: float, theta: float,
@@ -82,14 +88,19 @@ class ContactProblem:
                          self.h_ant, self.delassus, self.bias, self.friction, self.active)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
-            return
-        self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k, self.h_cand,
-                        self.h_ant)
-        _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
-                  m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
-                  theta, closed_gap, self.delassus, self.bias, self.friction, self.active)
-        _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
-               m.body_inv_mass, c.impulse, v)
+        else:
+            self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
+                            self.h_cand, self.h_ant)
+            _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
+                      m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
+                      m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
+                      self.friction, self.active)
+            _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
+                   m.body_inv_mass, c.impulse, v)
+        if self.joint_laws:
+            law_terms(c.candidate, c.antagonist, c.law, c.gap, c.area, c.slip, c.damage, k,
+                      self.h_cand, self.h_ant, v_begin, m.law_kind, m.law_parameter, h, theta,
+                      self.delassus, self.bias, self.law_map)
 
     def end_gaps(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float,
                  w: np.ndarray | None = None) -> tuple[int, float]:
