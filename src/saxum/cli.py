@@ -35,14 +35,10 @@ __all__ = ["main"]
 
 
 def _run(args) -> None:
-    from .precompile import start
+    from .runner import describe, run_scenario
     from .scenario import load_scenario
 
     scenario = load_scenario(args.scenario, args.set)
-    start(scenario.structure.dim)  # compiling, if need be, while the rest loads
-
-    from .runner import describe, run_scenario
-
     output = args.output or Path(args.scenario).with_suffix(".h5")
     summary = run_scenario(scenario, output, quiet=args.quiet, overwrite=args.overwrite,
                            scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
@@ -58,7 +54,9 @@ def _resume(args) -> None:
 def _demo(args) -> None:
     from .precompile import start
 
-    start(2)  # both demos are 2D: compiling, if need be, while the demo loads (matplotlib...)
+    # both demos are 2D: their kernels compile, if need be, while the demo loads (matplotlib...)
+    # (a first run's experience; with a filled cache the second process is soon stopped)
+    start(2)
     from .demos import DEMOS
 
     output = args.output or Path(f"saxum-demo-{args.name}.png")
