@@ -50,3 +50,15 @@ def test_a_first_2d_run_compiles_each_kernel_once_for_the_listed_types(tmp_path)
         signatures, from_cache = kernels[name]
         assert signatures == [str(types)], name
         assert from_cache == (k < _CHILD_SHARE[2]), name  # the second process's share
+
+
+def test_a_kernel_whose_listed_types_no_longer_fit_is_left_to_compile_on_its_call():
+    """A kernel's arguments changed without its list: no error (before: a TypeError from
+    numba stopped the run); the kernel compiles on its first call, as without the list."""
+    from numba import types
+
+    from saxum.precompile import _compile
+
+    listed = {"rigid2d.predict_positions": (types.float64[:, ::1],),  # a missing argument
+              "rigid2d.update_positions": (types.int8,) * 5}  # arguments of other types
+    assert _compile(list(listed), listed) == [False, False]

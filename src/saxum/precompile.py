@@ -74,6 +74,8 @@ def _kernel(name: str):
 def _compile(names: list[str], signatures: dict[str, tuple]) -> list[bool]:
     """Compile each kernel for its listed types, unless this process has it already or numba's
     cache holds it; for each, whether it was compiled."""
+    from numba.core.errors import NumbaError
+
     compiled = []
     for name in names:
         kernel = _kernel(name)
@@ -81,7 +83,11 @@ def _compile(names: list[str], signatures: dict[str, tuple]) -> list[bool]:
         if not hasattr(kernel, "compile"):  # NUMBA_DISABLE_JIT: plain Python
             return compiled
         known = args in kernel.overloads
-        kernel.compile(args)
+        try:
+            kernel.compile(args)
+        except (TypeError, NumbaError):  # the list is out of date: it compiles on its call
+            compiled.append(False)
+            continue
         compiled.append(not known and kernel.stats.cache_hits.get(args, 0) == 0)
     return compiled
 
