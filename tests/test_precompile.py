@@ -2,10 +2,14 @@
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
+
+import pytest
 
 import saxum.precompile
 from saxum.precompile import _CHILD_SHARE, kernel_signatures
@@ -62,3 +66,39 @@ def test_a_kernel_whose_listed_types_no_longer_fit_is_left_to_compile_on_its_cal
     listed = {"rigid2d.predict_positions": (types.float64[:, ::1],),  # a missing argument
               "rigid2d.update_positions": (types.int8,) * 5}  # arguments of other types
     assert _compile(list(listed), listed) == [False, False]
+
+
+def _children(pid: int) -> list[int]:
+    """Processes whose parent is `pid` (Linux's /proc)."""
+    kids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:  # ended meanwhile
+            continue
+        if int(fields[1]) == pid:
+            kids.append(int(stat.parent.name))
+    return kids
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
+    """Before: the second process went on compiling after the command had said interrupted."""
+    src = str(Path(saxum.precompile.__file__).parents[1])
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
+                             str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not (kids := _children(proc.pid)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert kids, "no second process started"
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130 and err == "saxum: interrupted\n", err
+    assert not [k for k in kids if Path(f"/proc/{k}").exists()
+                and Path(f"/proc/{k}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"]

@@ -14,6 +14,7 @@ Only the kernels that every run of a dimension calls are listed: those of the re
 floods or ground motions compile on their first call.
 """
 
+import atexit
 import functools
 import importlib
 import os
@@ -111,11 +112,22 @@ def start(dim: int) -> None:
     this process loads the rest of what the command needs. It loads its kernels from the
     cache, or compiles them into it; precompile(dim) waits for it."""
     if dim in _CHILD_SHARE and dim not in _children and _cores() > 1:
+        if not _children:
+            atexit.register(_stop_children)
         _children[dim] = subprocess.Popen(
             [sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
              "from saxum.precompile import _child; _child(int(sys.argv[2]))",
              str(Path(__file__).resolve().parents[1]), str(dim)],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def _stop_children() -> None:
+    """At exit (a command that failed or was interrupted before precompile waited): a second
+    process still compiling for this one stops with it."""
+    for child in _children.values():
+        if child.poll() is None:
+            child.kill()
+            child.wait()
 
 
 @functools.cache
