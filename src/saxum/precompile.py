@@ -110,7 +110,8 @@ def start(dim: int) -> None:
     """Start the second process on its half of the kernels of a run in `dim` dimensions (once,
     and only with two cores or more), as early as a command knows `dim`: it compiles while
     this process loads the rest of what the command needs. It loads its kernels from the
-    cache, or compiles them into it; precompile(dim) waits for it."""
+    cache, or compiles them into it; precompile(dim) waits for it, and an exit before that
+    stops it."""
     if dim in _CHILD_SHARE and dim not in _children and _cores() > 1:
         if not _children:
             atexit.register(_stop_children)
