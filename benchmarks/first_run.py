@@ -9,7 +9,12 @@ fresh machine; otherwise it is the user's, already built). Each process reports 
 wall-clock by time.perf_counter unless said):
 
 - total: the process from the interpreter's start to its end, as the user waits for it
-  (measured by the parent around the subprocess), and its CPU time (user + system);
+  (measured by the parent around the subprocess), and its CPU time (user + system), the
+  process's own (main) and that of the process compiling half of the kernels (saxum.precompile)
+  (child); and the wall-clock time that this CPU time gives on an idle machine of two cores
+  (idle 2-core: the process's own CPU time, plus the time it would wait for the child, which
+  runs meanwhile on the other core: the child's CPU time less the CPU time this process spends
+  while the child runs), an estimate that a shared, loaded machine cannot measure;
 - import: `import saxum.cli` (what the console script imports first), and which heavy packages
   it pulled in;
 - compile: the time numba spent in Dispatcher.compile (compiling, or loading from the cache),
@@ -29,6 +34,10 @@ The cases:
     python benchmarks/first_run.py                    # both cases, empty then filled cache
     python benchmarks/first_run.py --cases arch --top 25 --fresh-matplotlib
     python benchmarks/first_run.py --json /tmp/first_run.json
+    python benchmarks/first_run.py --cases arch --src /work/main/src --src src --repeat 3
+
+--src TREE (repeatable) runs each case with PYTHONPATH=TREE, the trees one after the other and
+again --repeat times, so that two versions are compared on the same machine and minute.
 """
 
 import argparse
@@ -142,6 +151,36 @@ class _Phase:
             self.compile += self.compiles.outer - c0
 
 
+class _ChildTimes:
+    """CPU time [s] of saxum.precompile's second process, and of this process while it ran
+    (from its start to the end of the wait for it)."""
+
+    def __init__(self):
+        self.child = self.overlap = 0.0
+
+    def install(self) -> None:
+        import saxum.precompile
+
+        times, popen = self, subprocess.Popen
+
+        class Child(popen):
+            def __init__(self, *args, **kwargs):
+                self.cpu_start = time.process_time()
+                super().__init__(*args, **kwargs)
+
+            def wait(self, timeout=None):
+                before = _children_cpu()
+                try:
+                    return super().wait(timeout)
+                finally:
+                    times.child += _children_cpu() - before
+                    times.overlap += time.process_time() - self.cpu_start
+
+        saxum.precompile.subprocess = type("subprocess", (), {
+            "Popen": Child, "DEVNULL": subprocess.DEVNULL,
+            "TimeoutExpired": subprocess.TimeoutExpired})
+
+
 def _worker(case: str, folder: Path) -> dict:
     t0 = time.perf_counter()
     import saxum.cli
@@ -153,6 +192,11 @@ def _worker(case: str, folder: Path) -> dict:
 
     compiles = _CompileTimes()
     compiles.install()
+    child = _ChildTimes()
+    try:
+        child.install()
+    except ImportError:  # a version without saxum.precompile
+        pass
     run = _Phase(saxum.runner.run_scenario, compiles)
     saxum.runner.run_scenario = run
 
@@ -183,7 +227,12 @@ def _worker(case: str, folder: Path) -> dict:
     t_command = time.perf_counter() - t1
     plot_total = plot.total + save.total + t_plot_import
     plot_compile = plot.compile + save.compile
+    cpu = resource.getrusage(resource.RUSAGE_SELF)
+    main_cpu = cpu.ru_utime + cpu.ru_stime
     return {
+        "main_cpu": main_cpu,
+        "child_cpu": child.child,
+        "idle_2core": main_cpu + max(0.0, child.child - child.overlap),
         "exit_code": code,
         "import": t_import,
         "imported": loaded,
@@ -203,8 +252,11 @@ def _worker(case: str, folder: Path) -> dict:
 # the parent: fresh processes, empty then filled cache
 
 
-def _measure(case: str, cache: Path, mpl: Path | None, folder: Path) -> dict:
+def _measure(case: str, cache: Path, mpl: Path | None, folder: Path,
+             src: str | None) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    if src is not None:
+        env["PYTHONPATH"] = src
     if mpl is not None:
         env["MPLCONFIGDIR"] = str(mpl)
     out = folder / f"{case}.json"
@@ -223,12 +275,14 @@ def _children_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-HEADER = (f"{'case':<20} {'total':>6} {'CPU':>6} {'import':>6} {'compile':>7} {'CPU':>6} "
-          f"{'run':>5} {'plot':>5} {'other':>5} {'jits':>4}")
+HEADER = (f"{'case':<34} {'total':>6} {'CPU':>6} {'main':>5} {'child':>5} {'idle2':>5} "
+          f"{'import':>6} {'compile':>7} {'CPU':>6} {'run':>5} {'plot':>5} {'other':>5} "
+          f"{'jits':>4}")
 
 
 def _row(label: str, r: dict) -> str:
-    return (f"{label:<20} {r['total']:6.2f} {r['total_cpu']:6.2f} {r['import']:6.2f} "
+    return (f"{label:<34} {r['total']:6.2f} {r['total_cpu']:6.2f} {r['main_cpu']:5.2f} "
+            f"{r['child_cpu']:5.2f} {r['idle_2core']:5.2f} {r['import']:6.2f} "
             f"{r['compile']:7.2f} {r['compile_cpu']:6.2f} {r['run']:5.2f} {r['plot']:5.2f} "
             f"{r['other']:5.2f} {len(r['kernels']):4d}")
 
@@ -241,6 +295,9 @@ def main() -> None:
     parser.add_argument("--fresh-matplotlib", action="store_true",
                         help="an empty MPLCONFIGDIR too (matplotlib builds its font cache)")
     parser.add_argument("--json", type=Path, help="write all figures to this file")
+    parser.add_argument("--src", action="append",
+                        help="a source tree to import saxum from (PYTHONPATH); repeatable")
+    parser.add_argument("--repeat", type=int, default=1, help="runs of each case and tree")
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--folder", type=Path, help=argparse.SUPPRESS)
     parser.add_argument("--out", type=Path, help=argparse.SUPPRESS)
@@ -255,21 +312,25 @@ def main() -> None:
     print(f"python {sys.version.split()[0]}, numba {numba.__version__}, {sys.platform}; "
           f"seconds (wall-clock; CPU where said)")
     print(HEADER)
-    for case in args.cases.split(","):
-        with tempfile.TemporaryDirectory() as tmp:
-            tmp = Path(tmp)
-            cache = tmp / "numba-cache"
-            cache.mkdir()
-            mpl = None
-            if args.fresh_matplotlib:
-                mpl = tmp / "mplconfig"
-                mpl.mkdir()
-            for label in ("empty cache", "filled cache"):
-                folder = tmp / label.replace(" ", "-")
-                folder.mkdir()
-                r = _measure(case, cache, mpl, folder)
-                results[f"{case}, {label}"] = r
-                print(_row(f"{case}, {label}", r), flush=True)
+    for repeat in range(args.repeat):
+        for case in args.cases.split(","):
+            for src in args.src or [None]:
+                with tempfile.TemporaryDirectory() as tmp:
+                    tmp = Path(tmp)
+                    cache = tmp / "numba-cache"
+                    cache.mkdir()
+                    mpl = None
+                    if args.fresh_matplotlib:
+                        mpl = tmp / "mplconfig"
+                        mpl.mkdir()
+                    for label in ("empty cache", "filled cache"):
+                        folder = tmp / label.replace(" ", "-")
+                        folder.mkdir()
+                        r = _measure(case, cache, mpl, folder, src)
+                        key = (f"{case}, {label}" + (f" [{src}]" if src else "")
+                               + (f" #{repeat + 1}" if args.repeat > 1 else ""))
+                        results[key] = r
+                        print(_row(key, r), flush=True)
     for key, r in results.items():
         print(f"\n{key}: imported {', '.join(r['imported'])}; CPU time [s] per dispatcher "
               f"(its own; compiles or loads):")

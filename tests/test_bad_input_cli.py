@@ -4,6 +4,10 @@ binary block files, absurd lengths, unknown law groups, FCLIB files one by one, 
 and numbers in messages as Python writes them."""
 
 import re
+import signal
+import subprocess
+import sys
+import textwrap
 from pathlib import Path
 
 import h5py
@@ -253,6 +257,43 @@ def test_ctrl_c_during_start_up_is_a_short_message_and_exit_130(tmp_path, capsys
     assert main(["run", str(_arch(tmp_path)), "-q"]) == 130
     err = capsys.readouterr().err
     assert err == "saxum: interrupted\n"
+
+
+# `python -m saxum` with an import hook that stops the import of module sys.argv[1] (its first
+# import, before saxum.cli.main runs) until a signal comes, having said so on stdout
+_SLOW_IMPORT = textwrap.dedent("""\
+    import runpy, sys, time
+
+    stalled = sys.argv[1]
+
+    class Stall:
+        def find_spec(self, name, path=None, target=None):
+            if name == stalled:
+                sys.meta_path.remove(self)
+                print("importing", flush=True)
+                time.sleep(60)
+
+    sys.meta_path.insert(0, Stall())
+    sys.argv = ["saxum", *sys.argv[2:]]
+    runpy.run_module("saxum", run_name="__main__", alter_sys=True)
+""")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+@pytest.mark.parametrize("module", ["saxum.cli", "numpy"])
+def test_ctrl_c_while_the_command_loads_is_a_short_message_and_exit_130(tmp_path, module):
+    """Before: a KeyboardInterrupt traceback (saxum/__init__.py imported the whole package
+    before any handler was in place)."""
+    proc = subprocess.Popen([sys.executable, "-c", _SLOW_IMPORT, module, "info",
+                             str(tmp_path / "none.h5")], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline() == "importing\n"
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130 and err == "saxum: interrupted\n", err
 
 
 # --- numbers in messages ------------------------------------------------------------------------

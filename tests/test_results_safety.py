@@ -135,6 +135,43 @@ def test_a_truncated_file_is_said_truncated_and_never_resumed_from_lost_data(
     same_results(cut, reference)
 
 
+_HOLD_LOCK = textwrap.dedent("""\
+    import sys
+    from pathlib import Path
+    from saxum.results import _Lock
+    lock = _Lock(Path(sys.argv[1]))  # as a live writer holds it
+    print("held", flush=True)
+    sys.stdin.readline()
+""")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="no advisory locks: no live writer to tell")
+@pytest.mark.parametrize("percent", [1, 10, 50])
+def test_a_file_damaged_while_its_writer_runs_is_read_without_hanging(tmp_path, reference,
+                                                                       percent):
+    """Before: a file whose writer holds its lock is read as an SWMR reader, which retries
+    damaged metadata with sleeps that double each time (hours): info and plot hung."""
+    cut = tmp_path / "cut.h5"
+    shutil.copy(reference, cut)
+    os.truncate(cut, os.path.getsize(reference) * percent // 100)
+    holder = subprocess.Popen([sys.executable, "-c", _HOLD_LOCK, str(cut)],
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline() == "held\n"
+        done = subprocess.run([sys.executable, "-c", _COMMANDS, str(cut),
+                               str(tmp_path / "p.png")],
+                              capture_output=True, text=True, timeout=HANG)
+    finally:
+        holder.communicate("\n", timeout=HANG)
+    assert done.returncode == 0, done.stderr
+    out = dict(line[3:].split() for line in done.stdout.splitlines() if line.startswith("@@"))
+    err = dict(zip(["info", "plot", "resume"], done.stderr.split("@@ ")[:3], strict=True))
+    assert "Traceback" not in done.stderr
+    for command in ("info", "plot"):  # read, or refused with a message (no frame is left)
+        assert out[command] == "0" or (out[command] == "2" and "bad input" in err[command])
+    assert out["resume"] == "2" and "is being written" in err["resume"]  # never resumed
+
+
 def test_a_damaged_frame_drops_it_and_what_follows_and_resume_starts_before(tmp_path,
                                                                               reference):
     bad = tmp_path / "bad.h5"

@@ -2,48 +2,58 @@
 
 The pipeline: a ModelBuilder collects blocks and contact laws -> finalize() gives a Model ->
 Simulation(model, dt=...) steps a State with Moreau-Jean time stepping and NLGS.
+
+The names below (and the subpackages, saxum.structures...) load on first use, so that
+`import saxum` itself takes no time: the command line's start-up, where a Ctrl-C must still
+find saxum.__main__'s handler, and a child process that only compiles kernels need it light.
 """
 
-from ._version import __version__ as __version__
-from .contacts import Contacts
-from .detection import DetectionSettings
-from .errors import InputError, OverlapError, SimulationError, SolverWarning
-from .flood import FloodLoad
-from .integrator import MoreauJean
-from .laws import ContactLaw, LawKind
-from .model import BodyKind, Model, ModelBuilder
-from .results import Results
-from .runner import run_scenario
-from .scenario import Scenario, load_scenario
-from .simulation import Simulation
-from .solver import NLGS, ConicSolver, ContactSolver, Hybrid
-from .state import State
-from .steplog import StepLog, StepReport
+import importlib.util
 
-__all__ = [
-    "NLGS",
-    "BodyKind",
-    "ConicSolver",
-    "ContactLaw",
-    "ContactSolver",
-    "Contacts",
-    "DetectionSettings",
-    "FloodLoad",
-    "Hybrid",
-    "InputError",
-    "LawKind",
-    "Model",
-    "ModelBuilder",
-    "MoreauJean",
-    "OverlapError",
-    "Results",
-    "Scenario",
-    "Simulation",
-    "SimulationError",
-    "SolverWarning",
-    "State",
-    "StepLog",
-    "StepReport",
-    "load_scenario",
-    "run_scenario",
-]
+from ._version import __version__ as __version__
+
+_EXPORTS = {
+    "NLGS": "solver",
+    "BodyKind": "model",
+    "ConicSolver": "solver",
+    "ContactLaw": "laws",
+    "ContactSolver": "solver",
+    "Contacts": "contacts",
+    "DetectionSettings": "detection",
+    "FloodLoad": "flood",
+    "Hybrid": "solver",
+    "InputError": "errors",
+    "LawKind": "laws",
+    "Model": "model",
+    "ModelBuilder": "model",
+    "MoreauJean": "integrator",
+    "OverlapError": "errors",
+    "Results": "results",
+    "Scenario": "scenario",
+    "Simulation": "simulation",
+    "SimulationError": "errors",
+    "SolverWarning": "errors",
+    "State": "state",
+    "StepLog": "steplog",
+    "StepReport": "steplog",
+    "load_scenario": "scenario",
+    "run_scenario": "runner",
+}
+"""Each public name: the module that defines it."""
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    """A public name, or a subpackage (saxum.structures...), imported on first use."""
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    if not name.startswith("_") and importlib.util.find_spec(f"{__name__}.{name}") is not None:
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS})

@@ -52,6 +52,11 @@ def _resume(args) -> None:
 
 
 def _demo(args) -> None:
+    from .precompile import start
+
+    # both demos are 2D: their kernels compile, if need be, while the demo loads (matplotlib...)
+    # (a first run's experience; with a filled cache the second process is soon stopped)
+    start(2)
     from .demos import DEMOS
 
     output = args.output or Path(f"saxum-demo-{args.name}.png")

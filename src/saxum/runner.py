@@ -21,6 +21,7 @@ from tqdm import tqdm
 
 from ._version import __version__
 from .errors import InputError, ResultsDamageWarning, ResultsWriteError, SimulationError
+from .precompile import precompile
 from .results import Results, ResultsWriter
 from .scenario import Scenario
 
@@ -47,6 +48,7 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
     """Run `scenario` from t = 0, writing results to `output`. An existing `output` is an
     InputError unless `overwrite` (it may hold a run that saxum resume would continue); so is
     an `output` that another process is writing."""
+    precompile(scenario.structure.dim)
     sim = scenario.build_simulation()
     state = sim.initial_state()
     writer = ResultsWriter(output, sim.model, dt=scenario.solver.dt,
@@ -73,6 +75,7 @@ def resume_run(path: str | Path, *, quiet: bool = False) -> RunSummary:
     writer, _ = ResultsWriter.resume(
         path, k, frame_every=_every(scenario.output.interval, scenario.solver.dt))
     try:
+        precompile(scenario.structure.dim)
         sim = scenario.build_simulation()
         state = sim.restore(saved)
     except BaseException:

@@ -1,0 +1,104 @@
+"""The first run's kernels compiled ahead, half in a second process (saxum.precompile)."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+import saxum.precompile
+from saxum.precompile import _CHILD_SHARE, kernel_signatures
+
+# The bundled demo's two arches, 1 s each (long enough for a position projection), in a
+# process whose numba cache starts empty; then, for each saxum kernel this process holds: its
+# signatures and whether it was loaded from the cache (so compiled by the second process).
+_RUN = textwrap.dedent("""\
+    import gc, json, sys, tempfile
+    from pathlib import Path
+    from numba.core.dispatcher import Dispatcher
+    from saxum.demos import bundled_scenario
+    from saxum.runner import run_scenario
+    folder = Path(tempfile.mkdtemp())
+    for name in ("arch-stands", "arch-collapses"):
+        scenario, _ = bundled_scenario(name, 1.0)
+        run_scenario(scenario, folder / f"{name}.h5", quiet=True)
+    out = {}
+    for d in gc.get_objects():
+        if isinstance(d, Dispatcher) and d.py_func.__module__.startswith("saxum.") and d.overloads:
+            name = f"{d.py_func.__module__[6:]}.{d.py_func.__name__}"
+            out[name] = [[str(s) for s in d.signatures], sum(d.stats.cache_hits.values()) > 0]
+    print(json.dumps(out))
+""")
+
+
+def test_a_first_2d_run_compiles_each_kernel_once_for_the_listed_types(tmp_path):
+    """The listed argument types are those of a 2D run's calls (else a kernel would compile
+    twice: for the list, then for the call), every kernel a 2D run calls is listed (else it
+    would compile on its call, after the others), and the second process compiled its share
+    into the cache, from which this process loaded it."""
+    src = str(Path(saxum.precompile.__file__).parents[1])  # this saxum, in the child too
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    done = subprocess.run([sys.executable, "-c", _RUN], capture_output=True, text=True,
+                          timeout=600, env=env)
+    assert done.returncode == 0, done.stderr
+    kernels = json.loads(done.stdout)
+    listed = kernel_signatures()[2]
+    assert sorted(kernels) == sorted(listed)
+    for k, (name, types) in enumerate(listed.items()):
+        signatures, from_cache = kernels[name]
+        assert signatures == [str(types)], name
+        assert from_cache == (k < _CHILD_SHARE[2]), name  # the second process's share
+
+
+def test_a_kernel_whose_listed_types_no_longer_fit_is_left_to_compile_on_its_call():
+    """A kernel's arguments changed without its list: no error (before: a TypeError from
+    numba stopped the run); the kernel compiles on its first call, as without the list."""
+    from numba import types
+
+    from saxum.precompile import _compile
+
+    listed = {"rigid2d.predict_positions": (types.float64[:, ::1],),  # a missing argument
+              "rigid2d.update_positions": (types.int8,) * 5}  # arguments of other types
+    assert _compile(list(listed), listed) == [False, False]
+
+
+def _children(pid: int) -> list[int]:
+    """Processes whose parent is `pid` (Linux's /proc)."""
+    kids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:  # ended meanwhile
+            continue
+        if int(fields[1]) == pid:
+            kids.append(int(stat.parent.name))
+    return kids
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
+    """Before: the second process went on compiling after the command had said interrupted."""
+    src = str(Path(saxum.precompile.__file__).parents[1])
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
+                             str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not (kids := _children(proc.pid)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert kids, "no second process started"
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130 and err == "saxum: interrupted\n", err
+    assert not [k for k in kids if Path(f"/proc/{k}").exists()
+                and Path(f"/proc/{k}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"]
