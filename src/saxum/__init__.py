@@ -20,6 +20,7 @@ _EXPORTS = {
     "ContactSolver": "solver",
     "Contacts": "contacts",
     "DetectionSettings": "detection",
+    "Elastic": "fe",
     "FloodLoad": "flood",
     "Hybrid": "solver",
     "InputError": "errors",
