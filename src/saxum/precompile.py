@@ -44,9 +44,9 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
             i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, F, F, I, f2, f1, f1, f1, B, i32_2, f2,
             i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
-                                f2, F, I, F),
+                                f2, i64_1, f2, F, I, F),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
-        "contacts._warm_start": (i64_1, f2, i64_1, f2),
+        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
         "detection.broadphase.grid_pairs": (f2, f2, b1, b1, F, i32_2),
