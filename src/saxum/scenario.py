@@ -541,10 +541,14 @@ class LawSpec(_Strict):
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
         "gap_signorini_coulomb")
     restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
+    points: int = 2
+    """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
+    stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
+    (2D: Simpson panels)."""
 
     def law(self) -> ContactLaw:
         return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
-                          restitution=self.restitution)
+                          restitution=self.restitution, points=self.points)
 
 
 Vector = tuple[Finite, Finite] | tuple[Finite, Finite, Finite]
