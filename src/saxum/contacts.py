@@ -5,12 +5,15 @@ A contact alpha joins a candidate body (which carries the contact point) and an 
 t = (n_y, -n_x), so that (t, n) is right-handed; local vectors are stored as (t, n) components.
 Each point carries the `area` of the contact face it stands for, which laws in stresses need.
 `key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
-of the common segment), so that the solver can start from the previous impulses. Detection
-writes contacts in increasing key order, which makes matching a linear merge.
+of the common segment), so that the solver can start from the previous impulses and the joint
+laws keep their state (slip, damage, history: saxum.laws). Detection writes contacts in
+increasing key order, which makes matching a linear merge.
 """
 
 import numba as nb
 import numpy as np
+
+from .laws import LawKind
 
 __all__ = ["Contacts"]
 
@@ -48,6 +51,15 @@ class Contacts:
         contact share its overlap (the part within the alert distance), so a joint's areas sum
         to its overlap length (2D) or polygon area (3D); a vertex against a face gets a small
         area, an edge against an edge (3D) none (saxum.detection.polygons, .polyhedra)."""
+        self.slip = np.zeros((capacity, d - 1))
+        """Tangential jump s of a joint law [m], shape [capacity, dim - 1]: the spring's
+        elongation (ELASTIC) or the jump since bonding (COHESIVE); 0 for other laws."""
+        self.damage = np.zeros(capacity)
+        """Damage d in [0, 1] of a COHESIVE joint [-] (1: a Coulomb contact), shape
+        [capacity]; 0 for other laws. It never decreases."""
+        self.history = np.zeros(capacity)
+        """Largest scaled opening kappa reached by a COHESIVE joint [-] (saxum.laws), shape
+        [capacity]; 0 for other laws."""
 
     def reserve(self, capacity: int) -> None:
         """Make room for `capacity` contacts; existing rows are kept."""
@@ -61,7 +73,7 @@ class Contacts:
     @staticmethod
     def _fields() -> tuple[str, ...]:
         return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse",
-                "area")
+                "area", "slip", "damage", "history")
 
     def copy(self) -> "Contacts":
         """A deep copy of the valid rows."""
@@ -71,17 +83,29 @@ class Contacts:
             getattr(c, k)[: self.count] = getattr(self, k)[: self.count]
         return c
 
-    def warm_start_from(self, previous: "Contacts") -> int:
-        """Copy impulses of persisting contacts (same key) from `previous`; returns how many."""
-        return _warm_start(
-            self.key[: self.count], self.impulse[: self.count],
-            previous.key[: previous.count], previous.impulse[: previous.count],
+    def warm_start_from(self, previous: "Contacts", law_kind: np.ndarray | None = None) -> int:
+        """Copy the impulses and the joint state (slip, damage, history) of persisting
+        contacts (same key) from `previous`; returns how many. A new contact starts with
+        zero impulse and slip, and, under a COHESIVE law (law_kind: Model.law_kind), fully
+        damaged: a joint that was not bonded at the start does not bond later."""
+        n, m = self.count, previous.count
+        return _carry(
+            self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
+            self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
+            self.history[:n], previous.history[:m], self.law[:n],
+            _NO_LAWS if law_kind is None else law_kind,
         )
 
 
+_COHESIVE = int(LawKind.COHESIVE)
+_NO_LAWS = np.zeros(0, dtype=np.int8)
+
+
 @nb.njit(cache=True)
-def _warm_start(key, impulse, old_key, old_impulse):
-    """Merge of two key lists that detection writes in increasing order: O(count), no sort."""
+def _carry(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage, history,
+           old_history, law, law_kind):
+    """Merge of two key lists that detection writes in increasing order: O(count), no sort;
+    rows of a key found in old_key are copied, the others reset (module doc)."""
     hits = 0
     k = 0
     for a in range(key.shape[0]):
@@ -91,8 +115,17 @@ def _warm_start(key, impulse, old_key, old_impulse):
         if k < old_key.shape[0] and old_key[k] == key[a]:
             for r in range(impulse.shape[1]):
                 impulse[a, r] = old_impulse[k, r]
+            for r in range(slip.shape[1]):
+                slip[a, r] = old_slip[k, r]
+            damage[a] = old_damage[k]
+            history[a] = old_history[k]
             hits += 1
         else:
             for r in range(impulse.shape[1]):
                 impulse[a, r] = 0.0
+            for r in range(slip.shape[1]):
+                slip[a, r] = 0.0
+            cracked = law_kind.shape[0] > 0 and law_kind[law[a]] == _COHESIVE
+            damage[a] = 1.0 if cracked else 0.0
+            history[a] = 0.0
     return hits

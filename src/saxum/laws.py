@@ -17,31 +17,110 @@ CMAME 177, 1999; names after LMGC90's families):
   frictionless; saxum.solver.projection), which removes interpenetration and drift without
   adding a separation velocity. (A gap target b_n = g / (theta h) in the velocity problem, as
   NSCD.md writes the law, makes impacts rebound as if elastic when theta = 1/2.)
+
+Joint laws in stresses (per unit of the contact's `area` A [m^2; 2D: m per metre of depth];
+parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_local):
+
+- ELASTIC (after LMGC90's ELAS_REP_STD / VISCO_ELAS_REP_STD): a normal spring k_n [Pa/m] and
+  dashpot c_n [Pa s/m] that only push, sigma_n = max(0, -k_n g - c_n dg/dt), g the gap (its
+  negative part the joint's closure), and a tangential spring k_t [Pa/m] in series with a
+  Coulomb slider, |tau| <= mu sigma_n (k_t = 0: rigid-plastic Coulomb). No projection: the
+  closure is the spring's. A point with no area (edge against edge in 3D) falls back to
+  Signorini-Coulomb.
+- VISCOUS_COULOMB: the gap law's Signorini condition, and friction with a viscous term in
+  parallel, |R_t + h A eta U_t| <= mu R_n (eta [Pa s/m]): the shear stress is a Coulomb
+  part bounded by mu sigma_n plus eta times the sliding velocity (the "viscous friction" of
+  the NSCD method, NSCD.md; V. Acary & B. Brogliato, Numerical Methods for Nonsmooth
+  Dynamical Systems, Springer 2008, sec. 7: a smooth force in parallel with the non-smooth
+  law).
+- COHESIVE: a mortar joint, a bond in parallel with the gap law's Signorini-Coulomb contact
+  (the adhesion-friction coupling of M. Raous, L. Cangemi & M. Cocu, CMAME 177 (1999) 383-399,
+  and F. Monerie & V. Acary, Rev. Eur. Elem. Finis 10 (2001) 489-503). With d in [0, 1] the
+  damage, the bond's stresses are sigma_b = -(1 - d) k_n g (tension where the joint opens,
+  g > 0) and tau_b = -(1 - d) k_t s, s the tangential jump since bonding; compression and
+  friction are the contact's, so a fully damaged joint (d = 1) is a Coulomb joint, and the
+  intact joint's shear strength under a normal stress sigma is c + mu sigma (Mohr-Coulomb with
+  a tension cut-off f_t). Damage follows the bilinear mixed-mode law of P.P. Camanho &
+  C.G. Davila, "Mixed-mode decohesion finite elements for the simulation of delamination in
+  composite materials", NASA/TM-2002-211737, with the openings scaled by the onset openings
+  delta_n = f_t / k_n, delta_t = c / k_t (so that k_n and k_t may differ):
+      lambda = sqrt((<g>+ / delta_n)^2 + (s / delta_t)^2),  kappa = max over time of lambda,
+      onset at lambda = 1: (sigma / f_t)^2 + (tau / c)^2 = 1 (their quadratic criterion);
+      failure at lambda_f with 1 / lambda_f = cos^2 phi / lambda_I + sin^2 phi / lambda_II,
+      cos phi = <g>+ / (delta_n lambda), lambda_I = 2 G_I k_n / f_t^2,
+      lambda_II = 2 G_II k_t / c^2 (their linear energy criterion G_n / G_I + G_t / G_II = 1
+      for a proportional path: each mode's stress falls linearly to zero at lambda_f);
+      d = lambda_f (kappa - 1) / (kappa (lambda_f - 1)) clipped to [0, 1], and d never
+      decreases.
+  So pure mode I peaks at f_t and dissipates G_I per unit area, pure mode II at c and G_II.
+  lambda_I >= 1 and lambda_II >= 1 are needed (else the softening snaps back):
+  G_I >= f_t^2 / (2 k_n), G_II >= c^2 / (2 k_t). Joints closed at the start are intact;
+  contacts that appear later start fully damaged (a joint does not heal).
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import IntEnum
+
+import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MAX_LAW_POINTS", "ContactLaw", "LawKind"]
+__all__ = ["MAX_LAW_POINTS", "ContactLaw", "LawKind", "Parameter"]
 
 MAX_LAW_POINTS = 15
 """Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""
 
 
 class LawKind(IntEnum):
-    """The normal part of a contact law (friction is Coulomb for all)."""
+    """The normal part of a contact law (friction is Coulomb for all), and the joint laws."""
 
     SIGNORINI_COULOMB = 0
     RESTITUTION_COULOMB = 1
     GAP_SIGNORINI_COULOMB = 2
+    ELASTIC = 3
+    VISCOUS_COULOMB = 4
+    COHESIVE = 5
+
+
+class Parameter(IntEnum):
+    """Columns of Model.law_parameter (0 where a law does not use one)."""
+
+    K_N = 0
+    """Normal stiffness k_n [Pa/m]."""
+    K_T = 1
+    """Tangential stiffness k_t [Pa/m]."""
+    C_N = 2
+    """Normal damping c_n [Pa s/m] (ELASTIC)."""
+    ETA = 3
+    """Tangential viscosity eta [Pa s/m] (VISCOUS_COULOMB)."""
+    F_T = 4
+    """Tensile strength f_t [Pa] (COHESIVE)."""
+    COHESION = 5
+    """Cohesion c [Pa] (COHESIVE)."""
+    G_I = 6
+    """Mode I fracture energy G_I [J/m^2] (COHESIVE)."""
+    G_II = 7
+    """Mode II fracture energy G_II [J/m^2] (COHESIVE)."""
+
+
+SMOOTH_KINDS = (LawKind.ELASTIC, LawKind.VISCOUS_COULOMB, LawKind.COHESIVE)
+"""Laws that the local problem modifies (saxum.solver.laws_local); the others are dry."""
+
+_USED = {
+    LawKind.ELASTIC: {"k_n": True, "k_t": False, "c_n": False},
+    LawKind.VISCOUS_COULOMB: {"eta": True},
+    LawKind.COHESIVE: {"k_n": True, "k_t": True, "f_t": True, "cohesion": True, "g_i": True,
+                       "g_ii": True},
+}
+"""Parameters per joint law: name -> required (True) or optional (False, default 0)."""
 
 
 @dataclass(frozen=True)
 class ContactLaw:
-    """A contact law: friction coefficient mu [-], kind, restitution e_n [-] (RESTITUTION only).
+    """A contact law: friction coefficient mu [-], kind, restitution e_n [-] (RESTITUTION only),
+    and the joint laws' parameters (see `Parameter` and the module doc; SI units):
+    k_n, k_t [Pa/m], c_n, eta [Pa s/m], f_t, cohesion [Pa], g_i, g_ii [J/m^2].
 
     points: contact points of a face-to-face contact, for laws written in stresses
     (saxum.detection.polygons, .polyhedra). 2 (default): the ends of the common segment (3D:
@@ -57,6 +136,16 @@ class ContactLaw:
     friction: float
     kind: LawKind = LawKind.GAP_SIGNORINI_COULOMB
     restitution: float = 0.0
+    k_n: float = 0.0
+    k_t: float = 0.0
+    c_n: float = 0.0
+    eta: float = 0.0
+    f_t: float = 0.0
+    cohesion: float = 0.0
+    g_i: float = 0.0
+    g_ii: float = 0.0
+    name: str = field(default="", compare=False)
+    """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
     points: int = 2
 
     def __post_init__(self) -> None:
@@ -77,3 +166,34 @@ class ContactLaw:
                 "stresses"
             )
         object.__setattr__(self, "kind", LawKind(self.kind))
+        self._check_parameters()
+
+    @property
+    def parameters(self) -> np.ndarray:
+        """The row of Model.law_parameter, columns `Parameter`."""
+        return np.array([getattr(self, p.name.lower()) for p in Parameter], dtype=np.float64)
+
+    def _check_parameters(self) -> None:
+        who = self.name or f"the {self.kind.name} law"
+        used = _USED.get(self.kind, {})
+        for p in Parameter:
+            key = p.name.lower()
+            value = getattr(self, key)
+            if not math.isfinite(value) or value < 0.0:
+                raise InputError(f"{who}: {key} must be a finite number >= 0, got {value}")
+            if value != 0.0 and key not in used:
+                raise InputError(f"{who}: {key} is not a parameter of kind {self.kind.name}; "
+                                 f"its parameters are: {', '.join(used) or 'none'}")
+            if used.get(key) and value == 0.0:
+                raise InputError(f"{who}: kind {self.kind.name} needs {key} > 0")
+        if self.kind == LawKind.COHESIVE:
+            # linear softening from the strength at the onset opening to zero at
+            # 2 G / strength: a shorter tail than the onset opening would snap back
+            for g, strength, stiffness in (("g_i", "f_t", "k_n"), ("g_ii", "cohesion", "k_t")):
+                least = getattr(self, strength) ** 2 / (2.0 * getattr(self, stiffness))
+                if getattr(self, g) < least:
+                    raise InputError(
+                        f"{who}: {g} = {getattr(self, g):g} J/m^2 is too small for {strength} = "
+                        f"{getattr(self, strength):g} Pa and {stiffness} = "
+                        f"{getattr(self, stiffness):g} Pa/m: the softening would snap back; "
+                        f"use {g} >= {strength}^2 / (2 {stiffness}) = {least:.6g} J/m^2")

@@ -32,7 +32,7 @@ from .geometry3d import (
     quaternion_from_matrix,
     rotation_matrix,
 )
-from .laws import ContactLaw
+from .laws import ContactLaw, Parameter
 
 __all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder"]
 
@@ -124,6 +124,9 @@ class Model:
     """Newton restitution e_n [-], shape [law_count], float64."""
     law_points: np.ndarray
     """Contact points of a face-to-face contact (ContactLaw.points), shape [law_count], int32."""
+    law_parameter: np.ndarray
+    """Joint law parameters, columns saxum.laws.Parameter (k_n, k_t [Pa/m], c_n, eta [Pa s/m],
+    f_t, cohesion [Pa], G_I, G_II [J/m^2]), shape [law_count, len(Parameter)], float64."""
     gravity: np.ndarray
     """Gravitational acceleration [m/s^2], shape [2], float64."""
     accelerations: tuple[TimeVector, ...] = ()
@@ -379,6 +382,8 @@ class ModelBuilder:
             law_friction=np.array([law.friction for law in laws], dtype=np.float64),
             law_restitution=np.array([law.restitution for law in laws], dtype=np.float64),
             law_points=np.array([law.points for law in laws], dtype=np.int32),
+            law_parameter=np.array([law.parameters for law in laws],
+                                   dtype=np.float64).reshape(len(laws), len(Parameter)),
             gravity=self._gravity.copy(),
             accelerations=tuple(self._accelerations),
             forces=tuple(self._forces),

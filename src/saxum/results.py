@@ -9,12 +9,14 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            applied and paths resolved: what `saxum resume` rebuilds the run from
     /model/...             body_name, body_kind, body_group, group_names, body_mass [kg/m],
                            body_inertia [kg m^2/m], body_q0, body_vertex_start, vertex_local [m],
-                           law_kind, law_friction, law_restitution, group_law, gravity [m/s^2];
+                           law_kind, law_friction, law_restitution, law_parameter (SI units,
+                           columns saxum.laws.Parameter), group_law, gravity [m/s^2];
                            3D also body_face_start, face_vertex_start, face_vertex (faces)
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
-                           impulse, area [m^2/m; 3D: m^2] (saxum.contacts.Contacts.area)}
+                           impulse, area [m^2/m; 3D: m^2] (saxum.contacts.Contacts.area),
+                           slip [m], damage [-], history [-] (the joint laws' state)}
     /steps/...             one row per time step: the StepReport fields (saxum.steplog)
     /histories/...         one row per time step for the chosen blocks (attrs body: their
                            indices): time [s], step, body_q, body_v (shape [steps, blocks, 3])
@@ -85,9 +87,12 @@ _CONTACT_FIELDS = {
     "gap": (np.float64, lambda d: (), "m"),
     "impulse": (np.float64, lambda d: (d,), "N s/m"),
     "area": (np.float64, lambda d: (), "m^2/m"),
+    "slip": (np.float64, lambda d: (d - 1,), "m"),
+    "damage": (np.float64, lambda d: (), "-"),
+    "history": (np.float64, lambda d: (), "-"),
 }
-"""Contact fields in frames and checkpoints; files written before `area` existed lack it, and
-are read and resumed without it."""
+"""Contact fields in frames and checkpoints; files written before `area` (or the joint laws'
+`slip`, `damage`, `history`) existed lack them, and are read and resumed without them."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
           3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
@@ -653,7 +658,8 @@ def _write_model(g: h5py.Group, model) -> None:
     fields = [("body_kind", "-"), ("body_group", "-"), ("body_mass", "kg" + per_depth),
               ("body_inertia", "kg m^2" + per_depth), ("body_q0", _UNITS[model.dim][0]),
               ("body_vertex_start", "-"), ("vertex_local", "m"), ("law_kind", "-"),
-              ("law_friction", "-"), ("law_restitution", "-"), ("group_law", "-"),
+              ("law_friction", "-"), ("law_restitution", "-"), ("law_parameter", "SI"),
+              ("group_law", "-"),
               ("gravity", "m/s^2")]
     if model.dim == 3:
         fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-"),

@@ -1,7 +1,8 @@
 """The time loop: a fixed sequence of named stages per step (NSCD.md, Moreau-Jean):
 
     forces -> free velocity -> driven velocities -> predicted configuration -> detection
-    -> warm start -> local problem -> contact solve -> position update
+    -> warm start (and the joint laws' state) -> local problem -> contact solve
+    -> joint state (slip, damage: saxum.solver.laws_local) -> position update
     -> projection (gap-based law) -> report
 
 The stages call compiled kernels over the model's and state's arrays; this module only
@@ -19,8 +20,10 @@ from .contacts import Contacts
 from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean, free_velocity
+from .laws import LawKind
 from .model import BodyKind, Model
 from .solver import NLGS, SOLVER_NAMES, ContactProblem, ContactSolver, PositionProjection
+from .solver.laws_local import update_joints
 from .state import State
 from .steplog import StepLog, StepReport
 
@@ -55,6 +58,10 @@ class Simulation:
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
+        if self.problem.joint_laws and not isinstance(self.solver, NLGS):
+            raise InputError(
+                f"the joint laws (elastic, viscous, cohesive) are solved by NLGS only, not by "
+                f"{type(self.solver).__name__}; use solver.kind = \"nlgs\"")
         n, dof = model.body_count, model.dof
         self._force = np.zeros((n, dof))
         self._v = np.zeros((n, dof))
@@ -83,7 +90,31 @@ class Simulation:
         state = State.initial(self.model)
         if check_overlaps:
             self.detector.check_overlaps(state.body_q)
+        if (self.model.law_kind == LawKind.COHESIVE).any():
+            state.contacts = self._bonds(state.body_q)
         return state
+
+    def _bonds(self, q: np.ndarray) -> Contacts:
+        """The contacts at the initial configuration q, with the joints of cohesive laws that
+        are closed there (gap within the detector's closed_gap) intact and the others fully
+        damaged; raises InputError for a cohesive law that bonds no joint."""
+        m = self.model
+        contacts = self.detector.contacts_at(q)
+        n = contacts.count
+        cohesive = m.law_kind[contacts.law[:n]] == LawKind.COHESIVE
+        closed = contacts.gap[:n] <= self.detector.closed_gap
+        contacts.damage[:n] = np.where(cohesive & ~closed, 1.0, 0.0)
+        bonded = set(contacts.law[:n][cohesive & closed].tolist())
+        for k in np.flatnonzero(m.law_kind == LawKind.COHESIVE):
+            if k not in bonded:
+                law = m.laws[k]
+                pairs = [f"({m.group_names[i]}, {m.group_names[j]})"
+                         for i, j in zip(*np.nonzero(np.triu(m.group_law == k)), strict=True)]
+                raise InputError(
+                    f"{law.name or 'a cohesive law'}: the groups it is given to, "
+                    f"{', '.join(pairs)}, have no closed joint at the start, so it would bond "
+                    "nothing; give it (the key `groups`) to groups of blocks built touching")
+        return contacts
 
     @property
     def free_velocity(self) -> np.ndarray:
@@ -168,11 +199,17 @@ class Simulation:
 
         contacts = self._spare
         self.detector.detect(self._q_pred, contacts)
-        contacts.warm_start_from(state.contacts)
+        contacts.warm_start_from(state.contacts, m.law_kind)
         problem = self.problem
         problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
                          self.detector.closed_gap, self._v)
         solved = self.solver.solve(problem, contacts.impulse, self._v_free, self._v)
+        if problem.joint_laws:
+            c = contacts
+            update_joints(c.candidate, c.antagonist, c.law, c.gap, c.area, c.impulse,
+                          problem.active, c.slip, c.damage, c.history, c.count,
+                          problem.h_cand, problem.h_ant, state.body_v, self._v, m.law_kind,
+                          m.law_friction, m.law_parameter, h, theta)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)

@@ -174,6 +174,13 @@ class Detector:
         self._since_refresh = int(saved["since_refresh"])
         self.refresh_count = int(saved["refresh_count"])
 
+    def contacts_at(self, q: np.ndarray) -> Contacts:
+        """The contacts at configuration q [m, rad], found with a fresh broad phase."""
+        probe = Contacts(self.model.dim)
+        self._since_refresh = self.refresh_every
+        self.detect(q, probe)
+        return probe
+
     def check_overlaps(self, q: np.ndarray, *, tolerance: float | None = None) -> None:
         """Raise OverlapError naming the deepest interpenetrating pair at configuration q.
 
@@ -181,9 +188,7 @@ class Detector:
         block size, i.e. round-off of generated geometry).
         """
         tol = tolerance if tolerance is not None else 1e-6 * float(self.model.body_size.max())
-        probe = Contacts(self.model.dim)
-        self._since_refresh = self.refresh_every
-        self.detect(q, probe)
+        probe = self.contacts_at(q)
         gaps = probe.gap[: probe.count]
         bad = np.flatnonzero(gaps < -tol)
         if bad.size == 0:

@@ -43,6 +43,7 @@ import numpy as np
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .equilibrium import rest_solution
+from .laws_local import law_map_width, law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
@@ -90,6 +91,7 @@ class NLGS(ContactSolver):
         self._inv_mass = None
         self._mass = np.empty((0, 0))
         self._following = LoadFollowing()
+        self._zero_map = np.zeros((0, 0))
 
     def forget(self) -> None:
         self._following.clear()
@@ -107,25 +109,33 @@ class NLGS(ContactSolver):
                                    where=inv_mass > 0.0)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
-        width = 18 if problem.model.dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
+        dim = problem.model.dim
+        width = 19 if dim == 2 else 39  # the packed row of nlgs_2d / nlgs_3d
         if len(self._work) < problem.count or self._work.shape[1] != width:
             self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
-        sweep = nlgs_3d if problem.model.dim == 3 else nlgs_2d
+        # joint laws (saxum.solver.laws_local) change the local problems; a problem without
+        # them (the projection's) has none
+        joints = getattr(problem, "joint_laws", False)
+        law_map = problem.law_map if joints else self._no_laws(problem.count, dim)
+        sweep = nlgs_3d if dim == 3 else nlgs_2d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, problem.active, problem.count, inv_mass,
-                self._mass, v_free, v, self._v_prev, impulse, self._work, self.tolerance)
-        # the step's own problem (the projection's has no v_begin and no rest solution)
-        follow = (self.follow_loads and self.rest_after > 0
+                self._mass, v_free, v, self._v_prev, impulse, self._work, law_map,
+                self.tolerance)
+        # the step's own problem (the projection's has no v_begin and no rest solution); the
+        # rest solution is that of rigid joints, so not with joint laws
+        rest_after = 0 if joints else self.rest_after
+        follow = (self.follow_loads and rest_after > 0
                   and getattr(problem, "v_begin", None) is not None)
         followed = follow and self._following.start(problem, impulse, v_free, v,
                                                      self.tolerance)
         first = self.max_iterations
-        if self.rest_after > 0 and problem.count > 0:
+        if rest_after > 0 and problem.count > 0:
             # after a start that follows a step at rest, the rest solution is likely: it is
             # looked for as soon as the sweeps have done _REST_WORK, if the first one does
             # not confirm the start
             least = -(-_REST_WORK // problem.count)
-            first = min(least if followed else max(self.rest_after, least), first)
+            first = min(least if followed else max(rest_after, least), first)
         iterations, error = sweep(*args, first, self.relaxation)
         confirmed = iterations == 1 and error <= self.tolerance
         followed = followed and not confirmed
@@ -149,13 +159,22 @@ class NLGS(ContactSolver):
                                    found and converged)
         return SolverReport(iterations=iterations, error=error, converged=converged)
 
+    def _no_laws(self, count: int, dim: int) -> np.ndarray:
+        """A law_map of dry laws only (zeros), at least count rows."""
+        width = law_map_width(dim)
+        if len(self._zero_map) < count or self._zero_map.shape[1] != width:
+            self._zero_map = np.zeros((max(count, 2 * len(self._zero_map)), width))
+        return self._zero_map
+
 
 @nb.njit(cache=True)
 def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
+            v_free, v, v_prev, impulse, work, law_map, tolerance, max_iterations, relaxation):
     """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
     mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
-    work (at least count x 18) are work memory.
+    work (at least count x 19) are work memory; law_map: the joint laws' local problems
+    (saxum.solver.laws_local; rows with flag 0, the dry laws, take the code path they took
+    before joint laws existed, bit for bit).
 
     Written out for 2D rigid bodies (3 dof, frame (t, n)), whose rows of H* are
     [t, l_c x t], [n, l_c x n] on the candidate and [-t, -(l_a x t)], [-n, -(l_a x n)] on the
@@ -178,7 +197,12 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             row[8] = delassus[a, 0, 0]
             row[9] = delassus[a, 0, 1]
             row[10] = delassus[a, 1, 1]
-            f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
+            row[18] = law_map[a, 0]
+            if row[18] != 0.0:  # a joint law: the dry solve is on W'
+                lm = law_map[a]
+                f = factorize_contact_2d(lm[1], lm[2], lm[4], friction[a])
+            else:
+                f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
             for i in range(5):
                 row[11 + i] = f[i]
             row[16] = bias[a]
@@ -214,8 +238,12 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             # u_n + b_n
             un = (((nx * dx + ny * dy) + (cn * vc2 + an * vb2))
                   + (row[16] - (wtn * rt0 + wnn * rn0)))
-            rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
-                                               row[14], row[15], ut, un, row[17])
+            if row[18] != 0.0:
+                rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
+                                      row[14], row[15], row[17])
+            else:
+                rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
+                                                   row[14], row[15], ut, un, row[17])
             if relaxation != 1.0:
                 rt = relaxation * rt + (1.0 - relaxation) * rt0
                 rn = relaxation * rn + (1.0 - relaxation) * rn0
@@ -269,15 +297,16 @@ def _relative_change(v, v_prev, v_free, mass):
 
 @nb.njit(cache=True)
 def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, work, tolerance, max_iterations, relaxation):
+            v_free, v, v_prev, impulse, work, law_map, tolerance, max_iterations, relaxation):
     """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)); the single-contact problem on the
     Coulomb cone is solved exactly by saxum.solver.local3d (its open and stick cases inlined
     here on scalars, solve_contact_3d called for slides).
 
     Written out like nlgs_2d: before the sweeps each active contact's rows of H* go into one
-    row of `work` (at least count x 38): the candidate's three rows (6 dof each), the
+    row of `work` (at least count x 39): the candidate's three rows (6 dof each), the
     antagonist's rotational parts (its translational rows are minus the candidate's, as for
-    any rigid 3D contact: saxum.rigid3d.contact_jacobians), W, b_n and mu."""
+    any rigid 3D contact: saxum.rigid3d.contact_jacobians), W, b_n, mu and the joint-law flag
+    (law_map as in nlgs_2d)."""
     nactive = 0
     for a in range(count):
         if active[a]:
@@ -292,10 +321,12 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                     row[27 + 3 * r + s] = delassus[a, r, s]
             row[36] = bias[a]
             row[37] = friction[a]
+            row[38] = law_map[a, 0]
     if nactive == 0:
         return 0, 0.0
     u = np.empty(3)
     rr = np.empty(3)
+    wp = np.empty((3, 3))
     error = np.inf
     it = 0
     # v_prev = v by _relative_change's loop (a slice copy would compile its error message's
@@ -327,14 +358,20 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                         + (row[p] * vb3 + row[p + 1] * vb4 + row[p + 2] * vb5)) - (
                     row[q] * rt0 + row[q + 1] * rn0 + row[q + 2] * rs0)
             u[1] += row[36]
-            case, rr[0], rr[1], rr[2] = open_or_stick_3d(
-                row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
-                row[35], u[0], u[1], u[2], row[37])
-            if case < 0:  # a slide: the full solve, from the current impulse
+            if row[38] != 0.0:  # a joint law (saxum.solver.laws_local)
                 rr[0] = rt0
                 rr[1] = rn0
                 rr[2] = rs0
-                solve_contact_3d(delassus[a], u, row[37], rr)
+                law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
+            else:
+                case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+                    row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
+                    row[35], u[0], u[1], u[2], row[37])
+                if case < 0:  # a slide: the full solve, from the current impulse
+                    rr[0] = rt0
+                    rr[1] = rn0
+                    rr[2] = rs0
+                    solve_contact_3d(delassus[a], u, row[37], rr)
             if relaxation != 1.0:
                 rr[0] = relaxation * rr[0] + (1.0 - relaxation) * rt0
                 rr[1] = relaxation * rr[1] + (1.0 - relaxation) * rn0

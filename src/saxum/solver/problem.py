@@ -15,8 +15,9 @@ import numpy as np
 
 from .. import rigid2d, rigid3d
 from ..contacts import Contacts
-from ..laws import LawKind
+from ..laws import SMOOTH_KINDS, LawKind
 from ..model import Model
+from .laws_local import law_map_width, law_terms
 
 __all__ = ["ContactProblem"]
 
@@ -37,6 +38,8 @@ class ContactProblem:
         self._jacobians = _JACOBIANS[model.dim]
         self._written_out = model.dim == 2 and model.dof == 3
         """Use the kernels written out for 2D (False: the generic ones, which tests compare)."""
+        self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())
+        """Whether some law is a joint law (saxum.solver.laws_local): then law_map is filled."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -56,6 +59,9 @@ class ContactProblem:
         """Contact enters the solve this step (else R = 0), shape [capacity]."""
         self.gap_end = np.zeros(capacity)
         """Estimated gap at the end of the step [m] (end_gaps), shape [capacity]."""
+        self.law_map = np.zeros((capacity, law_map_width(d)))
+        """The joint laws' modified local problems (saxum.solver.laws_local; column 0 is 0
+        for contacts of dry laws), shape [capacity, law_map_width(dim)]."""
 
     def assemble(
         self, contacts: Contacts, q: np.ndarray, v_begin: np.ndarray, h: float, theta: float,
@@ -79,14 +85,19 @@ class ContactProblem:
                          m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
                          m.law_restitution, h, theta, closed_gap, c.impulse, v, self.h_cand,
                          self.h_ant, self.delassus, self.bias, self.friction, self.active)
-            return
-        self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k, self.h_cand,
-                        self.h_ant)
-        _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
-                  m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
-                  theta, closed_gap, self.delassus, self.bias, self.friction, self.active)
-        _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
-               m.body_inv_mass, c.impulse, v)
+        else:
+            self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
+                            self.h_cand, self.h_ant)
+            _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
+                      m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
+                      m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
+                      self.friction, self.active)
+            _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
+                   m.body_inv_mass, c.impulse, v)
+        if self.joint_laws:
+            law_terms(c.candidate, c.antagonist, c.law, c.gap, c.area, c.slip, c.damage, k,
+                      self.h_cand, self.h_ant, v_begin, m.law_kind, m.law_parameter, h, theta,
+                      self.delassus, self.bias, self.law_map)
 
     def end_gaps(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float,
                  w: np.ndarray | None = None) -> tuple[int, float]:

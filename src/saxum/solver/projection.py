@@ -30,6 +30,8 @@ from .problem import ContactProblem
 __all__ = ["PositionProjection"]
 
 _GAP = int(LawKind.GAP_SIGNORINI_COULOMB)
+_VISCOUS = int(LawKind.VISCOUS_COULOMB)
+_COHESIVE = int(LawKind.COHESIVE)
 
 
 @dataclass
@@ -91,11 +93,13 @@ class PositionProjection:
 
 @nb.njit(cache=True)
 def _projection_targets(law, gap_end, count, law_kind, h, bias, active):
-    """bias = g+ / h [m/s] for gap-law contacts (the others inactive); returns the largest
-    end-of-step interpenetration -g+ [m] among them (0 if none)."""
+    """bias = g+ / h [m/s] for gap-law contacts, which include the viscous and cohesive
+    joints' contact part (the others inactive); returns the largest end-of-step
+    interpenetration -g+ [m] among them (0 if none)."""
     worst = 0.0
     for a in range(count):
-        active[a] = law_kind[law[a]] == _GAP
+        kind = law_kind[law[a]]
+        active[a] = kind == _GAP or kind == _VISCOUS or kind == _COHESIVE
         if not active[a]:
             bias[a] = 0.0
             continue

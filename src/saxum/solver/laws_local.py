@@ -1,0 +1,256 @@
+"""The joint laws (saxum.laws: ELASTIC, VISCOUS_COULOMB, COHESIVE) as modified local problems.
+
+NLGS solves, per contact alpha, U = W R + q with Signorini-Coulomb on (U_n + b_n, R). A joint
+law changes that problem, per contact and step, into the same one on other data, so the same
+NLGS (saxum.solver.nlgs) solves all laws (design doc, sec. 5). With theta-weighted stresses,
+x_theta = (1 - theta) x_i + theta x_i+1 over the step [t_i, t_i+1] (the trapezoid for
+theta = 1/2, which keeps a spring's energy), g the gap on the predicted configuration,
+U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area:
+
+- compliance (ELASTIC): R_n = h A max(0, -(k_n g_theta + c_n U_n,theta)) with
+  g_theta = g - (1 - theta)^2 h U^b_n + theta^2 h U_n, which is
+      R_n >= 0,  U_n + b_n + C_n R_n >= 0,  complementary,
+      C_n = 1 / (h A K),  K = theta (theta h k_n + c_n),
+      b_n = (k_n (g - (1 - theta)^2 h U^b_n) + c_n (1 - theta) U^b_n) / K,
+  and the tangential spring s_theta = s + theta (1 - theta) h U^b_t + theta^2 h U_t in series
+  with Coulomb's slider: C_t = 1 / (theta^2 h^2 A k_t), b_t = (s + theta (1 - theta) h U^b_t)
+  / (theta^2 h). So W' = W + diag(C) and the shift (b_t, b_n) [V. Acary & B. Brogliato,
+  Numerical Methods for Nonsmooth Dynamical Systems, Springer 2008, sec. 7].
+- parallel part (VISCOUS_COULOMB, COHESIVE): R = R_d + R_l, R_l = -D U - e with D diagonal,
+  R_d Signorini-Coulomb (the gap law's b_n) on U. Eliminating U = W R + q:
+      U = W' R_d + q',  W' = (I + W D)^-1 W,  q' = (I + W D)^-1 (q - W e),
+  then R = R_d - D U - e. Viscous: D_t = h A eta. Cohesive bond with beta = 1 - d:
+  D = beta theta^2 h^2 A diag(k_t, k_n), e = beta h A (k_t (s + theta (1 - theta) h U^b_t),
+  k_n (g - (1 - theta)^2 h U^b_n)), i.e. the bond's impulse -beta h A k (s_theta, g_theta).
+
+`law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do):
+[flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim)];
+the sweep kernels call `law_solve_2d` / `law_solve_3d` for flagged rows: u' = P u + s''
+(u the kernel's local velocity with b_n added, so s'' = -P W e + b - P b), the dry solve on
+W', then R = R_d - D U - e with U = W' R_d + u' - b. For compliance, P = I, D = e = 0.
+`update_joints` advances the state after the solve (slip, history, damage: saxum.laws).
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ..laws import LawKind, Parameter
+from .local2d import solve_factored_contact_2d
+from .local3d import solve_contact_3d
+
+__all__ = ["law_map_width", "law_solve_2d", "law_solve_3d", "law_terms", "update_joints"]
+
+_ELASTIC = int(LawKind.ELASTIC)
+_VISCOUS = int(LawKind.VISCOUS_COULOMB)
+_COHESIVE = int(LawKind.COHESIVE)
+_K_N, _K_T, _C_N, _ETA = (int(Parameter.K_N), int(Parameter.K_T), int(Parameter.C_N),
+                          int(Parameter.ETA))
+_F_T, _COH, _G_I, _G_II = (int(Parameter.F_T), int(Parameter.COHESION), int(Parameter.G_I),
+                           int(Parameter.G_II))
+
+
+def law_map_width(dim: int) -> int:
+    """Columns of a law_map row: flag, W', P, s'', D, e."""
+    return 1 + 2 * dim * dim + 3 * dim
+
+
+@nb.njit(inline="always")
+def _local(h_cand, h_ant, a, r, c, b, v):
+    u = 0.0
+    for k in range(v.shape[1]):
+        u += h_cand[a, r, k] * v[c, k] + h_ant[a, r, k] * v[b, k]
+    return u
+
+
+@nb.njit(cache=True)
+def law_terms(cand, ant, law, gap, area, slip, damage, count, h_cand, h_ant, v_begin, law_kind,
+              law_parameter, h, theta, delassus, bias, law_map):
+    """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones in
+    bias [m/s]; other rows get flag 0. delassus [1/kg] is W, left as it is."""
+    dim = delassus.shape[1]
+    o_w, o_p = 1, 1 + dim * dim
+    o_s, o_d, o_e = 1 + 2 * dim * dim, 1 + 2 * dim * dim + dim, 1 + 2 * dim * dim + 2 * dim
+    ub = np.empty(dim)
+    dd = np.empty(dim)
+    ee = np.empty(dim)
+    bb = np.empty(dim)
+    m = np.empty((dim, dim))
+    for a in range(count):
+        row = law_map[a]
+        row[0] = 0.0
+        kind = law_kind[law[a]]
+        area_a = area[a]
+        if kind < _ELASTIC or area_a <= 0.0:  # dry, or no area: Signorini-Coulomb
+            continue
+        p = law_parameter[law[a]]
+        beta = 1.0 - damage[a]
+        if kind == _COHESIVE and beta <= 0.0:
+            continue  # fully damaged: a Coulomb contact
+        c = cand[a]
+        b = ant[a]
+        for r in range(dim):
+            ub[r] = _local(h_cand, h_ant, a, r, c, b, v_begin)
+        row[0] = 1.0
+        for r in range(dim * dim):
+            row[o_p + r] = 0.0
+        for r in range(dim):
+            row[o_p + r * dim + r] = 1.0
+            row[o_s + r] = 0.0
+            row[o_d + r] = 0.0
+            row[o_e + r] = 0.0
+            for s in range(dim):
+                row[o_w + r * dim + s] = delassus[a, r, s]
+        if kind == _ELASTIC:
+            kn, kt, cn = p[_K_N], p[_K_T], p[_C_N]
+            stiff = theta * (theta * h * kn + cn)
+            row[o_w + dim + 1] += 1.0 / (h * area_a * stiff)
+            bias[a] = (kn * (gap[a] - (1.0 - theta) ** 2 * h * ub[1])
+                       + cn * (1.0 - theta) * ub[1]) / stiff
+            if kt > 0.0:
+                for j in range(dim - 1):
+                    r = 0 if j == 0 else 2
+                    row[o_w + r * dim + r] += 1.0 / (theta * theta * h * h * area_a * kt)
+                    row[o_s + r] = (slip[a, j] + theta * (1.0 - theta) * h * ub[r]) / (
+                        theta * theta * h)
+            continue
+        for r in range(dim):
+            dd[r] = 0.0
+            ee[r] = 0.0
+            bb[r] = 0.0
+        bb[1] = bias[a]
+        if kind == _VISCOUS:
+            for r in range(0, dim, 2):
+                dd[r] = h * area_a * p[_ETA]
+        else:
+            scale = beta * h * area_a
+            for j in range(dim - 1):
+                r = 0 if j == 0 else 2
+                dd[r] = scale * theta * theta * h * p[_K_T]
+                ee[r] = scale * p[_K_T] * (slip[a, j] + theta * (1.0 - theta) * h * ub[r])
+            dd[1] = scale * theta * theta * h * p[_K_N]
+            ee[1] = scale * p[_K_N] * (gap[a] - (1.0 - theta) ** 2 * h * ub[1])
+        for r in range(dim):
+            for s in range(dim):
+                m[r, s] = (1.0 if r == s else 0.0) + delassus[a, r, s] * dd[s]
+        pm = np.linalg.inv(m)
+        wp = pm @ delassus[a]
+        we = delassus[a] @ ee
+        for r in range(dim):
+            row[o_d + r] = dd[r]
+            row[o_e + r] = ee[r]
+            shift = bb[r]
+            for s in range(dim):
+                row[o_p + r * dim + s] = pm[r, s]
+                # W' is symmetric, (W^-1 + D)^-1: keep it so against round-off
+                row[o_w + r * dim + s] = 0.5 * (wp[r, s] + wp[s, r])
+                shift -= pm[r, s] * (we[s] + bb[s])
+            row[o_s + r] = shift
+
+
+@nb.njit(inline="always")
+def law_solve_2d(m, ut, un, bn, inv_nn, inv_tn, inv_tt, slide_plus, slide_minus, mu):
+    """Total impulse (R_t, R_n) [N s] of a contact with a joint law in 2D: law_map row m, the
+    kernel's local velocity (u_t, u_n + b_n) [m/s], b_n, and the factors of W'
+    (saxum.solver.local2d.factorize_contact_2d)."""
+    qt = m[5] * ut + m[6] * un + m[9]
+    qn = m[7] * ut + m[8] * un + m[10]
+    rdt, rdn = solve_factored_contact_2d(m[1], m[2], m[4], inv_nn, inv_tn, inv_tt, slide_plus,
+                                         slide_minus, qt, qn, mu)
+    vt = m[1] * rdt + m[2] * rdn + qt
+    vn = m[3] * rdt + m[4] * rdn + qn - bn
+    return rdt - m[11] * vt - m[13], rdn - m[12] * vn - m[14]
+
+
+@nb.njit(inline="always")
+def law_solve_3d(m, u, bn, mu, wp, rr):
+    """law_solve_2d in 3D: u [m/s] (t, n + b_n, s) in, rr [N s] the impulse (in: the dry
+    part's starting guess; out: the total); wp: 3 x 3 work memory for W'."""
+    q0 = m[10] * u[0] + m[11] * u[1] + m[12] * u[2] + m[19]
+    q1 = m[13] * u[0] + m[14] * u[1] + m[15] * u[2] + m[20]
+    q2 = m[16] * u[0] + m[17] * u[1] + m[18] * u[2] + m[21]
+    u[0] = q0
+    u[1] = q1
+    u[2] = q2
+    for r in range(3):
+        for s in range(3):
+            wp[r, s] = m[1 + 3 * r + s]
+    solve_contact_3d(wp, u, mu, rr)
+    for r in range(3):
+        vel = u[r] - (bn if r == 1 else 0.0)
+        for s in range(3):
+            vel += wp[r, s] * rr[s]
+        u[r] = vel
+    for r in range(3):
+        rr[r] = rr[r] - m[22 + r] * u[r] - m[25 + r]
+
+
+@nb.njit(cache=True)
+def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, history, count,
+                  h_cand, h_ant, v_begin, v, law_kind, law_friction, law_parameter, h, theta):
+    """After the solve, from the end-of-step velocity v [m/s, rad/s]: ELASTIC slip s [m]
+    (the spring's elongation: the jump while sticking, the slider's limit while sliding, 0
+    when the contact is open); COHESIVE slip (the jump since bonding), history kappa and
+    damage d (saxum.laws; they never decrease). Returns how many joints damaged further."""
+    dim = h_cand.shape[1]
+    grown = 0
+    for a in range(count):
+        kind = law_kind[law[a]]
+        if kind != _ELASTIC and kind != _COHESIVE:
+            continue
+        p = law_parameter[law[a]]
+        c = cand[a]
+        b = ant[a]
+        area_a = area[a]
+        if kind == _ELASTIC:
+            rn = impulse[a, 1]
+            if area_a <= 0.0 or p[_K_T] == 0.0 or not active[a] or rn <= 0.0:
+                for j in range(dim - 1):
+                    slip[a, j] = 0.0
+                continue
+            rt2 = 0.0
+            for r in range(0, dim, 2):
+                rt2 += impulse[a, r] * impulse[a, r]
+            sticks = math.sqrt(rt2) < law_friction[law[a]] * rn * (1.0 - 1e-9)
+            for j in range(dim - 1):
+                r = 0 if j == 0 else 2
+                if sticks:
+                    slip[a, j] += h * ((1.0 - theta) * _local(h_cand, h_ant, a, r, c, b, v_begin)
+                                       + theta * _local(h_cand, h_ant, a, r, c, b, v))
+                else:
+                    slip[a, j] = -impulse[a, r] / (h * area_a * p[_K_T])
+            continue
+        if damage[a] >= 1.0 or area_a <= 0.0:
+            continue
+        s2 = 0.0
+        for j in range(dim - 1):
+            r = 0 if j == 0 else 2
+            slip[a, j] += h * ((1.0 - theta) * _local(h_cand, h_ant, a, r, c, b, v_begin)
+                               + theta * _local(h_cand, h_ant, a, r, c, b, v))
+            s2 += slip[a, j] * slip[a, j]
+        opening = max(gap[a] + theta * h * _local(h_cand, h_ant, a, 1, c, b, v), 0.0)
+        grown += _damage(p, opening, math.sqrt(s2), damage, history, a)
+    return grown
+
+
+@nb.njit(inline="always")
+def _damage(p, opening, jump, damage, history, a):
+    """Camanho-Davila's bilinear mixed-mode damage (saxum.laws) from the opening <g>+ [m]
+    and the tangential jump |s| [m]; returns 1 if d grew."""
+    xn = opening * p[_K_N] / p[_F_T]
+    xt = jump * p[_K_T] / p[_COH]
+    lam = math.sqrt(xn * xn + xt * xt)
+    kappa = max(history[a], lam)
+    history[a] = kappa
+    if kappa <= 1.0:
+        return 0
+    lam_i = 2.0 * p[_G_I] * p[_K_N] / (p[_F_T] * p[_F_T])
+    lam_ii = 2.0 * p[_G_II] * p[_K_T] / (p[_COH] * p[_COH])
+    cos2 = xn * xn / (lam * lam) if lam > 0.0 else 1.0
+    lam_f = 1.0 / (cos2 / lam_i + (1.0 - cos2) / lam_ii)
+    d = 1.0 if kappa >= lam_f else lam_f * (kappa - 1.0) / (kappa * (lam_f - 1.0))
+    if d > damage[a]:
+        damage[a] = min(d, 1.0)
+        return 1
+    return 0
