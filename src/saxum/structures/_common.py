@@ -17,7 +17,13 @@ from ..geometry2d import normalize_polygon
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 
-__all__ = ["Assembly"]
+__all__ = ["JOINT_TYPES", "Assembly"]
+
+JOINT_TYPES = ("bed", "head", "radial", "ring", "support")
+"""Kinds of joints a generator names (Assembly.joints), so that a law can be given per kind:
+bed joints (between courses, and under what an opening's head bears on), head joints (within
+a course), radial joints (between the voussoirs of one ring), ring interfaces (between rings
+of an arch) and support joints (blocks against a fixed support, ground or pier)."""
 
 Force = tuple[float, float, float]
 
@@ -29,13 +35,17 @@ class Assembly:
     parts: body indices by part ("voussoirs", "piers", "bricks", ...), in the order added;
     groups: the contact groups used, in order of first use; outlines: the world vertices [m]
     of each added block, by body index; loads: the constant forces the generator applied with
-    ModelBuilder.add_force, as (body, (fx [N], fy [N], torque [N m])) at the centre of mass.
+    ModelBuilder.add_force, as (body, (fx [N], fy [N], torque [N m])) at the centre of mass;
+    joints: the pairs of groups of each kind of joint (JOINT_TYPES) where the generator tells
+    them apart, every pair of its groups under one kind (pairs that never touch included, as
+    every pair with a free block needs a law).
     """
 
     parts: dict[str, list[int]] = field(default_factory=dict)
     groups: list[str] = field(default_factory=list)
     outlines: dict[int, np.ndarray] = field(default_factory=dict, repr=False)
     loads: list[tuple[int, Force]] = field(default_factory=list)
+    joints: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
 
     def __getitem__(self, part: str) -> list[int]:
         return self.parts.get(part, [])
@@ -62,6 +72,15 @@ class Assembly:
         self.groups.extend(g for g in other.groups if g not in self.groups)
         self.outlines.update(other.outlines)
         self.loads.extend(other.loads)
+        for kind, pairs in other.joints.items():
+            for pair in pairs:
+                self.add_joint(kind, *pair)
+
+    def add_joint(self, kind: str, group_a: str, group_b: str) -> None:
+        """Record the pair of groups (group_a, group_b) as joints of `kind` (JOINT_TYPES)."""
+        pairs = self.joints.setdefault(kind, [])
+        if {group_a, group_b} not in [set(p) for p in pairs]:
+            pairs.append((group_a, group_b))
 
 
 def finalize(builder: ModelBuilder, groups: Sequence[str], friction: float,
@@ -248,9 +267,10 @@ def fit_edges(x0: float, x1: float, length: float, shifted: bool) -> list[float]
 def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, density: float,
                 levels: Sequence[float], edges: Callable[[int], Sequence[float]],
                 holes: Sequence[np.ndarray] = (), min_piece: float = 0.0,
-                name: str = "brick") -> None:
+                name: str = "brick", course_groups: Sequence[str] = ()) -> None:
     """Lay courses of rectangular blocks: course c from levels[c] to levels[c + 1] [m] with head
-    joints edges(c) [m]. Blocks are cut around the convex `holes`; a piece smaller than
+    joints edges(c) [m], in `group` or, if course_groups is given, in course_groups[c modulo
+    its length]. Blocks are cut around the convex `holes`; a piece smaller than
     min_piece times the area of a whole block of its course is left out (a mason would fill it
     with mortar), so that no sliver makes the time step or the contact detection fragile."""
     for c in range(len(levels) - 1):
@@ -265,8 +285,9 @@ def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, 
             pieces = [p for p in pieces if area(p) >= min_piece * whole]
             for j, p in enumerate(pieces):
                 suffix = f".{j + 1}" if len(pieces) > 1 else ""
-                asm.add_block(builder, part, p, group=group, density=density,
-                              name=f"{name} c{c + 1}b{k + 1}{suffix}")
+                asm.add_block(builder, part, p, density=density,
+                              group=course_groups[c % len(course_groups)] if course_groups
+                              else group, name=f"{name} c{c + 1}b{k + 1}{suffix}")
 
 
 def add_ground(builder: ModelBuilder, asm: Assembly, x0: float, x1: float, top: float,
