@@ -713,6 +713,10 @@ def step_problem(sim, state, kind: str = "local") -> LocalProblem | GlobalProble
     if contacts is None or state.contacts is not contacts:
         raise InputError("state is not the one that sim stepped last: export right after "
                          "sim.step(state)")
+    if problem.joint_laws:
+        raise InputError("the model has joint laws (elastic, viscous, cohesive), whose local "
+                         "problems FCLIB's Signorini-Coulomb form does not hold; export a model "
+                         "with dry laws only")
     model = sim.model
     dim = model.dim
     v_free = sim.free_velocity.ravel()  # the last step's free velocity

@@ -66,7 +66,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MAX_LAW_POINTS", "ContactLaw", "LawKind", "Parameter"]
+__all__ = ["MAX_LAW_POINTS", "SMOOTH_KINDS", "ContactLaw", "LawKind", "Parameter"]
 
 MAX_LAW_POINTS = 15
 """Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""

@@ -78,6 +78,7 @@ Real = Annotated[float, BeforeValidator(_python_number), Field(strict=True)]
 Integer = Annotated[int, BeforeValidator(_python_number), Field(strict=True)]
 Positive = Annotated[Real, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[Real, Field(allow_inf_nan=False)]
+NonNegative = Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
 
 LENGTHS = (1e-6, 1e6)
 """[m]: the lengths of a structure, from a micrometre to 1000 km; outside, a typo or another
@@ -577,9 +578,25 @@ class LawSpec(_Strict):
     groups: tuple[str, str] | None = None
     joint: Literal["bed", "head", "radial", "ring", "support"] | None = None
     friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
-    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb"] = (
-        "gap_signorini_coulomb")
+    kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
+                  "viscous", "cohesive"] = "gap_signorini_coulomb"
     restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
+    k_n: NonNegative = 0.0
+    """Normal stiffness [Pa/m] (elastic, cohesive)."""
+    k_t: NonNegative = 0.0
+    """Tangential stiffness [Pa/m] (elastic: optional, cohesive)."""
+    c_n: NonNegative = 0.0
+    """Normal damping [Pa s/m] (elastic, optional)."""
+    eta: NonNegative = 0.0
+    """Viscosity of the viscous friction [Pa s/m] (viscous)."""
+    f_t: NonNegative = 0.0
+    """Tensile strength [Pa] (cohesive)."""
+    cohesion: NonNegative = 0.0
+    """Cohesion c [Pa] (cohesive)."""
+    g_i: NonNegative = 0.0
+    """Mode I fracture energy G_I [J/m^2] (cohesive)."""
+    g_ii: NonNegative = 0.0
+    """Mode II fracture energy G_II [J/m^2] (cohesive)."""
     points: int = 2
     """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
     stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
@@ -592,9 +609,17 @@ class LawSpec(_Strict):
                              '"bed" | "head" | "radial" | "ring" | "support", not both')
         return self
 
-    def law(self) -> ContactLaw:
-        return ContactLaw(friction=self.friction, kind=LawKind[self.kind.upper()],
-                          restitution=self.restitution, points=self.points)
+    def law(self, name: str = "") -> ContactLaw:
+        """The ContactLaw; `name` (e.g. "laws[2]") is how its errors name it."""
+        kind = _LAW_KINDS.get(self.kind, self.kind.upper())
+        return ContactLaw(friction=self.friction, kind=LawKind[kind],
+                          restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
+                          c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
+                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points)
+
+
+_LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
+"""Scenario names of law kinds that are not LawKind's names in lower case."""
 
 
 Vector = tuple[Finite, Finite] | tuple[Finite, Finite, Finite]
@@ -1046,6 +1071,7 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec],
     that kind of joint (joints: Assembly.joints), and for every other pair of the builder's
     groups the most specific law with a "*" that matches it."""
     groups = builder.groups
+    built = [spec.law(f"laws[{i}]") for i, spec in enumerate(laws)]
     exact = {}
     for i, spec in enumerate(laws):
         if spec.joint is None:
@@ -1055,7 +1081,7 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec],
                              f"joints; its joints are: {', '.join(joints) or 'none'}")
         for pair in joints[spec.joint]:
             if set(pair) <= set(groups):
-                builder.set_law(*pair, spec.law())
+                builder.set_law(*pair, built[i])
                 exact[frozenset(pair)] = i
     for i, spec in enumerate(laws):
         if spec.groups is None:
@@ -1070,23 +1096,23 @@ def _set_laws(builder: ModelBuilder, laws: list[LawSpec],
                     f"laws[{i}].groups {list(spec.groups)} are also "
                     f'"{laws[exact[frozenset(spec.groups)]].joint}" joints, which '
                     f"laws[{exact[frozenset(spec.groups)]}] gives a law; keep one")
-            builder.set_law(*spec.groups, spec.law())
+            builder.set_law(*spec.groups, built[i])
             exact[frozenset(spec.groups)] = i
     for a, b in itertools.combinations_with_replacement(groups, 2):
         if frozenset((a, b)) in exact:
             continue
-        matches = [spec for spec in laws if spec.groups is not None
+        matches = [i for i, spec in enumerate(laws) if spec.groups is not None
                    and "*" in spec.groups and all(g in ("*", a, b) for g in spec.groups)]
-        best = max((2 - spec.groups.count("*") for spec in matches), default=None)
+        best = max((2 - laws[i].groups.count("*") for i in matches), default=None)
         if best is None:
             continue
-        chosen = [spec for spec in matches if 2 - spec.groups.count("*") == best]
-        other = next((spec for spec in chosen if spec.law() != chosen[0].law()), None)
+        chosen = [i for i in matches if 2 - laws[i].groups.count("*") == best]
+        other = next((i for i in chosen if built[i] != built[chosen[0]]), None)
         if other is not None:
             raise InputError(f"laws: groups {a!r} and {b!r} match both "
-                             f"{list(chosen[0].groups)} and {list(other.groups)}; give "
-                             f'a law for ["{a}", "{b}"]')
-        builder.set_law(a, b, chosen[0].law())
+                             f"{list(laws[chosen[0]].groups)} and {list(laws[other].groups)}; "
+                             f'give a law for ["{a}", "{b}"]')
+        builder.set_law(a, b, built[chosen[0]])
 
 
 def load_scenario(path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scenario:

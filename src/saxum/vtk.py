@@ -12,9 +12,9 @@ data: displacement [m] of the centre of mass from its initial position, velocity
 [rad] from the initial orientation, angular_velocity [rad/s], body_index, body_kind (0 free,
 1 fixed, 2 driven). Contacts carry point data: normal_force and tangential_force [N/m] (mean
 over the step, impulse / dt), force [N/m] (world vector R_t t + R_n n), normal (unit, world),
-gap [m], candidate and antagonist (body indices), area [m^2/m] (the share of the joint the
-point stands for) and damage [-] (a cohesive joint's: 0 intact, 1 cracked; 0 under other
-laws); use ParaView's Glyph filter on force, a Threshold on damage for the cracks.
+gap [m], candidate and antagonist (body indices), and where the results have them the joint
+laws' damage [-] (0 intact, 1 cracked: saxum.laws) and area [m^2/m; 3D: m^2]; use ParaView's
+Glyph filter on force.
 
 3D results: each block is written as its polygonal faces (one polygon cell per face, every face
 carrying its block's data, so that ParaView's Threshold on body_index picks whole blocks);
@@ -153,7 +153,7 @@ def _contacts(res: Results, k: int) -> meshio.Mesh:
         "candidate": c["candidate"],
         "antagonist": c["antagonist"],
     }
-    for name in ("area", "damage"):  # absent from files written before they existed
+    for name in ("damage", "area"):  # absent from files of saxum before them
         if name in c:
             point_data[name] = c[name]
     cells = [("vertex", np.arange(len(f))[:, None])]
