@@ -8,10 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import saxum as sx
+from saxum.bodies.rigid2d import world_geometry
 from saxum.contacts import Contacts
 from saxum.detection import DetectionSettings, Detector
 from saxum.detection.broadphase import bounding_boxes, grid_pairs, sort_pairs
-from saxum.rigid2d import world_geometry
 from saxum.structures import running_bond_wall
 
 

@@ -252,3 +252,33 @@ def test_paraview_contacts_carry_damage(tmp_path):
     assert damage.max() > 0.0
     mesh = meshio.read(pvd.parent / "wall" / "contacts_000002.vtu")
     assert np.array_equal(mesh.point_data["damage"], damage)
+
+
+def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatch):
+    """A results file written before slip, damage and history existed (made here by writing
+    with the older list of contact fields) reads, and resumes bit for bit on the dry laws
+    (before: 'damaged beyond reading (object 'slip' doesn't exist)')."""
+    import saxum.results as results
+
+    dry = WALL.replace('kind = "cohesive"\n', "").split("k_n =")[0] + WALL.split("g_ii = 2.0\n")[1]
+    one_go = tmp_path / "one.h5"
+    assert run_scenario(parse_scenario(dry), one_go, quiet=True).status == "finished"
+    older = {k: v for k, v in results._CONTACT_FIELDS.items()
+             if k not in ("slip", "damage", "history")}
+    monkeypatch.setattr(results, "_CONTACT_FIELDS", older)
+    stopped = tmp_path / "stopped.h5"
+    original = results.ResultsWriter.log_step
+
+    def log_step(self, report):
+        original(self, report)
+        if report.step == 1300:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(results.ResultsWriter, "log_step", log_step)
+    assert run_scenario(parse_scenario(dry), stopped, quiet=True).status == "interrupted"
+    monkeypatch.undo()
+    with results.Results(stopped) as r:
+        assert r.frame_count == 27 and not r.damage  # t = 0 .. 0.26 s
+        assert "damage" not in r.contacts(5) and "area" in r.contacts(5)
+    assert resume_run(stopped, quiet=True).status == "finished"
+    same_results(stopped, one_go)

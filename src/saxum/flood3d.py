@@ -40,8 +40,8 @@ import math
 import numba as nb
 import numpy as np
 
+from .bodies.rigid3d import _rotate, _rotation
 from .detection.polyhedra import _clip
-from .rigid3d import _rotate, _rotation
 
 __all__ = ["DRAG_OVERFLOW", "drag_forces_3d", "extent_3d", "hydrostatic_forces_3d"]
 

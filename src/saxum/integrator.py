@@ -16,7 +16,7 @@ import numba as nb
 
 from .errors import InputError
 
-__all__ = ["MoreauJean", "free_velocity"]
+__all__ = ["MoreauJean", "diagonal_free_velocity"]
 
 
 @dataclass(frozen=True)
@@ -34,8 +34,9 @@ class MoreauJean:
 
 
 @nb.njit(cache=True)
-def free_velocity(v, inv_mass, force, h, out):
-    """out = v + h M^-1 force, M^-1 diagonal per dof; force [N, N m] already theta-weighted."""
+def diagonal_free_velocity(v, inv_mass, force, h, out):
+    """out = v + h M^-1 force, M^-1 diagonal per dof (rigid bodies: saxum.bodies); force
+    [N, N m] already theta-weighted."""
     for b in range(v.shape[0]):
         for d in range(v.shape[1]):
             out[b, d] = v[b, d] + h * inv_mass[b, d] * force[b, d]

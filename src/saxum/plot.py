@@ -17,7 +17,6 @@ of it the point stands for (its area), coloured intact, damaged or cracked
 """
 
 import dataclasses
-import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -48,17 +47,23 @@ from .mechanism import (
     thrust_line,
 )
 from .model import BodyKind, Model
+from .plot3d import frames_3d, plot_frame_3d
+from .plot_common import (
+    LOAD_COLOUR,
+    REST,
+    length_unit,
+    nice_ceil,
+    prefixed_unit,
+    results_floods,
+    results_heading,
+    results_point_loads,
+)
 
 __all__ = ["REST", "animate", "joint_states", "plot_collapse_curve", "plot_frame",
            "plot_histories", "plot_model", "save_states"]
 
-REST = 1e-6
-"""[-]: free blocks that all moved by less than this times their median size [m] (or turned
-by less than this [rad]) are at rest: what they moved is round-off, not worth a colour scale."""
-
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
 _FORCE_COLOUR = "#c0152f"
-_LOAD_COLOUR = "#1b7837"
 _MARKS = {  # joint_states label: marker style (white circle: the usual symbol of a hinge)
     "hinge": dict(marker="o", markersize=6.5, markerfacecolor="white", markeredgecolor="k",
                   markeredgewidth=1.1),
@@ -114,35 +119,11 @@ def _model_blocks(model: Model) -> _Blocks:
 # -- units ----------------------------------------------------------------------------------
 
 
-def length_unit(largest: float) -> tuple[float, str]:
-    """(factor from metres, unit) that shows lengths up to `largest` [m] with few digits."""
-    if largest >= 1.0:
-        return 1.0, "m"
-    if largest >= 1e-3:
-        return 1e3, "mm"
-    return (1e6, "µm") if largest >= 1e-6 else (1e9, "nm")
-
-
-def prefixed_unit(largest: float, unit: str) -> tuple[float, str]:
-    """(factor, prefixed unit) that shows values up to `largest` (in `unit`) with at most three
-    digits before the point: M, k, none, m, µ, n (n for anything smaller)."""
-    for power, prefix in ((6, "M"), (3, "k"), (0, ""), (-3, "m"), (-6, "µ")):
-        if largest >= 10.0**power:
-            return 10.0**-power, prefix + unit
-    return (1e9, "n" + unit) if largest > 0.0 else (1.0, unit)
-
-
 def _force_unit(largest: float) -> tuple[float, str]:
     """(factor from N/m, unit) for line forces up to `largest` [N/m]."""
     if largest >= 1e6:
         return 1e-6, "MN/m"
     return (1e-3, "kN/m") if largest >= 1e3 else (1.0, "N/m")
-
-
-def _nice_ceil(value: float) -> float:
-    """The smallest of 1, 2, 5 times a power of ten that is >= value > 0."""
-    power = 10.0 ** np.floor(np.log10(value))
-    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= value * (1 - 1e-12))
 
 
 # -- drawing --------------------------------------------------------------------------------
@@ -204,7 +185,7 @@ def _look(blocks: _Blocks, qs: np.ndarray, colour_by: str | None,
     # every other frame with hairlines, so the scale follows the typical frame's largest force.
     peaks = np.array([f.max(initial=0.0) for f in forces])
     reference = float(np.percentile(peaks, 90)) if peaks.size else 0.0
-    full = _nice_ceil(reference) if reference > 0 else 0.0
+    full = nice_ceil(reference) if reference > 0 else 0.0
     return _Look((lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad), colour_by, factor,
                  mappable, label, full, peaks.size > 0 and float(peaks.max()) > full,
                  0.6 * size, 1e-3 * size)
@@ -229,17 +210,6 @@ def _draw_blocks(ax, look: _Look, blocks: _Blocks, q: np.ndarray) -> None:
         moving.set_facecolor(look.mappable.to_rgba(
             look.factor * _colour_values(blocks, q, look.colour_by)[free]))
     ax.add_collection(moving)
-
-
-def _results_floods(results) -> list[FloodLoad]:
-    """The flood of the scenario a results file was run from (none for a run built in
-    Python)."""
-    if not results.scenario_json:
-        return []
-    from .scenario import Scenario
-
-    flood = Scenario.model_validate_json(results.scenario_json).loads.flood
-    return [] if flood is None else [flood.load()]
 
 
 def _model_floods(model: Model) -> list[FloodLoad]:
@@ -369,23 +339,6 @@ def _legend(ax, handles: list, forces: bool) -> None:
               handlelength=2.5)
 
 
-def _results_point_loads(results) -> list[tuple[int, np.ndarray]]:
-    """The point loads of the scenario a results file was run from: (body index, force
-    [N/m; 3D: N] in world axes) each."""
-    if not results.scenario_json:
-        return []
-    from .scenario import Scenario
-
-    loads = Scenario.model_validate_json(results.scenario_json).loads.point_loads
-    down = -np.eye(results.dim)[-1]
-    out = []
-    for load in loads:
-        direction = np.asarray(load.direction or down, dtype=np.float64)
-        out.append((results.body_name.index(load.block),
-                    load.magnitude * direction / np.linalg.norm(direction)))
-    return out
-
-
 def _draw_point_loads(ax, look: _Look, loads: list[tuple[int, np.ndarray]],
                       q: np.ndarray) -> list:
     """Arrows onto the loaded blocks' centres of mass, 2.5 force struts long; returns the
@@ -396,12 +349,12 @@ def _draw_point_loads(ax, look: _Look, loads: list[tuple[int, np.ndarray]],
         tip = q[b, :2]
         tail = tip - 2.5 * look.strut * force / np.linalg.norm(force)
         ax.annotate("", xy=tip, xytext=tail, zorder=7, annotation_clip=False,
-                    arrowprops=dict(arrowstyle="-|>", color=_LOAD_COLOUR, lw=1.8,
+                    arrowprops=dict(arrowstyle="-|>", color=LOAD_COLOUR, lw=1.8,
                                     mutation_scale=14, shrinkA=0.0, shrinkB=0.0))
     largest = max(float(np.linalg.norm(f)) for _, f in loads)
     factor, unit = _force_unit(largest)
     sizes = ", ".join(f"{np.linalg.norm(f) * factor:.3g}" for _, f in loads)
-    return [Line2D([], [], color=_LOAD_COLOUR, lw=1.8, marker=">", markevery=[-1],
+    return [Line2D([], [], color=LOAD_COLOUR, lw=1.8, marker=">", markevery=[-1],
                    label=f"point load{'s' if len(loads) > 1 else ''} {sizes} {unit}")]
 
 
@@ -431,16 +384,10 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
     contacts = frame_contacts(results, k)
     handles = _draw_contacts(ax, look, contacts, slides) if forces else []
     handles += _draw_bonds(ax, contacts, results.model["law_kind"])
-    handles += _draw_point_loads(ax, look, _results_point_loads(results), results.body_q[k])
+    handles += _draw_point_loads(ax, look, results_point_loads(results), results.body_q[k])
     heading = title if title is not None else results_heading(results)
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")
     return handles
-
-
-def results_heading(results) -> str:
-    """The scenario's title and the results file's name, or the name alone."""
-    title = json.loads(results.scenario_json).get("title") if results.scenario_json else ""
-    return f"{title} ({results.path.name})" if title else results.path.stem
 
 
 def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> list:
@@ -516,12 +463,10 @@ def plot_frame(results, frame: int = -1, path: str | PathLike | None = None, *, 
             raise InputError("a 3D picture is drawn in its own figure, coloured by "
                              "displacement: thrust_line, ax and colour_by are for 2D results; "
                              "leave them out")
-        from .plot3d import plot_frame_3d
-
         return plot_frame_3d(results, k, path, forces=forces, title=title, figsize=figsize,
                              dpi=dpi, mechanism=mechanism)
     blocks = _results_blocks(results)
-    floods = _results_floods(results)
+    floods = results_floods(results)
     look = _look(blocks, results.body_q[k:k + 1], colour_by,
                  _normal_forces(results, [k]) if forces else (), floods)
     if ax is None:
@@ -713,8 +658,6 @@ def animate(results, path: str | PathLike, *, fps: int = 20, frames: Iterable[in
     if not ks:
         raise InputError(f"no frame to animate in {results.path}")
     if results.dim == 3:
-        from .plot3d import frames_3d
-
         fig, draw = frames_3d(results, ks, forces=forces, figsize=figsize)
     else:
         fig, draw = _frames_2d(results, ks, forces, figsize)
@@ -733,7 +676,7 @@ def _frames_2d(results, ks: list[int], forces: bool, figsize):
     """(figure, draw) for an animation of the 2D output frames ks: draw(k) draws frame k,
     with the same axes, colour scale and force scale on every frame."""
     blocks = _results_blocks(results)
-    floods = _results_floods(results)
+    floods = results_floods(results)
     look = _look(blocks, results.body_q[ks], "displacement",
                  _normal_forces(results, ks) if forces else (), floods)
     fig = Figure(figsize=figsize or _figsize(look), layout="constrained")

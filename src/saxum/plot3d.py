@@ -3,7 +3,7 @@
 
 The blocks' faces are filled by the block's displacement from its initial position (fixed and
 driven bodies light grey; a support much larger than the structure, such as a ground slab, is
-shown as a floor under it; a structure at rest, saxum.plot.REST, plain with its largest
+shown as a floor under it; a structure at rest, saxum.plot_common.REST, plain with its largest
 displacement written instead of a colour scale), and the contact points carrying load are
 drawn on top as red dots whose area is proportional to the normal force (the scale in the
 legend). Hinges (saxum.mechanism: joints whose loaded points lie on a line while the rest has
@@ -29,15 +29,15 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from .geometry3d import world_points
 from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
 from .model import BodyKind
-from .plot import (
-    _LOAD_COLOUR,
+from .plot_common import (
+    LOAD_COLOUR,
     REST,
-    _nice_ceil,
-    _results_floods,
-    _results_point_loads,
     length_unit,
+    nice_ceil,
     prefixed_unit,
+    results_floods,
     results_heading,
+    results_point_loads,
 )
 
 __all__ = ["frames_3d", "plot_frame_3d"]
@@ -84,7 +84,7 @@ def _look_3d(results, ks) -> _Look3d:
     peaks = np.array([results.contacts(k)["force"][:, 1].max(initial=0.0) for k in ks])
     size = float(np.median(results.body_size[free] if free.any() else results.body_size))
     reference = float(np.percentile(peaks, 90)) if peaks.size else 0.0
-    full = _nice_ceil(reference) if reference > 0.0 else 0.0
+    full = nice_ceil(reference) if reference > 0.0 else 0.0
     mappable = (None if largest < REST * size
                 else ScalarMappable(Normalize(0.0, factor * largest), "viridis"))
     return _Look3d(centre, half, floor, float(lo[2]), mappable, factor, unit, largest, full,
@@ -116,7 +116,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     shown = points[free[np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))]]
     shown = shown if len(shown) else points
     t = float(results.time[k])
-    floods = _results_floods(results)
+    floods = results_floods(results)
     middle = np.array([f.mean(axis=0) for f in faces]).reshape(-1, 3)
     wet = np.zeros(len(faces), dtype=bool)
     for flood in floods:
@@ -131,7 +131,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
         if under:
             for flood in floods:
                 _draw_water(ax, flood, t, shown, c0, half)
-    handles = _draw_point_loads(ax, _results_point_loads(results), q, look)
+    handles = _draw_point_loads(ax, results_point_loads(results), q, look)
     if forces:
         handles = _draw_contacts(ax, frame_contacts(results, k), look, mechanism) + handles
     if handles:
@@ -190,12 +190,12 @@ def _draw_point_loads(ax, loads: list, q: np.ndarray, look: _Look3d) -> list:
         return []
     for b, force in loads:
         arrow = 1.5 * look.size * force / np.linalg.norm(force)
-        ax.quiver(*(q[b, :3] - arrow), *arrow, color=_LOAD_COLOUR, lw=2.0,
+        ax.quiver(*(q[b, :3] - arrow), *arrow, color=LOAD_COLOUR, lw=2.0,
                   arrow_length_ratio=0.3, zorder=8)
     largest = max(float(np.linalg.norm(f)) for _, f in loads)
     factor, unit = prefixed_unit(largest, "N")
     sizes = ", ".join(f"{np.linalg.norm(f) * factor:.3g}" for _, f in loads)
-    return [Line2D([], [], color=_LOAD_COLOUR, lw=2.0, marker=">", markevery=[-1],
+    return [Line2D([], [], color=LOAD_COLOUR, lw=2.0, marker=">", markevery=[-1],
                    label=f"point load{'s' if len(loads) > 1 else ''} {sizes} {unit}")]
 
 

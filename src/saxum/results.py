@@ -909,7 +909,8 @@ class Results:
                 h = g[sub] if sub else g
                 counts = data[columns.index(count)]
                 total = max(0, int(counts.sum()))
-                parts.append(([h[name][:total] for name in names], counts))
+                # the fields the file has (as written: see _Rows; older files lack some)
+                parts.append(([h[name][:total] for name in names if name in h], counts))
             return _checksums(data, parts) == g["checksum"][:m]
 
         try:

@@ -6,8 +6,9 @@
     -> projection (gap-based law) -> report
 
 The stages call compiled kernels over the model's and state's arrays; this module only
-orchestrates them, so the same loop serves any model whose kinematics module (`KINEMATICS`,
-by dimension) provides predict_positions, update_positions and kinetic_energy.
+orchestrates them. What depends on how the bodies move (free velocity, driven velocities,
+predicted and updated positions, rows of H*, kinetic energy) comes from the body kind's module
+(saxum.bodies), so a new kind of body is one module, not a change of the loop.
 """
 
 import math
@@ -15,11 +16,11 @@ import warnings
 
 import numpy as np
 
-from . import rigid2d, rigid3d
+from .bodies import rigid as rigid_kind
 from .contacts import Contacts
 from .detection import DetectionSettings, detector_for
 from .errors import InputError, SimulationError, SolverWarning
-from .integrator import MoreauJean, free_velocity
+from .integrator import MoreauJean
 from .laws import LawKind
 from .model import BodyKind, Model
 from .solver import NLGS, SOLVER_NAMES, ContactProblem, ContactSolver, PositionProjection
@@ -27,10 +28,7 @@ from .solver.laws_local import update_joints
 from .state import State
 from .steplog import StepLog, StepReport
 
-__all__ = ["KINEMATICS", "Simulation"]
-
-KINEMATICS = {2: rigid2d, 3: rigid3d}
-"""Kinematics module per spatial dimension."""
+__all__ = ["Simulation"]
 
 
 class Simulation:
@@ -50,7 +48,7 @@ class Simulation:
         detection: DetectionSettings | None = None,
     ) -> None:
         self.model = model
-        self.kinematics = KINEMATICS[model.dim]
+        self.kinematics = rigid_kind(model.dim)
         self.integrator = MoreauJean(dt, theta)
         self.solver = solver if solver is not None else NLGS()
         self.detector = detector_for(model, detection)
@@ -185,16 +183,13 @@ class Simulation:
             self._step_force(state.time, t1, self._force, state.body_q)
         else:
             self._force[:] = self._weight
-        if m.dim == 3:
-            rigid3d.gyroscopic_torques(state.body_q, state.body_v, m.body_inertia,
-                                       m.body_inv_mass, h, self._force)
-        free_velocity(state.body_v, m.body_inv_mass, self._force, h, self._v_free)
-        for k, bodies in enumerate(self._driven):
-            self._v_free[bodies] = np.asarray(m.motions[k](t1), dtype=np.float64)
-            if m.dim == 3:
-                rigid3d.angular_velocity_to_body(state.body_q, bodies, self._v_free)
-        self._v[:] = self._v_free
         kin = self.kinematics
+        kin.free_velocity(state.body_q, state.body_v, m.body_inertia, m.body_inv_mass,
+                          self._force, h, self._v_free)
+        for k, driven in enumerate(self._driven):
+            self._v_free[driven] = np.asarray(m.motions[k](t1), dtype=np.float64)
+            kin.driven_velocity(state.body_q, driven, self._v_free)
+        self._v[:] = self._v_free
         kin.predict_positions(state.body_q, state.body_v, (1.0 - theta) * h, self._q_pred)
 
         contacts = self._spare

@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import rigid3d
+from . import bodies
 from .contacts import Contacts
 from .model import Model
 
@@ -33,9 +33,8 @@ class State:
         body_v = np.zeros((model.body_count, model.dof))
         for k, motion in enumerate(model.motions):
             body_v[model.body_motion == k] = np.asarray(motion(time), dtype=np.float64)
-        if model.dim == 3:
-            rigid3d.angular_velocity_to_body(model.body_q0, np.flatnonzero(model.body_motion >= 0),
-                                             body_v)
+        bodies.rigid(model.dim).driven_velocity(
+            model.body_q0, np.flatnonzero(model.body_motion >= 0), body_v)
         return cls(time=time, body_q=model.body_q0.copy(), body_v=body_v,
                    contacts=Contacts(model.dim), start_time=time)
 

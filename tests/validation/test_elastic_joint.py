@@ -84,3 +84,49 @@ def test_damped_elastic_joint_decays_with_the_damping_ratio():
     decrement = np.log(peaks[:-1] / peaks[1:]).mean()
     measured = decrement / math.sqrt(4.0 * math.pi**2 + decrement**2)
     assert measured == pytest.approx(zeta, rel=0.02)
+
+
+def test_tangential_spring_then_coulomb_slider():
+    """A block on an elastic joint with tangential stiffness k_t, settled on its critically
+    damped normal spring for 0.02 s, then pushed by a horizontal force F = r (t - 0.02 s) (with
+    the moment that cancels its lever arm about the joint): it shifts by F / (k_t A) (the
+    spring) until F reaches mu m g, then slides with the joint's shear force at mu m g (the
+    slider in series). Tolerances: 1 % on the shift for F in [0.2, 0.9] mu m g (the ramp's
+    dynamic lag, r / (k_t A omega), is 0.5 % of the shift at 0.2 mu m g), and 1 % on the
+    sliding force (Coulomb's law, solved exactly per contact)."""
+    k_t, mu, rate, settle = 1.0e9, 0.6, 1.0e4, 0.02
+    c_n = 2.0 * math.sqrt(1.0e10 * 0.5 * 500.0) / 0.5  # zeta = 1 for A = 0.5 m, m = 500 kg
+    b = sx.ModelBuilder(gravity=(0.0, -G))
+    b.add_block([(-1.0, -0.2), (2.0, -0.2), (2.0, 0.0), (-1.0, 0.0)], kind=sx.BodyKind.FIXED,
+                group="ground")
+    block = b.add_block([(0.0, 0.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5)], density=2000.0)
+    b.set_law("block", "ground", sx.ContactLaw(friction=mu, kind=sx.LawKind.ELASTIC,
+                                               k_n=1.0e10, k_t=k_t, c_n=c_n))
+    b.set_law("block", "block", sx.ContactLaw(friction=mu))
+
+    def push(t):
+        f = rate * max(t - settle, 0.0)
+        return (f, 0.0, f * 0.25)
+
+    b.add_force([block], push)
+    model = b.finalize()
+    weight = float(model.body_mass[block]) * G
+    omega = math.sqrt(k_t * 0.5 / float(model.body_mass[block]))
+    h = 2.0 * math.pi / omega / 100.0
+    sim = sx.Simulation(model, dt=h)
+    state = sim.initial_state()
+    x0 = model.body_q0[block, 0]
+    checked = 0
+    while push(state.time)[0] < 1.3 * mu * weight:
+        sim.step(state)
+        c = state.contacts
+        area = c.area[: c.count].sum()
+        force = push(state.time)[0]
+        if 0.2 * mu * weight <= force <= 0.9 * mu * weight:
+            shift = state.body_q[block, 0] - x0
+            assert shift == pytest.approx(force / (k_t * area), rel=0.01)
+            checked += 1
+    assert checked > 100
+    shear = abs(c.impulse[: c.count, 0].sum()) / h
+    assert shear == pytest.approx(mu * c.impulse[: c.count, 1].sum() / h, rel=0.01)
+    assert shear == pytest.approx(mu * weight, rel=0.01)

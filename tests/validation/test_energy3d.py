@@ -5,7 +5,7 @@ changes the kinetic energy by E+ - E- = R . U+ - 1/2 R . W R with W = H M^-1 H^T
 semi-definite, and Signorini (R_n U_n+ = 0) with isotropic Coulomb friction (R_T . U_T+ <= 0)
 gives E+ <= E- (J.J. Moreau 1988; M. Jean, CMAME 177, 1999; Acary & Brogliato 2008, sec.
 10.1). In 3D the step also carries the free gyroscopic motion, which conserves the energy
-exactly (saxum.rigid3d.gyroscopic_torques), so the same bound holds.
+exactly (saxum.bodies.rigid3d.gyroscopic_torques), so the same bound holds.
 Property test (hypothesis): up to three free convex polyhedra (hulls of random points), with
 random position, velocity and spin, thrown inside a closed box of fixed slabs; no gravity; law
 SIGNORINI_COULOMB with random mu in [0, 1]; NLGS tolerance 1e-10.
@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
 
 import saxum as sx
+from saxum.bodies.rigid3d import kinetic_energy
 from saxum.geometry3d import rotation_matrix
-from saxum.rigid3d import kinetic_energy
 from saxum.structures.solid import box
 
 CELL = 1.0  # blocks start in distinct cells of a 2 x 2 x 1 grid inside the box

@@ -12,10 +12,11 @@ Measured: the joint force F = -sum R_n / h [N/m] of each step and the block's ri
 [m]; the peak of F and the work sum of F d(delta) (trapezoids) until every point is fully
 damaged.
 Tolerances: peak within 1 % of f_t A: the law's peak is reached within one step's increment
-of the opening (the step's force over the onset opening f_t / k_n is ~5e-4 here); energy
+of the opening (a step's opening over the onset opening f_t / k_n is ~5e-4 here); energy
 within 2 % of G_I A: damage is updated once per step from the converged opening (explicit, so
 that NLGS solves a fixed law within a step), which overshoots the softening branch by about
-one step's opening increment over the softening length (measured 0.4 %).
+one step's opening increment over the softening length (measured 0.4 % in 2D, 0.14 %
+in 3D).
 """
 
 import numpy as np

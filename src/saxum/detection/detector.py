@@ -6,11 +6,11 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from .. import rigid3d
+from ..bodies import rigid3d
+from ..bodies.rigid2d import world_geometry
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
-from ..rigid2d import world_geometry
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .polygons import polygon_contacts
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts

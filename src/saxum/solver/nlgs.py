@@ -305,8 +305,8 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     Written out like nlgs_2d: before the sweeps each active contact's rows of H* go into one
     row of `work` (at least count x 39): the candidate's three rows (6 dof each), the
     antagonist's rotational parts (its translational rows are minus the candidate's, as for
-    any rigid 3D contact: saxum.rigid3d.contact_jacobians), W, b_n, mu and the joint-law flag
-    (law_map as in nlgs_2d)."""
+    any rigid 3D contact: saxum.bodies.rigid3d.contact_jacobians), W, b_n, mu and the
+    joint-law flag (law_map as in nlgs_2d)."""
     nactive = 0
     for a in range(count):
         if active[a]:

@@ -5,15 +5,16 @@ Delassus block W_alpha_alpha = H*_c M_c^-1 H_c + H*_a M_a^-1 H_a, the shift b_n 
 (see saxum.laws), the friction coefficient, and whether the contact is active this step.
 With v the end-of-step velocities, U_alpha = H*_alpha v and v = v_free + M^-1 H R (NSCD.md).
 
-The kernels are generic over the dimension (rows of H* from the kinematics module of the
-model's dimension); in 2D, assembly and the end-of-step gaps run kernels written out for 3 dof,
-which give the same numbers bit for bit in a fraction of the time.
+The kernels are generic over the dimension (rows of H* from the rigid body kind of the model's
+dimension, saxum.bodies); in 2D, assembly and the end-of-step gaps run kernels written out for
+3 dof, which give the same numbers bit for bit in a fraction of the time.
 """
 
 import numba as nb
 import numpy as np
 
-from .. import rigid2d, rigid3d
+from .. import bodies
+from ..bodies import rigid2d
 from ..contacts import Contacts
 from ..laws import SMOOTH_KINDS, LawKind
 from ..model import Model
@@ -22,9 +23,6 @@ from .laws_local import law_map_width, law_terms
 __all__ = ["ContactProblem"]
 
 _RESTITUTION = int(LawKind.RESTITUTION_COULOMB)
-
-_JACOBIANS = {2: rigid2d.contact_jacobians, 3: rigid3d.contact_jacobians}
-"""Rows of H* per contact, by spatial dimension (the generic path of assembly)."""
 
 
 class ContactProblem:
@@ -35,7 +33,7 @@ class ContactProblem:
         self.count = 0
         self.v_begin = None
         """Velocities at the start of the step [m/s, rad/s] (bodies, dof), set by assemble."""
-        self._jacobians = _JACOBIANS[model.dim]
+        self._jacobians = bodies.rigid(model.dim).contact_jacobians
         self._written_out = model.dim == 2 and model.dof == 3
         """Use the kernels written out for 2D (False: the generic ones, which tests compare)."""
         self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())

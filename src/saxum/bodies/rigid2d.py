@@ -1,5 +1,6 @@
-"""Kinematics of rigid bodies in the plane, compiled: what the time loop needs that depends on
-the dimension. (A 3D module provides the same functions for 6-dof bodies and quaternions.)
+"""Rigid bodies in the plane, compiled: the body kind (saxum.bodies) of 3-dof polygons, what
+the time loop needs that depends on how they move. (saxum.bodies.rigid3d provides the same
+functions for 6-dof bodies and quaternions.)
 
 Velocity of a material point M of body i: v(M) = v(G_i) + omega_i e_z x l_i, l_i = M - G_i, so a
 contact direction d gives the row of H* [d_x, d_y, l x d] with l x d = l_x d_y - l_y d_x.
@@ -8,9 +9,14 @@ contact direction d gives the row of H* [d_x, d_y, l x d] with l x d = l_x d_y -
 import math
 
 import numba as nb
+import numpy as np
+
+from ..integrator import diagonal_free_velocity
 
 __all__ = [
     "contact_jacobians",
+    "driven_velocity",
+    "free_velocity",
     "lever_arms",
     "kinetic_energy",
     "predict_positions",
@@ -36,6 +42,16 @@ def world_geometry(q, vertex_start, vertex_local, direction_local, vertices, dir
             ly = direction_local[k, 1]
             directions[k, 0] = c * lx - s * ly
             directions[k, 1] = s * lx + c * ly
+
+
+def free_velocity(q: np.ndarray, v: np.ndarray, inertia: np.ndarray, inv_mass: np.ndarray,
+                  force: np.ndarray, h: float, out: np.ndarray) -> None:
+    """out = v + h M^-1 force [m/s, rad/s]: M diagonal; force [N, N, N m] theta-weighted."""
+    diagonal_free_velocity(v, inv_mass, force, h, out)
+
+
+def driven_velocity(q: np.ndarray, bodies: np.ndarray, v: np.ndarray) -> None:
+    """Imposed velocities are already (vx, vy, omega) in 2D: nothing to turn."""
 
 
 @nb.njit(cache=True)

@@ -1,4 +1,5 @@
-"""Kinematics of rigid bodies in space, compiled: the 3D counterpart of saxum.rigid2d.
+"""Rigid bodies in space, compiled: the body kind (saxum.bodies) of 6-dof polyhedra, the 3D
+counterpart of saxum.bodies.rigid2d.
 
 q = (x, y, z, qw, qx, qy, qz): centre of mass [m] and unit quaternion of the body-to-world
 rotation R; v = (v_G [m/s] in the world frame, omega [rad/s] in the body frame), the body frame
@@ -22,12 +23,16 @@ momentum vector in the world frame exactly (module doc of gyroscopic_torques).
 import math
 
 import numba as nb
+import numpy as np
 
-from .linalg3 import solve3
+from ..integrator import diagonal_free_velocity
+from ..linalg3 import solve3
 
 __all__ = [
     "angular_velocity_to_body",
     "contact_jacobians",
+    "driven_velocity",
+    "free_velocity",
     "gyroscopic_torques",
     "kinetic_energy",
     "predict_positions",
@@ -189,6 +194,20 @@ def gyroscopic_torques(q, v, inertia, inv_mass, h, force):
         force[b, 3] = m0 + g0
         force[b, 4] = m1 + g1
         force[b, 5] = m2 + g2
+
+
+def free_velocity(q: np.ndarray, v: np.ndarray, inertia: np.ndarray, inv_mass: np.ndarray,
+                  force: np.ndarray, h: float, out: np.ndarray) -> None:
+    """out = v + h M^-1 force [m/s, rad/s], M diagonal in the principal frame; force [N, N m]
+    theta-weighted, moments in the world frame: turned into the body frame with the
+    gyroscopic moment added first (gyroscopic_torques, which overwrites force[:, 3:6])."""
+    gyroscopic_torques(q, v, inertia, inv_mass, h, force)
+    diagonal_free_velocity(v, inv_mass, force, h, out)
+
+
+def driven_velocity(q: np.ndarray, bodies: np.ndarray, v: np.ndarray) -> None:
+    """Imposed angular velocities of the listed bodies from the world into the body frame."""
+    angular_velocity_to_body(q, bodies, v)
 
 
 @nb.njit(cache=True)
