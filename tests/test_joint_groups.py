@@ -179,3 +179,21 @@ def test_a_law_takes_groups_or_a_joint():
         with pytest.raises(InputError, match="either groups"):
             parse_scenario('[structure]\ntype = "running_bond_wall"\ncourses = 2\nbricks = 2\n'
                            f"[[laws]]\n{both}\nfriction = 0.6\n[output]\nduration = 0.01\n")
+
+
+def test_python_generators_take_a_law_per_joint():
+    from saxum.structures import arch, wall
+
+    bed, head = sx.ContactLaw(friction=FRICTION["bed"]), sx.ContactLaw(friction=FRICTION["head"])
+    model = wall(courses=3, bricks=2, joint_groups=True, friction=FRICTION["support"],
+                 joint_laws={"bed": bed, "head": head})
+    cand, ant, friction, normal = _contacts(model)
+    ground = model.body("ground")
+    for a, b, mu, n in zip(cand, ant, friction, normal, strict=True):
+        kind = "support" if ground in (a, b) else "bed" if abs(n[1]) > 0.99 else "head"
+        assert mu == FRICTION[kind]
+    model = arch(ArchShape.semicircular(span=2.0, thickness=0.3), voussoirs=5, rings=2,
+                 joint_laws={"ring": sx.ContactLaw(friction=FRICTION["ring"])})
+    assert FRICTION["ring"] in model.law_friction
+    with pytest.raises(InputError, match="joint_groups=True"):
+        wall(courses=2, bricks=2, joint_laws={"bed": bed})

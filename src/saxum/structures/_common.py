@@ -7,7 +7,7 @@ Polygons are float arrays (n, 2) [m], counter-clockwise.
 import inspect
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -84,11 +84,21 @@ class Assembly:
 
 
 def finalize(builder: ModelBuilder, groups: Sequence[str], friction: float,
-             law: LawKind) -> Model:
-    """Set one Coulomb law (mu = friction [-]) between every pair of `groups`, and finalize."""
+             law: LawKind, joints: Mapping[str, Sequence[tuple[str, str]]] | None = None,
+             joint_laws: Mapping[str, ContactLaw] | None = None) -> Model:
+    """Set one Coulomb law (mu = friction [-]) between every pair of `groups`, then
+    joint_laws[kind] between the pairs of groups of each kind of joint (joints:
+    Assembly.joints), and finalize."""
     contact = ContactLaw(friction=friction, kind=law)
     for a, b in itertools.combinations_with_replacement(groups, 2):
         builder.set_law(a, b, contact)
+    for kind, joint_law in (joint_laws or {}).items():
+        if kind not in (joints or {}):
+            raise InputError(f"joint_laws[{kind!r}]: the structure has no {kind!r} joints; its "
+                             f"joints are: {', '.join(joints or {}) or 'none'} (walls name "
+                             "theirs with joint_groups=True)")
+        for pair in joints[kind]:
+            builder.set_law(*pair, joint_law)
     return builder.finalize()
 
 
@@ -96,24 +106,27 @@ def model_form(add: Callable[..., "Assembly"], name: str, doc: str,
                **preset) -> Callable[..., Model]:
     """The form `name` of a generator add(builder, ...) -> Assembly that returns a Model:
     the same arguments without the builder (those in `preset` fixed), plus friction mu [-]
-    and law (one ContactLaw between every pair of the assembly's groups) and gravity [m/s^2];
-    `doc` is its docstring."""
+    and law (one ContactLaw between every pair of the assembly's groups), joint_laws (a
+    ContactLaw per kind of joint the assembly names, Assembly.joints, instead) and gravity
+    [m/s^2]; `doc` is its docstring."""
     params = inspect.signature(add).parameters
     passes_gravity = "gravity" in params
 
     def build(*args, friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+              joint_laws: Mapping[str, ContactLaw] | None = None,
               gravity: tuple[float, float] = (0.0, -9.81), **kwargs) -> Model:
         builder = ModelBuilder(gravity=gravity)
         if passes_gravity:
             kwargs["gravity"] = gravity
         asm = add(builder, *args, **preset, **kwargs)
-        return finalize(builder, asm.groups, friction, law)
+        return finalize(builder, asm.groups, friction, law, asm.joints, joint_laws)
 
     kept = [p for name, p in params.items() if name not in ("builder", "gravity", *preset)]
     extra = [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=default,
                                annotation=kind)
              for name, default, kind in (("friction", 0.6, float),
                                          ("law", LawKind.GAP_SIGNORINI_COULOMB, LawKind),
+                                         ("joint_laws", None, Mapping[str, ContactLaw] | None),
                                          ("gravity", (0.0, -9.81), tuple[float, float]))]
     split = next((i for i, p in enumerate(kept) if p.kind == p.VAR_KEYWORD), len(kept))
     build.__signature__ = inspect.Signature(kept[:split] + extra + kept[split:],
