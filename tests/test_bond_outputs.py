@@ -54,10 +54,12 @@ def cracked(tmp_path_factory):
     return path, sim, state
 
 
-def test_bond_states_label_cohesive_contacts_only():
+def test_bond_states_label_the_bonds_of_cohesive_contacts_only():
     law_kind = np.array([LawKind.GAP_SIGNORINI_COULOMB, LawKind.COHESIVE], dtype=np.int8)
-    labels = bond_states(np.array([0, 1, 1, 1]), np.array([1.0, 0.0, 0.3, 1.0]), law_kind)
-    assert labels.tolist() == ["", "intact", "damaged", "cracked"]
+    # the last contact: cohesive but made after the start, so never bonded (saxum.contacts)
+    labels = bond_states(np.array([0, 1, 1, 1, 1]), np.array([1.0, 0.0, 0.3, 1.0, 1.0]),
+                         np.array([0.0, 0.5, 1.2, 7.0, 0.0]), law_kind)
+    assert labels.tolist() == ["", "intact", "damaged", "cracked", ""]
 
 
 def test_mechanism_report_names_the_cracked_joint(cracked):
@@ -85,7 +87,7 @@ def test_plot_colours_each_bond_point_with_a_legend(cracked):
     path, _, state = cracked
     c = state.contacts
     counts = {s: int((bond_states(c.law[: c.count], c.damage[: c.count],
-                                  np.array([LawKind.COHESIVE])) == s).sum())
+                                  c.history[: c.count], np.array([LawKind.COHESIVE])) == s).sum())
               for s in ("intact", "damaged", "cracked")}
     with Results(path) as r:
         fig = plot_frame(r, -1)

@@ -31,7 +31,9 @@ crown (Mechanism.hinge_angles).
 
 Joints of a COHESIVE law (mortar, saxum.laws) also report their bond: "cracked" when a point
 has lost it (damage 1: friction alone is left there), else "damaged" when a point has begun
-to soften (damage in (0, 1)), else "intact"; bond_states labels each contact so.
+to soften (damage in (0, 1)), else "intact"; bond_states labels each contact so. A contact
+made after the start (blocks that met corner to corner now touch) was never bonded: it
+starts cracked under the law but is no crack, and has no bond state.
 """
 
 from __future__ import annotations
@@ -63,12 +65,15 @@ BOND_STATES = ("intact", "damaged", "cracked")
 """The states of a cohesive joint's bond, from none to full damage (module doc)."""
 
 
-def bond_states(law: np.ndarray, damage: np.ndarray, law_kind: np.ndarray) -> np.ndarray:
+def bond_states(law: np.ndarray, damage: np.ndarray, history: np.ndarray,
+                law_kind: np.ndarray) -> np.ndarray:
     """Label each contact of a COHESIVE law (law: index into law_kind, Model.law_kind)
-    "intact", "damaged" or "cracked" by its damage [-] (module doc); other contacts ""."""
+    "intact", "damaged" or "cracked" by its damage [-] (module doc); other contacts "", and
+    so those of a cohesive law that were never bonded (made after the start: damage 1 with no
+    opening in their history [-], saxum.laws), which are no crack."""
     cohesive = law_kind[law] == LawKind.COHESIVE
     state = np.where(damage >= 1.0, "cracked", np.where(damage > 0.0, "damaged", "intact"))
-    return np.where(cohesive, state, "")
+    return np.where(cohesive & ((damage < 1.0) | (history > 0.0)), state, "")
 
 
 def course_of(name: str) -> int | None:
@@ -342,8 +347,8 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
                                          ant)}
     labels = joint_states(contacts, gap_tol)
     law_kind = getattr(model, "law_kind", None)
-    bonds = (bond_states(c.law[:k], c.damage[:k], law_kind) if law_kind is not None
-             else np.full(k, ""))
+    bonds = (bond_states(c.law[:k], c.damage[:k], c.history[:k], law_kind)
+             if law_kind is not None else np.full(k, ""))
     # relative velocity of the candidate's material point over the antagonist's, world frame
     p_ant = point - gap[:, None] * frame[:, 1]
     q, v = state.body_q, state.body_v

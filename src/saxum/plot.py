@@ -296,9 +296,9 @@ def _draw_contacts(ax, look: _Look, contacts: dict,
 def _draw_bonds(ax, contacts: dict, law_kind: np.ndarray) -> list:
     """The bonds of cohesive joints (module doc), if the contacts have a damage field (files
     from before the joint laws do not); returns their legend handles."""
-    if "damage" not in contacts or "area" not in contacts:
+    if any(name not in contacts for name in ("damage", "history", "area")):
         return []
-    state = bond_states(contacts["law"], contacts["damage"], law_kind)
+    state = bond_states(contacts["law"], contacts["damage"], contacts["history"], law_kind)
     # strokes along the joint, clipped to its end points (those of a joint's ends stand for
     # the joint beside them only)
     t = contacts["frame"][:, 0]
