@@ -197,3 +197,29 @@ def test_python_generators_take_a_law_per_joint():
     assert FRICTION["ring"] in model.law_friction
     with pytest.raises(InputError, match="joint_groups=True"):
         wall(courses=2, bricks=2, joint_laws={"bed": bed})
+
+
+def test_mortared_wall_example_bonds_its_joints_by_kind():
+    from pathlib import Path
+
+    from saxum.mechanism import bond_states
+    from saxum.scenario import load_scenario
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "mortared_wall.toml"
+    sim = load_scenario(example).build_simulation()
+    model = sim.model
+    state = sim.initial_state()
+    sim.run(state, 0.02)
+    c = state.contacts
+    n = c.count
+    bonds = bond_states(c.law[:n], c.damage[:n], c.history[:n], model.law_kind)
+    # at lambda = 0.01 every bond holds (contacts made since the start have none)
+    assert set(bonds.tolist()) <= {"intact", ""} and (bonds == "intact").sum() > 0.9 * n
+    ground = model.body("ground")
+    f_t = model.law_parameter[c.law[:n], sx.laws.Parameter.F_T]
+    for a, b, strength, normal in zip(c.candidate[:n], c.antagonist[:n], f_t, c.frame[:n, 1],
+                                      strict=True):
+        head = ground not in (a, b) and abs(normal[0]) > 0.99 and "lintel" not in (
+            model.body_name[a] + model.body_name[b])
+        assert strength == (1e3 if head else 2e3)
+    assert set(c.law[:n].tolist()) == {0, 1}  # the same law for bed and support joints
