@@ -237,39 +237,33 @@ def polygon_contacts(
             continue  # faces in line, meeting at one point: corner to corner (module doc)
         ds = s1 - s0
         law_index = group_law[body_group[cand], body_group[ant]]
-        s_lo = max(s0, 0.0)
-        s_hi = min(s1, length)
-        # points of the contact: the two ends, then the inner points of the Simpson panels
-        points = 2
-        if law_index >= 0 and ds > 0.0 and s_hi - s_lo > tie:
-            points = law_points[law_index]
         base = (((i * nbody + j) * 2 + flip) * max_vertices + ref) * max_vertices + inc
         first = count
-        for slot in range(points):
+        for slot in range(2):
             if slot == 0:
-                s_clip = s_lo
-            elif slot == 1:
-                s_clip = s_hi
+                s_clip = max(s0, 0.0)
+            else:
+                s_clip = min(s1, length)
                 if ds <= 0.0:
                     break
-            else:
-                s_clip = s_lo + (s_hi - s_lo) * (slot - 1) / (points - 1)
             px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
             if g > alert:
                 continue
-            candidate[count] = cand
-            antagonist[count] = ant
-            key[count] = base * slots + slot
-            law[count] = law_index
-            point[count, 0] = px
-            point[count, 1] = py
-            frame[count, 0, 0] = ny
-            frame[count, 0, 1] = -nx
-            frame[count, 1, 0] = nx
-            frame[count, 1, 1] = ny
-            gap[count] = g
+            _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
+                   base * slots + slot, law_index, px, py, nx, ny, g)
             count += 1
-        if points > 2:
+        s_lo = max(s0, 0.0)
+        s_hi = min(s1, length)
+        points = law_points[law_index] if law_index >= 0 else 2
+        if points > 2 and ds > 0.0 and s_hi - s_lo > tie:
+            # the inner points of the Simpson panels, slots 2 .. points - 1 (module doc)
+            for slot in range(2, points):
+                s_clip = s_lo + (s_hi - s_lo) * (slot - 1) / (points - 1)
+                px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
+                if g <= alert:
+                    _write(candidate, antagonist, key, law, point, frame, gap, count, cand,
+                           ant, base * slots + slot, law_index, px, py, nx, ny, g)
+                    count += 1
             _simpson_areas(key, area, first, count, base, slots, points, s_lo, s_hi, s0, ds,
                            p0x, p0y, p1x, p1y, nx, ny, ax, ay, alert)
         elif count - first == 2:  # flush faces, the common case: half each
@@ -279,6 +273,23 @@ def polygon_contacts(
             g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
             area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
     return count, reused
+
+
+@nb.njit(inline="always")
+def _write(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k, law_index, px,
+           py, nx, ny, g):
+    """Row c of the contact arrays: frame rows t = (n_y, -n_x), n."""
+    candidate[c] = cand
+    antagonist[c] = ant
+    key[c] = k
+    law[c] = law_index
+    point[c, 0] = px
+    point[c, 1] = py
+    frame[c, 0, 0] = ny
+    frame[c, 0, 1] = -nx
+    frame[c, 1, 0] = nx
+    frame[c, 1, 1] = ny
+    gap[c] = g
 
 
 @nb.njit(inline="always")
