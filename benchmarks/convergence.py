@@ -249,7 +249,6 @@ def _cold_sweeps(model, p, orders, cap=20_000, tolerance=1e-6) -> int:
     """Sweeps NLGS (nlgs_2d) takes from zero impulses on problem p when its successive sweeps
     visit the contacts in orders[0], orders[1], ... (cycling; nlgs_2d visits the last row
     first)."""
-    from saxum.solver.laws_local import law_map_width
     from saxum.solver.nlgs import nlgs_2d
 
     inv_mass = model.body_inv_mass
@@ -257,8 +256,8 @@ def _cold_sweeps(model, p, orders, cap=20_000, tolerance=1e-6) -> int:
     permuted = [{name: p[name][order] for name in ("cand", "ant", *_ARRAYS)}
                 for order in orders]
     n = len(p["cand"])
-    v, v_prev, work = p["v_free"].copy(), np.empty_like(p["v_free"]), np.empty((n, 19))
-    dry = np.zeros((n, law_map_width(2)))  # these cases have dry laws only
+    v, v_prev, work = p["v_free"].copy(), np.empty_like(p["v_free"]), np.empty((n, 18))
+    joints, law_map = np.zeros(0, np.int64), np.zeros((0, 0))  # dry laws only
     impulse = np.zeros((n, 2))
     for sweep in range(cap):
         k = sweep % len(orders)
@@ -266,7 +265,8 @@ def _cold_sweeps(model, p, orders, cap=20_000, tolerance=1e-6) -> int:
         r = impulse[order]  # this order's rows
         _, error = nlgs_2d(q["cand"], q["ant"], q["h_cand"], q["h_ant"], q["delassus"],
                            q["bias"], q["friction"], q["active"], n, inv_mass, mass,
-                           p["v_free"], v, v_prev, r, work, dry, tolerance, 1, 1.0)
+                           p["v_free"], v, v_prev, r, work, joints, law_map, tolerance, 1,
+                           1.0)
         impulse[order] = r
         if error <= tolerance:
             return sweep + 1
@@ -384,17 +384,16 @@ def _states(p: dict, impulse: np.ndarray) -> np.ndarray:
 
 def _replay(model, p: dict, impulse, v, sweeps: int, tolerance: float):
     """NLGS sweeps on captured problem p from (impulse, v), in place: (sweeps done, error)."""
-    from saxum.solver.laws_local import law_map_width
     from saxum.solver.nlgs import nlgs_2d, nlgs_3d
 
     inv_mass = model.body_inv_mass
     mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass), where=inv_mass > 0.0)
     n = len(p["cand"])
-    sweep, width = (nlgs_3d, 39) if model.dim == 3 else (nlgs_2d, 19)
-    dry = np.zeros((n, law_map_width(model.dim)))  # these cases have dry laws only
+    sweep, width = (nlgs_3d, 38) if model.dim == 3 else (nlgs_2d, 18)
+    joints, law_map = np.zeros(0, np.int64), np.zeros((0, 0))  # dry laws only
     return sweep(p["cand"], p["ant"], p["h_cand"], p["h_ant"], p["delassus"], p["bias"],
                  p["friction"], p["active"], n, inv_mass, mass, p["v_free"], v, np.empty_like(v),
-                 impulse, np.empty((n, width)), dry, tolerance, sweeps, 1.0)
+                 impulse, np.empty((n, width)), joints, law_map, tolerance, sweeps, 1.0)
 
 
 def diagnose(name: str, steps: int, reference_sweeps: int) -> list[dict]:

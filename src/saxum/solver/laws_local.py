@@ -25,9 +25,10 @@ U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area
 
 `law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do):
 [flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim)];
-the sweep kernels call `law_solve_2d` / `law_solve_3d` for flagged rows: u' = P u + s''
-(u the kernel's local velocity with b_n added, so s'' = -P W e + b - P b), the dry solve on
-W', then R = R_d - D U - e with U = W' R_d + u' - b. For compliance, P = I, D = e = 0.
+the sweep kernels visit the flagged rows after the dry ones and call `law_solve_2d` /
+`law_solve_3d`: u' = P u + s'' (u the kernel's local velocity with b_n added, so
+s'' = -P W e + b - P b), the dry solve on W', then R = R_d - D U - e with
+U = W' R_d + u' - b. For compliance, P = I, D = e = 0.
 `update_joints` advances the state after the solve (slip, history, damage: saxum.laws).
 """
 

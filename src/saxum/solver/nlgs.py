@@ -43,13 +43,17 @@ import numpy as np
 from ..errors import InputError
 from .base import ContactSolver, SolverReport
 from .equilibrium import rest_solution
-from .laws_local import law_map_width, law_solve_2d, law_solve_3d
+from .laws_local import law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .problem import ContactProblem
 
 __all__ = ["NLGS"]
+
+_NO_JOINTS = np.zeros(0, dtype=np.int64)
+_NO_LAWS = np.zeros((0, 0))
+"""The joints and law_map of a problem without joint laws (saxum.solver.laws_local)."""
 
 _REST_WORK = 20_000
 """Single-contact updates that cost about as much as an attempt at the rest solution does at
@@ -91,7 +95,6 @@ class NLGS(ContactSolver):
         self._inv_mass = None
         self._mass = np.empty((0, 0))
         self._following = LoadFollowing()
-        self._zero_map = np.zeros((0, 0))
 
     def forget(self) -> None:
         self._following.clear()
@@ -110,17 +113,23 @@ class NLGS(ContactSolver):
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         dim = problem.model.dim
-        width = 19 if dim == 2 else 39  # the packed row of nlgs_2d / nlgs_3d
+        width = 18 if dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
         if len(self._work) < problem.count or self._work.shape[1] != width:
             self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
         # joint laws (saxum.solver.laws_local) change the local problems; a problem without
         # them (the projection's) has none
         joints = getattr(problem, "joint_laws", False)
-        law_map = problem.law_map if joints else self._no_laws(problem.count, dim)
+        active, law_map = problem.active, _NO_LAWS
+        joint = _NO_JOINTS
+        if joints:
+            law_map = problem.law_map
+            flagged = law_map[: problem.count, 0] != 0.0
+            joint = np.flatnonzero(active[: problem.count] & flagged).astype(np.int64)
+            active = active[: problem.count] & ~flagged
         sweep = nlgs_3d if dim == 3 else nlgs_2d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
-                problem.bias, problem.friction, problem.active, problem.count, inv_mass,
-                self._mass, v_free, v, self._v_prev, impulse, self._work, law_map,
+                problem.bias, problem.friction, active, problem.count, inv_mass,
+                self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map,
                 self.tolerance)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
@@ -159,54 +168,32 @@ class NLGS(ContactSolver):
                                    found and converged)
         return SolverReport(iterations=iterations, error=error, converged=converged)
 
-    def _no_laws(self, count: int, dim: int) -> np.ndarray:
-        """A law_map of dry laws only (zeros), at least count rows."""
-        width = law_map_width(dim)
-        if len(self._zero_map) < count or self._zero_map.shape[1] != width:
-            self._zero_map = np.zeros((max(count, 2 * len(self._zero_map)), width))
-        return self._zero_map
-
 
 @nb.njit(cache=True)
 def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, work, law_map, tolerance, max_iterations, relaxation):
+            v_free, v, v_prev, impulse, work, joints, law_map, tolerance, max_iterations,
+            relaxation):
     """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
     mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
-    work (at least count x 19) are work memory; law_map: the joint laws' local problems
-    (saxum.solver.laws_local; rows with flag 0, the dry laws, take the code path they took
-    before joint laws existed, bit for bit).
+    work (at least count x 18) are work memory. active: the contacts of dry laws in the
+    solve; joints: the indices of those of joint laws, with their local problems in law_map
+    (saxum.solver.laws_local). Each sweep visits the dry contacts, then the joints: the dry
+    contacts' loop is the one of a solve without joint laws, bit for bit and as fast.
 
     Written out for 2D rigid bodies (3 dof, frame (t, n)), whose rows of H* are
     [t, l_c x t], [n, l_c x n] on the candidate and [-t, -(l_a x t)], [-n, -(l_a x n)] on the
     antagonist: before the sweeps, each active contact's t, n, the four moment arms, W, the
-    factors of its single-contact solve (factorize_contact_2d: the divisions, once per step)
-    and b_n, mu go into one row of `work`, which the sweeps read in order."""
-    nactive = 0
+    factors of its single-contact solve (factorize_contact_2d: the divisions, once per step;
+    on W' for a joint) and b_n, mu go into one row of `work`, which the sweeps read in
+    order."""
+    nactive = joints.shape[0]
     for a in range(count):
         if active[a]:
             nactive += 1
-            row = work[a]
-            row[0] = h_cand[a, 0, 0]
-            row[1] = h_cand[a, 0, 1]
-            row[2] = h_cand[a, 1, 0]
-            row[3] = h_cand[a, 1, 1]
-            row[4] = h_cand[a, 0, 2]
-            row[5] = h_cand[a, 1, 2]
-            row[6] = h_ant[a, 0, 2]
-            row[7] = h_ant[a, 1, 2]
-            row[8] = delassus[a, 0, 0]
-            row[9] = delassus[a, 0, 1]
-            row[10] = delassus[a, 1, 1]
-            row[18] = law_map[a, 0]
-            if row[18] != 0.0:  # a joint law: the dry solve is on W'
-                lm = law_map[a]
-                f = factorize_contact_2d(lm[1], lm[2], lm[4], friction[a])
-            else:
-                f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
-            for i in range(5):
-                row[11 + i] = f[i]
-            row[16] = bias[a]
-            row[17] = friction[a]
+            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a, False, law_map)
+    for j in range(joints.shape[0]):
+        _pack_2d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j], True,
+                 law_map)
     if nactive == 0:
         return 0, 0.0
     error = np.inf
@@ -220,52 +207,88 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            c = cand[a]
-            b = ant[a]
-            row = work[a]
-            tx, ty, nx, ny = row[0], row[1], row[2], row[3]
-            ct, cn, at, an = row[4], row[5], row[6], row[7]
-            wtt, wtn, wnn = row[8], row[9], row[10]
-            vc0, vc1, vc2 = v[c, 0], v[c, 1], v[c, 2]
-            vb0, vb1, vb2 = v[b, 0], v[b, 1], v[b, 2]
-            rt0 = impulse[a, 0]
-            rn0 = impulse[a, 1]
-            # Sums as balanced trees, the impulse and shift terms apart: the velocities of one
-            # contact depend on those the previous one wrote, so this chain's latency counts.
-            dx = vc0 - vb0
-            dy = vc1 - vb1
-            ut = ((tx * dx + ty * dy) + (ct * vc2 + at * vb2)) - (wtt * rt0 + wtn * rn0)
-            # u_n + b_n
-            un = (((nx * dx + ny * dy) + (cn * vc2 + an * vb2))
-                  + (row[16] - (wtn * rt0 + wnn * rn0)))
-            if row[18] != 0.0:
-                rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
-                                      row[14], row[15], row[17])
-            else:
-                rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
-                                                   row[14], row[15], ut, un, row[17])
-            if relaxation != 1.0:
-                rt = relaxation * rt + (1.0 - relaxation) * rt0
-                rn = relaxation * rn + (1.0 - relaxation) * rn0
-            dt = rt - rt0
-            dn = rn - rn0
-            # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
-            # a branch on it is mispredicted more often than the stores cost)
-            fx = tx * dt + nx * dn
-            fy = ty * dt + ny * dn
-            mc, mb = inv_mass[c], inv_mass[b]
-            v[c, 0] = vc0 + mc[0] * fx
-            v[c, 1] = vc1 + mc[1] * fy
-            v[c, 2] = vc2 + mc[2] * (ct * dt + cn * dn)
-            v[b, 0] = vb0 - mb[0] * fx
-            v[b, 1] = vb1 - mb[1] * fy
-            v[b, 2] = vb2 + mb[2] * (at * dt + an * dn)
-            impulse[a, 0] = rt
-            impulse[a, 1] = rn
+            _visit_2d(a, cand, ant, work, v, impulse, inv_mass, relaxation, False, law_map)
+        for j in range(joints.shape[0]):
+            _visit_2d(joints[j], cand, ant, work, v, impulse, inv_mass, relaxation, True,
+                      law_map)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(inline="always")
+def _pack_2d(row, h_cand, h_ant, delassus, bias, friction, a, joint, law_map):
+    """Contact a's row of nlgs_2d's `work`; joint: factors of W' (law_map) instead of W."""
+    row[0] = h_cand[a, 0, 0]
+    row[1] = h_cand[a, 0, 1]
+    row[2] = h_cand[a, 1, 0]
+    row[3] = h_cand[a, 1, 1]
+    row[4] = h_cand[a, 0, 2]
+    row[5] = h_cand[a, 1, 2]
+    row[6] = h_ant[a, 0, 2]
+    row[7] = h_ant[a, 1, 2]
+    row[8] = delassus[a, 0, 0]
+    row[9] = delassus[a, 0, 1]
+    row[10] = delassus[a, 1, 1]
+    if joint:
+        lm = law_map[a]
+        f = factorize_contact_2d(lm[1], lm[2], lm[4], friction[a])
+    else:
+        f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
+    for i in range(5):
+        row[11 + i] = f[i]
+    row[16] = bias[a]
+    row[17] = friction[a]
+
+
+@nb.njit(inline="always")
+def _visit_2d(a, cand, ant, work, v, impulse, inv_mass, relaxation, joint, law_map):
+    """One single-contact update of nlgs_2d: contact a's impulse from the others', and the
+    change pushed into the velocities; joint (a constant at each call, so that the compiler
+    drops the other case): solve contact a's joint law (law_solve_2d)."""
+    c = cand[a]
+    b = ant[a]
+    row = work[a]
+    tx, ty, nx, ny = row[0], row[1], row[2], row[3]
+    ct, cn, at, an = row[4], row[5], row[6], row[7]
+    wtt, wtn, wnn = row[8], row[9], row[10]
+    vc0, vc1, vc2 = v[c, 0], v[c, 1], v[c, 2]
+    vb0, vb1, vb2 = v[b, 0], v[b, 1], v[b, 2]
+    rt0 = impulse[a, 0]
+    rn0 = impulse[a, 1]
+    # Sums as balanced trees, the impulse and shift terms apart: the velocities of one
+    # contact depend on those the previous one wrote, so this chain's latency counts.
+    dx = vc0 - vb0
+    dy = vc1 - vb1
+    ut = ((tx * dx + ty * dy) + (ct * vc2 + at * vb2)) - (wtt * rt0 + wtn * rn0)
+    # u_n + b_n
+    un = (((nx * dx + ny * dy) + (cn * vc2 + an * vb2))
+          + (row[16] - (wtn * rt0 + wnn * rn0)))
+    if joint:
+        rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
+                              row[14], row[15], row[17])
+    else:
+        rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
+                                           row[14], row[15], ut, un, row[17])
+    if relaxation != 1.0:
+        rt = relaxation * rt + (1.0 - relaxation) * rt0
+        rn = relaxation * rn + (1.0 - relaxation) * rn0
+    dt = rt - rt0
+    dn = rn - rn0
+    # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
+    # a branch on it is mispredicted more often than the stores cost)
+    fx = tx * dt + nx * dn
+    fy = ty * dt + ny * dn
+    mc, mb = inv_mass[c], inv_mass[b]
+    v[c, 0] = vc0 + mc[0] * fx
+    v[c, 1] = vc1 + mc[1] * fy
+    v[c, 2] = vc2 + mc[2] * (ct * dt + cn * dn)
+    v[b, 0] = vb0 - mb[0] * fx
+    v[b, 1] = vb1 - mb[1] * fy
+    v[b, 2] = vb2 + mb[2] * (at * dt + an * dn)
+    impulse[a, 0] = rt
+    impulse[a, 1] = rn
 
 
 @nb.njit(cache=True)
@@ -297,31 +320,24 @@ def _relative_change(v, v_prev, v_free, mass):
 
 @nb.njit(cache=True)
 def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, work, law_map, tolerance, max_iterations, relaxation):
+            v_free, v, v_prev, impulse, work, joints, law_map, tolerance, max_iterations,
+            relaxation):
     """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)); the single-contact problem on the
     Coulomb cone is solved exactly by saxum.solver.local3d (its open and stick cases inlined
-    here on scalars, solve_contact_3d called for slides).
+    here on scalars, solve_contact_3d called for slides); active, joints and law_map as in
+    nlgs_2d.
 
     Written out like nlgs_2d: before the sweeps each active contact's rows of H* go into one
-    row of `work` (at least count x 39): the candidate's three rows (6 dof each), the
+    row of `work` (at least count x 38): the candidate's three rows (6 dof each), the
     antagonist's rotational parts (its translational rows are minus the candidate's, as for
-    any rigid 3D contact: saxum.bodies.rigid3d.contact_jacobians), W, b_n, mu and the
-    joint-law flag (law_map as in nlgs_2d)."""
-    nactive = 0
+    any rigid 3D contact: saxum.bodies.rigid3d.contact_jacobians), W, b_n and mu."""
+    nactive = joints.shape[0]
     for a in range(count):
         if active[a]:
             nactive += 1
-            row = work[a]
-            for r in range(3):
-                for d in range(6):
-                    row[6 * r + d] = h_cand[a, r, d]
-                for d in range(3):
-                    row[18 + 3 * r + d] = h_ant[a, r, 3 + d]
-                for s in range(3):
-                    row[27 + 3 * r + s] = delassus[a, r, s]
-            row[36] = bias[a]
-            row[37] = friction[a]
-            row[38] = law_map[a, 0]
+            _pack_3d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+    for j in range(joints.shape[0]):
+        _pack_3d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j])
     if nactive == 0:
         return 0, 0.0
     u = np.empty(3)
@@ -338,61 +354,86 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            c = cand[a]
-            b = ant[a]
-            row = work[a]
-            vc3, vc4, vc5 = v[c, 3], v[c, 4], v[c, 5]
-            vb3, vb4, vb5 = v[b, 3], v[b, 4], v[b, 5]
-            dx = v[c, 0] - v[b, 0]
-            dy = v[c, 1] - v[b, 1]
-            dz = v[c, 2] - v[b, 2]
-            rt0 = impulse[a, 0]
-            rn0 = impulse[a, 1]
-            rs0 = impulse[a, 2]
-            for r in range(3):
-                o = 6 * r
-                p = 18 + 3 * r
-                q = 27 + 3 * r
-                u[r] = (((row[o] * dx + row[o + 1] * dy + row[o + 2] * dz)
-                         + (row[o + 3] * vc3 + row[o + 4] * vc4 + row[o + 5] * vc5))
-                        + (row[p] * vb3 + row[p + 1] * vb4 + row[p + 2] * vb5)) - (
-                    row[q] * rt0 + row[q + 1] * rn0 + row[q + 2] * rs0)
-            u[1] += row[36]
-            if row[38] != 0.0:  # a joint law (saxum.solver.laws_local)
-                rr[0] = rt0
-                rr[1] = rn0
-                rr[2] = rs0
-                law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
-            else:
-                case, rr[0], rr[1], rr[2] = open_or_stick_3d(
-                    row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
-                    row[35], u[0], u[1], u[2], row[37])
-                if case < 0:  # a slide: the full solve, from the current impulse
-                    rr[0] = rt0
-                    rr[1] = rn0
-                    rr[2] = rs0
-                    solve_contact_3d(delassus[a], u, row[37], rr)
-            if relaxation != 1.0:
-                rr[0] = relaxation * rr[0] + (1.0 - relaxation) * rt0
-                rr[1] = relaxation * rr[1] + (1.0 - relaxation) * rn0
-                rr[2] = relaxation * rr[2] + (1.0 - relaxation) * rs0
-            dt = rr[0] - rt0
-            dn = rr[1] - rn0
-            ds = rr[2] - rs0
-            # v += M^-1 H_a dR on the candidate c and the antagonist b
-            mc = inv_mass[c]
-            mb = inv_mass[b]
-            for d in range(3):
-                f = row[d] * dt + row[6 + d] * dn + row[12 + d] * ds
-                v[c, d] += mc[d] * f
-                v[b, d] -= mb[d] * f
-                v[c, 3 + d] += mc[3 + d] * (row[3 + d] * dt + row[9 + d] * dn + row[15 + d] * ds)
-                v[b, 3 + d] += mb[3 + d] * (row[18 + d] * dt + row[21 + d] * dn
-                                            + row[24 + d] * ds)
-            impulse[a, 0] = rr[0]
-            impulse[a, 1] = rr[1]
-            impulse[a, 2] = rr[2]
+            _visit_3d(a, cand, ant, work, delassus, v, impulse, inv_mass, relaxation, u, rr,
+                      False, law_map, wp)
+        for j in range(joints.shape[0]):
+            _visit_3d(joints[j], cand, ant, work, delassus, v, impulse, inv_mass, relaxation,
+                      u, rr, True, law_map, wp)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(inline="always")
+def _pack_3d(row, h_cand, h_ant, delassus, bias, friction, a):
+    """Contact a's row of nlgs_3d's `work`."""
+    for r in range(3):
+        for d in range(6):
+            row[6 * r + d] = h_cand[a, r, d]
+        for d in range(3):
+            row[18 + 3 * r + d] = h_ant[a, r, 3 + d]
+        for s in range(3):
+            row[27 + 3 * r + s] = delassus[a, r, s]
+    row[36] = bias[a]
+    row[37] = friction[a]
+
+
+@nb.njit(inline="always")
+def _visit_3d(a, cand, ant, work, delassus, v, impulse, inv_mass, relaxation, u, rr, joint,
+              law_map, wp):
+    """One single-contact update of nlgs_3d (u, rr: 3-vectors, wp: 3 x 3, work memory);
+    joint as in _visit_2d (law_solve_3d)."""
+    c = cand[a]
+    b = ant[a]
+    row = work[a]
+    vc3, vc4, vc5 = v[c, 3], v[c, 4], v[c, 5]
+    vb3, vb4, vb5 = v[b, 3], v[b, 4], v[b, 5]
+    dx = v[c, 0] - v[b, 0]
+    dy = v[c, 1] - v[b, 1]
+    dz = v[c, 2] - v[b, 2]
+    rt0 = impulse[a, 0]
+    rn0 = impulse[a, 1]
+    rs0 = impulse[a, 2]
+    for r in range(3):
+        o = 6 * r
+        p = 18 + 3 * r
+        q = 27 + 3 * r
+        u[r] = (((row[o] * dx + row[o + 1] * dy + row[o + 2] * dz)
+                 + (row[o + 3] * vc3 + row[o + 4] * vc4 + row[o + 5] * vc5))
+                + (row[p] * vb3 + row[p + 1] * vb4 + row[p + 2] * vb5)) - (
+            row[q] * rt0 + row[q + 1] * rn0 + row[q + 2] * rs0)
+    u[1] += row[36]
+    if joint:
+        rr[0] = rt0
+        rr[1] = rn0
+        rr[2] = rs0
+        law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
+    else:
+        case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+            row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
+            row[35], u[0], u[1], u[2], row[37])
+        if case < 0:  # a slide: the full solve, from the current impulse
+            rr[0] = rt0
+            rr[1] = rn0
+            rr[2] = rs0
+            solve_contact_3d(delassus[a], u, row[37], rr)
+    if relaxation != 1.0:
+        rr[0] = relaxation * rr[0] + (1.0 - relaxation) * rt0
+        rr[1] = relaxation * rr[1] + (1.0 - relaxation) * rn0
+        rr[2] = relaxation * rr[2] + (1.0 - relaxation) * rs0
+    dt = rr[0] - rt0
+    dn = rr[1] - rn0
+    ds = rr[2] - rs0
+    # v += M^-1 H_a dR on the candidate c and the antagonist b
+    mc = inv_mass[c]
+    mb = inv_mass[b]
+    for d in range(3):
+        f = row[d] * dt + row[6 + d] * dn + row[12 + d] * ds
+        v[c, d] += mc[d] * f
+        v[b, d] -= mb[d] * f
+        v[c, 3 + d] += mc[3 + d] * (row[3 + d] * dt + row[9 + d] * dn + row[15 + d] * ds)
+        v[b, 3 + d] += mb[3 + d] * (row[18 + d] * dt + row[21 + d] * dn + row[24 + d] * ds)
+    impulse[a, 0] = rr[0]
+    impulse[a, 1] = rr[1]
+    impulse[a, 2] = rr[2]
