@@ -23,8 +23,8 @@ a crack moment N b / 2 + f_t b^2 / 2, 31 % later here: checked too, as the rule'
 Tolerance 2 % (issue 15). What it covers: the load rises over 2 s, while the column rocks on
 its bonds with a period of about 0.02 s, so the dynamic lag of the response is of order
 (period / 2 pi) / (time to the crack), 0.2 %; the load grows by 1e-4 of itself per step, the
-resolution of "the first step with damage". Measured (2026-11-25): +0.03 % (3 points) and
--0.2 % (2 points) from the closed forms; against Navier's f_t b^2 / 6, +46 % with 3 points.
+resolution of "the first step with damage". Measured (2026-11-25): -0.01 % (3 points) and
+-0.14 % (2 points) from the closed forms; against Navier's f_t b^2 / 6, +46 % with 3 points.
 """
 
 import numpy as np
