@@ -222,9 +222,16 @@ def test_a_cohesive_law_for_groups_that_never_touch_is_an_error():
 
 
 def test_joint_laws_need_nlgs():
+    """The hybrid (the default solver) is refused when asked for, and not the default, for a
+    model with joint laws."""
     text = WALL.replace("dt = 2e-4", 'dt = 2e-4\nkind = "hybrid"')
     with pytest.raises(sx.InputError, match="NLGS"):
         parse_scenario(text).build_simulation()
+    assert type(parse_scenario(WALL).build_simulation().solver) is sx.NLGS
+    model = parse_scenario(WALL).build_model()
+    assert type(sx.Simulation(model, dt=1e-4).solver) is sx.NLGS
+    with pytest.raises(sx.InputError, match="NLGS only, not by Hybrid"):
+        sx.Simulation(model, dt=1e-4, solver=sx.Hybrid())
 
 
 def test_fclib_export_refuses_joint_laws():

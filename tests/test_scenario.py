@@ -106,7 +106,7 @@ FULL = textwrap.dedent("""\
     max_iterations = 300
     relaxation = 0.9
     rest_after = 20
-    kind = "hybrid"
+    kind = "nlgs"
 
     [detection]
     alert = 0.002
@@ -139,7 +139,7 @@ PYTHON = Scenario(
                 flood=FloodSpec(level=0.1, velocity=0.5, tailwater=0.05, water_density=1050.0,
                                 drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
-                      rest_after=20, kind="hybrid"),
+                      rest_after=20, kind="nlgs"),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
                       histories=["brick c1b1", 2]),

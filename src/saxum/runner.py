@@ -170,7 +170,8 @@ def describe(summary: RunSummary) -> str:
     text = (f"{summary.status}: {summary.steps} steps{resumed}, t = {summary.time:g} s, "
             f"{summary.wall_time:.1f} s wall ({rate:.0f} steps/s); results: {summary.path}")
     if summary.non_converged:
-        text += f"; NLGS did not converge at {summary.non_converged} step(s) (saxum info)"
+        text += (f"; the contact solver did not converge at {summary.non_converged} step(s)"
+                 " (saxum info)")
     if summary.status == "interrupted":
         text += f"\nresume with: saxum resume {summary.path}"
     return text

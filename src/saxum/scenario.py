@@ -33,7 +33,7 @@ from pydantic import (
 
 from .detection import DetectionSettings
 from .errors import InputError
-from .laws import ContactLaw, LawKind
+from .laws import SMOOTH_KINDS, ContactLaw, LawKind
 from .model import BodyKind, Model, ModelBuilder
 from .simulation import Simulation
 from .solver import NLGS, Hybrid
@@ -872,8 +872,10 @@ def _unit(direction, key: str, dim: int | None = None):
 
 class SolverSpec(_Strict):
     """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
-    before a slow step tries the rest solution (0: never); kind: "nlgs", or "hybrid" (NLGS that
-    switches to the conic fixed point where its error stalls: saxum.solver.Hybrid)."""
+    before a slow step tries the rest solution (0: never); kind: "hybrid" (NLGS that switches to
+    the conic fixed point or semismooth Newton where its error stalls or at the cap:
+    saxum.solver.Hybrid), or "nlgs" alone; None (the default): "hybrid", or "nlgs" for a
+    model with joint laws, which only NLGS solves (saxum.solver.laws_local)."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
@@ -881,7 +883,7 @@ class SolverSpec(_Strict):
     max_iterations: Count = 5000
     relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0
     rest_after: Annotated[Integer, Field(ge=0)] = 50
-    kind: Literal["nlgs", "hybrid"] = "nlgs"
+    kind: Literal["nlgs", "hybrid"] | None = None
 
 
 class DetectionSpec(_Strict):
@@ -1054,9 +1056,11 @@ class Scenario(_Strict):
     def build_simulation(self, model: Model | None = None) -> Simulation:
         """A Simulation of this scenario's model with its solver and detection settings."""
         s, d = self.solver, self.detection
+        model = model if model is not None else self.build_model()
+        kind = s.kind or ("nlgs" if np.isin(model.law_kind, SMOOTH_KINDS).any() else "hybrid")
         return Simulation(
-            model if model is not None else self.build_model(), dt=s.dt, theta=s.theta,
-            solver=(Hybrid if s.kind == "hybrid" else NLGS)(
+            model, dt=s.dt, theta=s.theta,
+            solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
                 rest_after=s.rest_after),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,

@@ -23,7 +23,14 @@ from .errors import InputError, SimulationError, SolverWarning
 from .integrator import MoreauJean
 from .laws import LawKind
 from .model import BodyKind, Model
-from .solver import NLGS, SOLVER_NAMES, ContactProblem, ContactSolver, PositionProjection
+from .solver import (
+    NLGS,
+    SOLVER_NAMES,
+    ContactProblem,
+    ContactSolver,
+    Hybrid,
+    PositionProjection,
+)
 from .solver.laws_local import update_joints
 from .state import State
 from .steplog import StepLog, StepReport
@@ -32,7 +39,9 @@ __all__ = ["Simulation"]
 
 
 class Simulation:
-    """Steps a Model with Moreau-Jean time stepping and a contact solver (NLGS by default).
+    """Steps a Model with Moreau-Jean time stepping and a contact solver (by default the
+    hybrid: NLGS, and the conic fixed point where NLGS stalls; saxum.solver.Hybrid; NLGS for
+    a model with joint laws, which only NLGS solves: saxum.solver.laws_local).
 
     dt [s]: time step; theta [-]: Moreau-Jean parameter in [0.5, 1].
     Every step appends a StepReport to `self.log`.
@@ -50,9 +59,11 @@ class Simulation:
         self.model = model
         self.kinematics = rigid_kind(model.dim)
         self.integrator = MoreauJean(dt, theta)
-        self.solver = solver if solver is not None else NLGS()
-        self.detector = detector_for(model, detection)
         self.problem = ContactProblem(model)
+        if solver is None:
+            solver = NLGS() if self.problem.joint_laws else Hybrid()
+        self.solver = solver
+        self.detector = detector_for(model, detection)
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
@@ -246,7 +257,8 @@ class Simulation:
         bad = bad[bad > (self.log.step[first - 1] if first else 0)]
         if bad.size:
             warnings.warn(
-                f"NLGS did not converge at {bad.size} of {len(self.log) - first} steps "
+                f"the contact solver did not converge at {bad.size} of "
+                f"{len(self.log) - first} steps "
                 f"(first at step {bad[0]}); see Simulation.log", SolverWarning, stacklevel=2
             )
         return self.log

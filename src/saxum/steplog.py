@@ -14,7 +14,7 @@ class StepReport:
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
     position projection (0 when none was needed; saxum.solver.projection), the solver that
     finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
-    fixed point of saxum.solver.hybrid)."""
+    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid)."""
 
     step: int
     time: float
@@ -77,10 +77,12 @@ class StepLog:
             return "no steps"
         bad = self.non_converged()
         conic = int(np.count_nonzero(self.solver == 1))
+        newton = int(np.count_nonzero(self.solver == 2))
         return (
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
             + (f" (first: step {bad[0]})" if bad.size else "")
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
+            + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )

@@ -9,7 +9,7 @@ from .problem import ContactProblem
 
 __all__ = ["SOLVER_NAMES", "ContactSolver", "SolverReport"]
 
-SOLVER_NAMES = ("nlgs", "conic")
+SOLVER_NAMES = ("nlgs", "conic", "newton")
 """Solvers that can finish a step; the step log stores the index (StepReport.solver)."""
 
 
@@ -17,7 +17,8 @@ SOLVER_NAMES = ("nlgs", "conic")
 class SolverReport:
     """What a solver did on one step: iterations (Gauss-Seidel sweeps), final error,
     converged or not, and which solver finished the step (an entry of SOLVER_NAMES: "nlgs",
-    or "conic" when saxum.solver.hybrid switched to the conic fixed point)."""
+    or "conic" / "newton" when saxum.solver.hybrid's attempt with the conic fixed point or
+    semismooth Newton was kept)."""
 
     iterations: int
     error: float
