@@ -66,7 +66,10 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["SMOOTH_KINDS", "ContactLaw", "LawKind", "Parameter"]
+__all__ = ["MAX_LAW_POINTS", "SMOOTH_KINDS", "ContactLaw", "LawKind", "Parameter"]
+
+MAX_LAW_POINTS = 15
+"""Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""
 
 
 class LawKind(IntEnum):
@@ -117,7 +120,18 @@ _USED = {
 class ContactLaw:
     """A contact law: friction coefficient mu [-], kind, restitution e_n [-] (RESTITUTION only),
     and the joint laws' parameters (see `Parameter` and the module doc; SI units):
-    k_n, k_t [Pa/m], c_n, eta [Pa s/m], f_t, cohesion [Pa], g_i, g_ii [J/m^2]."""
+    k_n, k_t [Pa/m], c_n, eta [Pa s/m], f_t, cohesion [Pa], g_i, g_ii [J/m^2].
+
+    points: contact points of a face-to-face contact, for laws written in stresses
+    (saxum.detection.polygons, .polyhedra). 2 (default): the ends of the common segment (3D:
+    the corners of the contact polygon), each standing for an equal share: a trapezoid rule,
+    which is all a dry law needs (it ignores the areas) but which makes a joint's rotational
+    stiffness 3 times too high. 2D: an odd number n >= 3 adds points so that the ends and
+    the new points form (n - 1) / 2 Simpson panels (3-point Gauss-Lobatto, weights 1/6, 4/6,
+    1/6 of a panel): exact for the force and moment of a linear stress and for the
+    rotational stiffness. 3D: 3 adds the midpoints of the polygon's edges and a centre, with
+    a rule exact for linear stresses (module doc of saxum.detection.polyhedra).
+    """
 
     friction: float
     kind: LawKind = LawKind.GAP_SIGNORINI_COULOMB
@@ -132,6 +146,7 @@ class ContactLaw:
     g_ii: float = 0.0
     name: str = field(default="", compare=False)
     """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
+    points: int = 2
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.friction) and self.friction >= 0.0):
@@ -142,6 +157,13 @@ class ContactLaw:
             raise InputError(
                 f"restitution={self.restitution} is only used by LawKind.RESTITUTION_COULOMB, "
                 f"not by {self.kind.name}; set kind=LawKind.RESTITUTION_COULOMB or drop it"
+            )
+        if not (isinstance(self.points, int) and (self.points == 2 or (
+                3 <= self.points <= MAX_LAW_POINTS and self.points % 2 == 1))):
+            raise InputError(
+                f"points={self.points!r}: a face-to-face contact takes 2 points (its ends) or an "
+                f"odd number from 3 to {MAX_LAW_POINTS} (Simpson panels); use 3 for a joint in "
+                "stresses"
             )
         object.__setattr__(self, "kind", LawKind(self.kind))
         self._check_parameters()

@@ -28,6 +28,12 @@ blocks of the course), a bed joint between courses k and k + 1, or course k agai
 block (the ground, a lintel), and by its position along the course, from the wall's left end
 (the leftmost initial vertex of the coursed blocks) [m]; arches keep their angles from the
 crown (Mechanism.hinge_angles).
+
+Joints of a COHESIVE law (mortar, saxum.laws) also report their bond: "cracked" when a point
+has lost it (damage 1: friction alone is left there), else "damaged" when a point has begun
+to soften (damage in (0, 1)), else "intact"; bond_states labels each contact so. A contact
+made after the start (blocks that met corner to corner now touch) was never bonded: it
+starts cracked under the law but is no crack, and has no bond state.
 """
 
 from __future__ import annotations
@@ -41,17 +47,33 @@ import numpy as np
 
 from .contacts import Contacts
 from .geometry3d import relative_quaternions, rotation_matrix, rotation_vectors
+from .laws import LawKind
 from .model import BodyKind, Model, body_vertices
 from .state import State
 
-__all__ = ["CREEP", "Joint", "Mechanism", "course_of", "frame_contacts", "frame_mechanism",
-           "hinge_lines", "joint_opening", "joint_resultants", "joint_states", "mechanism",
-           "thrust_line"]
+__all__ = ["BOND_STATES", "CREEP", "Joint", "Mechanism", "bond_states", "course_of",
+           "frame_contacts", "frame_mechanism", "hinge_lines", "joint_index", "joint_opening",
+           "joint_resultants", "joint_states", "mechanism", "thrust_line"]
 
 CREEP = 1e-3
 """[1/s]: a slip (or a block) slower than this times the smallest block's size per second is
 not a slide (not moving): a structure at rest moves by round-off and creep."""
 _COURSED = re.compile(r"\bc(\d+)[ab]\d+")  # "brick c3b5" (3D walls: "c3a5" too): course 3
+
+
+BOND_STATES = ("intact", "damaged", "cracked")
+"""The states of a cohesive joint's bond, from none to full damage (module doc)."""
+
+
+def bond_states(law: np.ndarray, damage: np.ndarray, history: np.ndarray,
+                law_kind: np.ndarray) -> np.ndarray:
+    """Label each contact of a COHESIVE law (law: index into law_kind, Model.law_kind)
+    "intact", "damaged" or "cracked" by its damage [-] (module doc); other contacts "", and
+    so those of a cohesive law that were never bonded (made after the start: damage 1 with no
+    opening in their history [-], saxum.laws), which are no crack."""
+    cohesive = law_kind[law] == LawKind.COHESIVE
+    state = np.where(damage >= 1.0, "cracked", np.where(damage > 0.0, "damaged", "intact"))
+    return np.where(cohesive & ((damage < 1.0) | (history > 0.0)), state, "")
 
 
 def course_of(name: str) -> int | None:
@@ -69,7 +91,7 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
     one line only counts as turned). Every touching contact that is not a hinge is "closed",
     loaded or not (which points of a closed joint carry the load is not unique for rigid
     blocks, so an unloaded point is no sign of a mechanism)."""
-    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    joint = joint_index(contacts["candidate"], contacts["antagonist"])
     is_open = contacts["gap"] > gap_tolerance
     loaded = ~is_open & (contacts["force"][:, 1] > 0.0)
     points = np.bincount(joint)[joint] if joint.size else joint
@@ -118,7 +140,7 @@ def hinge_lines(contacts: dict, gap_tolerance: float) -> np.ndarray:
     """The lines the hinged joints of a 3D contacts dict turn about (module doc): their ends
     [m], shape (hinges, 2, 3) (a pivot: the same point twice)."""
     labels = joint_states(contacts, gap_tolerance)
-    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    joint = joint_index(contacts["candidate"], contacts["antagonist"])
     return np.array([_hinge_line(contacts["point"], labels, joint == j, gap_tolerance)
                      for j in np.unique(joint[labels == "hinge"])]).reshape(-1, 2, 3)
 
@@ -154,7 +176,7 @@ def joint_resultants(contacts: dict, gap_tolerance: float):
     joint carries nothing) and the resultant force [N/m; 3D: N] in world axes, from a
     contacts dict with candidate, antagonist, point, frame, gap and force ((t, n) components;
     3D (t, n, s))."""
-    joint = _joint_index(contacts["candidate"], contacts["antagonist"])
+    joint = joint_index(contacts["candidate"], contacts["antagonist"])
     n = joint.max(initial=-1) + 1
     dim = contacts["point"].shape[1]
     rn = np.where(contacts["gap"] <= gap_tolerance, np.maximum(contacts["force"][:, 1], 0.0),
@@ -183,7 +205,8 @@ def thrust_line(contacts: dict, gap_tolerance: float, centre: tuple[float, float
     return cop[order]
 
 
-def _joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
+def joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
+    """The joint (pair of bodies, numbered 0, 1, ... in increasing order) of each contact."""
     a = np.minimum(candidate, antagonist).astype(np.int64)
     b = np.maximum(candidate, antagonist).astype(np.int64)
     return np.unique(a * (b.max(initial=0) + 1) + b, return_inverse=True)[1]
@@ -197,7 +220,8 @@ class Joint:
     frame; nan when it carries nothing). In a wall (module doc): the courses of its coursed
     bodies (one or two) and, in 2D, its position along the course [m] (the hinge point's,
     else the centre of pressure's); None elsewhere. 3D: hinge_line, the ends [m] of the line
-    the joint turns about (the same point twice for a pivot)."""
+    the joint turns about (the same point twice for a pivot). bond: the state of a cohesive
+    joint's bond (BOND_STATES: its most damaged point's), None for other laws."""
 
     bodies: tuple[str, str]
     hinge: bool
@@ -210,6 +234,7 @@ class Joint:
     courses: tuple[int, ...] | None = None
     along: float | None = None
     hinge_line: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+    bond: str | None = None
 
     @property
     def location(self) -> str | None:
@@ -270,6 +295,13 @@ class Mechanism:
         if opened:
             lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
                                                       (j.bodies for j in opened)))
+        for bond, what in (("cracked", "bond broken"), ("damaged", "bond softening")):
+            joints = [j for j in self.joints if j.bond == bond]
+            if joints:
+                lines.append(f"{bond} joints ({what}): "
+                             + "; ".join(f"{j.bodies[0]} | {j.bodies[1]}"
+                                         + (f" ({j.location})" if j.location else "")
+                                         for j in joints))
         return "\n".join(lines)
 
 
@@ -314,6 +346,9 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
                 "opening": joint_opening(state.body_q, model.body_q0, model.body_size, cand,
                                          ant)}
     labels = joint_states(contacts, gap_tol)
+    law_kind = getattr(model, "law_kind", None)
+    bonds = (bond_states(c.law[:k], c.damage[:k], c.history[:k], law_kind)
+             if law_kind is not None else np.full(k, ""))
     # relative velocity of the candidate's material point over the antagonist's, world frame
     p_ant = point - gap[:, None] * frame[:, 1]
     q, v = state.body_q, state.body_v
@@ -326,7 +361,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     touching = (labels != "open") & (force[:, 1] > 0.0)
     slides = touching & (slip > max(slip_fraction * speed, CREEP * size))
     pairs, cop, resultant = joint_resultants(contacts, gap_tol)
-    joint = _joint_index(cand, ant)
+    joint = joint_index(cand, ant)
     names = model.body_name
     course = {b: c for b, name in enumerate(names) if (c := course_of(name)) is not None}
     left = min((float(model.vertices(b)[:, 0].min()) for b in course), default=0.0)
@@ -356,6 +391,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
             along=(float((at if hinge_rows.size else cop[j])[0] - left)
                    if coursed and d == 2 else None),
             hinge_line=line,
+            bond=next((s for s in reversed(BOND_STATES) if (bonds[rows] == s).any()), None),
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
@@ -372,6 +408,7 @@ class _Bodies(NamedTuple):
     dim: int
     body_vertex_start: np.ndarray
     vertex_local: np.ndarray
+    law_kind: np.ndarray
 
     def vertices(self, b: int) -> np.ndarray:
         """Initial world vertices [m] of body b, as Model.vertices."""
@@ -385,7 +422,8 @@ def frame_mechanism(results, frame: int, **options) -> Mechanism:
     k = range(results.frame_count)[frame]
     m = results.model
     bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
-                     results.body_name, results.dim, m["body_vertex_start"], m["vertex_local"])
+                     results.body_name, results.dim, m["body_vertex_start"], m["vertex_local"],
+                     m["law_kind"])
     stored = results.contacts(k)
     contacts = Contacts(results.dim, max(1, stored["gap"].size))
     contacts.count = stored["gap"].size

@@ -127,6 +127,8 @@ class Model:
     """Coulomb coefficient mu [-], shape [law_count], float64."""
     law_restitution: np.ndarray
     """Newton restitution e_n [-], shape [law_count], float64."""
+    law_points: np.ndarray
+    """Contact points of a face-to-face contact (ContactLaw.points), shape [law_count], int32."""
     law_parameter: np.ndarray
     """Joint law parameters, columns saxum.laws.Parameter (k_n, k_t [Pa/m], c_n, eta [Pa s/m],
     f_t, cohesion [Pa], G_I, G_II [J/m^2]), shape [law_count, len(Parameter)], float64."""
@@ -425,6 +427,7 @@ class ModelBuilder:
             law_kind=np.array([law.kind for law in laws], dtype=np.int8),
             law_friction=np.array([law.friction for law in laws], dtype=np.float64),
             law_restitution=np.array([law.restitution for law in laws], dtype=np.float64),
+            law_points=np.array([law.points for law in laws], dtype=np.int32),
             law_parameter=np.array([law.parameters for law in laws],
                                    dtype=np.float64).reshape(len(laws), len(Parameter)),
             gravity=self._gravity.copy(),
@@ -520,7 +523,13 @@ class ModelBuilder:
     def _check_laws(self, groups: list[str]) -> None:
         mobile = {blk.group for blk in self._blocks
                   if blk.kind in (BodyKind.FREE, BodyKind.DEFORMABLE)}
-        for key in self._laws:
+        for key, law in self._laws.items():
+            if self.dim == 3 and law.points > 3:
+                raise InputError(
+                    f"the law between groups {sorted(key)} asks for {law.points} points per "
+                    "contact; 3D contacts take 2 (the corners) or 3 (corners, edge midpoints "
+                    "and a centre)"
+                )
             unknown = [g for g in key if g not in groups]
             if unknown:
                 raise InputError(

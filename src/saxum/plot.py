@@ -10,7 +10,10 @@ their blocks' centres of mass. A structure at rest (every free block moved by le
 REST times the blocks' size: round-off) has no colour scale, only its largest displacement
 written in a corner. Flood water (saxum.flood), from a results file's scenario or a model's
 field loads, is drawn behind the blocks from the ground's top (the highest fixed body at each
-x) up to its level at the frame's time, with the flow velocity.
+x) up to its level at the frame's time, with the flow velocity. Joints of a cohesive law
+(mortar) show their bond: each contact point as a stroke along the joint as long as the share
+of it the point stands for (its area), coloured intact, damaged or cracked
+(saxum.mechanism.bond_states).
 """
 
 import dataclasses
@@ -33,7 +36,16 @@ from matplotlib.transforms import offset_copy
 from .errors import InputError
 from .flood import FloodLoad
 from .geometry3d import rotation_vectors
-from .mechanism import Mechanism, course_of, frame_contacts, joint_states, thrust_line
+from .mechanism import (
+    BOND_STATES,
+    Mechanism,
+    bond_states,
+    course_of,
+    frame_contacts,
+    joint_index,
+    joint_states,
+    thrust_line,
+)
 from .model import BodyKind, Model
 from .plot3d import frames_3d, plot_frame_3d
 from .plot_common import (
@@ -60,6 +72,7 @@ _MARKS = {  # joint_states label: marker style (white circle: the usual symbol o
 _SLIDE = dict(marker="D", markersize=5.5, markerfacecolor="#7b2cbf", markeredgecolor="k",
               markeredgewidth=0.6)
 _COLOUR_BY = ("displacement", "rotation", None)
+_BOND_COLOURS = dict(zip(BOND_STATES, ("#1a9850", "#e6ab02", "#000000"), strict=True))
 
 
 # -- geometry -------------------------------------------------------------------------------
@@ -280,6 +293,40 @@ def _draw_contacts(ax, look: _Look, contacts: dict,
     return handles
 
 
+def _draw_bonds(ax, contacts: dict, law_kind: np.ndarray) -> list:
+    """The bonds of cohesive joints (module doc), if the contacts have a damage field (files
+    from before the joint laws do not); returns their legend handles."""
+    if any(name not in contacts for name in ("damage", "history", "area")):
+        return []
+    state = bond_states(contacts["law"], contacts["damage"], contacts["history"], law_kind)
+    # strokes along the joint, clipped to its end points (those of a joint's ends stand for
+    # the joint beside them only)
+    t = contacts["frame"][:, 0]
+    s = np.einsum("kd,kd->k", contacts["point"], t)
+    joint = joint_index(contacts["candidate"], contacts["antagonist"])
+    lo = np.full(joint.max(initial=-1) + 1, np.inf)
+    hi = -lo
+    np.minimum.at(lo, joint, s)
+    np.maximum.at(hi, joint, s)
+    lo, hi = lo[joint], hi[joint]
+    half = 0.5 * contacts["area"]
+    single = lo == hi  # a corner against a face: the stroke as it is
+    a = np.where(single, s - half, np.clip(s - half, lo, hi)) - s
+    b = np.where(single, s + half, np.clip(s + half, lo, hi)) - s
+    handles = []
+    for label in BOND_STATES:
+        rows = state == label
+        if not rows.any():
+            continue
+        p = contacts["point"][rows]
+        ends = np.stack((p + a[rows, None] * t[rows], p + b[rows, None] * t[rows]), axis=1)
+        ax.add_collection(LineCollection(ends, linewidths=3, colors=_BOND_COLOURS[label],
+                                         capstyle="butt", zorder=3.5))
+        handles.append(Line2D([], [], color=_BOND_COLOURS[label], lw=3, solid_capstyle="butt",
+                              label=f"{label} bond ({rows.sum()})"))
+    return handles
+
+
 def _legend(ax, handles: list, forces: bool) -> None:
     """One legend of everything drawn, below the x axis label whatever the axes' height
     (anchored a fixed distance in points), titled by the force scale when forces are drawn."""
@@ -346,7 +393,9 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
     """Draws output frame k; returns the legend handles of what it drew."""
     _draw_water(ax, look, blocks, results.body_q[k], floods, float(results.time[k]))
     _draw_blocks(ax, look, blocks, results.body_q[k])
-    handles = _draw_contacts(ax, look, frame_contacts(results, k), slides) if forces else []
+    contacts = frame_contacts(results, k)
+    handles = _draw_contacts(ax, look, contacts, slides) if forces else []
+    handles += _draw_bonds(ax, contacts, results.model["law_kind"])
     handles += _draw_point_loads(ax, look, results_point_loads(results), results.body_q[k])
     heading = title if title is not None else results_heading(results)
     _finish_axes(ax, look, f"{heading}: t = {results.time[k]:.3f} s (step {results.step[k]})")

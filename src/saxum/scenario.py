@@ -40,6 +40,7 @@ from .simulation import Simulation
 from .solver import NLGS, Hybrid
 from .structures import (
     ArchShape,
+    Assembly,
     Opening,
     add_arch_bridge,
     add_blocks_from_file,
@@ -119,8 +120,21 @@ class _Generated(_Strict):
         except InputError as err:
             raise InputError(f"structure: {err}") from None
 
+    def add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        """Add the structure with its joints told apart (saxum.structures.Assembly.joints),
+        for laws given per kind of joint ([[laws]] joint); returns the pairs of groups of
+        each kind."""
+        try:
+            return self._add_jointed(builder)
+        except InputError as err:
+            raise InputError(f"structure: {err}") from None
+
     def _add(self, builder: ModelBuilder) -> None:
         raise NotImplementedError
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        raise InputError(f'type "{self.type}" does not name its joints; give each law its '
+                         "groups instead of a joint")
 
 
 class ArchStructure(_Generated):
@@ -137,6 +151,10 @@ class ArchStructure(_Generated):
         add_supported_semicircular_arch(builder, radius=self.radius, thickness=self.thickness,
                                         voussoirs=self.voussoirs, density=self.density)
 
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        self._add(builder)
+        return {"radial": [("voussoir", "voussoir")], "support": [("voussoir", "support")]}
+
 
 class WallStructure(_Generated):
     """A running-bond brick wall on a fixed ground (groups "brick" and "ground")."""
@@ -152,6 +170,13 @@ class WallStructure(_Generated):
         add_grounded_running_bond_wall(builder, courses=self.courses, bricks=self.bricks,
                                        brick_length=self.brick_length,
                                        brick_height=self.brick_height, density=self.density)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        # the same blocks as _add, in the same order, with the courses in groups "brick odd"
+        # and "brick even"
+        return add_wall(builder, courses=self.courses, bricks=self.bricks,
+                        brick_length=self.brick_length, brick_height=self.brick_height,
+                        density=self.density, ground=True, joint_groups=True).joints
 
 
 class BlocksStructure(_Strict):
@@ -261,10 +286,14 @@ class ShapedArchStructure(_Rings):
     pier_courses: Count = 1
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_supported_arch(builder, self.arch_shape(), voussoirs=self.voussoirs,
-                           joints=self.joints, density=self.density, pier_width=self.pier_width,
-                           pier_height=self.pier_height, pier_courses=self.pier_courses,
-                           pier_kind=_KIND[self.piers], **self._layers())
+        self._add_jointed(builder)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return add_supported_arch(
+            builder, self.arch_shape(), voussoirs=self.voussoirs, joints=self.joints,
+            density=self.density, pier_width=self.pier_width, pier_height=self.pier_height,
+            pier_courses=self.pier_courses, pier_kind=_KIND[self.piers],
+            **self._layers()).joints
 
 
 class OpeningSpec(_Strict):
@@ -314,11 +343,18 @@ class BondedWallStructure(_Generated):
     ground_splits: list[Finite] = []
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_wall(builder, courses=self.courses, bricks=self.bricks, bond=self.bond,
-                 brick_length=self.brick_length, brick_height=self.brick_height,
-                 half_bricks=self.half_bricks, min_piece=self.min_piece, density=self.density,
-                 openings=[o.opening() for o in self.openings], ground=True,
-                 ground_splits=self.ground_splits)
+        self._wall(builder, joint_groups=False)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return self._wall(builder, joint_groups=True).joints
+
+    def _wall(self, builder: ModelBuilder, *, joint_groups: bool) -> Assembly:
+        return add_wall(builder, courses=self.courses, bricks=self.bricks, bond=self.bond,
+                        brick_length=self.brick_length, brick_height=self.brick_height,
+                        half_bricks=self.half_bricks, min_piece=self.min_piece,
+                        density=self.density, openings=[o.opening() for o in self.openings],
+                        ground=True, ground_splits=self.ground_splits,
+                        joint_groups=joint_groups)
 
 
 class PierStructure(_Generated):
@@ -537,9 +573,12 @@ Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedAr
 
 class LawSpec(_Strict):
     """The contact law between two groups of bodies; "*" stands for any group (a law for an
-    exact pair wins over one with a "*", which wins over ["*", "*"])."""
+    exact pair wins over one with a "*", which wins over ["*", "*"]). Or, instead of groups,
+    a kind of joint of a generated wall or arch (saxum.structures.JOINT_TYPES): the law of
+    every pair of groups the structure names as such joints (as exact pairs)."""
 
-    groups: tuple[str, str]
+    groups: tuple[str, str] | None = None
+    joint: Literal["bed", "head", "radial", "ring", "support"] | None = None
     friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
                   "viscous", "cohesive"] = "gap_signorini_coulomb"
@@ -560,6 +599,17 @@ class LawSpec(_Strict):
     """Mode I fracture energy G_I [J/m^2] (cohesive)."""
     g_ii: NonNegative = 0.0
     """Mode II fracture energy G_II [J/m^2] (cohesive)."""
+    points: int = 2
+    """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
+    stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
+    (2D: Simpson panels)."""
+
+    @model_validator(mode="after")
+    def _groups_or_joint(self) -> LawSpec:
+        if (self.groups is None) == (self.joint is None):
+            raise ValueError("give a law either groups = [a, b] or joint = "
+                             '"bed" | "head" | "radial" | "ring" | "support", not both')
+        return self
 
     def law(self, name: str = "") -> ContactLaw:
         """The ContactLaw; `name` (e.g. "laws[2]") is how its errors name it."""
@@ -567,7 +617,7 @@ class LawSpec(_Strict):
         return ContactLaw(friction=self.friction, kind=LawKind[kind],
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
-                          g_i=self.g_i, g_ii=self.g_ii, name=name)
+                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points)
 
 
 _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
@@ -1002,9 +1052,11 @@ class Scenario(_Strict):
     def _one_law_per_pair(cls, laws: list[LawSpec]) -> list[LawSpec]:
         seen = set()
         for law in laws:
-            pair = frozenset(law.groups)
+            pair = frozenset(law.groups) if law.groups else law.joint
             if pair in seen:
-                raise ValueError(f"two laws for the groups {sorted(pair)}; keep one")
+                what = (f"the groups {sorted(pair)}" if law.groups else
+                        f'the joint "{law.joint}"')
+                raise ValueError(f"two laws for {what}; keep one")
             seen.add(pair)
         return laws
 
@@ -1012,14 +1064,22 @@ class Scenario(_Strict):
         """The Model this scenario describes."""
         dim = self.structure.dim
         builder = ModelBuilder(dim=dim, gravity=self.loads.gravity_for(dim))
-        self.structure.add_to(builder)
+        by_joint = next((i for i, law in enumerate(self.laws) if law.joint), None)
+        if by_joint is None:
+            self.structure.add_to(builder)
+            joints = {}
+        elif isinstance(self.structure, _Generated):
+            joints = self.structure.add_jointed(builder)
+        else:
+            raise InputError(f'laws[{by_joint}].joint: structure type "{self.structure.type}" '
+                             "does not name its joints; give each law its groups")
         for i, spec in enumerate(self.materials):
             for group in spec.groups:
                 try:
                     builder.set_material(group, spec.material(), spec.mesh_size)
                 except InputError as error:
                     raise InputError(f"materials[{i}]: {error}") from None
-        _set_laws(builder, self.laws)
+        _set_laws(builder, self.laws, joints)
         self.loads.add_to(builder)
         return builder.finalize()
 
@@ -1040,24 +1100,44 @@ class Scenario(_Strict):
         )
 
 
-def _set_laws(builder: ModelBuilder, laws: list[LawSpec]) -> None:
-    """Set the laws of exact pairs as given, and for every other pair of the builder's groups
-    the most specific law with a "*" that matches it."""
+def _set_laws(builder: ModelBuilder, laws: list[LawSpec],
+              joints: dict[str, list[tuple[str, str]]]) -> None:
+    """Set the laws of exact pairs as given, those given per joint to the pairs of groups of
+    that kind of joint (joints: Assembly.joints), and for every other pair of the builder's
+    groups the most specific law with a "*" that matches it."""
     groups = builder.groups
     built = [spec.law(f"laws[{i}]") for i, spec in enumerate(laws)]
+    exact = {}
     for i, spec in enumerate(laws):
+        if spec.joint is None:
+            continue
+        if spec.joint not in joints:
+            raise InputError(f'laws[{i}].joint = "{spec.joint}": the structure has no such '
+                             f"joints; its joints are: {', '.join(joints) or 'none'}")
+        for pair in joints[spec.joint]:
+            if set(pair) <= set(groups):
+                builder.set_law(*pair, built[i])
+                exact[frozenset(pair)] = i
+    for i, spec in enumerate(laws):
+        if spec.groups is None:
+            continue
         unknown = [g for g in spec.groups if g != "*" and g not in groups]
         if unknown:
             raise InputError(f"laws[{i}].groups names group {unknown[0]!r}, which no block "
                              f"has; groups: {groups}")
         if "*" not in spec.groups:
+            if frozenset(spec.groups) in exact:
+                raise InputError(
+                    f"laws[{i}].groups {list(spec.groups)} are also "
+                    f'"{laws[exact[frozenset(spec.groups)]].joint}" joints, which '
+                    f"laws[{exact[frozenset(spec.groups)]}] gives a law; keep one")
             builder.set_law(*spec.groups, built[i])
-    exact = {frozenset(spec.groups) for spec in laws if "*" not in spec.groups}
+            exact[frozenset(spec.groups)] = i
     for a, b in itertools.combinations_with_replacement(groups, 2):
         if frozenset((a, b)) in exact:
             continue
-        matches = [i for i, spec in enumerate(laws)
-                   if "*" in spec.groups and all(g in ("*", a, b) for g in spec.groups)]
+        matches = [i for i, spec in enumerate(laws) if spec.groups is not None
+                   and "*" in spec.groups and all(g in ("*", a, b) for g in spec.groups)]
         best = max((2 - laws[i].groups.count("*") for i in matches), default=None)
         if best is None:
             continue

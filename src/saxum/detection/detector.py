@@ -100,6 +100,8 @@ class Detector:
         self._fe_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a deformable block (saxum.detection.fe_nodes), split off the broad
         phase's list, which keeps the rigid pairs."""
+        self.slots = max(2, int(model.law_points.max(initial=2)))
+        """Keys per pair of faces: the most points a face contact of the model's laws has."""
 
     def detect(self, q: np.ndarray, contacts: Contacts, node_x: np.ndarray | None = None) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q and, for
@@ -126,10 +128,11 @@ class Detector:
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         """Contacts of the broad phase's pairs; refresh: the broad phase has just run."""
         m = self.model
-        contacts.reserve(2 * self.pair_count)
+        contacts.reserve(self.slots * self.pair_count)
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
-            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.reference_bias,
+            m.body_vertex_start, m.body_group, m.group_law, m.law_points, self.slots,
+            self.alert, self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
             self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
@@ -147,7 +150,7 @@ class Detector:
         first = contacts.count
         room = int(np.diff(fe.boundary_start).max()) + m.max_vertices
         contacts.reserve(first + len(self._fe_pairs) * room)
-        key_base = 4 * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
+        key_base = 2 * self.slots * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
         count = node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
             fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
@@ -274,7 +277,8 @@ class PolyhedronDetector(Detector):
         self._max_edges = int(np.diff(model.body_edge_start).max())
         self._max_face_vertices = int(np.diff(model.face_vertex_start).max())
         features = self._max_faces + self._max_edges
-        if float(model.body_count) ** 2 * 2 * features**2 * SLOTS >= 2.0**62:
+        self.slots = SLOTS if model.law_points.max(initial=2) == 2 else 2 * SLOTS + 1
+        if float(model.body_count) ** 2 * 2 * features**2 * self.slots >= 2.0**62:
             raise InputError(
                 f"{model.body_count} blocks with up to {self._max_faces} faces and "
                 f"{self._max_edges} edges are too many to number their contacts in 64 bits; "
@@ -291,11 +295,13 @@ class PolyhedronDetector(Detector):
 
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         m = self.model
-        contacts.reserve(MAX_POINTS * self.pair_count)
+        points = MAX_POINTS if self.slots == SLOTS else 2 * MAX_POINTS + 1
+        contacts.reserve(points * self.pair_count)
         contacts.count = polyhedron_contacts(
             self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
             m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
-            m.edge_vertex, m.edge_face, m.body_group, m.group_law, self.alert,
+            m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points, self.slots,
+            self.alert,
             self.reference_bias, self._max_faces, self._max_edges, self._max_face_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,

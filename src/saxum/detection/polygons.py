@@ -36,6 +36,17 @@ vertex against a face (an incident face at an angle theta to the reference face)
 about alert / tan(theta), small beside the faces unless they are nearly flush, which is the
 part of the faces close enough to interact; an incident face normal to the reference face
 gives one point of zero area.
+
+Points for laws in stresses (ContactLaw.points = n, odd, > 2): two ends alone are a trapezoid
+rule, with which a joint of width b has the rotational stiffness k_n b^3 / 4 instead of
+k_n b^3 / 12 and reaches the edge stress of a linear distribution at f_t b^2 / 2 instead of
+f_t b^2 / 6 (docs/design-deformable-and-joints.md, sec. 4). A face contact of such a law gets
+n - 2 more points, evenly spaced between its ends on the common segment (fixed fractions of
+it, keyed as slots 2 .. n - 1 of the pair of faces), and the areas of composite Simpson panels
+(3-point Gauss-Lobatto: 1/6, 4/6, 1/6 of a panel), exact for the force, the first and the
+second moment of a linear stress. Where the joint opens beyond alert at one end, the points
+still within alert share the part within alert in proportion to their weights, as the ends
+alone do.
 """
 
 import numba as nb
@@ -137,8 +148,8 @@ def _alert_length(length, g0, g1, alert):
 
 @nb.njit(cache=True)
 def polygon_contacts(
-    pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, alert, ref_tol,
-    max_vertices, q, radius, motion, turn, record, faces, slack,
+    pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, law_points,
+    slots, alert, ref_tol, max_vertices, q, radius, motion, turn, record, faces, slack,
     candidate, antagonist, key, law, point, frame, gap, area,
 ):
     """Contacts of the first npairs pairs of polygons with world vertices wv [m] and outward
@@ -146,7 +157,9 @@ def polygon_contacts(
 
     alert: alert distance [m]; ref_tol: a face of the first body of a pair stays the reference
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
-    identities stable across steps). Output arrays need room for 2 * npairs contacts.
+    identities stable across steps). law_points: points of a face-to-face contact per law
+    (Model.law_points); slots >= max(law_points): keys per pair of faces. Output arrays need
+    room for slots * npairs contacts.
     Returns (the number of contacts written, in increasing key order for pairs sorted by
     (i, j), the number of pairs that used their kept choice of faces).
 
@@ -236,24 +249,68 @@ def polygon_contacts(
             px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
             if g > alert:
                 continue
-            candidate[count] = cand
-            antagonist[count] = ant
-            key[count] = base * 2 + slot
-            law[count] = law_index
-            point[count, 0] = px
-            point[count, 1] = py
-            frame[count, 0, 0] = ny
-            frame[count, 0, 1] = -nx
-            frame[count, 1, 0] = nx
-            frame[count, 1, 1] = ny
-            gap[count] = g
+            _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
+                   base * slots + slot, law_index, px, py, nx, ny, g)
             count += 1
         s_lo = max(s0, 0.0)
         s_hi = min(s1, length)
-        if count - first == 2:  # flush faces, the common case: half each
+        points = law_points[law_index] if law_index >= 0 else 2
+        if points > 2 and ds > 0.0 and s_hi - s_lo > tie:
+            # the inner points of the Simpson panels, slots 2 .. points - 1 (module doc)
+            for slot in range(2, points):
+                s_clip = s_lo + (s_hi - s_lo) * (slot - 1) / (points - 1)
+                px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
+                if g <= alert:
+                    _write(candidate, antagonist, key, law, point, frame, gap, count, cand,
+                           ant, base * slots + slot, law_index, px, py, nx, ny, g)
+                    count += 1
+            _simpson_areas(key, area, first, count, base, slots, points, s_lo, s_hi, s0, ds,
+                           p0x, p0y, p1x, p1y, nx, ny, ax, ay, alert)
+        elif count - first == 2:  # flush faces, the common case: half each
             area[first] = area[first + 1] = 0.5 * max(s_hi - s_lo, 0.0)
         elif count > first:  # one end beyond alert (or ds = 0): the other stands for the rest
             g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
             g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
             area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
     return count, reused
+
+
+@nb.njit(inline="always")
+def _write(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k, law_index, px,
+           py, nx, ny, g):
+    """Row c of the contact arrays: frame rows t = (n_y, -n_x), n."""
+    candidate[c] = cand
+    antagonist[c] = ant
+    key[c] = k
+    law[c] = law_index
+    point[c, 0] = px
+    point[c, 1] = py
+    frame[c, 0, 0] = ny
+    frame[c, 0, 1] = -nx
+    frame[c, 1, 0] = nx
+    frame[c, 1, 1] = ny
+    gap[c] = g
+
+
+@nb.njit(inline="always")
+def _simpson_areas(key, area, first, count, base, slots, points, s_lo, s_hi, s0, ds, p0x, p0y,
+                   p1x, p1y, nx, ny, ax, ay, alert):
+    """Areas [m] of the contacts first:count of a face contact with `points` points, slot 0
+    at s_lo, slot 1 at s_hi and slot k >= 2 at s_lo + (s_hi - s_lo) (k - 1) / (points - 1)
+    along the reference face: the composite Simpson weights L / (3 (points - 1)) (1, 4, 2, 4,
+    ..., 4, 1), L = s_hi - s_lo, when all points are within alert; otherwise the kept points
+    (those near one end: the gap is linear) share the part within alert in proportion to
+    their weights, as the two ends do (module doc)."""
+    panel = (s_hi - s_lo) / (3.0 * (points - 1))
+    total = 0.0
+    for c in range(first, count):
+        slot = key[c] - base * slots
+        k = 0 if slot == 0 else points - 1 if slot == 1 else slot - 1  # place in the rule
+        area[c] = panel * (1.0 if k == 0 or k == points - 1 else 4.0 if k % 2 == 1 else 2.0)
+        total += area[c]
+    if count - first < points and total > 0.0:
+        g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
+        g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
+        within = _alert_length(s_hi - s_lo, g0, g1, alert)
+        for c in range(first, count):
+            area[c] *= within / total

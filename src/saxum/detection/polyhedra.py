@@ -30,6 +30,19 @@ the two blocks; beyond the alert distance there is no contact.
   at an angle theta to it) stands for the part of that face within the alert distance: a strip
   (alert - gap) / tan(theta) wide along the edge, a corner of it for a vertex, small beside the
   faces unless they are nearly flush; an edge-edge contact has zero area.
+- Points for laws in stresses (ContactLaw.points = 3): the corners alone are a trapezoid-like
+  rule, too stiff in rotation (docs/design-deformable-and-joints.md, sec. 4). A face contact
+  of such a law with n >= 3 corners also gets the midpoints of the corners' polygon's edges
+  (slot SLOTS + the slot of the edge's first corner in polygon order) and its centre, the
+  mean of the corners (slot 2 SLOTS), with the weights of a rule that keeps the corners,
+  scaled to sum to the area as above. A quadrilateral: tensor Simpson on its bilinear map
+  from [-1, 1]^2 times the map's Jacobian (1/36, 4/36, 16/36 of the area for a rectangle),
+  exact for polynomials of degree 2 in the face's plane on any convex quadrilateral
+  (the integrand times the bilinear Jacobian stays bicubic). A triangle: the rule 3/60,
+  8/60, 27/60 of the area at its corners, edge midpoints and centroid, exact to degree 3
+  (A.H. Stroud, "Approximate calculation of multiple integrals", 1971, T2:3-1). More corners:
+  a fan of triangles about the centre, each with the rule 1/12 per corner, 1/2 at its outer
+  edge's midpoint, 1/3 at the centre, exact for linear stresses (force and moments) only.
 - Corners only: where the incident face lies in the reference face's plane (within the
   closed gap) and the two meet only along a line or at a point, the blocks touch edge to edge
   or corner to corner (a stone over a head joint and the next stone of the course below, the
@@ -170,8 +183,8 @@ def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert,
 @nb.njit(cache=True)
 def polyhedron_contacts(
     pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
-    edge_face, body_group, group_law, alert, ref_tol, max_faces, max_edges, max_face_vertices,
-    candidate, antagonist, key, law, point, frame, gap, area,
+    edge_face, body_group, group_law, law_points, slots, alert, ref_tol, max_faces, max_edges,
+    max_face_vertices, candidate, antagonist, key, law, point, frame, gap, area,
 ):
     """Contacts of the first npairs pairs of polyhedra (module doc), world vertices wv [m] and
     outward unit face normals wn; q the configuration (centres of mass [m]).
@@ -179,7 +192,10 @@ def polyhedron_contacts(
     alert: alert distance [m]; ref_tol [m]: a face of the first body of a pair stays the
     reference unless the second body's best face separates more by ref_tol, and faces are
     preferred to edge pairs unless these separate more by ref_tol (biases that keep contact
-    identities stable across steps). Output arrays need room for MAX_POINTS * npairs contacts.
+    identities stable across steps). law_points: points of a face contact per law
+    (Model.law_points: 2, or 3 for the rule exact for linear stresses); slots: keys per pair
+    of features, SLOTS, or 2 SLOTS + 1 if a law has 3 points. Output arrays need room for
+    MAX_POINTS * npairs contacts, 2 MAX_POINTS + 1 per pair if a law has 3 points.
     Returns the number of contacts written, in increasing key order for pairs sorted by (i, j).
     area [m^2]: the share of the contact polygon each point stands for (module doc).
     """
@@ -195,6 +211,7 @@ def polyhedron_contacts(
     pw = np.empty(size)
     picked = np.empty(MAX_POINTS, dtype=np.int64)
     order = np.empty(MAX_POINTS, dtype=np.int64)
+    weight = np.empty(2 * MAX_POINTS + 1)
     count = 0
     for p in range(npairs):
         i = pairs[p, 0]
@@ -227,7 +244,7 @@ def polyhedron_contacts(
             ref = max_faces + e_i - edge_start[i]
             inc = max_faces + e_j - edge_start[j]
             _write(candidate, antagonist, key, law, point, frame, gap, count, j, i,
-                   ((pair_key * features + ref) * features + inc) * SLOTS, law_index,
+                   ((pair_key * features + ref) * features + inc) * slots, law_index,
                    cx, cy, cz, tx / norm, ty / norm, tz / norm, ux, uy, uz,
                    ux * (cx - ox) + uy * (cy - oy) + uz * (cz - oz))
             area[count] = 0.0
@@ -339,12 +356,138 @@ def polyhedron_contacts(
                 fresh = False
             if fresh:
                 _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
-                       base * SLOTS + slot, law_index, px[src, pick], py[src, pick],
+                       base * slots + slot, law_index, px[src, pick], py[src, pick],
                        pz[src, pick], tx, ty, tz, nx, ny, nz, dist[pick])
                 picked[count - first] = pick
                 count += 1
-        _share_area(face_area, picked, order, count - first, pu, pw, area, first)
+        n = count - first
+        if n >= 3 and law_index >= 0 and law_points[law_index] >= 3 and _linear_rule(
+                picked, order, n, pu, pw, weight) > 0.0:
+            count = _write_rule_points(face_area, picked, order, n, weight, px, py, pz, dist,
+                                       src, candidate, antagonist, key, law, point, frame, gap,
+                                       area, first, base * slots, cand, ant, law_index, tx, ty,
+                                       tz, nx, ny, nz)
+        else:
+            _share_area(face_area, picked, order, n, pu, pw, area, first)
     return count
+
+
+@nb.njit(inline="always")
+def _polygon_order(picked, order, n):
+    """order[k]: the contact point (0 .. n-1) that comes k-th in the clipped polygon, whose
+    vertex picked[r] contact point r is."""
+    for r in range(n):
+        # insertion sort of at most MAX_POINTS rows by their place in the polygon
+        k = r
+        while k > 0 and picked[order[k - 1]] > picked[r]:
+            order[k] = order[k - 1]
+            k -= 1
+        order[k] = r
+
+
+# Quadrilaterals: (xi, eta) of the corners, in polygon order, and of the midpoints of the
+# edges from each corner to the next, in the bilinear map from [-1, 1]^2.
+_QUAD_CORNER = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+_QUAD_MIDPOINT = np.array([[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])
+
+
+@nb.njit(inline="always")
+def _quad_jacobian(u, w, xi, eta):
+    """Jacobian [m^2] of the bilinear map of [-1, 1]^2 onto the quadrilateral with corners
+    (u[k], w[k]) [m], k = 0..3 in polygon order, at (xi, eta)."""
+    du_xi = 0.25 * ((u[1] - u[0]) * (1.0 - eta) + (u[2] - u[3]) * (1.0 + eta))
+    dw_xi = 0.25 * ((w[1] - w[0]) * (1.0 - eta) + (w[2] - w[3]) * (1.0 + eta))
+    du_eta = 0.25 * ((u[3] - u[0]) * (1.0 - xi) + (u[2] - u[1]) * (1.0 + xi))
+    dw_eta = 0.25 * ((w[3] - w[0]) * (1.0 - xi) + (w[2] - w[1]) * (1.0 + xi))
+    return du_xi * dw_eta - dw_xi * du_eta
+
+
+@nb.njit(inline="always")
+def _linear_rule(picked, order, n, pu, pw, weight):
+    """Weights [m^2] of a rule over the polygon of the n >= 3 contact points (point r: vertex
+    picked[r], coordinates pu, pw [m]) that keeps the corners (module doc): weight[r] at
+    corner r, weight[n + r] at the midpoint of the edge from corner r to the next in the
+    polygon, weight[2 n] at the centre (the mean of the corners). Fills order
+    (_polygon_order); returns the polygon's area [m^2] (0: degenerate, no rule)."""
+    _polygon_order(picked, order, n)
+    for r in range(2 * n + 1):
+        weight[r] = 0.0
+    cu = cw = 0.0
+    for r in range(n):
+        cu += pu[picked[r]] / n
+        cw += pw[picked[r]] / n
+    if n == 4:
+        u = np.empty(4)
+        w = np.empty(4)
+        for k in range(4):
+            u[k] = pu[picked[order[k]]]
+            w[k] = pw[picked[order[k]]]
+        sign = 1.0 if _quad_jacobian(u, w, 0.0, 0.0) >= 0.0 else -1.0
+        for k in range(4):
+            weight[order[k]] = sign / 9.0 * _quad_jacobian(u, w, _QUAD_CORNER[k, 0],
+                                                          _QUAD_CORNER[k, 1])
+            weight[4 + order[k]] = sign * 4.0 / 9.0 * _quad_jacobian(
+                u, w, _QUAD_MIDPOINT[k, 0], _QUAD_MIDPOINT[k, 1])
+        weight[8] = sign * 16.0 / 9.0 * _quad_jacobian(u, w, 0.0, 0.0)
+    else:
+        for k in range(n):
+            r = order[k]
+            r1 = order[(k + 1) % n]
+            a = picked[r]
+            b = picked[r1]
+            fan = 0.5 * abs((pu[a] - cu) * (pw[b] - cw) - (pw[a] - cw) * (pu[b] - cu))
+            if n == 3:  # one triangle, whose centroid is the centre: 3/60, 8/60, 27/60
+                weight[r] += 3.0 * fan / 20.0
+                weight[n + r] += 8.0 * fan / 20.0
+                weight[2 * n] += 9.0 * fan / 20.0
+            else:  # a fan of triangles about the centre: 1/12 per corner, 1/2, 1/3
+                weight[r] += fan / 12.0
+                weight[r1] += fan / 12.0
+                weight[n + r] += fan / 2.0
+                weight[2 * n] += fan / 3.0
+    total = 0.0
+    for r in range(2 * n + 1):
+        total += weight[r]
+    return total
+
+
+@nb.njit(inline="always")
+def _write_rule_points(face_area, picked, order, n, weight, px, py, pz, dist, src, candidate,
+                       antagonist, key, law, point, frame, gap, area, first, key0, cand, ant,
+                       law_index, tx, ty, tz, nx, ny, nz):
+    """Write the edge midpoints and the centre of the rule `weight` (_linear_rule) after the
+    n corners first:first + n of a face contact, with keys key0 + SLOTS + the slot of the
+    edge's first corner and key0 + 2 SLOTS (in increasing order: the corners were written
+    in increasing slot order), and the areas: the weights scaled to sum to face_area [m^2].
+    Returns the new contact count."""
+    total = 0.0
+    for r in range(2 * n + 1):
+        total += weight[r]
+    scale = face_area / total
+    for r in range(n):
+        area[first + r] = scale * weight[r]
+    count = first + n
+    position = np.empty(MAX_POINTS, dtype=np.int64)
+    for k in range(n):
+        position[order[k]] = k
+    cx = cy = cz = cg = 0.0
+    for r in range(n):
+        a = picked[r]
+        b = picked[order[(position[r] + 1) % n]]
+        _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
+               key[first + r] + SLOTS, law_index, 0.5 * (px[src, a] + px[src, b]),
+               0.5 * (py[src, a] + py[src, b]), 0.5 * (pz[src, a] + pz[src, b]), tx, ty, tz,
+               nx, ny, nz, 0.5 * (dist[a] + dist[b]))
+        area[count] = scale * weight[n + r]
+        count += 1
+        cx += px[src, a] / n
+        cy += py[src, a] / n
+        cz += pz[src, a] / n
+        cg += dist[a] / n
+    _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
+           key0 + 2 * SLOTS, law_index, cx, cy, cz, tx, ty, tz, nx, ny, nz, cg)
+    area[count] = scale * weight[2 * n]
+    return count + 1
 
 
 @nb.njit(inline="always")
@@ -391,13 +534,7 @@ def _share_area(face_area, picked, order, n, pu, pw, area, first):
     the picked points in the polygon's order about their mean c, each gets half of the two fan
     triangles (c, P_r-1, P_r) and (c, P_r, P_r+1) beside it (the median dual cell of a
     polygon's vertex); equal shares when they span no area. order: work array of n ints."""
-    for r in range(n):
-        # insertion sort of at most MAX_POINTS rows by their place in the polygon
-        k = r
-        while k > 0 and picked[order[k - 1]] > picked[r]:
-            order[k] = order[k - 1]
-            k -= 1
-        order[k] = r
+    _polygon_order(picked, order, n)
     cu = cw = 0.0
     for r in range(n):
         cu += pu[picked[r]]

@@ -7,7 +7,7 @@ Polygons are float arrays (n, 2) [m], counter-clockwise.
 import inspect
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,7 +17,13 @@ from ..geometry2d import normalize_polygon
 from ..laws import ContactLaw, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 
-__all__ = ["Assembly"]
+__all__ = ["JOINT_TYPES", "Assembly"]
+
+JOINT_TYPES = ("bed", "head", "radial", "ring", "support")
+"""Kinds of joints a generator names (Assembly.joints), so that a law can be given per kind:
+bed joints (between courses, and under what an opening's head bears on), head joints (within
+a course), radial joints (between the voussoirs of one ring), ring interfaces (between rings
+of an arch) and support joints (blocks against a fixed support, ground or pier)."""
 
 Force = tuple[float, float, float]
 
@@ -29,13 +35,17 @@ class Assembly:
     parts: body indices by part ("voussoirs", "piers", "bricks", ...), in the order added;
     groups: the contact groups used, in order of first use; outlines: the world vertices [m]
     of each added block, by body index; loads: the constant forces the generator applied with
-    ModelBuilder.add_force, as (body, (fx [N], fy [N], torque [N m])) at the centre of mass.
+    ModelBuilder.add_force, as (body, (fx [N], fy [N], torque [N m])) at the centre of mass;
+    joints: the pairs of groups of each kind of joint (JOINT_TYPES) where the generator tells
+    them apart, every pair of its groups under one kind (pairs that never touch included, as
+    every pair with a free block needs a law).
     """
 
     parts: dict[str, list[int]] = field(default_factory=dict)
     groups: list[str] = field(default_factory=list)
     outlines: dict[int, np.ndarray] = field(default_factory=dict, repr=False)
     loads: list[tuple[int, Force]] = field(default_factory=list)
+    joints: dict[str, list[tuple[str, str]]] = field(default_factory=dict)
 
     def __getitem__(self, part: str) -> list[int]:
         return self.parts.get(part, [])
@@ -62,14 +72,33 @@ class Assembly:
         self.groups.extend(g for g in other.groups if g not in self.groups)
         self.outlines.update(other.outlines)
         self.loads.extend(other.loads)
+        for kind, pairs in other.joints.items():
+            for pair in pairs:
+                self.add_joint(kind, *pair)
+
+    def add_joint(self, kind: str, group_a: str, group_b: str) -> None:
+        """Record the pair of groups (group_a, group_b) as joints of `kind` (JOINT_TYPES)."""
+        pairs = self.joints.setdefault(kind, [])
+        if {group_a, group_b} not in [set(p) for p in pairs]:
+            pairs.append((group_a, group_b))
 
 
 def finalize(builder: ModelBuilder, groups: Sequence[str], friction: float,
-             law: LawKind) -> Model:
-    """Set one Coulomb law (mu = friction [-]) between every pair of `groups`, and finalize."""
+             law: LawKind, joints: Mapping[str, Sequence[tuple[str, str]]] | None = None,
+             joint_laws: Mapping[str, ContactLaw] | None = None) -> Model:
+    """Set one Coulomb law (mu = friction [-]) between every pair of `groups`, then
+    joint_laws[kind] between the pairs of groups of each kind of joint (joints:
+    Assembly.joints), and finalize."""
     contact = ContactLaw(friction=friction, kind=law)
     for a, b in itertools.combinations_with_replacement(groups, 2):
         builder.set_law(a, b, contact)
+    for kind, joint_law in (joint_laws or {}).items():
+        if kind not in (joints or {}):
+            raise InputError(f"joint_laws[{kind!r}]: the structure has no {kind!r} joints; its "
+                             f"joints are: {', '.join(joints or {}) or 'none'} (walls name "
+                             "theirs with joint_groups=True)")
+        for pair in joints[kind]:
+            builder.set_law(*pair, joint_law)
     return builder.finalize()
 
 
@@ -77,24 +106,27 @@ def model_form(add: Callable[..., "Assembly"], name: str, doc: str,
                **preset) -> Callable[..., Model]:
     """The form `name` of a generator add(builder, ...) -> Assembly that returns a Model:
     the same arguments without the builder (those in `preset` fixed), plus friction mu [-]
-    and law (one ContactLaw between every pair of the assembly's groups) and gravity [m/s^2];
-    `doc` is its docstring."""
+    and law (one ContactLaw between every pair of the assembly's groups), joint_laws (a
+    ContactLaw per kind of joint the assembly names, Assembly.joints, instead) and gravity
+    [m/s^2]; `doc` is its docstring."""
     params = inspect.signature(add).parameters
     passes_gravity = "gravity" in params
 
     def build(*args, friction: float = 0.6, law: LawKind = LawKind.GAP_SIGNORINI_COULOMB,
+              joint_laws: Mapping[str, ContactLaw] | None = None,
               gravity: tuple[float, float] = (0.0, -9.81), **kwargs) -> Model:
         builder = ModelBuilder(gravity=gravity)
         if passes_gravity:
             kwargs["gravity"] = gravity
         asm = add(builder, *args, **preset, **kwargs)
-        return finalize(builder, asm.groups, friction, law)
+        return finalize(builder, asm.groups, friction, law, asm.joints, joint_laws)
 
     kept = [p for name, p in params.items() if name not in ("builder", "gravity", *preset)]
     extra = [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=default,
                                annotation=kind)
              for name, default, kind in (("friction", 0.6, float),
                                          ("law", LawKind.GAP_SIGNORINI_COULOMB, LawKind),
+                                         ("joint_laws", None, Mapping[str, ContactLaw] | None),
                                          ("gravity", (0.0, -9.81), tuple[float, float]))]
     split = next((i for i, p in enumerate(kept) if p.kind == p.VAR_KEYWORD), len(kept))
     build.__signature__ = inspect.Signature(kept[:split] + extra + kept[split:],
@@ -248,9 +280,10 @@ def fit_edges(x0: float, x1: float, length: float, shifted: bool) -> list[float]
 def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, density: float,
                 levels: Sequence[float], edges: Callable[[int], Sequence[float]],
                 holes: Sequence[np.ndarray] = (), min_piece: float = 0.0,
-                name: str = "brick") -> None:
+                name: str = "brick", course_groups: Sequence[str] = ()) -> None:
     """Lay courses of rectangular blocks: course c from levels[c] to levels[c + 1] [m] with head
-    joints edges(c) [m]. Blocks are cut around the convex `holes`; a piece smaller than
+    joints edges(c) [m], in `group` or, if course_groups is given, in course_groups[c modulo
+    its length]. Blocks are cut around the convex `holes`; a piece smaller than
     min_piece times the area of a whole block of its course is left out (a mason would fill it
     with mortar), so that no sliver makes the time step or the contact detection fragile."""
     for c in range(len(levels) - 1):
@@ -265,8 +298,9 @@ def lay_courses(builder: ModelBuilder, asm: Assembly, *, part: str, group: str, 
             pieces = [p for p in pieces if area(p) >= min_piece * whole]
             for j, p in enumerate(pieces):
                 suffix = f".{j + 1}" if len(pieces) > 1 else ""
-                asm.add_block(builder, part, p, group=group, density=density,
-                              name=f"{name} c{c + 1}b{k + 1}{suffix}")
+                asm.add_block(builder, part, p, density=density,
+                              group=course_groups[c % len(course_groups)] if course_groups
+                              else group, name=f"{name} c{c + 1}b{k + 1}{suffix}")
 
 
 def add_ground(builder: ModelBuilder, asm: Assembly, x0: float, x1: float, top: float,

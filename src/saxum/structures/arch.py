@@ -622,6 +622,7 @@ def add_supported_arch(
     Parts "ground", "piers" (left pier, then right, bottom up; named "left pier c1", ...),
     "voussoirs"; groups "ground", "pier", `group`. rings, ring_thicknesses, ring_stagger: an
     arch of several rings (arch_rings(); voussoirs' names and groups as add_arch gives them).
+    Assembly.joints: "radial", "ring", "support" and "bed" joints (_name_joints).
     """
     cut = arch_ring(shape, voussoirs, joints, origin, rings=rings,
                     ring_thicknesses=ring_thicknesses, ring_stagger=ring_stagger)
@@ -651,7 +652,23 @@ def add_supported_arch(
         asm.add_block(builder, "piers", poly, group="pier", density=density, kind=pier_kind,
                       name=name)
     _add_voussoirs(builder, asm, cut, density, group, "voussoir")
+    _name_joints(asm, group)
     return asm
+
+
+def _name_joints(asm: Assembly, group: str) -> None:
+    """Assembly.joints of an arch on piers and the ground: "radial" within a ring (group, or
+    "<group> ring <k>"), "ring" between rings, "support" between a voussoir or a pier and the
+    piers or the ground, "bed" between the blocks of the piers."""
+    rings = [g for g in asm.groups if g == group or g.startswith(f"{group} ring ")]
+    for k, ring in enumerate(rings):
+        asm.add_joint("radial", ring, ring)
+        for other in rings[k + 1:]:
+            asm.add_joint("ring", ring, other)
+        for support in ("pier", "ground"):
+            asm.add_joint("support", ring, support)
+    asm.add_joint("bed", "pier", "pier")
+    asm.add_joint("support", "pier", "ground")
 
 
 arch = model_form(

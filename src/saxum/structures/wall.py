@@ -108,6 +108,7 @@ def add_wall(
     group: str = "brick",
     ground: bool = False,
     ground_splits: Sequence[float] = (),
+    joint_groups: bool = False,
 ) -> Assembly:
     """A wall of `courses` courses of `bricks` bricks, brick_length x brick_height [m], its
     lower-left corner at `origin` [m]; head and bed joints are exact (bricks touch).
@@ -122,6 +123,12 @@ def add_wall(
     density [kg/m^3]. ground: first add a fixed "ground" block (part and group "ground") three
     wall lengths wide and one course deep, under the wall's middle, cut at ground_splits [m]
     (from the wall's left end) into "ground 1", "ground 2", ... so that a part can settle.
+    joint_groups: the bricks of odd courses (1, 3, ...: course 1 at the bottom) go into group
+    "<group> odd", the others into "<group> even", so that bed joints (odd against even) and
+    head joints (odd against odd, even against even) can have their own laws; Assembly.joints
+    names them, with "support" for the ground's joints, "bed" for those between an opening's
+    head (lintel or voussoirs) and the bricks, below or beside it, and "radial" between the
+    voussoirs.
     """
     check_count("courses", courses)
     check_count("bricks", bricks)
@@ -172,12 +179,34 @@ def add_wall(
                    [x0 + x for x in ground_splits])
     elif len(ground_splits):
         raise InputError("ground_splits needs ground=True")
+    course_groups = (f"{group} odd", f"{group} even") if joint_groups else ()
     lay_courses(builder, asm, part="bricks", group=group, density=density,
                 levels=[y0 + c * brick_height for c in range(courses + 1)], edges=edges,
-                holes=holes, min_piece=min_piece)
+                holes=holes, min_piece=min_piece, course_groups=course_groups)
     for part, poly, head_group, name in heads:
         asm.add_block(builder, part, poly, group=head_group, density=density, name=name)
+    if joint_groups:
+        _name_joints(asm, course_groups)
     return asm
+
+
+def _name_joints(asm: Assembly, course_groups: Sequence[str]) -> None:
+    """Assembly.joints of a wall whose courses alternate between the two course_groups
+    (add_wall's joint_groups)."""
+    odd, even = course_groups
+    heads = [g for g in asm.groups if g not in (*course_groups, "ground")]
+    asm.add_joint("head", odd, odd)
+    asm.add_joint("head", even, even)
+    asm.add_joint("bed", odd, even)
+    for g in heads:
+        for brick in course_groups:
+            asm.add_joint("bed", g, brick)
+    for a, b in itertools.combinations_with_replacement(heads, 2):
+        asm.add_joint("radial" if a == b == "voussoir" else "bed", a, b)
+    if "ground" in asm.groups:
+        for g in asm.groups:
+            if g != "ground":
+                asm.add_joint("support", "ground", g)
 
 
 wall = model_form(
