@@ -41,8 +41,8 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
     return {2: {
         # the child's half: 3.8 s of CPU here (BENCHMARKS.md)
         "detection.polygons.polygon_contacts": (
-            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, F, F, I, f2, f1, f1, f1, B, i32_2, f2,
-            i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
+            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, i32_1, I, F, F, I, f2, f1, f1, f1, B, i32_2,
+            f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
                                 f2, i64_1, f2, F, I, F),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
