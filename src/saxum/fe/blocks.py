@@ -608,6 +608,34 @@ def apply_nodal_impulses(node_start, inv_start, inv, impulse, rotation, v):
     _rotate_add(node_start, rotation, dv, v)
 
 
+@nb.njit(inline="always")
+def _impulse_in_block_frame(rotation, block, impulses, j, pl):
+    """pl = R_s^T P_j [N s]: impulse j (world axes) in the block's step frame."""
+    d = pl.shape[0]
+    for k in range(d):
+        s = 0.0
+        for m in range(d):
+            s += rotation[block, m, k] * impulses[j, m]
+        pl[k] = s
+
+
+@nb.njit(inline="always")
+def _add_node_velocity(inv, row, n, pl, rotation, block, dv, v, i):
+    """v[i] += R_s W pl [m/s], W the d x d block of M~^-1 whose first entry is inv[row] (row
+    stride n); dv is work memory [d]."""
+    d = pl.shape[0]
+    for k in range(d):
+        s = 0.0
+        for m in range(d):
+            s += inv[row + k * n + m] * pl[m]
+        dv[k] = s
+    for k in range(d):
+        s = 0.0
+        for m in range(d):
+            s += rotation[block, k, m] * dv[m]
+        v[i, k] += s
+
+
 @nb.njit(cache=True)
 def apply_impulse(node_start, inv_start, inv, block, nodes, impulses, rotation, v):
     """v[i] += R M~^-1 R^T P for every node i of `block` [m/s], P = impulses [k, d] [N s]
@@ -620,24 +648,11 @@ def apply_impulse(node_start, inv_start, inv, block, nodes, impulses, rotation, 
     pl = np.empty(d)
     dv = np.empty(d)
     for j in range(len(nodes)):
+        _impulse_in_block_frame(rotation, block, impulses, j, pl)
         col = d * (nodes[j] - first)
-        for k in range(d):
-            s = 0.0
-            for m in range(d):
-                s += rotation[block, m, k] * impulses[j, m]
-            pl[k] = s
         for i in range(first, node_start[block + 1]):
-            row = base + d * (i - first) * n + col
-            for k in range(d):
-                s = 0.0
-                for m in range(d):
-                    s += inv[row + k * n + m] * pl[m]
-                dv[k] = s
-            for k in range(d):
-                s = 0.0
-                for m in range(d):
-                    s += rotation[block, k, m] * dv[m]
-                v[i, k] += s
+            _add_node_velocity(inv, base + d * (i - first) * n + col, n, pl, rotation, block, dv,
+                               v, i)
 
 
 @nb.njit(cache=True)
@@ -671,25 +686,12 @@ def apply_boundary_impulse(node_start, boundary_start, boundary_node, inv_start,
     pl = np.empty(d)
     dv = np.empty(d)
     for j in range(len(nodes)):
+        _impulse_in_block_frame(rotation, block, impulses, j, pl)
         col = d * (nodes[j] - first)
-        for k in range(d):
-            s = 0.0
-            for m in range(d):
-                s += rotation[block, m, k] * impulses[j, m]
-            pl[k] = s
         for q in range(boundary_start[block], boundary_start[block + 1]):
             i = boundary_node[q]
-            row = base + d * (i - first) * n + col
-            for k in range(d):
-                s = 0.0
-                for m in range(d):
-                    s += inv[row + k * n + m] * pl[m]
-                dv[k] = s
-            for k in range(d):
-                s = 0.0
-                for m in range(d):
-                    s += rotation[block, k, m] * dv[m]
-                v[i, k] += s
+            _add_node_velocity(inv, base + d * (i - first) * n + col, n, pl, rotation, block, dv,
+                               v, i)
 
 
 @nb.njit(cache=True)

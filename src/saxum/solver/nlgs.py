@@ -49,6 +49,7 @@ from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .nlgs_fe import nlgs_fe_2d
 from .problem import ContactProblem
+from .velocity_change import change_ratio, change_sums
 
 __all__ = ["NLGS"]
 
@@ -186,8 +187,8 @@ class NLGS(ContactSolver):
             problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
             self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
             c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
-            b.node_mass, kind.v_free, kind.v, np.empty_like(kind.v), self.tolerance,
-            self.max_iterations, self.relaxation)
+            np.repeat(b.node_mass[:, None], 2, axis=1), kind.v_free, kind.v,
+            np.empty_like(kind.v), self.tolerance, self.max_iterations, self.relaxation)
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
 
@@ -321,24 +322,8 @@ def _relative_change(v, v_prev, v_free, mass):
     round-off floor: a change below ~1e-14 of the velocities themselves cannot be resolved in
     double precision, so a contact with a tiny impulse on a fast body must not keep the solver
     sweeping."""
-    num = 0.0
-    den = 0.0
-    size = 0.0
-    for b in range(v.shape[0]):
-        for d in range(v.shape[1]):
-            m = mass[b, d]
-            change = v[b, d] - v_prev[b, d]
-            v_prev[b, d] = v[b, d]
-            reaction = v[b, d] - v_free[b, d]
-            num += m * change * change
-            den += m * reaction * reaction
-            size += m * v[b, d] * v[b, d]
-    if num == 0.0:
-        return 0.0
-    den += 1e-28 * size
-    if den == 0.0:
-        return np.inf
-    return math.sqrt(num / den)
+    num, den, size = change_sums(v, v_prev, v_free, mass, 0.0, 0.0, 0.0)
+    return change_ratio(num, den, size)
 
 
 @nb.njit(cache=True)

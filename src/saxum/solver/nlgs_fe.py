@@ -11,48 +11,24 @@ come here, so their sweeps are nlgs_2d's, bit for bit. The convergence criterion
 with the nodes' lumped masses in the norm.
 """
 
-import math
 
 import numba as nb
 import numpy as np
 
 from ..bodies.fe import side_push, side_velocity
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
+from .velocity_change import change_ratio, change_sums
 
 __all__ = ["nlgs_fe_2d"]
 
 
 @nb.njit(cache=True)
 def _relative_change(v, v_prev, v_free, mass, node_v, node_prev, node_free, node_mass):
-    """nlgs._relative_change over bodies and nodes together; then v_prev = v, node_prev =
-    node_v."""
-    num = 0.0
-    den = 0.0
-    size = 0.0
-    for b in range(v.shape[0]):
-        for d in range(v.shape[1]):
-            m = mass[b, d]
-            change = v[b, d] - v_prev[b, d]
-            v_prev[b, d] = v[b, d]
-            reaction = v[b, d] - v_free[b, d]
-            num += m * change * change
-            den += m * reaction * reaction
-            size += m * v[b, d] * v[b, d]
-    for k in range(node_v.shape[0]):
-        m = node_mass[k]
-        for d in range(2):
-            change = node_v[k, d] - node_prev[k, d]
-            node_prev[k, d] = node_v[k, d]
-            reaction = node_v[k, d] - node_free[k, d]
-            num += m * change * change
-            den += m * reaction * reaction
-            size += m * node_v[k, d] * node_v[k, d]
-    if num == 0.0:
-        return 0.0
-    den += 1e-28 * size
-    if den == 0.0:
-        return np.inf
-    return math.sqrt(num / den)
+    """nlgs._relative_change over bodies and nodes together (node_mass [N, 2] [kg]); then
+    v_prev = v, node_prev = node_v."""
+    num, den, size = change_sums(v, v_prev, v_free, mass, 0.0, 0.0, 0.0)
+    num, den, size = change_sums(node_v, node_prev, node_free, node_mass, num, den, size)
+    return change_ratio(num, den, size)
 
 
 @nb.njit(cache=True)
