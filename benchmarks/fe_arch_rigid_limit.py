@@ -11,7 +11,9 @@ Rayleigh beta = 1e-4 s, mesh size `--mesh`. Prints lambda and lambda / lambda_li
 
     python benchmarks/fe_arch_rigid_limit.py --E 0 1e12 1e10 1e9 --mesh 0.075 --ramp 0.8
 
-(E = 0: rigid voussoirs.)
+(E = 0: rigid voussoirs.) Near the limit the elastic arch rocks on its partly open joints with
+almost no damping, and a short ramp excites it: finer meshes (softer hinges) need a longer
+ramp before the factor settles (BENCHMARKS.md, "Mesh and ramp").
 """
 
 import argparse
