@@ -11,7 +11,9 @@ Rayleigh beta = 1e-4 s, mesh size `--mesh`. Prints lambda and lambda / lambda_li
 
     python benchmarks/fe_arch_rigid_limit.py --E 0 1e12 1e10 1e9 --mesh 0.075 --ramp 0.8
 
-(E = 0: rigid voussoirs.)
+(E = 0: rigid voussoirs.) Near the limit the elastic arch rocks on its partly open joints with
+almost no damping, and a short ramp excites it: finer meshes (softer hinges) need a longer
+ramp before the factor settles (BENCHMARKS.md, "Mesh and ramp").
 """
 
 import argparse
@@ -78,13 +80,15 @@ def main() -> None:
     parser.add_argument("--E", type=float, nargs="+", default=[0.0, 1e10])
     parser.add_argument("--mesh", type=float, default=0.075)
     parser.add_argument("--ramp", type=float, default=0.8)
+    parser.add_argument("--bracket", type=float, nargs=2, default=[0.8, 1.2],
+                        help="the bisection's start, as fractions of the limit-analysis factor")
     args = parser.parse_args()
     reference, _ = semicircular_four_hinge(1.0, 0.15, 15)
     print(f"limit analysis (rigid blocks): lambda = {reference:.5f}")
     for young in args.E:
         start = time.perf_counter()
-        factor = critical(arch(young, args.mesh), 0.8 * reference, 1.2 * reference,
-                          0.002 * reference, args.ramp)
+        factor = critical(arch(young, args.mesh), args.bracket[0] * reference,
+                          args.bracket[1] * reference, 0.002 * reference, args.ramp)
         kind = "rigid" if not young else f"E = {young:.3g} Pa"
         print(f"{kind:>16}: lambda = {factor:.5f} = {factor / reference:.4f} of the limit "
               f"({time.perf_counter() - start:.0f} s)", flush=True)
