@@ -39,16 +39,16 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         t.boolean[::1]
     F, I, B = t.float64, t.int64, t.boolean  # noqa: E741 - numba's scalar types
     return {2: {
-        # the child's half: 3.8 s of CPU here (BENCHMARKS.md)
+        # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25 (BENCHMARKS.md)
         "detection.polygons.polygon_contacts": (
             i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, i32_1, I, F, F, I, f2, f1, f1, f1, B, i32_2,
             f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
                                 f2, i64_1, f2, F, I, F),
-        "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
-        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
+        "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
+        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
         "detection.broadphase.grid_pairs": (f2, f2, b1, b1, F, i32_2),
         "solver.problem._assemble_2d": (f2, i32_1, i32_1, f2, f3, f1, i32_1, I, f2, f2, i8_1,
                                         f1, f1, F, F, F, f2, f2, f3, f3, f3, f1, f1, b1),
@@ -63,7 +63,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
     }}
 
 
-_CHILD_SHARE = {2: 4}
+_CHILD_SHARE = {2: 2}
 """How many of kernel_signatures()[dim], from the first, the second process compiles."""
 
 
