@@ -2,6 +2,7 @@
 subprocess, wait for its first frames, and compare two results files bit for bit (two runs of
 the same scenario on this machine: a resumed run and the run in one go)."""
 
+import signal
 import subprocess
 import sys
 import time
@@ -11,10 +12,18 @@ import numpy as np
 from saxum.results import Results
 
 
+def sigint_as_from_a_terminal() -> None:
+    """preexec_fn of a child that a test interrupts with SIGINT: the default disposition, as
+    when started from a terminal (a shell that runs the tests in the background ignores SIGINT,
+    its children inherit that, and Python then installs no KeyboardInterrupt handler)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def start_saxum(args: list[str], cwd, **kw) -> subprocess.Popen:
     """`python -m saxum ARGS` in `cwd`, with its output captured."""
     return subprocess.Popen([sys.executable, "-m", "saxum", *args], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=sigint_as_from_a_terminal, **kw)
 
 
 def wait_for_frames(path, count: int, proc: subprocess.Popen, timeout: float = 120.0) -> None:

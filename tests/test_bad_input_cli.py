@@ -14,6 +14,7 @@ import h5py
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from results_check import sigint_as_from_a_terminal
 
 import saxum as sx
 from saxum.cli import main
@@ -286,7 +287,8 @@ def test_ctrl_c_while_the_command_loads_is_a_short_message_and_exit_130(tmp_path
     before any handler was in place)."""
     proc = subprocess.Popen([sys.executable, "-c", _SLOW_IMPORT, module, "info",
                              str(tmp_path / "none.h5")], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=sigint_as_from_a_terminal)
     try:
         assert proc.stdout.readline() == "importing\n"
         proc.send_signal(signal.SIGINT)

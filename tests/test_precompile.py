@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
+from results_check import sigint_as_from_a_terminal
 
 import saxum.precompile
 from saxum.precompile import _CHILD_SHARE, kernel_signatures
@@ -89,7 +90,8 @@ def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
     proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
                              str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=sigint_as_from_a_terminal)
     try:
         deadline = time.monotonic() + 120
         while not (kids := _children(proc.pid)) and time.monotonic() < deadline:
