@@ -223,7 +223,7 @@ def test_cli_collapse_finds_the_overturning_load_of_a_block(tmp_path, capsys):
                  "--tolerance", "0.2", "--set", "solver.max_iterations=2",
                  "--set", "solver.kind=nlgs"]) == 0
     err = capsys.readouterr().err
-    assert "saxum: warning: NLGS stopped at its cap of 2 sweeps without converging" in err
+    assert "saxum: warning: the contact solver did not converge (NLGS's cap of 2 sweeps)" in err
     assert "warnings.warn" not in err and ".py:" not in err
 
 

@@ -128,8 +128,10 @@ def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
     """A SolverWarning when some trial steps did not converge (saxum.collapse.SolverFailures);
     solver: the scenario's SolverSpec."""
     if failures.steps:
-        warnings.warn(f"NLGS stopped at its cap of {solver.max_iterations} sweeps without "
-                      f"converging at {failures.steps} step(s) in {failures.trials} of the "
+        after = "" if solver.kind == "nlgs" else ", and the hybrid's attempts where it ran"
+        warnings.warn(f"the contact solver did not converge (NLGS's cap of "
+                      f"{solver.max_iterations} sweeps{after}) "
+                      f"at {failures.steps} step(s) in {failures.trials} of the "
                       f"{trials} trials{where} (largest error there {failures.worst_error:.2g}, "
                       f"tolerance {solver.tolerance:g}); if that is far above the tolerance, "
                       "the verdicts may be wrong: raise solver.max_iterations or lower "
