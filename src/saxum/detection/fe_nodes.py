@@ -28,6 +28,8 @@ import math
 
 import numba as nb
 
+from .polygons import _write as _polygon_row
+
 __all__ = ["node_contacts"]
 
 
@@ -89,17 +91,10 @@ def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie):
 @nb.njit(inline="always")
 def _write(count, cand, ant, key_value, law_index, x, y, nx, ny, g, area_value, candidate,
            antagonist, key, law, point, frame, gap, area):
-    candidate[count] = cand
-    antagonist[count] = ant
-    key[count] = key_value
-    law[count] = law_index
-    point[count, 0] = x
-    point[count, 1] = y
-    frame[count, 0, 0] = ny
-    frame[count, 0, 1] = -nx
-    frame[count, 1, 0] = nx
-    frame[count, 1, 1] = ny
-    gap[count] = g
+    """Row count of the contact arrays (detection.polygons' row, frame t = (n_y, -n_x), n) and
+    its area [m^2/m]."""
+    _polygon_row(candidate, antagonist, key, law, point, frame, gap, count, cand, ant, key_value,
+                 law_index, x, y, nx, ny, g)
     area[count] = area_value
 
 
