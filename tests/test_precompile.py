@@ -99,7 +99,8 @@ def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
         assert kids, "no second process started"
         # a Ctrl-C that lands inside llvmlite's ctypes callback while numba compiles is printed
         # and dropped by Python ("Exception ignored on calling ctypes callback"): the run goes
-        # on, as it would for a user, who presses Ctrl-C again; so interrupt until it ends
+        # on, as it would for a user, who presses Ctrl-C again; so interrupt until it ends (or
+        # it finishes first: seen in CI). Either way no second process may be left running
         while True:
             proc.send_signal(signal.SIGINT)
             try:
@@ -110,7 +111,8 @@ def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
     finally:
         proc.kill()
     dropped = err.count("Exception ignored on calling ctypes callback")
-    assert proc.returncode == 130 and err.endswith("saxum: interrupted\n"), err
     assert err.count("Traceback") == dropped, err  # no traceback but llvmlite's dropped ones
+    if not (dropped and proc.returncode == 0):  # else the demo ended before the next Ctrl-C
+        assert proc.returncode == 130 and err.endswith("saxum: interrupted\n"), err
     assert not [k for k in kids if Path(f"/proc/{k}").exists()
                 and Path(f"/proc/{k}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"]
