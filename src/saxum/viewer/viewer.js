@@ -541,6 +541,10 @@ lookFrom(dim === 3 ? 'iso' : '+z');
 resize();
 setFrame(0);
 
+// #frame=K (from 0; -1: the last) opens the page at output frame K of those shown
+const asked = /frame=(-?\d+)/.exec(location.hash);
+if (asked) setFrame(Number(asked[1]) < 0 ? nf + Number(asked[1]) : Number(asked[1]));
+
 // -- self test (page opened with #selftest): the browser test reads its report ----------------
 window.saxumViewer = { setFrame, meshes, nb, nf };
 if (location.hash.includes('selftest')) {
