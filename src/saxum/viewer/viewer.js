@@ -389,7 +389,13 @@ function lookFrom(name) {
     view.azimuth = Math.atan2(d.dot(B), d.dot(A));
     view.target.copy(centre);
   }
-  view.distance = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05;
+  // far enough that the box's bounding sphere fits the narrower side of the picture; a 2D
+  // section seen from its front fits its width and height instead
+  const tan = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)), aspect = Math.max(camera.aspect, 0.1);
+  const half = hi.clone().sub(lo).multiplyScalar(0.5);
+  view.distance = dim === 2 && name === '+z'
+    ? 1.15 * Math.max(half.x / (tan * aspect), half.y / tan) + depth / 2
+    : radius / Math.sin(Math.atan(tan * Math.min(aspect, 1))) * 1.05;
   placeCamera();
   render();
 }
@@ -537,8 +543,8 @@ function resize() {
   render();
 }
 window.addEventListener('resize', resize);
-lookFrom(dim === 3 ? 'iso' : '+z');
 resize();
+lookFrom(dim === 3 ? 'iso' : '+z');
 setFrame(0);
 
 // #frame=K (from 0; -1: the last) opens the page at output frame K of those shown
