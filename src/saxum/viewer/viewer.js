@@ -35,7 +35,10 @@ const moves = (b) => data.body.kind[b] === FREE || data.body.kind[b] === 3;  // 
 
 // -- notes: what the page does not show, and a run that did not finish -----------------------
 const notes = [];
-if (data.status !== 'finished') {
+if (data.status === 'running') {
+  notes.push(['bad', `This run was still running when the page was written: it shows the ` +
+    `${data.frame_count} frame(s) written by then, up to t = ${data.time[nf - 1].toPrecision(4)} s.`]);
+} else if (data.status !== 'finished') {
   notes.push(['bad', `This run did not finish (${data.status}): ${data.message || ''} ` +
     `The page shows the ${data.frame_count} frame(s) it wrote, up to t = ` +
     `${data.time[nf - 1].toPrecision(4)} s.`]);
