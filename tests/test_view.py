@@ -128,6 +128,7 @@ def test_page_data_gives_the_stored_positions(which, request):
     assert np.all(np.abs(back - stored) <= bound * (1 + 1e-9) + 1e-12)
     assert data["time"] == pytest.approx(r.time.tolist(), rel=1e-15)  # JSON keeps float64
     assert len(data["overlay"]["frames"]) == frames  # contacts on every frame: small run
+    assert data["colours"] == {}  # rigid blocks, no cohesive law: no damage, no stress
 
 
 def test_every_and_block_subset(wall3d):

@@ -15,8 +15,10 @@ Frames are packed so that a 1000-block, 200-frame 3D run stays under 10 MB:
   and 16-bit normal forces over the largest, with the mechanism of saxum.mechanism (hinges,
   sliding joints, open points), for every frame or, when the contacts of all frames exceed
   CONTACT_POINTS, for every c-th frame (the page says so);
-- per block and frame, the largest damage [-] of its joints (cohesive laws) and the largest
-  compression [Pa] of its cells (deformable blocks), where the run has them.
+- per block and frame, the largest damage [-] of its bonded joints (cohesive laws,
+  saxum.mechanism.bond_states) and the largest compression [Pa] of its cells (deformable
+  blocks), where the run has them. Deformable blocks are drawn as their undeformed shapes
+  moved by their co-rotated frames (body_q), not as their meshes.
 
 The solver log (sweeps, error, kinetic energy per step) goes in at most STEP_POINTS points:
 longer logs keep each bin's largest value. Water levels of a flood are sampled along the flow
@@ -39,7 +41,8 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .mechanism import frame_mechanism
+from .laws import LawKind
+from .mechanism import bond_states, frame_mechanism
 from .model import BodyKind
 from .plot_common import results_floods, results_heading
 
@@ -246,7 +249,9 @@ def _overlays(results, ks: np.ndarray, shown: np.ndarray) -> tuple[_Overlays, in
     out = _Overlays()
     keep = np.zeros(len(results.body_name), dtype=bool)
     keep[shown] = True
-    cohesive = "damage" in results.file["frames/contacts"]
+    law_kind = results.model["law_kind"]
+    cohesive = ("damage" in results.file["frames/contacts"]
+                and bool((law_kind == LawKind.COHESIVE).any()))
     for i in range(0, ks.size, stride):
         k = int(ks[i])
         mech = frame_mechanism(results, k)
@@ -264,10 +269,12 @@ def _overlays(results, ks: np.ndarray, shown: np.ndarray) -> tuple[_Overlays, in
         out.hinge.append(_pad3(np.array(ends, dtype=np.float64).reshape(-1, results.dim)))
         out.sliding.append(_pad3(np.array([j.centre_of_pressure for j in mech.sliding],
                                           dtype=np.float64).reshape(-1, results.dim)))
-        if cohesive:
+        if cohesive:  # bonded contacts only: one made after the start is no crack
+            bonded = bond_states(c["law"], c["damage"], c["history"], law_kind) != ""
+            damage = np.where(bonded, c["damage"], 0.0)
             worst = np.zeros(len(results.body_name))
-            np.maximum.at(worst, c["candidate"], c["damage"])
-            np.maximum.at(worst, c["antagonist"], c["damage"])
+            np.maximum.at(worst, c["candidate"], damage)
+            np.maximum.at(worst, c["antagonist"], damage)
             out.damage.append(worst[shown])
     return out, stride
 

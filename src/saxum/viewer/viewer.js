@@ -550,9 +550,11 @@ resize();
 lookFrom(dim === 3 ? 'iso' : '+z');
 setFrame(0);
 
-// #frame=K (from 0; -1: the last) opens the page at output frame K of those shown
-const asked = /frame=(-?\d+)/.exec(location.hash);
-if (asked) setFrame(Number(asked[1]) < 0 ? nf + Number(asked[1]) : Number(asked[1]));
+// #frame=K (from 0; -1: the last) opens the page at output frame K of those shown, and
+// #colour=MODE coloured so (displacement, group, damage, stress); both: #frame=K&colour=MODE
+const asked = /frame=(-?\d+)/.exec(location.hash), colour = /colour=(\w+)/.exec(location.hash);
+if (colour && modes[colour[1]]) $('colour-by').value = colour[1];
+if (asked || colour) setFrame(asked ? (Number(asked[1]) < 0 ? nf + Number(asked[1]) : Number(asked[1])) : frame);
 
 // -- self test (page opened with #selftest): the browser test reads its report ----------------
 window.saxumViewer = { setFrame, meshes, nb, nf };
