@@ -459,8 +459,8 @@ def _check_output(args) -> None:
         if out.exists() and not out.is_dir():
             raise InputError(f"-o {out}: is a file; export-vtk writes into a folder")
     elif out.is_dir():
-        raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. "
-                         f"{out / 'results.h5' if args.command == 'run' else out / 'out.png'}")
+        example = {"run": "results.h5", "view": "run.html"}.get(args.command, "out.png")
+        raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. {out / example}")
     elif not out.parent.is_dir():
         raise InputError(f"-o {out}: there is no folder {out.parent}; create it first")
 
