@@ -193,9 +193,10 @@ def test_a_killed_run_is_viewed_and_said_so(tmp_path, capsys):
     assert data["status"] == "interrupted" and len(data["time"]) == 3
 
 
-def test_jupyter_view_is_an_iframe_of_the_page(arch):
+def test_jupyter_view_is_an_iframe_of_the_page_and_pages_are_deterministic(arch):
     with Results(arch) as r:
         view = r.view()
+        assert view_html(r) == view.html  # the same page twice, bit for bit
     html = view._repr_html_()
     assert html.startswith("<iframe srcdoc=") and "&lt;script" in html
     assert view.html.count("<script") == 4  # data, binary, three.js, viewer
@@ -235,3 +236,12 @@ def test_page_renders_in_chromium(which, request, tmp_path):
     colours = np.unique(scene // 8, axis=0)  # shades, not anti-aliasing noise
     assert pixels.shape[:2] == (800, 1200)
     assert len(colours) > 20 and scene.std() > 10.0  # blocks drawn, not a blank page
+
+
+def test_view_opens_the_page_in_the_default_browser(arch, tmp_path, monkeypatch, capsys):
+    opened = []
+    monkeypatch.setattr("webbrowser.open", lambda uri: opened.append(uri) or True)
+    page = tmp_path / "a.html"
+    assert main(["view", str(arch), "-o", str(page)]) == 0
+    assert opened == [page.resolve().as_uri()]
+    assert "opened in the default browser" in capsys.readouterr().out

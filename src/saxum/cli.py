@@ -387,7 +387,7 @@ def _export_vtk(args) -> None:
 def _view(args) -> None:
     from .errors import ResultsDamageWarning
     from .results import Results
-    from .view import write_view
+    from .view import open_in_browser, write_view
 
     with warnings.catch_warnings(record=True) as caught:  # said below, and in the page
         warnings.simplefilter("always", ResultsDamageWarning)
@@ -401,11 +401,12 @@ def _view(args) -> None:
                   file=sys.stderr)
             print(f"saxum: warning: the page shows the {r.frame_count} frame(s) it holds, up to "
                   f"{last}, and says so", file=sys.stderr)
-        out = write_view(r, args.output, every=args.every, blocks=args.blocks,
-                         open_browser=not args.no_open)
+        out = write_view(r, args.output, every=args.every, blocks=args.blocks)
     size = out.stat().st_size
-    print(f"viewer: {out.resolve()} ({size / 2**20:.1f} MB)"
-          + ("" if args.no_open else ", opened in the default browser"))
+    opened = "" if args.no_open else (
+        ", opened in the default browser" if open_in_browser(out)
+        else ": no browser could be started here; open the file in one")
+    print(f"viewer: {out.resolve()} ({size / 2**20:.1f} MB){opened}")
 
 
 def _periods(text: str) -> list[float]:

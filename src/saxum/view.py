@@ -46,8 +46,9 @@ from .mechanism import bond_states, frame_mechanism
 from .model import BodyKind
 from .plot_common import results_floods, results_heading
 
-__all__ = ["CONTACT_POINTS", "MAX_BYTES", "STEP_POINTS", "View", "dequantize", "quantize",
-           "view_html", "write_view"]
+__all__ = ["CONTACT_POINTS", "MAX_BYTES", "STEP_POINTS", "View", "dequantize",
+           "open_in_browser", "quantize", "quantize_quaternions", "view_data", "view_html",
+           "write_view"]
 
 MAX_BYTES = 64 * 2**20
 """Largest page written [bytes]: a browser opens larger ones slowly or not at all."""
@@ -408,7 +409,8 @@ def view_data(results, *, every: int = 1, blocks: str | None = None,
 
 
 def _asset(name: str) -> str:
-    return resources.files("saxum.viewer").joinpath(name).read_text(encoding="utf-8")
+    """A file of saxum/viewer (package data: the folder is no Python package)."""
+    return resources.files("saxum").joinpath("viewer", name).read_text(encoding="utf-8")
 
 
 def view_html(results, *, every: int = 1, blocks: str | None = None,
@@ -447,12 +449,13 @@ class View:
 
 
 def write_view(results, path: str | os.PathLike | None = None, *, every: int = 1,
-               blocks: str | None = None, open_browser: bool = False,
-               max_bytes: int = MAX_BYTES) -> Path:
+               blocks: str | None = None, max_bytes: int = MAX_BYTES) -> Path:
     """Write the page of `results` (view_html) to `path` (default: the results file with
-    suffix .html); open it in the default browser when `open_browser`."""
+    suffix .html); returns its path."""
     out = Path(path) if path is not None else results.path.with_suffix(".html")
-    View(view_html(results, every=every, blocks=blocks, max_bytes=max_bytes)).save(out)
-    if open_browser:
-        webbrowser.open(out.resolve().as_uri())
-    return out
+    return View(view_html(results, every=every, blocks=blocks, max_bytes=max_bytes)).save(out)
+
+
+def open_in_browser(page: Path) -> bool:
+    """Open `page` in the default browser; False where none could be started."""
+    return webbrowser.open(page.resolve().as_uri())
