@@ -110,6 +110,12 @@ def _frames(count: int, every: int) -> np.ndarray:
     return ks if ks.size == 0 or ks[-1] == count - 1 else np.append(ks, count - 1)
 
 
+def _moving(kind: np.ndarray) -> np.ndarray:
+    """Which bodies move under forces: free and deformable ones (not the fixed and driven
+    supports)."""
+    return (kind == BodyKind.FREE) | (kind == BodyKind.DEFORMABLE)
+
+
 def _select_bodies(results, blocks: str | None) -> np.ndarray:
     """Indices of the bodies shown: all, or those whose name or group matches the glob
     pattern `blocks`, with every fixed or driven body (the supports stay in view)."""
@@ -123,7 +129,7 @@ def _select_bodies(results, blocks: str | None) -> np.ndarray:
     if not match.any():
         raise InputError(f"--blocks {blocks!r} matches no block name or group of "
                          f"{results.path} (groups: {', '.join(groups)})")
-    return np.flatnonzero(match | (results.model["body_kind"] != BodyKind.FREE))
+    return np.flatnonzero(match | ~_moving(results.model["body_kind"]))
 
 
 def _estimate(results, bodies: int, ks: np.ndarray) -> int:
@@ -179,7 +185,7 @@ def _world_box(results, shown: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, n
     """Bounding box [m] of the free shown bodies (all shown if none is free) over the frames:
     their initial vertices moved by the range of their displacements."""
     m = results.model
-    free = m["body_kind"][shown] == BodyKind.FREE
+    free = _moving(m["body_kind"][shown])
     pick = shown[free] if free.any() else shown
     vs, local = m["body_vertex_start"], m["vertex_local"]
     radius = np.array([np.linalg.norm(local[vs[b]:vs[b + 1]], axis=1).max() for b in pick])
@@ -190,7 +196,8 @@ def _world_box(results, shown: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, n
 
 
 def _steps(results) -> dict[str, list]:
-    """The solver log at most STEP_POINTS long: each bin's largest value (its last time)."""
+    """The solver log at most STEP_POINTS long: each bin's largest value (its last time), and
+    whether all its steps converged."""
     s = results.steps
     if "step" not in s or s["step"].size == 0:
         return {}
@@ -217,7 +224,7 @@ def _water(results, floods, times: np.ndarray, lo: np.ndarray, hi: np.ndarray) -
     corners = np.array([[x, y] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])])
     along = corners @ e
     m = results.model
-    free = np.flatnonzero(m["body_kind"] == BodyKind.FREE)
+    free = np.flatnonzero(_moving(m["body_kind"]))
     pts = np.concatenate([results.vertices(b, 0)[:, :2] for b in free]) if free.size else corners
     extent = (float((pts @ e).min()), float((pts @ e).max()))
     pad = 0.25 * float(along.max() - along.min())
@@ -251,6 +258,10 @@ def _overlays(results, ks: np.ndarray, shown: np.ndarray) -> tuple[_Overlays, in
     keep = np.zeros(len(results.body_name), dtype=bool)
     keep[shown] = True
     law_kind = results.model["law_kind"]
+    moving = _moving(results.model["body_kind"])
+    # open beyond 0.1 % of the median block size, as saxum plot draws them
+    gap_tolerance = 1e-3 * float(np.median(results.body_size[moving] if moving.any()
+                                           else results.body_size))
     cohesive = ("damage" in results.file["frames/contacts"]
                 and bool((law_kind == LawKind.COHESIVE).any()))
     for i in range(0, ks.size, stride):
@@ -263,8 +274,7 @@ def _overlays(results, ks: np.ndarray, shown: np.ndarray) -> tuple[_Overlays, in
         out.frames.append(i)
         out.point.append(_pad3(c["point"][loaded]))
         out.force.append(normal[loaded])
-        tol = _gap_tolerance(results, k)
-        out.opened.append(_pad3(c["point"][rows & (c["gap"] > tol)]))
+        out.opened.append(_pad3(c["point"][rows & (c["gap"] > gap_tolerance)]))
         ends = [j.hinge_line if j.hinge_line is not None else (j.hinge_point, j.hinge_point)
                 for j in mech.hinges]
         out.hinge.append(_pad3(np.array(ends, dtype=np.float64).reshape(-1, results.dim)))
@@ -278,18 +288,6 @@ def _overlays(results, ks: np.ndarray, shown: np.ndarray) -> tuple[_Overlays, in
             np.maximum.at(worst, c["antagonist"], damage)
             out.damage.append(worst[shown])
     return out, stride
-
-
-def _gap_tolerance(results, k: int) -> float:
-    """saxum.mechanism's default gap tolerance [m] at frame k (mechanism())."""
-    m = results.model
-    free = m["body_kind"] == BodyKind.FREE
-    sizes = results.body_size[free] if free.any() else results.body_size
-    size = float(sizes.min())
-    d = results.dim
-    moved = np.linalg.norm(results.body_q[k, :, :d] - m["body_q0"][:, :d], axis=1)
-    largest = float(moved[free].max(initial=0.0))
-    return max(min(1e-3 * size, 0.1 * largest), 1e-6 * size)
 
 
 def _pad3(p: np.ndarray) -> np.ndarray:
@@ -361,12 +359,12 @@ def view_data(results, *, every: int = 1, blocks: str | None = None,
     colours = {}
     if overlays.damage:
         pack.add("damage", quantize(np.array(overlays.damage), 0.0, 1.0))
-        colours["damage"] = {"max": 1.0, "unit": "-", "frames": "overlay"}
+        colours["damage"] = {"max": 1.0, "unit": "-"}
     stress = _stresses(results, ks, shown)
     if stress is not None:
         top = float(stress.max(initial=0.0)) or 1.0
         pack.add("stress", quantize(stress, 0.0, top))
-        colours["stress"] = {"max": top, "unit": "Pa", "frames": "all"}
+        colours["stress"] = {"max": top, "unit": "Pa"}
     group = m["body_group"][shown]
     per_depth = " per metre of depth" if results.dim == 2 else ""
     data = {
@@ -398,7 +396,6 @@ def view_data(results, *, every: int = 1, blocks: str | None = None,
         "colours": colours,
         "steps": _steps(results),
         "water": None,
-        "free": int((m["body_kind"][shown] == BodyKind.FREE).sum()),
     }
     water = _water(results, results_floods(results), results.time[ks], lo, hi)
     if water is not None:

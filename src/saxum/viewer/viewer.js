@@ -473,7 +473,8 @@ const steps = data.steps;
 function drawLog() {
   if (!steps.time) { $('log').style.display = 'none'; return; }
   const rows = [];
-  if (steps.iterations) rows.push({ label: 'sweeps', values: steps.iterations, times: steps.time });
+  // steps where the contact solver did not converge: red ticks on the sweeps' row
+  if (steps.iterations) rows.push({ label: 'sweeps', values: steps.iterations, times: steps.time, failed: steps.converged });
   if (steps.error) rows.push({ label: 'error (log10)', values: steps.error.map((e) => Math.log10(Math.max(e, 1e-300))), times: steps.time });
   if (steps.kinetic_energy) rows.push({ label: `kinetic energy [J${dim === 2 ? '/m' : ''}]`, values: steps.kinetic_energy, times: steps.time });
   plotSeries($('log-plot'), rows, data.time[frame]);
@@ -496,8 +497,19 @@ function plotSeries(canvas, rows, now) {
     ctx.beginPath();
     r.values.forEach((v, k) => { if (Number.isFinite(v)) ctx[k ? 'lineTo' : 'moveTo'](X(r.times[k]), Yv(v)); });
     ctx.stroke();
+    let failures = 0;
+    ctx.strokeStyle = '#c0152f';
+    r.failed?.forEach((ok, k) => {
+      if (ok) return;
+      failures++;
+      ctx.beginPath();
+      ctx.moveTo(X(r.times[k]), i * h + h - 2);
+      ctx.lineTo(X(r.times[k]), i * h + h - 8);
+      ctx.stroke();
+    });
     ctx.fillStyle = '#333';
-    ctx.fillText(`${r.label}: ${vlo.toPrecision(3)} .. ${vhi.toPrecision(3)}`, 6, i * h + 11);
+    ctx.fillText(`${r.label}: ${vlo.toPrecision(3)} .. ${vhi.toPrecision(3)}` +
+      (failures ? ` (not converged: ${failures} mark${failures > 1 ? 's' : ''})` : ''), 6, i * h + 11);
   });
   ctx.strokeStyle = '#c0152f';
   ctx.beginPath();
