@@ -191,6 +191,11 @@ def test_a_killed_run_is_viewed_and_said_so(tmp_path, capsys):
     data = json.loads(re.search(r'id="saxum-data">(.*?)</script>', page.read_text(),
                                 re.S).group(1))
     assert data["status"] == "interrupted" and len(data["time"]) == 3
+    if chromium() is not None:  # the page says so too
+        report = selftest(page)
+        assert report["errors"] == [] and report["blockMeshes"] == 6
+        assert "This run did not finish (interrupted (resume with saxum resume" in (
+            report["notes"][0])
 
 
 def test_jupyter_view_is_an_iframe_of_the_page_and_pages_are_deterministic(arch):

@@ -395,8 +395,10 @@ def _view(args) -> None:
     with r:
         if r.status != "finished" or caught:
             last = f"t = {r.time[-1]:g} s" if r.frame_count else "no frame"
-            print(f"saxum: warning: {args.results} is from a run that did not finish "
-                  f"({r.status}{': ' + r.message if r.message else ''})" if r.status != "finished"
+            why = r.message if r.message.startswith(r.status) else (
+                r.status + (f" - {r.message}" if r.message else ""))
+            print(f"saxum: warning: {args.results} is from a run that did not finish ({why})"
+                  if r.status != "finished"
                   else f"saxum: warning: {args.results} is damaged ({'; '.join(r.damage)})",
                   file=sys.stderr)
             print(f"saxum: warning: the page shows the {r.frame_count} frame(s) it holds, up to "

@@ -39,7 +39,9 @@ if (data.status === 'running') {
   notes.push(['bad', `This run was still running when the page was written: it shows the ` +
     `${data.frame_count} frame(s) written by then, up to t = ${data.time[nf - 1].toPrecision(4)} s.`]);
 } else if (data.status !== 'finished') {
-  notes.push(['bad', `This run did not finish (${data.status}): ${data.message || ''} ` +
+  const why = data.message.startsWith(data.status) ? data.message
+    : data.status + (data.message ? ` - ${data.message}` : '');
+  notes.push(['bad', `This run did not finish (${why}). ` +
     `The page shows the ${data.frame_count} frame(s) it wrote, up to t = ` +
     `${data.time[nf - 1].toPrecision(4)} s.`]);
 }
@@ -580,6 +582,7 @@ if (location.hash.includes('selftest')) {
   scene.traverse((o) => { if (o.isMesh && o.userData.body !== undefined) blockMeshes++; });
   const movedBlocks = first.filter((p, b) => p.some((v, i) => Math.abs(v - last[b][i]) > 1e-9)).length;
   const report = { blocks: nb, frames: nf, blockMeshes, movedBlocks, frame, last,
+    notes: notes.map((n) => n[1]),
     errors: errors.slice(), webgl: !!renderer.getContext() };
   const pre = document.createElement('pre');
   pre.id = 'saxum-selftest';
