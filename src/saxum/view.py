@@ -335,8 +335,8 @@ def view_data(results, *, every: int = 1, blocks: str | None = None,
         raise InputError(
             f"{results.path}: {shown.size} blocks x {ks.size} frames would make a page of "
             f"about {size / 2**20:.0f} MB, more than the {max_bytes / 2**20:.0f} MB a browser "
-            f"opens well: show every {need}th frame (--every {need}) or a subset of the "
-            "blocks (--blocks 'PATTERN', a glob on block names or groups)")
+            f"opens well: show fewer frames (--every {need}: one output frame in {need}) or "
+            "a subset of the blocks (--blocks 'PATTERN', a glob on block names or groups)")
     m = results.model
     pack = _Packer()
     _geometry(results, shown, pack)
