@@ -266,8 +266,8 @@ def _overlays(results, ks: np.ndarray, shown: np.ndarray) -> tuple[_Overlays, in
                 and bool((law_kind == LawKind.COHESIVE).any()))
     for i in range(0, ks.size, stride):
         k = int(ks[i])
-        mech = frame_mechanism(results, k)
         c = results.contacts(k)
+        mech = frame_mechanism(results, k, contacts=c)
         rows = keep[c["candidate"]] | keep[c["antagonist"]]
         normal = c["force"][:, 1]
         loaded = rows & (normal > 0.0)
