@@ -41,13 +41,6 @@ def test_mesh_size_without_material_is_refused():
         b.add_block([(0, 0), (1, 0), (1, 1), (0, 1)], density=2000.0, mesh_size=0.1)
 
 
-def test_deformable_3d_block_is_refused():
-    b = ModelBuilder(dim=3)
-    cube = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
-    with pytest.raises(sx.InputError, match="deformable"):
-        b.add_block(cube, material=STONE)
-
-
 def test_node_contacts_on_the_ground():
     """The bottom nodes touch the ground: one contact each, FE candidate side, keys increasing,
     areas summing to the block's width."""
@@ -279,6 +272,6 @@ def test_bad_mesh_size_names_the_block(size, match):
 
 
 def test_a_fixed_block_cannot_be_deformable():
-    with pytest.raises(sx.InputError, match="only a free 2D block can be deformable"):
+    with pytest.raises(sx.InputError, match="only a free block can be deformable"):
         ModelBuilder().add_block([(0, 0), (1, 0), (1, 1), (0, 1)], material=STONE,
                                  kind=BodyKind.FIXED)

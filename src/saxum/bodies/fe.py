@@ -81,10 +81,15 @@ def build_fe_bodies(bodies: list[int], shapes: list, materials: list[Elastic],
     polyhedron (saxum.geometry3d.Polyhedron; saxum.bodies.fe3d.mesh_polyhedra), with elements
     of about its size [m] (None: 2D a fifth of its smallest side, 3D half its shortest
     edge)."""
+    dim = 3 if shapes and isinstance(shapes[0], Polyhedron) else 2
     for material, name in zip(materials, names, strict=True):
         if not isinstance(material, Elastic):
             raise InputError(f"{name}: material must be a saxum.fe.Elastic, got {material!r}")
-    if shapes and isinstance(shapes[0], Polyhedron):
+        try:
+            material.depth(dim)
+        except InputError as error:
+            raise InputError(f"{name}: {error}") from None
+    if dim == 3:
         meshes, sides = mesh_polyhedra(shapes, sizes, names)
     else:
         meshes, sides = _mesh_polygons(shapes, sizes, names)

@@ -1,0 +1,190 @@
+"""Deformable blocks in 3D models (issue 14): model, node-face detection, stacks of rigid and
+deformable blocks, results, restart and ParaView export. Physics validation:
+tests/validation/test_fe3d_*.py."""
+
+import textwrap
+
+import numpy as np
+import pytest
+
+import saxum as sx
+from saxum.fe import Elastic
+from saxum.model import BodyKind, ModelBuilder
+from saxum.simulation import Simulation
+
+DAMPED = Elastic(1.0e7, 0.2, 2000.0, damping=(0.0, 0.005))
+
+
+def _box(x0, x1, y0, y1, z0, z1):
+    return [(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)]
+
+
+def _builder():
+    b = ModelBuilder(dim=3)
+    b.add_block(_box(-1, 1, -1, 1, -0.2, 0), kind=BodyKind.FIXED, group="ground")
+    return b
+
+
+def test_material_makes_a_deformable_3d_body():
+    b = _builder()
+    b.add_block(_box(0, 0.4, 0, 0.2, 0, 0.2), material=DAMPED, mesh_size=0.1, group="block")
+    b.set_law("block", "ground", sx.ContactLaw(friction=0.6))
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    model = b.finalize()
+    assert model.body_kind[1] == BodyKind.DEFORMABLE
+    assert model.fe.node_x0.shape == (5 * 3 * 3, 3)
+    assert model.fe.facet_node.shape[1] == 3
+    # every boundary triangle's area is shared by its three nodes: the node sides sum to the
+    # block's surface (2 (0.08 + 0.08 + 0.04) m^2) as vectors of zero sum (a closed surface)
+    assert np.linalg.norm(model.fe.node_side, axis=2).sum() == pytest.approx(0.4, rel=1e-12)
+    assert np.abs(model.fe.node_side.sum(axis=(0, 1))).max() < 1e-15
+    assert model.body_mass[1] == pytest.approx(2000.0 * 0.4 * 0.2 * 0.2, rel=1e-12)
+
+
+def test_node_contacts_on_the_ground():
+    """The bottom nodes touch the ground's top face: one contact each, FE candidate side,
+    keys increasing, areas summing to the footprint, all loaded after a step."""
+    b = _builder()
+    b.add_block(_box(0, 0.4, 0, 0.2, 0, 0.2), material=DAMPED, mesh_size=0.1, group="block")
+    b.set_law("block", "ground", sx.ContactLaw(friction=0.6))
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    model = b.finalize()
+    sim = Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.step(state)
+    c = state.contacts
+    n = c.count
+    bottom = np.flatnonzero(np.abs(model.fe.node_x0[:, 2]) < 1e-12)
+    assert n == len(bottom) == 15
+    assert (c.side_kind[:n, 0] == 1).all() and (c.side_kind[:n, 1] == 0).all()
+    assert sorted(c.side_node[:n, 0, 0]) == sorted(bottom)
+    assert (np.diff(c.key[:n]) > 0).all()
+    assert c.area[:n].sum() == pytest.approx(0.08, rel=1e-12)
+    assert (c.impulse[:n, 1] > 0.0).all()
+    assert np.abs(c.frame[:n, 1] - (0.0, 0.0, 1.0)).max() < 1e-15  # the ground's normal
+
+
+@pytest.mark.parametrize("top", ["deformable", "rigid"])
+def test_stack_carries_its_weight(top):
+    """A 0.4 x 0.2 x 0.2 m deformable block on the ground and a 0.2 m cube centred on it,
+    deformable (nodes against triangles) or rigid (its face against the nodes, its corners
+    against the triangles), settled for 0.3 s with damping: the ground carries both weights
+    and the interface the top block's (vertical components of the contact forces [N], 1 %)."""
+    b = _builder()
+    b.add_block(_box(0, 0.4, 0, 0.2, 0, 0.2), material=DAMPED, mesh_size=0.1, group="base")
+    cube = _box(0.1, 0.3, 0, 0.2, 0.2, 0.4)
+    if top == "rigid":
+        b.add_block(cube, density=2000.0, group="top")
+    else:
+        b.add_block(cube, material=DAMPED, mesh_size=0.1, group="top")
+    law = sx.ContactLaw(friction=0.6)
+    for g1, g2 in [("base", "ground"), ("base", "base"), ("top", "base"), ("top", "top"),
+                   ("top", "ground")]:
+        b.set_law(g1, g2, law)
+    sim = Simulation(b.finalize(), dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.3)
+    c = state.contacts
+    n = c.count
+    upward = (c.impulse[:n] * c.frame[:n, :, 2]).sum(axis=1) / 1e-3
+    on_ground = c.antagonist[:n] == 0
+    on_top = np.where(c.candidate[:n] == 2, upward, -upward)
+    weight = 9.81 * 2000.0 * np.array([0.016, 0.008])
+    assert upward[on_ground].sum() == pytest.approx(weight.sum(), rel=0.01)
+    assert on_top[~on_ground].sum() == pytest.approx(weight[1], rel=0.01)
+    if top == "rigid":
+        assert np.abs(state.body_v[2]).max() < 1e-3
+        assert (c.side_kind[:n][c.candidate[:n] == 2, 0] == 0).any()  # its corners
+
+
+PIER = textwrap.dedent("""\
+    [structure]
+    type = "pier_3d"
+    width = 0.3
+    depth = 0.3
+    courses = 2
+    course_height = 0.3
+
+    [[laws]]
+    groups = ["*", "*"]
+    friction = 0.6
+
+    [[materials]]
+    groups = ["pier"]
+    E = 1.0e7
+    nu = 0.2
+    density = 2000.0
+    damping = [0.0, 0.002]
+    mesh_size = 0.15
+
+    [solver]
+    dt = 1e-3
+
+    [output]
+    duration = 0.04
+    interval = 0.01
+    checkpoint_interval = 0.02
+    """)
+
+
+def test_results_restart_and_paraview_export(tmp_path):
+    """A 3D pier of four deformable blocks on the ground (scenario [[materials]]): its
+    results hold the nodes and contact sides, a restart from the middle checkpoint gives the
+    last frame bit for bit (two runs on this machine), Results.stresses gives the run's own
+    cell stresses (compressed on average), and the ParaView export writes tetrahedra."""
+    import meshio
+
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+    from saxum.vtk import export_vtk
+
+    scenario = parse_scenario(PIER)
+    assert scenario.build_model().fe.count == 4
+    path = tmp_path / "pier.h5"
+    run_scenario(scenario, path, quiet=True)
+    with Results(path) as r:
+        assert r.node_x.shape == (r.frame_count, scenario.build_model().fe.node_count, 3)
+        last = {"node_x": r.node_x[-1], "node_v": r.node_v[-1], "body_q": r.body_q[-1]}
+        contacts = r.contacts(r.frame_count - 1)
+        saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 20)[0]))
+        stored = r.stresses(-1)
+        pvd = export_vtk(r, tmp_path / "vtk", frames=[-1])
+        k = r.frame_count - 1
+    assert (contacts["side_kind"] == 1).any(axis=1).all()  # every contact has an FE side
+    sim = scenario.build_simulation()
+    state = sim.restore(saved)
+    for _ in range(20):
+        sim.step(state)
+    for name, value in last.items():
+        assert np.array_equal(getattr(state, name), value), name
+    c = state.contacts
+    for name, value in contacts.items():
+        if name != "force":
+            assert np.array_equal(getattr(c, name)[: c.count], value), name
+    blocks = sim.fe.blocks
+    own = blocks.stresses(state.node_x, *blocks.frames(state.node_x))[0]
+    assert np.array_equal(stored["stress"], own)
+    assert stored["stress"][:, 2].mean() < 0.0  # sigma_zz: compression under the weight
+    assert f"elements_{k:06d}.vtu" in pvd.read_text()
+    mesh = meshio.read(tmp_path / "vtk" / "pier" / f"elements_{k:06d}.vtu")
+    assert mesh.cells_dict["tetra"].shape == (len(stored["stress"]), 4)
+    assert np.allclose(mesh.cell_data["stress"][0][:, 2], stored["stress"][:, 2], rtol=1e-12,
+                       atol=0.0)
+
+
+def test_a_fixed_3d_block_cannot_be_deformable():
+    with pytest.raises(sx.InputError, match="only a free block can be deformable"):
+        ModelBuilder(dim=3).add_block(_box(0, 1, 0, 1, 0, 1), material=DAMPED,
+                                      kind=BodyKind.FIXED)
+
+
+def test_a_3d_material_with_a_thickness_is_refused():
+    b = _builder()
+    b.add_block(_box(0, 0.4, 0, 0.2, 0, 0.2), material=Elastic(1e7, 0.2, 2000.0,
+                                                                 thickness=0.1),
+                mesh_size=0.1, group="block")
+    b.set_law("block", "ground", sx.ContactLaw(friction=0.6))
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    with pytest.raises(sx.InputError, match="thickness"):
+        b.finalize()
