@@ -1,8 +1,6 @@
 """Deformable blocks in 3D models (issue 14): model, node-face detection, stacks of rigid and
-deformable blocks, results, restart and ParaView export. Physics validation:
-tests/validation/test_fe3d_*.py."""
-
-import textwrap
+deformable blocks (results, restart and ParaView export of a 3D pier:
+tests/test_fe_bodies.py). Physics validation: tests/validation/test_fe_*.py."""
 
 import numpy as np
 import pytest
@@ -95,82 +93,6 @@ def test_stack_carries_its_weight(top):
     if top == "rigid":
         assert np.abs(state.body_v[2]).max() < 1e-3
         assert (c.side_kind[:n][c.candidate[:n] == 2, 0] == 0).any()  # its corners
-
-
-PIER = textwrap.dedent("""\
-    [structure]
-    type = "pier_3d"
-    width = 0.3
-    depth = 0.3
-    courses = 2
-    course_height = 0.3
-
-    [[laws]]
-    groups = ["*", "*"]
-    friction = 0.6
-
-    [[materials]]
-    groups = ["pier"]
-    E = 1.0e7
-    nu = 0.2
-    density = 2000.0
-    damping = [0.0, 0.002]
-    mesh_size = 0.15
-
-    [solver]
-    dt = 1e-3
-
-    [output]
-    duration = 0.04
-    interval = 0.01
-    checkpoint_interval = 0.02
-    """)
-
-
-def test_results_restart_and_paraview_export(tmp_path):
-    """A 3D pier of four deformable blocks on the ground (scenario [[materials]]): its
-    results hold the nodes and contact sides, a restart from the middle checkpoint gives the
-    last frame bit for bit (two runs on this machine), Results.stresses gives the run's own
-    cell stresses (compressed on average), and the ParaView export writes tetrahedra."""
-    import meshio
-
-    from saxum.results import Results
-    from saxum.runner import run_scenario
-    from saxum.scenario import parse_scenario
-    from saxum.vtk import export_vtk
-
-    scenario = parse_scenario(PIER)
-    assert scenario.build_model().fe.count == 4
-    path = tmp_path / "pier.h5"
-    run_scenario(scenario, path, quiet=True)
-    with Results(path) as r:
-        assert r.node_x.shape == (r.frame_count, scenario.build_model().fe.node_count, 3)
-        last = {"node_x": r.node_x[-1], "node_v": r.node_v[-1], "body_q": r.body_q[-1]}
-        contacts = r.contacts(r.frame_count - 1)
-        saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 20)[0]))
-        stored = r.stresses(-1)
-        pvd = export_vtk(r, tmp_path / "vtk", frames=[-1])
-        k = r.frame_count - 1
-    assert (contacts["side_kind"] == 1).any(axis=1).all()  # every contact has an FE side
-    sim = scenario.build_simulation()
-    state = sim.restore(saved)
-    for _ in range(20):
-        sim.step(state)
-    for name, value in last.items():
-        assert np.array_equal(getattr(state, name), value), name
-    c = state.contacts
-    for name, value in contacts.items():
-        if name != "force":
-            assert np.array_equal(getattr(c, name)[: c.count], value), name
-    blocks = sim.fe.blocks
-    own = blocks.stresses(state.node_x, *blocks.frames(state.node_x))[0]
-    assert np.array_equal(stored["stress"], own)
-    assert stored["stress"][:, 2].mean() < 0.0  # sigma_zz: compression under the weight
-    assert f"elements_{k:06d}.vtu" in pvd.read_text()
-    mesh = meshio.read(tmp_path / "vtk" / "pier" / f"elements_{k:06d}.vtu")
-    assert mesh.cells_dict["tetra"].shape == (len(stored["stress"]), 4)
-    assert np.allclose(mesh.cell_data["stress"][0][:, 2], stored["stress"][:, 2], rtol=1e-12,
-                       atol=0.0)
 
 
 def test_a_fixed_3d_block_cannot_be_deformable():

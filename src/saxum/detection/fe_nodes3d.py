@@ -29,6 +29,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .fe_nodes import pair_sides
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
@@ -157,9 +158,12 @@ def _node_side_sum(node_side, p, r, nx, ny, nz):
     a = 0.0
     mx = my = mz = 0.0
     for k in range(node_side.shape[1]):
-        sx = r[0, 0] * node_side[p, k, 0] + r[0, 1] * node_side[p, k, 1] + r[0, 2] * node_side[p, k, 2]
-        sy = r[1, 0] * node_side[p, k, 0] + r[1, 1] * node_side[p, k, 1] + r[1, 2] * node_side[p, k, 2]
-        sz = r[2, 0] * node_side[p, k, 0] + r[2, 1] * node_side[p, k, 1] + r[2, 2] * node_side[p, k, 2]
+        s0 = node_side[p, k, 0]
+        s1 = node_side[p, k, 1]
+        s2 = node_side[p, k, 2]
+        sx = r[0, 0] * s0 + r[0, 1] * s1 + r[0, 2] * s2
+        sy = r[1, 0] * s0 + r[1, 1] * s1 + r[1, 2] * s2
+        sz = r[2, 0] * s0 + r[2, 1] * s1 + r[2, 2] * s2
         a += max(0.0, -(nx * sx + ny * sy + nz * sz))
         mx += sx
         my += sy
@@ -209,13 +213,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     r = np.empty((3, 3))
     weight = np.empty(3)
     for pr in range(pair_count):
-        i = pairs[pr, 0]
-        j = pairs[pr, 1]
-        if fe_index[i] < 0 and fe_index[j] < 0:
-            continue
-        # the candidate nodes' block fb (the lower index of two deformable ones), the other
-        fb, ob = (i, j) if fe_index[i] >= 0 else (j, i)
-        law_index = group_law[body_group[fb], body_group[ob]]
+        fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
         if law_index < 0:
             continue
         f = fe_index[fb]
