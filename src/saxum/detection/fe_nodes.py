@@ -30,7 +30,7 @@ import numba as nb
 
 from .polygons import _write as _polygon_row
 
-__all__ = ["node_contacts", "pair_sides"]
+__all__ = ["candidate_node", "node_contacts", "pair_sides"]
 
 
 @nb.njit(inline="always")
@@ -110,6 +110,15 @@ def _node_area(node_side, p, c, s, nx, ny):
 
 
 @nb.njit(inline="always")
+def candidate_node(count, p, side_kind, side_node, side_weight):
+    """Row count's candidate side is node p alone (weight 1 in the first of its slots)."""
+    side_kind[count, 0] = 1
+    for k in range(side_node.shape[2]):
+        side_node[count, 0, k] = p
+        side_weight[count, 0, k] = 1.0 if k == 0 else 0.0
+
+
+@nb.njit(inline="always")
 def pair_sides(pairs, pr, fe_index, body_group, group_law):
     """(fb, ob, law) of pair pr: the block whose boundary nodes are the candidates (of two
     deformable blocks, the one of lower index), the other body, and the pair's law index (-1
@@ -179,11 +188,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                 edge_key = vertices + e
             if rigid:
                 side_kind[count, 1] = 0
-            side_kind[count, 0] = 1
-            side_node[count, 0, 0] = p
-            side_node[count, 0, 1] = p
-            side_weight[count, 0, 0] = 1.0
-            side_weight[count, 0, 1] = 0.0
+            candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * edges + edge_key, law_index, x, y, nx, ny, g,
                    _node_area(node_side, p, cf, sf, nx, ny), candidate, antagonist, key, law,
                    point, frame, gap, area)

@@ -29,7 +29,7 @@ import math
 import numba as nb
 import numpy as np
 
-from .fe_nodes import pair_sides
+from .fe_nodes import candidate_node, pair_sides
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
@@ -254,10 +254,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 tz = node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2]
                 _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
                 face_key = faces + e
-            side_kind[count, 0] = 1
-            for k in range(3):
-                side_node[count, 0, k] = p
-                side_weight[count, 0, k] = 1.0 if k == 0 else 0.0
+            candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * features + face_key, law_index, x, y, z, tx,
                    ty, tz, nx, ny, nz, g, _node_side_sum(node_side, p, r, nx, ny, nz)[0],
                    candidate, antagonist, key, law, point, frame, gap, area)
