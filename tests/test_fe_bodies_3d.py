@@ -4,6 +4,7 @@ tests/test_fe_bodies.py). Physics validation: tests/validation/test_fe_*.py."""
 
 import numpy as np
 import pytest
+from test_fe_bodies import PIER_3D
 
 import saxum as sx
 from saxum.fe import Elastic
@@ -110,3 +111,27 @@ def test_a_3d_material_with_a_thickness_is_refused():
     b.set_law("block", "block", sx.ContactLaw(friction=0.6))
     with pytest.raises(sx.InputError, match="thickness"):
         b.finalize()
+
+
+def test_plot_draws_the_meshes_by_compression(tmp_path):
+    """saxum plot of a 3D run with deformable blocks draws their boundary triangles (in place
+    of their polyhedra) filled by the largest compression, with a colour bar in MPa."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from saxum.fe.mesh import boundary_facets
+    from saxum.plot import plot_frame
+    from saxum.results import Results
+    from saxum.runner import run_scenario
+    from saxum.scenario import parse_scenario
+
+    path = tmp_path / "pier.h5"
+    run_scenario(parse_scenario(PIER_3D.replace("duration = 0.06", "duration = 0.01")), path,
+                 quiet=True)
+    with Results(path) as r:
+        fig = plot_frame(r, -1, tmp_path / "pier.png")
+        facets = len(boundary_facets(r.model["fe_cell_node"], 3)[0])
+    ax = fig.axes[0]
+    meshes = [c for c in ax.collections
+              if isinstance(c, Poly3DCollection) and len(c.get_paths()) == facets]
+    assert len(meshes) == 1
+    assert any(a.get_ylabel() == "largest compression [MPa]" for a in fig.axes[1:])
