@@ -1,6 +1,6 @@
 """Deformable blocks: the finite-element body kind (issue 14; design-deformable-and-joints.md).
 
-A DEFORMABLE block is a mesh of linear triangles whose node velocities are integrated by the
+A DEFORMABLE block is a mesh of linear triangles (3D: tetrahedra) whose node velocities are integrated by the
 same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K, in a co-rotated
 frame per block; the mechanics (meshing, assembly, frames, free velocity, stresses, energies)
 are saxum.fe's (FEBlocks). What is specific to the contact dynamics is here: the model's side
@@ -10,7 +10,9 @@ the contact rows of an FE side:
     U = F v_node - ...   (rows of H* on the node: the contact frame F),
     W_aa += F R G_pp R^T F^T,   v_q += R G_qp R^T F^T dR   (G = M~^-1 in the frame, q in the
     block), [Jean99, sec. 5; design section 3].
-Candidates are boundary nodes (saxum.detection.fe_nodes), antagonists rigid blocks' edges.
+Candidates are boundary nodes (saxum.detection.fe_nodes, .fe_nodes3d), antagonists rigid
+blocks' edges (3D: faces) and other deformable blocks' boundary facets. The 2D kernels here
+are written out for 2 x 2 blocks; saxum.bodies.fe3d has them for any dimension (used in 3D).
 """
 
 from dataclasses import dataclass
