@@ -135,3 +135,70 @@ def test_plot_draws_the_meshes_by_compression(tmp_path):
               if isinstance(c, Poly3DCollection) and len(c.get_paths()) == facets]
     assert len(meshes) == 1
     assert any(a.get_ylabel() == "largest compression [MPa]" for a in fig.axes[1:])
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_contact_rows_are_the_dense_delassus_and_warm_start(dim):
+    """fe_contact_rows_nd against numpy on the dense matrices: a contact whose candidate is a
+    node of one block and whose antagonist a facet (weights w) of another, each block turned
+    by its own R, gets W = H G H^T with G = R M~^-1 R^T (R node by node, M~^-1 in the block
+    axes) and H = F B (B: +1 on the node, -w on the facet's nodes), and the warm start
+    v = G H^T r; in 2D the same as the kernel written out for it (round-off: 1e-12 of the
+    largest entry)."""
+    from scipy.linalg import block_diag
+    from scipy.spatial.transform import Rotation
+
+    from saxum.bodies.fe import build_fe_bodies, fe_contact_rows
+    from saxum.bodies.fe3d import fe_contact_rows_nd
+    from saxum.fe.blocks import FEBlocks
+    from saxum.geometry3d import convex_polyhedron
+
+    rng = np.random.default_rng(1)
+    if dim == 2:
+        shapes = [np.array([(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)], dtype=float) + (0, y)
+                  for y in (0.0, 0.2)]
+        turns = [Rotation.from_euler("z", a).as_matrix()[:2, :2] for a in (0.7, -0.3)]
+    else:
+        shapes = [convex_polyhedron(_box(0, 0.4, 0, 0.2, z, z + 0.2)) for z in (0.0, 0.2)]
+        turns = [Rotation.from_rotvec(r).as_matrix() for r in ([0.3, -0.5, 0.4],
+                                                                [-0.2, 0.1, 0.6])]
+    fe = build_fe_bodies([0, 1], shapes, [DAMPED, DAMPED], [0.1, 0.1], ["a", "b"], 2)
+    blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), 1e-3, 0.5)
+    rotation = np.array(turns)
+    frame = np.linalg.qr(rng.normal(size=(dim, dim)))[0][None]
+    nodes = np.zeros((1, 2, dim), dtype=np.int32)
+    weights = np.zeros((1, 2, dim))
+    nodes[0, 0] = fe.boundary_node[0]
+    weights[0, 0, 0] = 1.0
+    nodes[0, 1] = fe.facet_node[fe.facet_start[1] + 3]
+    weights[0, 1] = rng.dirichlet(np.ones(dim))
+    impulse = rng.normal(size=(1, dim))
+    n, dof = fe.node_count, 3 * (dim - 1)
+
+    def call(kernel):
+        h_cand, h_ant = np.zeros((1, dim, dof)), np.zeros((1, dim, dof))
+        w, v = np.zeros((1, dim, dim)), np.zeros((n, dim))
+        kernel(np.ones((1, 2), np.int8), nodes, weights, frame, impulse, 1,
+               np.ones(1, bool), blocks.node_block, blocks.node_start, blocks.inv_start,
+               blocks.inv, rotation, h_cand, h_ant, w, v)
+        return w[0], v
+
+    w, v = call(fe_contact_rows_nd)
+    g = []
+    for k in range(2):
+        size = dim * (blocks.node_start[k + 1] - blocks.node_start[k])
+        inverse = blocks.inv[blocks.inv_start[k]:blocks.inv_start[k + 1]].reshape(size, size)
+        turn = np.kron(np.eye(size // dim), turns[k])
+        g.append(turn @ inverse @ turn.T)
+    g = block_diag(*g)
+    b = np.zeros((dim, dim * n))
+    for side, sign in ((0, 1.0), (1, -1.0)):
+        for p, s in zip(nodes[0, side], weights[0, side], strict=True):
+            b[:, dim * p:dim * p + dim] += sign * s * np.eye(dim)
+    h = frame[0] @ b
+    assert np.abs(w - h @ g @ h.T).max() < 1e-12 * np.abs(w).max()
+    assert np.abs(v.ravel() - g @ h.T @ impulse[0]).max() < 1e-12 * np.abs(v).max()
+    if dim == 2:
+        w2, v2 = call(fe_contact_rows)
+        assert np.abs(w2 - w).max() < 1e-12 * np.abs(w).max()
+        assert np.abs(v2 - v).max() < 1e-12 * np.abs(v).max()
