@@ -1,8 +1,8 @@
 """Deformable blocks: the finite-element body kind (issue 14; design-deformable-and-joints.md).
 
-A DEFORMABLE block is a mesh of linear triangles (3D: tetrahedra) whose node velocities are integrated by the
-same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K, in a co-rotated
-frame per block; the mechanics (meshing, assembly, frames, free velocity, stresses, energies)
+A DEFORMABLE block is a mesh of linear triangles (3D: tetrahedra) whose node velocities are
+integrated by the same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K,
+in a co-rotated frame per block; the mechanics (meshing, assembly, frames, free velocity, stresses, energies)
 are saxum.fe's (FEBlocks). What is specific to the contact dynamics is here: the model's side
 (FEBodies: meshes, candidates, contact areas), the step's stages for the loop (FEKind), and
 the contact rows of an FE side:
