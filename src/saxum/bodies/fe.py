@@ -2,10 +2,10 @@
 
 A DEFORMABLE block is a mesh of linear triangles (3D: tetrahedra) whose node velocities are
 integrated by the same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K,
-in a co-rotated frame per block; the mechanics (meshing, assembly, frames, free velocity, stresses, energies)
-are saxum.fe's (FEBlocks). What is specific to the contact dynamics is here: the model's side
-(FEBodies: meshes, candidates, contact areas), the step's stages for the loop (FEKind), and
-the contact rows of an FE side:
+in a co-rotated frame per block; the mechanics (meshing, assembly, frames, free velocity,
+stresses, energies) are saxum.fe's (FEBlocks). What is specific to the contact dynamics is
+here: the model's side (FEBodies: meshes, candidates, contact areas), the step's stages for
+the loop (FEKind), and the contact rows of an FE side:
 
     U = F v_node - ...   (rows of H* on the node: the contact frame F),
     W_aa += F R G_pp R^T F^T,   v_q += R G_qp R^T F^T dR   (G = M~^-1 in the frame, q in the
