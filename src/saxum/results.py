@@ -1080,8 +1080,9 @@ class Results:
     def stresses(self, frame: int) -> dict[str, np.ndarray]:
         """Cell stresses of the deformable blocks at output frame `frame` [Pa], world axes,
         from the stored node positions (saxum.fe.FEBlocks.stresses): "stress" (sxx, syy, sxy)
-        [cells, 3], "principal" ascending [cells, 2], "compression" and "tension" (the largest
-        of each, >= 0) [cells]; {} without deformable blocks."""
+        [cells, 3] (3D: sxx, syy, szz, syz, sxz, sxy [cells, 6]), "principal" ascending
+        [cells, d], "compression" and "tension" (the largest of each, >= 0) [cells]; {}
+        without deformable blocks."""
         if self.node_x is None:
             return {}
         if getattr(self, "_fe_blocks", None) is None:
