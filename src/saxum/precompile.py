@@ -37,14 +37,14 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
     f1, f2, f3 = t.float64[::1], t.float64[:, ::1], t.float64[:, :, ::1]
     i32_1, i32_2, i64_1, i8_1, b1 = t.int32[::1], t.int32[:, ::1], t.int64[::1], t.int8[::1], \
         t.boolean[::1]
-    F, I, B = t.float64, t.int64, t.boolean  # noqa: E741 - numba's scalar types
+    F, I, B, N = t.float64, t.int64, t.boolean, t.none  # noqa: E741 - numba's scalar types
     return {2: {
         # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25 (BENCHMARKS.md)
         "detection.polygons.polygon_contacts": (
-            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, i32_1, I, F, F, I, f2, f1, f1, f1, B, i32_2,
+            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, N, I, F, F, I, f2, f1, f1, f1, B, i32_2,
             f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
-                                f2, i64_1, f2, F, I, F),
+                                f2, N, N, F, I, F),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
