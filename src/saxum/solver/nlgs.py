@@ -199,9 +199,9 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     solve; joints: the indices of those of joint laws, with their local problems in law_map
     (saxum.solver.laws_local), or None for both in a solve without joint laws: numba then
     compiles the kernel without the joints' code (it prunes the branches on `joints is not
-    None` for that argument type), a first run's compile ~40 % shorter. Each sweep visits the
-    dry contacts, then the joints: the dry contacts' loop is the same with or without joints,
-    bit for bit and as fast.
+    None` for that argument type), in less than half the time (a first run). Each sweep
+    visits the dry contacts, then the joints: the dry contacts' loop is the same with or
+    without joints, bit for bit and as fast.
 
     Written out for 2D rigid bodies (3 dof, frame (t, n)), whose rows of H* are
     [t, l_c x t], [n, l_c x n] on the candidate and [-t, -(l_a x t)], [-n, -(l_a x n)] on the
