@@ -49,21 +49,22 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         t.boolean[::1]
     F, I, B, N = t.float64, t.int64, t.boolean, t.none  # noqa: E741 - numba's scalar types
     return {2: {
-        # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25 (BENCHMARKS.md)
+        # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25, ~0.6x that since they
+        # compile without the joint laws' and law points' code (BENCHMARKS.md)
         "detection.polygons.polygon_contacts": (
             i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, N, I, F, F, I, f2, f1, f1, f1, B, i32_2,
             f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
                                 f2, N, N, F, I, F),
-        "detection.broadphase.sort_pairs": (i32_2, I, I),
-        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
+        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
         "detection.broadphase.grid_pairs": (f2, f2, b1, b1, F, i32_2),
         "solver.problem._assemble_2d": (f2, i32_1, i32_1, f2, f3, f1, i32_1, I, f2, f2, i8_1,
                                         f1, f1, F, F, F, f2, f2, f3, f3, f3, f1, f1, b1),
         "bodies.rigid2d.world_geometry": (f2, i32_1, f2, f2, f2, f2),
+        "detection.broadphase.sort_pairs": (i32_2, I, I),
         "bodies.rigid2d.kinetic_energy": (f2, f1, f1, f2),
         "detection.detector._motion_since": (f2, f2, f1, f1, f1),
         "detection.broadphase.bounding_boxes": (f2, i32_1, F, f2, f2),
@@ -73,7 +74,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
     }}
 
 
-_CHILD_SHARE = {2: 4}
+_CHILD_SHARE = {2: 2}
 """How many of kernel_signatures()[dim], from the first, the second process compiles."""
 
 
