@@ -159,9 +159,8 @@ def polygon_contacts(
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
     identities stable across steps). law_points: points of a face-to-face contact per law
     (Model.law_points), or None where every law has 2 (numba then compiles the kernel
-    without the code of more points, which compiles in two thirds of the time); slots >=
-    max(law_points): keys per pair of faces. Output arrays need
-    room for slots * npairs contacts.
+    without the code of more points, in two thirds of the time); slots >= max(law_points):
+    keys per pair of faces. Output arrays need room for slots * npairs contacts.
     Returns (the number of contacts written, in increasing key order for pairs sorted by
     (i, j), the number of pairs that used their kept choice of faces).
 
