@@ -258,7 +258,7 @@ def _cold_sweeps(model, p, orders, cap=20_000, tolerance=1e-6) -> int:
                 for order in orders]
     n = len(p["cand"])
     v, v_prev, work = p["v_free"].copy(), np.empty_like(p["v_free"]), np.empty((n, 18))
-    joints, law_map = np.zeros(0, np.int64), np.zeros((0, 0))  # dry laws only
+    joints = law_map = None  # dry laws only
     impulse = np.zeros((n, 2))
     for sweep in range(cap):
         k = sweep % len(orders)
@@ -391,7 +391,7 @@ def _replay(model, p: dict, impulse, v, sweeps: int, tolerance: float):
     mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass), where=inv_mass > 0.0)
     n = len(p["cand"])
     sweep, width = (nlgs_3d, 38) if model.dim == 3 else (nlgs_2d, 18)
-    joints, law_map = np.zeros(0, np.int64), np.zeros((0, 0))  # dry laws only
+    joints = law_map = None  # dry laws only
     return sweep(p["cand"], p["ant"], p["h_cand"], p["h_ant"], p["delassus"], p["bias"],
                  p["friction"], p["active"], n, inv_mass, mass, p["v_free"], v, np.empty_like(v),
                  impulse, np.empty((n, width)), joints, law_map, tolerance, sweeps, 1.0)

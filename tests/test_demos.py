@@ -1,5 +1,7 @@
 """The bundled demos (`saxum demo NAME`) run end to end and leave a picture and results."""
 
+import os
+import signal
 import subprocess
 import sys
 
@@ -9,6 +11,7 @@ from PIL import Image
 from saxum.cli import main
 from saxum.demos import arch_demo, bundled_scenario
 from saxum.results import Results
+from saxum.simulation import Simulation
 
 
 def test_arch_demo_stands_and_collapses(tmp_path):
@@ -50,3 +53,24 @@ def test_bundled_scenarios_validate():
     for name in ("arch-stands", "arch-collapses", "wall"):
         scenario, text = bundled_scenario(name)
         assert scenario.title and text.startswith("# Bundled demo")
+
+
+def test_ctrl_c_during_a_demo_run_stops_the_demo_and_keeps_its_results(tmp_path, monkeypatch,
+                                                                       capsys):
+    """Before: the run that Ctrl-C interrupted returned, and the demo went on to the next
+    arch and its picture and exited 0; now it stops there as any Ctrl-C does (exit 130), the
+    interrupted run's results kept (resumable)."""
+    step = Simulation.step
+
+    def step_then_ctrl_c(self, state):
+        report = step(self, state)
+        if state.step == 5:
+            os.kill(os.getpid(), signal.SIGINT)  # the run's handler stops after this step
+        return report
+
+    monkeypatch.setattr(Simulation, "step", step_then_ctrl_c)
+    code = main(["demo", "arch", "-o", str(tmp_path / "arch.png"), "--duration", "0.2"])
+    assert code == 130 and capsys.readouterr().err.endswith("saxum: interrupted\n")
+    with Results(tmp_path / "arch-stands.h5") as r:
+        assert r.status == "interrupted"
+    assert not (tmp_path / "arch-collapses.h5").exists() and not (tmp_path / "arch.png").exists()

@@ -29,6 +29,8 @@ def _run(name: str, results: Path, duration: float | None, echo) -> tuple[Path, 
     summary = run_scenario(scenario, results, quiet=True, scenario_text=text, overwrite=True)
     echo(f"{scenario.title}: {summary.steps} steps in {summary.wall_time:.1f} s; "
          f"results {results}")
+    if summary.status == "interrupted":  # Ctrl-C during the run: the demo stops there too
+        raise KeyboardInterrupt
     return results, summary
 
 

@@ -12,14 +12,24 @@ without this module; tests/test_precompile.py checks that the list matches a run
 
 Only the kernels that every run of a dimension calls are listed: those of the rest solution,
 floods or ground motions compile on their first call.
+
+A Ctrl-C (SIGINT) while this module compiles stops the command as any other does (a
+KeyboardInterrupt, after the kernel being compiled): Python runs its SIGINT handler at the next
+Python instruction, which during a compile is often inside llvmlite's ctypes callback (the
+object code handed back to numba), and a KeyboardInterrupt raised there is printed and dropped
+("Exception ignored on calling ctypes callback"): the command went on and could exit 0.
 """
 
 import atexit
+import contextlib
 import functools
 import importlib
 import os
+import signal
 import subprocess
 import sys
+import threading
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 __all__ = ["kernel_signatures", "precompile", "start"]
@@ -37,14 +47,15 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
     f1, f2, f3 = t.float64[::1], t.float64[:, ::1], t.float64[:, :, ::1]
     i32_1, i32_2, i64_1, i8_1, b1 = t.int32[::1], t.int32[:, ::1], t.int64[::1], t.int8[::1], \
         t.boolean[::1]
-    F, I, B = t.float64, t.int64, t.boolean  # noqa: E741 - numba's scalar types
+    F, I, B, N = t.float64, t.int64, t.boolean, t.none  # noqa: E741 - numba's scalar types
     return {2: {
-        # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25 (BENCHMARKS.md)
+        # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25, ~0.6x that since they
+        # compile without the joint laws' and law points' code (BENCHMARKS.md)
         "detection.polygons.polygon_contacts": (
-            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, i32_1, I, F, F, I, f2, f1, f1, f1, B, i32_2,
+            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, N, I, F, F, I, f2, f1, f1, f1, B, i32_2,
             f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
-                                f2, i64_1, f2, F, I, F),
+                                f2, N, N, F, I, F),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
@@ -78,23 +89,51 @@ def _compile(names: list[str], signatures: dict[str, tuple]) -> list[bool]:
     from numba.core.errors import NumbaError
 
     compiled = []
-    for name in names:
-        try:
-            kernel = _kernel(name)
-        except (ImportError, AttributeError):  # moved or renamed: it compiles on its call
-            compiled.append(False)
-            continue
-        args = signatures[name]
-        if not hasattr(kernel, "compile"):  # NUMBA_DISABLE_JIT: plain Python
-            return compiled
-        known = args in kernel.overloads
-        try:
-            kernel.compile(args)
-        except (TypeError, NumbaError):  # the list is out of date: it compiles on its call
-            compiled.append(False)
-            continue
-        compiled.append(not known and kernel.stats.cache_hits.get(args, 0) == 0)
+    with _sigint_after_compiles() as interrupted:
+        for name in names:
+            try:
+                kernel = _kernel(name)
+            except (ImportError, AttributeError):  # moved or renamed: it compiles on its call
+                compiled.append(False)
+                continue
+            args = signatures[name]
+            if not hasattr(kernel, "compile"):  # NUMBA_DISABLE_JIT: plain Python
+                return compiled
+            known = args in kernel.overloads
+            try:
+                kernel.compile(args)
+            except (TypeError, NumbaError):  # the list is out of date: it compiles on its call
+                compiled.append(False)
+                continue
+            finally:
+                interrupted()
+            compiled.append(not known and kernel.stats.cache_hits.get(args, 0) == 0)
     return compiled
+
+
+@contextlib.contextmanager
+def _sigint_after_compiles() -> Iterator[Callable[[], None]]:
+    """While numba compiles: a SIGINT only sets a flag, and the function this yields raises
+    KeyboardInterrupt if one came (module doc), as does the exit, where the previous handler
+    is back. Only where SIGINT raises KeyboardInterrupt (Python's default handler, in the
+    main thread): an ignored SIGINT, or a run's own handler, stays."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield lambda: None
+        return
+    came = []
+
+    def interrupted() -> None:
+        if came:
+            came.clear()
+            raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    try:
+        yield interrupted
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    interrupted()
 
 
 def _cores() -> int:

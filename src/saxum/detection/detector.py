@@ -133,8 +133,8 @@ class Detector:
         contacts.reserve(self.slots * self.pair_count)
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
-            m.body_vertex_start, m.body_group, m.group_law, m.law_points, self.slots,
-            self.alert, self.reference_bias,
+            m.body_vertex_start, m.body_group, m.group_law,
+            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
             self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,

@@ -158,8 +158,9 @@ def polygon_contacts(
     alert: alert distance [m]; ref_tol: a face of the first body of a pair stays the reference
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
     identities stable across steps). law_points: points of a face-to-face contact per law
-    (Model.law_points); slots >= max(law_points): keys per pair of faces. Output arrays need
-    room for slots * npairs contacts.
+    (Model.law_points), or None where every law has 2 (numba then compiles the kernel
+    without the code of more points, in two thirds of the time); slots >= max(law_points):
+    keys per pair of faces. Output arrays need room for slots * npairs contacts.
     Returns (the number of contacts written, in increasing key order for pairs sorted by
     (i, j), the number of pairs that used their kept choice of faces).
 
@@ -254,19 +255,22 @@ def polygon_contacts(
             count += 1
         s_lo = max(s0, 0.0)
         s_hi = min(s1, length)
-        points = law_points[law_index] if law_index >= 0 else 2
-        if points > 2 and ds > 0.0 and s_hi - s_lo > tie:
-            # the inner points of the Simpson panels, slots 2 .. points - 1 (module doc)
-            for slot in range(2, points):
-                s_clip = s_lo + (s_hi - s_lo) * (slot - 1) / (points - 1)
-                px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
-                if g <= alert:
-                    _write(candidate, antagonist, key, law, point, frame, gap, count, cand,
-                           ant, base * slots + slot, law_index, px, py, nx, ny, g)
-                    count += 1
-            _simpson_areas(key, area, first, count, base, slots, points, s_lo, s_hi, s0, ds,
-                           p0x, p0y, p1x, p1y, nx, ny, ax, ay, alert)
-        elif count - first == 2:  # flush faces, the common case: half each
+        if law_points is not None:  # None: no law has more points, and no code for them
+            points = law_points[law_index] if law_index >= 0 else 2
+            if points > 2 and ds > 0.0 and s_hi - s_lo > tie:
+                # the inner points of the Simpson panels, slots 2 .. points - 1 (module doc)
+                for slot in range(2, points):
+                    s_clip = s_lo + (s_hi - s_lo) * (slot - 1) / (points - 1)
+                    px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax,
+                                             ay)
+                    if g <= alert:
+                        _write(candidate, antagonist, key, law, point, frame, gap, count,
+                               cand, ant, base * slots + slot, law_index, px, py, nx, ny, g)
+                        count += 1
+                _simpson_areas(key, area, first, count, base, slots, points, s_lo, s_hi, s0,
+                               ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay, alert)
+                continue
+        if count - first == 2:  # flush faces, the common case: half each
             area[first] = area[first + 1] = 0.5 * max(s_hi - s_lo, 0.0)
         elif count > first:  # one end beyond alert (or ds = 0): the other stands for the rest
             g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]

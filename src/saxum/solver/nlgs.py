@@ -54,10 +54,6 @@ from .velocity_change import change_ratio, change_sums
 
 __all__ = ["NLGS"]
 
-_NO_JOINTS = np.zeros(0, dtype=np.int64)
-_NO_LAWS = np.zeros((0, 0))
-"""The joints and law_map of a problem without joint laws (saxum.solver.laws_local)."""
-
 _REST_WORK = 20_000
 """Single-contact updates that cost about as much as an attempt at the rest solution does at
 least (a few calls into the kernels and scipy's SuperLU, ~0.3 ms): a step tries it only once
@@ -122,10 +118,10 @@ class NLGS(ContactSolver):
         if len(self._work) < problem.count or self._work.shape[1] != width:
             self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
         # joint laws (saxum.solver.laws_local) change the local problems; a problem without
-        # them (the projection's) has none
+        # them (the projection's) has none, and a sweep without them is compiled without their
+        # code (nlgs_2d)
         joints = getattr(problem, "joint_laws", False)
-        active, law_map = problem.active, _NO_LAWS
-        joint = _NO_JOINTS
+        active, law_map, joint = problem.active, None, None
         if joints:
             law_map = problem.law_map
             flagged = law_map[: problem.count, 0] != 0.0
@@ -203,8 +199,11 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
     work (at least count x 18) are work memory. active: the contacts of dry laws in the
     solve; joints: the indices of those of joint laws, with their local problems in law_map
-    (saxum.solver.laws_local). Each sweep visits the dry contacts, then the joints: the dry
-    contacts' loop is the one of a solve without joint laws, bit for bit and as fast.
+    (saxum.solver.laws_local), or None for both in a solve without joint laws: numba then
+    compiles the kernel without the joints' code (it prunes the branches on `joints is not
+    None` for that argument type), in less than half the time (a first run). Each sweep
+    visits the dry contacts, then the joints: the dry contacts' loop is the same with or
+    without joints, bit for bit and as fast.
 
     Written out for 2D rigid bodies (3 dof, frame (t, n)), whose rows of H* are
     [t, l_c x t], [n, l_c x n] on the candidate and [-t, -(l_a x t)], [-n, -(l_a x n)] on the
@@ -212,14 +211,18 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     factors of its single-contact solve (factorize_contact_2d: the divisions, once per step;
     on W' for a joint) and b_n, mu go into one row of `work`, which the sweeps read in
     order."""
-    nactive = joints.shape[0]
+    nactive = 0
     for a in range(count):
         if active[a]:
             nactive += 1
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a, False, law_map)
-    for j in range(joints.shape[0]):
-        _pack_2d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j], True,
-                 law_map)
+            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+    if joints is not None:
+        nactive += joints.shape[0]
+        for j in range(joints.shape[0]):
+            a = joints[j]
+            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+            m = law_map[a]
+            _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
     if nactive == 0:
         return 0, 0.0
     error = np.inf
@@ -233,10 +236,19 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            _visit_2d(a, cand, ant, work, v, impulse, inv_mass, relaxation, False, law_map)
-        for j in range(joints.shape[0]):
-            _visit_2d(joints[j], cand, ant, work, v, impulse, inv_mass, relaxation, True,
-                      law_map)
+            row = work[a]
+            ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+            rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12],
+                                               row[13], row[14], row[15], ut, un, row[17])
+            _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
+        if joints is not None:
+            for j in range(joints.shape[0]):
+                a = joints[j]
+                row = work[a]
+                ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+                rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
+                                      row[14], row[15], row[17])
+                _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
@@ -244,8 +256,8 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 
 
 @nb.njit(inline="always")
-def _pack_2d(row, h_cand, h_ant, delassus, bias, friction, a, joint, law_map):
-    """Contact a's row of nlgs_2d's `work`; joint: factors of W' (law_map) instead of W."""
+def _pack_2d(row, h_cand, h_ant, delassus, bias, friction, a):
+    """Contact a's row of nlgs_2d's `work`, with the factors of W."""
     row[0] = h_cand[a, 0, 0]
     row[1] = h_cand[a, 0, 1]
     row[2] = h_cand[a, 1, 0]
@@ -257,46 +269,47 @@ def _pack_2d(row, h_cand, h_ant, delassus, bias, friction, a, joint, law_map):
     row[8] = delassus[a, 0, 0]
     row[9] = delassus[a, 0, 1]
     row[10] = delassus[a, 1, 1]
-    if joint:
-        lm = law_map[a]
-        f = factorize_contact_2d(lm[1], lm[2], lm[4], friction[a])
-    else:
-        f = factorize_contact_2d(row[8], row[9], row[10], friction[a])
-    for i in range(5):
-        row[11 + i] = f[i]
+    _factorize_2d(row, row[8], row[9], row[10], friction[a])
     row[16] = bias[a]
     row[17] = friction[a]
 
 
 @nb.njit(inline="always")
-def _visit_2d(a, cand, ant, work, v, impulse, inv_mass, relaxation, joint, law_map):
-    """One single-contact update of nlgs_2d: contact a's impulse from the others', and the
-    change pushed into the velocities; joint (a constant at each call, so that the compiler
-    drops the other case): solve contact a's joint law (law_solve_2d)."""
+def _factorize_2d(row, wtt, wtn, wnn, mu):
+    """The factors of the single-contact solve on [[wtt, wtn], [wtn, wnn]] into row[11:16]."""
+    f = factorize_contact_2d(wtt, wtn, wnn, mu)
+    for i in range(5):
+        row[11 + i] = f[i]
+
+
+@nb.njit(inline="always")
+def _local_velocity_2d(a, cand, ant, row, v, impulse):
+    """First half of a single-contact update of nlgs_2d: contact a's local velocity (u_t,
+    u_n + b_n) [m/s] from the others' impulses (its own removed: u = U - W R_a); row: its row
+    of `work`."""
     c = cand[a]
     b = ant[a]
-    row = work[a]
-    tx, ty, nx, ny = row[0], row[1], row[2], row[3]
-    ct, cn, at, an = row[4], row[5], row[6], row[7]
-    wtt, wtn, wnn = row[8], row[9], row[10]
-    vc0, vc1, vc2 = v[c, 0], v[c, 1], v[c, 2]
-    vb0, vb1, vb2 = v[b, 0], v[b, 1], v[b, 2]
     rt0 = impulse[a, 0]
     rn0 = impulse[a, 1]
     # Sums as balanced trees, the impulse and shift terms apart: the velocities of one
     # contact depend on those the previous one wrote, so this chain's latency counts.
-    dx = vc0 - vb0
-    dy = vc1 - vb1
-    ut = ((tx * dx + ty * dy) + (ct * vc2 + at * vb2)) - (wtt * rt0 + wtn * rn0)
-    # u_n + b_n
-    un = (((nx * dx + ny * dy) + (cn * vc2 + an * vb2))
-          + (row[16] - (wtn * rt0 + wnn * rn0)))
-    if joint:
-        rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
-                              row[14], row[15], row[17])
-    else:
-        rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, row[11], row[12], row[13],
-                                           row[14], row[15], ut, un, row[17])
+    dx = v[c, 0] - v[b, 0]
+    dy = v[c, 1] - v[b, 1]
+    ut = (((row[0] * dx + row[1] * dy) + (row[4] * v[c, 2] + row[6] * v[b, 2]))
+          - (row[8] * rt0 + row[9] * rn0))
+    un = (((row[2] * dx + row[3] * dy) + (row[5] * v[c, 2] + row[7] * v[b, 2]))
+          + (row[16] - (row[9] * rt0 + row[10] * rn0)))
+    return ut, un
+
+
+@nb.njit(inline="always")
+def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn):
+    """Second half: contact a's new impulse (rt, rn) [N s], relaxed, and its change pushed
+    into the velocities."""
+    c = cand[a]
+    b = ant[a]
+    rt0 = impulse[a, 0]
+    rn0 = impulse[a, 1]
     if relaxation != 1.0:
         rt = relaxation * rt + (1.0 - relaxation) * rt0
         rn = relaxation * rn + (1.0 - relaxation) * rn0
@@ -304,15 +317,15 @@ def _visit_2d(a, cand, ant, work, v, impulse, inv_mass, relaxation, joint, law_m
     dn = rn - rn0
     # v += M^-1 H_a (dt, dn) on the candidate c and the antagonist b (also when dR = 0:
     # a branch on it is mispredicted more often than the stores cost)
-    fx = tx * dt + nx * dn
-    fy = ty * dt + ny * dn
+    fx = row[0] * dt + row[2] * dn
+    fy = row[1] * dt + row[3] * dn
     mc, mb = inv_mass[c], inv_mass[b]
-    v[c, 0] = vc0 + mc[0] * fx
-    v[c, 1] = vc1 + mc[1] * fy
-    v[c, 2] = vc2 + mc[2] * (ct * dt + cn * dn)
-    v[b, 0] = vb0 - mb[0] * fx
-    v[b, 1] = vb1 - mb[1] * fy
-    v[b, 2] = vb2 + mb[2] * (at * dt + an * dn)
+    v[c, 0] = v[c, 0] + mc[0] * fx
+    v[c, 1] = v[c, 1] + mc[1] * fy
+    v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
+    v[b, 0] = v[b, 0] - mb[0] * fx
+    v[b, 1] = v[b, 1] - mb[1] * fy
+    v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
     impulse[a, 0] = rt
     impulse[a, 1] = rn
 
@@ -341,13 +354,15 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     row of `work` (at least count x 38): the candidate's three rows (6 dof each), the
     antagonist's rotational parts (its translational rows are minus the candidate's, as for
     any rigid 3D contact: saxum.bodies.rigid3d.contact_jacobians), W, b_n and mu."""
-    nactive = joints.shape[0]
+    nactive = 0
     for a in range(count):
         if active[a]:
             nactive += 1
             _pack_3d(work[a], h_cand, h_ant, delassus, bias, friction, a)
-    for j in range(joints.shape[0]):
-        _pack_3d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j])
+    if joints is not None:
+        nactive += joints.shape[0]
+        for j in range(joints.shape[0]):
+            _pack_3d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j])
     if nactive == 0:
         return 0, 0.0
     u = np.empty(3)
@@ -364,11 +379,25 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            _visit_3d(a, cand, ant, work, delassus, v, impulse, inv_mass, relaxation, u, rr,
-                      False, law_map, wp)
-        for j in range(joints.shape[0]):
-            _visit_3d(joints[j], cand, ant, work, delassus, v, impulse, inv_mass, relaxation,
-                      u, rr, True, law_map, wp)
+            row = work[a]
+            _local_velocity_3d(a, cand, ant, row, v, impulse, u)
+            case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+                row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
+                row[35], u[0], u[1], u[2], row[37])
+            if case < 0:  # a slide: the full solve, from the current impulse
+                for r in range(3):
+                    rr[r] = impulse[a, r]
+                solve_contact_3d(delassus[a], u, row[37], rr)
+            _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
+        if joints is not None:
+            for j in range(joints.shape[0]):
+                a = joints[j]
+                row = work[a]
+                _local_velocity_3d(a, cand, ant, row, v, impulse, u)
+                for r in range(3):  # the dry part's starting guess
+                    rr[r] = impulse[a, r]
+                law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
+                _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
@@ -390,13 +419,11 @@ def _pack_3d(row, h_cand, h_ant, delassus, bias, friction, a):
 
 
 @nb.njit(inline="always")
-def _visit_3d(a, cand, ant, work, delassus, v, impulse, inv_mass, relaxation, u, rr, joint,
-              law_map, wp):
-    """One single-contact update of nlgs_3d (u, rr: 3-vectors, wp: 3 x 3, work memory);
-    joint as in _visit_2d (law_solve_3d)."""
+def _local_velocity_3d(a, cand, ant, row, v, impulse, u):
+    """First half of a single-contact update of nlgs_3d, as _local_velocity_2d: contact a's
+    (u_t, u_n + b_n, u_s) [m/s] into u (a 3-vector, work memory)."""
     c = cand[a]
     b = ant[a]
-    row = work[a]
     vc3, vc4, vc5 = v[c, 3], v[c, 4], v[c, 5]
     vb3, vb4, vb5 = v[b, 3], v[b, 4], v[b, 5]
     dx = v[c, 0] - v[b, 0]
@@ -414,20 +441,17 @@ def _visit_3d(a, cand, ant, work, delassus, v, impulse, inv_mass, relaxation, u,
                 + (row[p] * vb3 + row[p + 1] * vb4 + row[p + 2] * vb5)) - (
             row[q] * rt0 + row[q + 1] * rn0 + row[q + 2] * rs0)
     u[1] += row[36]
-    if joint:
-        rr[0] = rt0
-        rr[1] = rn0
-        rr[2] = rs0
-        law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
-    else:
-        case, rr[0], rr[1], rr[2] = open_or_stick_3d(
-            row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
-            row[35], u[0], u[1], u[2], row[37])
-        if case < 0:  # a slide: the full solve, from the current impulse
-            rr[0] = rt0
-            rr[1] = rn0
-            rr[2] = rs0
-            solve_contact_3d(delassus[a], u, row[37], rr)
+
+
+@nb.njit(inline="always")
+def _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr):
+    """Second half: contact a's new impulse rr [N s], relaxed (in place), and its change
+    pushed into the velocities."""
+    c = cand[a]
+    b = ant[a]
+    rt0 = impulse[a, 0]
+    rn0 = impulse[a, 1]
+    rs0 = impulse[a, 2]
     if relaxation != 1.0:
         rr[0] = relaxation * rr[0] + (1.0 - relaxation) * rt0
         rr[1] = relaxation * rr[1] + (1.0 - relaxation) * rn0
