@@ -17,18 +17,32 @@ U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area
   / (theta^2 h). So W' = W + diag(C) and the shift (b_t, b_n) [V. Acary & B. Brogliato,
   Numerical Methods for Nonsmooth Dynamical Systems, Springer 2008, sec. 7].
 - parallel part (VISCOUS_COULOMB, COHESIVE): R = R_d + R_l, R_l = -D U - e with D diagonal,
-  R_d Signorini-Coulomb (the gap law's b_n) on U. Eliminating U = W R + q:
+  R_d Signorini-Coulomb on U. Eliminating U = W R + q:
       U = W' R_d + q',  W' = (I + W D)^-1 W,  q' = (I + W D)^-1 (q - W e),
-  then R = R_d - D U - e. Viscous: D_t = h A eta. Cohesive bond with beta = 1 - d:
-  D = beta theta^2 h^2 A diag(k_t, k_n), e = beta h A (k_t (s + theta (1 - theta) h U^b_t),
-  k_n (g - (1 - theta)^2 h U^b_n)), i.e. the bond's impulse -beta h A k (s_theta, g_theta).
+  then R = R_d - D U - e. Viscous: D_t = h A eta, R_d the gap law's (its b_n).
+- COHESIVE (a bonded joint; beta = 1 - d): the normal stress is k_n (-g_theta) in compression
+  and -beta k_n g_theta in tension (saxum.laws), a kink at g_theta = 0 solved as two
+  branches. Compression: R_d is the compliant contact, ELASTIC's with c_n = 0 (C_n added to
+  W'_nn, b_n = g_0 / (theta^2 h), g_0 = g - (1 - theta)^2 h U^b_n), with Coulomb friction,
+  in parallel with the bond's shear spring D_t = beta theta^2 h^2 A k_t,
+  e_t = beta h A k_t (s + theta (1 - theta) h U^b_t). If its solution has R_d,n > 0 the
+  joint is closed and that is the solution; else (open) the tension branch: the bond alone,
+  R = -(I + D W)^-1 (D q + e) with D_n = beta theta^2 h^2 A k_n, e_n = beta h A k_n g_0,
+  linear in the kernel's u: R = T u + r. Since the law is monotone, an open compression
+  branch (g_theta >= 0 with no normal force) stays open when the bond pulls (g_theta shrinks
+  by a positive factor and does not change sign). A fully damaged bonded joint has only the
+  compression branch (an ELASTIC contact with k_t = 0); a contact that was never bonded is
+  the gap law's (flag 0), and only those are projected (saxum.solver.projection).
 
-`law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do):
-[flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim)];
+`law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do; 2: a
+bonded COHESIVE joint with a tension branch; 1: the others):
+[flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim),
+T (dim x dim), r (dim)];
 the sweep kernels visit the flagged rows after the dry ones and call `law_solve_2d` /
 `law_solve_3d`: u' = P u + s'' (u the kernel's local velocity with b_n added, so
 s'' = -P W e + b - P b), the dry solve on W', then R = R_d - D U - e with
-U = W' R_d + u' - b. For compliance, P = I, D = e = 0.
+U = W' R_d + u' - b (flag 2 and R_d,n = 0: R = T u + r instead). For compliance, P = I,
+D = e = 0.
 `update_joints` advances the state after the solve (slip, history, damage: saxum.laws).
 """
 
@@ -68,8 +82,9 @@ def _local(h_cand, h_ant, a, r, c, b, v):
 @nb.njit(cache=True)
 def law_terms(cand, ant, law, gap, area, slip, damage, history, count, h_cand, h_ant, v_begin,
               law_kind, law_parameter, h, theta, delassus, bias, law_map):
-    """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones in
-    bias [m/s]; other rows get flag 0. delassus [1/kg] is W, left as it is."""
+    """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones and
+    bonded COHESIVE ones (damage < 1, or history > 0: bonded once) in bias [m/s]; other rows
+    get flag 0. delassus [1/kg] is W, left as it is."""
     dim = delassus.shape[1]
     o_w, o_p = 1, 1 + dim * dim
     o_s, o_d, o_e = 1 + 2 * dim * dim, 1 + 2 * dim * dim + dim, 1 + 2 * dim * dim + 2 * dim
