@@ -117,13 +117,12 @@ def semicircular_four_hinge(radius: float, thickness: float, voussoirs: int):
     return lam, sorted((voussoirs - j, side) for j, side in hinges)
 
 
-def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3,
-                     theta: float = 0.5) -> sx.Simulation:
+def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3) -> sx.Simulation:
     """A simulation of `model` with a constant horizontal inertial load factor * g on every
-    free block (time step dt [s], Moreau-Jean theta [-])."""
+    free block."""
     g = float(np.hypot(*model.gravity))
     loaded = dataclasses.replace(model, accelerations=((lambda t: (factor * g, 0.0)),))
-    return sx.Simulation(loaded, dt=dt, theta=theta)
+    return sx.Simulation(loaded, dt=dt)
 
 
 def joint_index(joint, voussoirs: int) -> int:
