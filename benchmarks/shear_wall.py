@@ -74,10 +74,14 @@ def smooth(t: float, t0: float, t1: float) -> float:
     return 0.5 * math.pi / (t1 - t0) * math.sin(math.pi * (t - t0) / (t1 - t0))
 
 
-def build(precompression: float, press: float, hold: float, speed: float):
-    """(model, beam index): the wall, the ground and the driven top beam, which lowers by the
-    bed joints' closure under `precompression` [Pa] over `press` [s], holds for `hold` [s],
-    then moves sideways at `speed` [m/s]."""
+def build(precompression: float, press: float, hold: float, speed: float,
+          constant: bool = False):
+    """(model, beam index, index of what pushes the beam or -1): the wall, the ground and the top
+    beam. The beam is DRIVEN: it lowers by the bed joints' closure under `precompression`
+    [Pa] over `press` [s], holds for `hold` [s], then moves sideways at `speed` [m/s]; or,
+    `constant`, FREE with its rotation held (a guided beam: its inverse rotational inertia
+    set to 0) under the force precompression x width, rising over `press`, and pushed
+    sideways by a DRIVEN block at its left end (a frictionless contact)."""
     b = sx.ModelBuilder()
     b.add_block([(-0.5, -0.2), (WIDTH + 0.5, -0.2), (WIDTH + 0.5, 0.0), (-0.5, 0.0)],
                 kind=sx.BodyKind.FIXED, group="ground", name="ground")
@@ -99,8 +103,24 @@ def build(precompression: float, press: float, hold: float, speed: float):
         vx = speed if t > press + hold else 0.0
         return vx, -closure * smooth(t, 0.0, press), 0.0
 
-    beam = b.add_block([(0.0, HEIGHT), (WIDTH, HEIGHT), (WIDTH, HEIGHT + 0.1), (0.0, HEIGHT + 0.1)],
-                       kind=sx.BodyKind.DRIVEN, motion=motion, group="beam", name="top beam")
+    top = [(0.0, HEIGHT), (WIDTH, HEIGHT), (WIDTH, HEIGHT + 0.1), (0.0, HEIGHT + 0.1)]
+    if constant:
+        beam = b.add_block(top, density=7850.0, group="beam", name="top beam")
+        b.add_force([beam], lambda t: (0.0, -precompression * WIDTH * min(
+            1.0, 0.5 * (1.0 - math.cos(math.pi * min(t, press) / press))), 0.0))
+        pusher = b.add_block([(-0.1, HEIGHT + 0.01), (0.0, HEIGHT + 0.01), (0.0, HEIGHT + 0.09),
+                              (-0.1, HEIGHT + 0.09)], kind=sx.BodyKind.DRIVEN,
+                             motion=lambda t: (speed if t > press + hold else 0.0, 0.0, 0.0),
+                             group="pusher", name="pusher")
+        for g in ("beam", "pusher"):
+            b.set_law(g, g, sx.ContactLaw(friction=0.0))
+        b.set_law("pusher", "beam", sx.ContactLaw(friction=0.0))
+        for g in ("ground", "odd", "even"):
+            b.set_law("pusher", g, sx.ContactLaw(friction=0.0))
+    else:
+        beam = b.add_block(top, kind=sx.BodyKind.DRIVEN, motion=motion, group="beam",
+                           name="top beam")
+        pusher = -1
     for a, c in (("odd", "even"), ("ground", "odd"), ("beam", "even"), ("beam", "odd")):
         b.set_law(a, c, bed)
     head = joint_law(BRICK_L)
@@ -108,23 +128,28 @@ def build(precompression: float, press: float, hold: float, speed: float):
     b.set_law("even", "even", head)
     b.set_law("ground", "even", bed)
     b.set_law("ground", "beam", sx.ContactLaw(friction=TAN_PHI))
-    return b.finalize(), beam
+    model = b.finalize()
+    if constant:
+        model.body_inv_mass[beam, 2] = 0.0
+    return model, beam, pusher
 
 
-def beam_force(c: sx.Contacts, beam: int, h: float) -> np.ndarray:
-    """The force of the wall on the beam [N/m], world axes: the contact impulses / h."""
+def beam_force(c: sx.Contacts, beam: int, h: float, pusher: int) -> np.ndarray:
+    """The force of the wall on the beam [N/m], world axes: the impulses / h of the beam's
+    contacts but that with the pusher."""
     n = c.count
     world = np.einsum("ar,ard->ad", c.impulse[:n], c.frame[:n]) / h
+    other = (c.candidate[:n] != pusher) & (c.antagonist[:n] != pusher)
     sign = np.where(c.candidate[:n] == beam, 1.0,
-                    np.where(c.antagonist[:n] == beam, -1.0, 0.0))
+                    np.where(c.antagonist[:n] == beam, -1.0, 0.0)) * other
     return sign @ world
 
 
 def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift: float = 3e-3,
-         press: float = 0.05, hold: float = 0.05):
+         press: float = 0.05, hold: float = 0.05, constant: bool = False):
     """Run the test; returns (top displacements [m], horizontal loads [N] on the 100 mm wall,
     vertical loads [N], the state at the peak's step: contacts)."""
-    model, beam = build(precompression, press, hold, speed)
+    model, beam, pusher = build(precompression, press, hold, speed, constant)
     sim = sx.Simulation(model, dt=dt, theta=1.0)
     state = sim.initial_state()
     x0 = state.body_q[beam, 0]
@@ -133,7 +158,7 @@ def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift:
     end = press + hold + drift / speed
     while state.time < end:
         sim.step(state)
-        f = beam_force(state.contacts, beam, dt) * THICKNESS
+        f = beam_force(state.contacts, beam, dt, pusher) * THICKNESS
         u.append(state.body_q[beam, 0] - x0)
         fx.append(-f[0])
         fy.append(f[1])
@@ -148,11 +173,12 @@ def main() -> None:
     parser.add_argument("--dt", type=float, default=1e-4)
     parser.add_argument("--speed", type=float, default=0.01, help="[m/s]")
     parser.add_argument("--drift", type=float, default=3e-3, help="[m]")
-    parser.add_argument("--figure", default=None)
+    parser.add_argument("--constant", action="store_true",
+                        help="hold the vertical load (a guided beam pushed by a block)")
     args = parser.parse_args()
     start = time.perf_counter()
     u, fx, fy, contacts = push(args.precompression * 1e6, dt=args.dt, speed=args.speed,
-                               drift=args.drift)
+                               drift=args.drift, constant=args.constant)
     wall_time = time.perf_counter() - start
     k = int(np.argmax(fx))
     n = contacts.count
