@@ -145,16 +145,40 @@ def beam_force(c: sx.Contacts, beam: int, h: float, pusher: int) -> np.ndarray:
     return sign @ world
 
 
+def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title: str) -> None:
+    """The blocks at q [m, rad] and the contact points coloured by damage, into `path`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 6))
+    for k in range(model.body_count):
+        c, s = math.cos(q[k, 2]), math.sin(q[k, 2])
+        local = model.vertex_local[model.body_vertex_start[k]:model.body_vertex_start[k + 1]]
+        world = local @ np.array([[c, s], [-s, c]]) + q[k, :2]
+        ax.fill(world[:, 0], world[:, 1], facecolor="#e8d9c0", edgecolor="#8a7550", lw=0.5)
+    n = contacts.count
+    dots = ax.scatter(contacts.point[:n, 0], contacts.point[:n, 1], c=contacts.damage[:n],
+                      cmap="inferno_r", vmin=0.0, vmax=1.0, s=6, zorder=3)
+    fig.colorbar(dots, ax=ax, label="damage d", shrink=0.7)
+    ax.set_xlim(-0.15, WIDTH + 0.1)
+    ax.set_ylim(-0.1, HEIGHT + 0.15)
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+
+
 def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift: float = 3e-3,
          press: float = 0.05, hold: float = 0.05, constant: bool = False):
     """Run the test; returns (top displacements [m], horizontal loads [N] on the 100 mm wall,
-    vertical loads [N], the state at the peak's step: contacts)."""
+    vertical loads [N], the contacts and positions at the peak's step, the model)."""
     model, beam, pusher = build(precompression, press, hold, speed, constant)
     sim = sx.Simulation(model, dt=dt, theta=1.0)
     state = sim.initial_state()
     x0 = state.body_q[beam, 0]
     u, fx, fy = [], [], []
-    peak, at_peak = -np.inf, None
+    peak, at_peak, q_peak = -np.inf, None, None
     end = press + hold + drift / speed
     while state.time < end:
         sim.step(state)
@@ -163,8 +187,8 @@ def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift:
         fx.append(-f[0])
         fy.append(f[1])
         if -f[0] > peak:
-            peak, at_peak = -f[0], state.contacts.copy()
-    return np.array(u), np.array(fx), np.array(fy), at_peak
+            peak, at_peak, q_peak = -f[0], state.contacts.copy(), state.body_q.copy()
+    return np.array(u), np.array(fx), np.array(fy), at_peak, q_peak, model
 
 
 def main() -> None:
@@ -173,12 +197,14 @@ def main() -> None:
     parser.add_argument("--dt", type=float, default=1e-4)
     parser.add_argument("--speed", type=float, default=0.01, help="[m/s]")
     parser.add_argument("--drift", type=float, default=3e-3, help="[m]")
+    parser.add_argument("--figure", default=None, help="PNG of the damage at the peak")
     parser.add_argument("--constant", action="store_true",
                         help="hold the vertical load (a guided beam pushed by a block)")
     args = parser.parse_args()
     start = time.perf_counter()
-    u, fx, fy, contacts = push(args.precompression * 1e6, dt=args.dt, speed=args.speed,
-                               drift=args.drift, constant=args.constant)
+    u, fx, fy, contacts, q, model = push(args.precompression * 1e6, dt=args.dt,
+                                         speed=args.speed, drift=args.drift,
+                                         constant=args.constant)
     wall_time = time.perf_counter() - start
     k = int(np.argmax(fx))
     n = contacts.count
@@ -188,6 +214,10 @@ def main() -> None:
           f"at the end ({u[-1] * 1e3:.2f} mm) {fx[-1] / 1e3:.1f} kN")
     print(f"damaged points at the peak: {int((contacts.damage[:n] > 0).sum())} of {n}, "
           f"cracked {int((contacts.damage[:n] >= 1).sum())}; wall time {wall_time:.0f} s")
+    if args.figure:
+        draw(model, q, contacts, args.figure,
+             f"p = {args.precompression} MPa, peak {fx[k] / 1e3:.1f} kN at "
+             f"{u[k] * 1e3:.2f} mm: damage at the peak")
     for i in range(0, len(u), max(1, len(u) // 40)):
         print(f"  u = {u[i] * 1e3:6.3f} mm  H = {fx[i] / 1e3:7.2f} kN  V = {fy[i] / 1e3:7.2f} kN")
 

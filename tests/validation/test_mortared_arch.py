@@ -25,6 +25,7 @@ docs/collapse.md.
 """
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -58,6 +59,7 @@ def mortared_arch(f_t: float | None) -> sx.Model:
     return builder.finalize()
 
 
+@functools.cache
 def collapse_factor(f_t: float | None) -> float:
     """The horizontal collapse load factor [-], bisected to 0.5 % from rest (as
     limit_analysis.saxum_horizontal_collapse: bracket 0.5 to 3 times the dry limit
