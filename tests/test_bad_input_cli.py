@@ -232,6 +232,7 @@ def test_output_that_is_a_folder_or_in_no_folder_is_bad_input(tmp_path, capsys):
 
 @pytest.mark.parametrize(("argv", "option"), [
     (["animate", "r.h5", "--fps", "0"], "--fps"),
+    (["view", "r.h5", "--every", "0"], "--every"),
     (["demo", "arch", "--duration", "1e12"], "--duration"),
     (["demo", "arch", "--duration", "nan"], "--duration"),
     (["fclib", "solve", "p.hdf5", "--max-iterations", "99999999999999999999"],

@@ -41,13 +41,6 @@ def test_mesh_size_without_material_is_refused():
         b.add_block([(0, 0), (1, 0), (1, 1), (0, 1)], density=2000.0, mesh_size=0.1)
 
 
-def test_deformable_3d_block_is_refused():
-    b = ModelBuilder(dim=3)
-    cube = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
-    with pytest.raises(sx.InputError, match="deformable"):
-        b.add_block(cube, material=STONE)
-
-
 def test_node_contacts_on_the_ground():
     """The bottom nodes touch the ground: one contact each, FE candidate side, keys increasing,
     areas summing to the block's width."""
@@ -182,7 +175,13 @@ PIER = textwrap.dedent("""\
     """)
 
 
-def test_results_and_restart_are_bit_identical(tmp_path):
+PIER_3D = PIER.replace('type = "pier"', 'type = "pier_3d"\ndepth = 0.3').replace(
+    "height = 0.6", "course_height = 0.3").replace("mesh_size = 0.075", "mesh_size = 0.15")
+"""The pier in 3D: two courses of two blocks each, split across x and across y in turn."""
+
+
+@pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
+def test_results_and_restart_are_bit_identical(tmp_path, text):
     """A run of two deformable courses on the ground writes the nodes and the contact sides in
     its frames and checkpoints; restarting from a checkpoint in the middle gives the last
     frame bit for bit (two runs on this machine, as tests/results_check.py compares)."""
@@ -190,11 +189,12 @@ def test_results_and_restart_are_bit_identical(tmp_path):
     from saxum.runner import run_scenario
     from saxum.scenario import parse_scenario
 
-    scenario = parse_scenario(PIER)
+    scenario = parse_scenario(text)
     path = tmp_path / "pier.h5"
     run_scenario(scenario, path, quiet=True)
+    model = scenario.build_model()
     with Results(path) as r:
-        assert r.node_x.shape == (r.frame_count, scenario.build_model().fe.node_count, 2)
+        assert r.node_x.shape == (r.frame_count, model.fe.node_count, model.dim)
         last = {"node_x": r.node_x[-1], "node_v": r.node_v[-1], "body_q": r.body_q[-1]}
         contacts = r.contacts(r.frame_count - 1)
         assert (contacts["side_kind"][:, 0] == 1).all()  # every contact has a node candidate
@@ -211,10 +211,11 @@ def test_results_and_restart_are_bit_identical(tmp_path):
             assert np.array_equal(getattr(c, name)[: c.count], value), name
 
 
-def test_stresses_in_results_and_paraview_export(tmp_path):
+@pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
+def test_stresses_in_results_and_paraview_export(tmp_path, text):
     """Results.stresses gives the cell stresses of the stored nodes (the same as the run's
     own), the piers are compressed on average, and the ParaView export writes the triangle
-    meshes with them as a third part."""
+    (3D: tetrahedron) meshes with them as a third part."""
     import meshio
 
     from saxum.results import Results
@@ -222,10 +223,11 @@ def test_stresses_in_results_and_paraview_export(tmp_path):
     from saxum.scenario import parse_scenario
     from saxum.vtk import export_vtk
 
-    scenario = parse_scenario(PIER)
+    scenario = parse_scenario(text)
     path = tmp_path / "pier.h5"
     run_scenario(scenario, path, quiet=True)
     sim = scenario.build_simulation()
+    dim = sim.model.dim
     state = sim.initial_state()
     sim.run(state, 0.06)
     with Results(path) as r:
@@ -233,13 +235,15 @@ def test_stresses_in_results_and_paraview_export(tmp_path):
         blocks = sim.fe.blocks
         own = blocks.stresses(state.node_x, *blocks.frames(state.node_x))[0]
         assert np.array_equal(stored["stress"], own)
-        assert stored["stress"][:, 1].mean() < 0.0  # sigma_yy: compression under the weight
+        # sigma_yy (3D: sigma_zz): compression under the weight
+        assert stored["stress"][:, dim - 1].mean() < 0.0
         assert (stored["compression"] >= 0.0).all() and (stored["tension"] >= 0.0).all()
         pvd = export_vtk(r, tmp_path / "vtk", frames=[-1])
         k = r.frame_count - 1
     assert f"elements_{k:06d}.vtu" in pvd.read_text()
     mesh = meshio.read(tmp_path / "vtk" / "pier" / f"elements_{k:06d}.vtu")
-    assert mesh.cells_dict["triangle"].shape == (len(stored["stress"]), 3)
+    cell = "triangle" if dim == 2 else "tetra"
+    assert mesh.cells_dict[cell].shape == (len(stored["stress"]), dim + 1)
     assert np.allclose(mesh.cell_data["compression"][0], stored["compression"], rtol=1e-12,
                        atol=0.0)
 
@@ -279,6 +283,6 @@ def test_bad_mesh_size_names_the_block(size, match):
 
 
 def test_a_fixed_block_cannot_be_deformable():
-    with pytest.raises(sx.InputError, match="only a free 2D block can be deformable"):
+    with pytest.raises(sx.InputError, match="only a free block can be deformable"):
         ModelBuilder().add_block([(0, 0), (1, 0), (1, 1), (0, 1)], material=STONE,
                                  kind=BodyKind.FIXED)

@@ -39,6 +39,8 @@ _EXPORTS = {
     "StepReport": "steplog",
     "load_scenario": "scenario",
     "run_scenario": "runner",
+    "view_html": "view",
+    "write_view": "view",
 }
 """Each public name: the module that defines it."""
 

@@ -14,6 +14,7 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum plot RESULTS [--frame K | --collapse | --histories [--body NAME]] [--thrust-line]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
+    saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
 
 `saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
 source repository.
@@ -383,6 +384,33 @@ def _export_vtk(args) -> None:
     print(f"ParaView collection: {Path(pvd).resolve()} (open it in ParaView)")
 
 
+def _view(args) -> None:
+    from .errors import ResultsDamageWarning
+    from .results import Results
+    from .view import open_in_browser, write_view
+
+    with warnings.catch_warnings(record=True) as caught:  # said below, and in the page
+        warnings.simplefilter("always", ResultsDamageWarning)
+        r = Results(args.results)
+    with r:
+        if r.status != "finished" or caught:
+            last = f"t = {r.time[-1]:g} s" if r.frame_count else "no frame"
+            why = r.message if r.message.startswith(r.status) else (
+                r.status + (f" - {r.message}" if r.message else ""))
+            print(f"saxum: warning: {args.results} is from a run that did not finish ({why})"
+                  if r.status != "finished"
+                  else f"saxum: warning: {args.results} is damaged ({'; '.join(r.damage)})",
+                  file=sys.stderr)
+            print(f"saxum: warning: the page shows the {r.frame_count} frame(s) it holds, up to "
+                  f"{last}, and says so", file=sys.stderr)
+        out = write_view(r, args.output, every=args.every, blocks=args.blocks)
+    size = out.stat().st_size
+    opened = "" if args.no_open else (
+        ", opened in the default browser" if open_in_browser(out)
+        else ": no browser could be started here; open the file in one")
+    print(f"viewer: {out.resolve()} ({size / 2**20:.1f} MB){opened}")
+
+
 def _periods(text: str) -> list[float]:
     """--periods T1,T2,...: pulse periods [s], each > 0."""
     try:
@@ -434,8 +462,8 @@ def _check_output(args) -> None:
         if out.exists() and not out.is_dir():
             raise InputError(f"-o {out}: is a file; export-vtk writes into a folder")
     elif out.is_dir():
-        raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. "
-                         f"{out / 'results.h5' if args.command == 'run' else out / 'out.png'}")
+        example = {"run": "results.h5", "view": "run.html"}.get(args.command, "out.png")
+        raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. {out / example}")
     elif not out.parent.is_dir():
         raise InputError(f"-o {out}: there is no folder {out.parent}; create it first")
 
@@ -603,6 +631,18 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", type=Path,
                    help="folder for NAME.pvd and NAME/*.vtu (default: the results' folder)")
     p.set_defaults(func=_export_vtk)
+
+    p = sub.add_parser("view", help="interactive 3D viewer of a run in one HTML file (no server, "
+                                    "works offline), opened in the default browser")
+    p.add_argument("results", type=Path, help="results file (HDF5)")
+    p.add_argument("-o", "--output", type=Path, help="HTML file (default: RESULTS.html)")
+    p.add_argument("--no-open", action="store_true", help="write the file, do not open it")
+    p.add_argument("--every", type=_count(10**9, "a stride of output frames"), default=1,
+                   help="every N-th output frame and the last (default 1: all): for a long run")
+    p.add_argument("--blocks", metavar="PATTERN",
+                   help="only the blocks whose name or group matches this glob (e.g. "
+                        "'parapet*'), and the supports: for a large model")
+    p.set_defaults(func=_view)
     return parser
 
 

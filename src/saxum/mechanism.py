@@ -416,15 +416,17 @@ class _Bodies(NamedTuple):
             self.body_vertex_start[b]:self.body_vertex_start[b + 1]])
 
 
-def frame_mechanism(results, frame: int, **options) -> Mechanism:
+def frame_mechanism(results, frame: int, *, contacts: dict | None = None,
+                    **options) -> Mechanism:
     """The mechanism (see mechanism(); same options) of output frame `frame` of a
-    saxum.results.Results: its coordinates, velocities and contacts with their impulses."""
+    saxum.results.Results: its coordinates, velocities and contacts with their impulses
+    (`contacts`: Results.contacts(frame), when the caller has read them already)."""
     k = range(results.frame_count)[frame]
     m = results.model
     bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
                      results.body_name, results.dim, m["body_vertex_start"], m["vertex_local"],
                      m["law_kind"])
-    stored = results.contacts(k)
+    stored = results.contacts(k) if contacts is None else contacts
     contacts = Contacts(results.dim, max(1, stored["gap"].size))
     contacts.count = stored["gap"].size
     for name in Contacts._fields():

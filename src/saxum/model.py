@@ -270,9 +270,10 @@ class ModelBuilder:
         inside the hull means a non-convex block, which is refused).
         density [kg/m^3]: required for FREE blocks, within DENSITY_RANGE; ignored otherwise.
         motion: for DRIVEN blocks, t [s] -> velocity of the centre of mass (see `Motion`).
-        material (2D): an elastic material (saxum.fe.Elastic) makes the block DEFORMABLE, a
-        finite-element mesh of elements of about mesh_size [m] (default: a fifth of the
-        block's smallest side) whose density is the material's.
+        material: an elastic material (saxum.fe.Elastic) makes the block DEFORMABLE, a
+        finite-element mesh (triangles; 3D tetrahedra) of elements of about mesh_size [m]
+        (default: 2D a fifth of the block's smallest side, 3D half its shortest edge) whose
+        density is the material's.
         """
         index = len(self._blocks)
         name = name if name is not None else f"block {index}"
@@ -282,9 +283,9 @@ class ModelBuilder:
         else:
             verts = normalize_polygon(vertices, name=name)
         if material is not None:
-            if kind != BodyKind.FREE or self.dim != 2:
-                raise InputError(f"{name}: only a free 2D block can be deformable (material=); "
-                                 f"this one is {kind.name} in {self.dim}D")
+            if kind != BodyKind.FREE:
+                raise InputError(f"{name}: only a free block can be deformable (material=); "
+                                 f"this one is {kind.name}")
             kind, density = BodyKind.DEFORMABLE, material.density
         elif mesh_size is not None:
             raise InputError(f"{name}: mesh_size is for deformable blocks; give material=")
@@ -309,12 +310,9 @@ class ModelBuilder:
         return index
 
     def set_material(self, group: str, material: Elastic, mesh_size: float | None = None) -> int:
-        """Make every free block of `group` deformable (2D): a finite-element mesh of elements
-        of about mesh_size [m] (default: a fifth of each block's smallest side) of `material`
-        (saxum.fe.Elastic), whose density replaces the block's. Returns how many blocks."""
-        if self.dim != 2:
-            raise InputError(f"materials: deformable blocks are 2D only, group {group!r} is in "
-                             "a 3D model")
+        """Make every free block of `group` deformable: a finite-element mesh of elements of
+        about mesh_size [m] (default as in add_block) of `material` (saxum.fe.Elastic), whose
+        density replaces the block's. Returns how many blocks."""
         if not isinstance(material, Elastic):
             raise InputError(f"materials: group {group!r} needs a saxum.fe.Elastic material, "
                              f"got {material!r}")

@@ -13,7 +13,10 @@ and, with a mechanism, its sliding joints as purple diamonds at their centres of
 Flood water (saxum.flood) is its surface at the frame's time, translucent, drawn over the
 faces under water (their centre below the surface: the ground, the submerged blocks) and
 under those above it, with the flow's direction and speed. An animation keeps the axes,
-colour scale and dot scale of its first frame's look over all frames.
+colour scale and dot scale of its first frame's look over all frames. In a picture of one
+frame, deformable blocks are drawn as their meshes' boundary triangles filled by the largest
+compression of their tetrahedra [MPa], as saxum.plot fills the 2D triangles (an animation
+shows their polyhedra moved by their frames).
 """
 
 from dataclasses import dataclass
@@ -26,6 +29,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from .fe.mesh import boundary_facets
 from .geometry3d import world_points
 from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
 from .model import BodyKind
@@ -92,14 +96,17 @@ def _look_3d(results, ks) -> _Look3d:
 
 
 def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
-                   mechanism: Mechanism | None = None) -> None:
+                   mechanism: Mechanism | None = None, meshes: bool = False) -> None:
+    """meshes: the deformable blocks as their meshes filled by the stress (_draw_elements_3d)
+    instead of their polyhedra moved by their frames."""
     m = results.model
     q = results.body_q[k]
     free = m["body_kind"] == BodyKind.FREE
     points = world_points(q, m["body_vertex_start"], m["vertex_local"])
     fvs, fv = m["face_vertex_start"], m["face_vertex"]
     owner = np.repeat(np.arange(len(q)), np.diff(m["body_face_start"]))
-    keep = np.flatnonzero(~look.floor[owner])
+    hidden = look.floor | (meshes & (m["body_kind"] == BodyKind.DEFORMABLE))
+    keep = np.flatnonzero(~hidden[owner])
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
     moved = np.linalg.norm(q[:, :3] - m["body_q0"][:, :3], axis=1)
     fill = ((0.89, 0.835, 0.72, 1.0) if look.mappable is None  # at rest: sandstone
@@ -131,6 +138,8 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
         if under:
             for flood in floods:
                 _draw_water(ax, flood, t, shown, c0, half)
+    if meshes:
+        _draw_elements_3d(ax, results, k)
     handles = _draw_point_loads(ax, results_point_loads(results), q, look)
     if forces:
         handles = _draw_contacts(ax, frame_contacts(results, k), look, mechanism) + handles
@@ -146,6 +155,19 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     ax.set_zlabel("z [m]")
     ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
                  fontsize=10, wrap=True)
+
+
+def _draw_elements_3d(ax, results, k: int) -> None:
+    """The deformable blocks' boundary triangles at frame k, each filled by the largest
+    compression of its tetrahedron (the smallest principal stress, when negative) [MPa], with
+    its colour bar (saxum.plot's colours for the 2D triangles)."""
+    facets, cell = boundary_facets(results.model["fe_cell_node"], 3)
+    compression = results.stresses(k)["compression"][cell] * 1e-6
+    mappable = ScalarMappable(Normalize(0.0, max(float(compression.max()), 1e-12)), "magma_r")
+    ax.add_collection3d(Poly3DCollection(results.node_x[k][facets],
+                                         facecolors=mappable.to_rgba(compression),
+                                         edgecolors="0.4", linewidths=0.2, zorder=3))
+    ax.figure.colorbar(mappable, ax=ax, shrink=0.6, label="largest compression [MPa]")
 
 
 def _draw_contacts(ax, c: dict, look: _Look3d, mechanism: Mechanism | None) -> list:
@@ -243,7 +265,8 @@ def plot_frame_3d(results, k: int, path: str | PathLike | None = None, *, forces
     look = _look_3d(results, [k])
     fig, ax = _figure(look, figsize)
     _draw_frame_3d(ax, results, k, look, forces,
-                   title if title is not None else results_heading(results), mechanism)
+                   title if title is not None else results_heading(results), mechanism,
+                   meshes=results.node_x is not None)
     if path is not None:
         fig.savefig(path, dpi=dpi)
     return fig

@@ -1064,11 +1064,25 @@ class Results:
         out["force"] = out["impulse"] / self.dt
         return out
 
+    @property
+    def contact_counts(self) -> np.ndarray:
+        """The number of contacts stored at each output frame [frames]."""
+        return np.diff(self._contact_start)
+
+    def view(self, *, every: int = 1, blocks: str | None = None):
+        """An interactive 3D view of the run (saxum.view: the page of `saxum view`), shown
+        inline in a Jupyter notebook; every `every`-th output frame and the last, the blocks
+        whose name or group matches the glob `blocks` (and the supports) or all."""
+        from .view import View, view_html
+
+        return View(view_html(self, every=every, blocks=blocks))
+
     def stresses(self, frame: int) -> dict[str, np.ndarray]:
         """Cell stresses of the deformable blocks at output frame `frame` [Pa], world axes,
         from the stored node positions (saxum.fe.FEBlocks.stresses): "stress" (sxx, syy, sxy)
-        [cells, 3], "principal" ascending [cells, 2], "compression" and "tension" (the largest
-        of each, >= 0) [cells]; {} without deformable blocks."""
+        [cells, 3] (3D: sxx, syy, szz, syz, sxz, sxy [cells, 6]), "principal" ascending
+        [cells, d], "compression" and "tension" (the largest of each, >= 0) [cells]; {}
+        without deformable blocks."""
         if self.node_x is None:
             return {}
         if getattr(self, "_fe_blocks", None) is None:

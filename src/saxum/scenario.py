@@ -625,10 +625,11 @@ _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
 
 
 class MaterialSpec(_Strict):
-    """Makes the free blocks of `groups` deformable (2D; saxum.fe.Elastic, docs/scenario.md):
+    """Makes the free blocks of `groups` deformable (saxum.fe.Elastic, docs/scenario.md):
     Young's modulus E [Pa], Poisson's ratio nu, density [kg/m^3] (replaces the structure's for
     these blocks), Rayleigh damping (alpha [1/s], beta [s]), thickness [m] for plane stress
-    (default: plane strain), mesh_size [m] (default: a fifth of a block's smallest side)."""
+    (2D only; default: plane strain), mesh_size [m] (default: 2D a fifth of a block's smallest
+    side, 3D half its shortest edge)."""
 
     groups: list[str] = Field(min_length=1)
     E: Positive

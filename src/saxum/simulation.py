@@ -71,7 +71,7 @@ class Simulation:
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
-        self.fe = None if model.fe is None else FEKind(model.fe, dt, theta)
+        self.fe = None if model.fe is None else FEKind(model.fe, dt, theta, model.body_q0)
         """The deformable blocks' body kind (saxum.bodies.fe), None without them."""
         self.problem.fe = self.fe
         if self.fe is not None:

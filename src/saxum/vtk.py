@@ -6,10 +6,11 @@
     directory/<stem>/blocks_<frame>.vtu     part 0: one polygon cell per block
     directory/<stem>/contacts_<frame>.vtu   part 1: one vertex cell per contact
 
-and, for results with deformable blocks (2D), part 2:
+and, for results with deformable blocks, part 2:
 
-    directory/<stem>/elements_<frame>.vtu   their triangle meshes, with node displacement and
-                                            velocity and cell stresses [Pa] (Results.stresses)
+    directory/<stem>/elements_<frame>.vtu   their triangle (3D: tetrahedron) meshes, with node
+                                            displacement and velocity and cell stresses [Pa]
+                                            (Results.stresses)
 
 where <stem> is the results file's name without its suffix and <frame> the output frame index
 (6 digits). Points are 3D (z = 0 for 2D results) and vectors have 3 components. Blocks carry cell
@@ -148,20 +149,25 @@ def _faces(res: Results, k: int) -> meshio.Mesh:
 
 
 def _elements(res: Results, k: int) -> meshio.Mesh:
-    """The deformable blocks' meshes at output frame k: triangle cells over the nodes [m],
-    with point data displacement [m] and velocity [m/s], cell data stress (sxx, syy, sxy) and
-    principal (ascending) [Pa], compression and tension (the largest of each, >= 0) [Pa] and
-    body_index."""
+    """The deformable blocks' meshes at output frame k: triangle (3D: tetrahedron) cells over
+    the nodes [m], with point data displacement [m] and velocity [m/s], cell data stress [Pa]
+    (2D: sxx, syy, sxy; 3D: sxx, syy, szz, sxy, syz, sxz, the order of ParaView's symmetric
+    tensors) and principal (ascending) [Pa], compression and tension (the largest of each,
+    >= 0) [Pa] and body_index."""
     m = res.model
     stresses = res.stresses(k)
     owner = m["fe_body"][np.repeat(np.arange(len(m["fe_body"])), np.diff(m["fe_cell_start"]))]
-    cell_data = {"stress": [_pad3(stresses["stress"])],
+    stress = stresses["stress"]
+    # Results' 3D order is Voigt's (xx, yy, zz, yz, xz, xy)
+    stress = _pad3(stress) if res.dim == 2 else stress[:, [0, 1, 2, 5, 3, 4]]
+    cell_data = {"stress": [stress],
                  "principal": [_pad3(stresses["principal"])],
                  "compression": [stresses["compression"]], "tension": [stresses["tension"]],
                  "body_index": [owner.astype(np.int32)]}
     point_data = {"displacement": _pad3(res.node_x[k] - m["fe_node_x0"]),
                   "velocity": _pad3(res.node_v[k])}
-    return meshio.Mesh(_pad3(res.node_x[k]), [("triangle", m["fe_cell_node"])],
+    cell = "triangle" if res.dim == 2 else "tetra"
+    return meshio.Mesh(_pad3(res.node_x[k]), [(cell, m["fe_cell_node"])],
                        point_data=point_data, cell_data=cell_data)
 
 

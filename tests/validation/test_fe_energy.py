@@ -1,4 +1,4 @@
-"""Energy of a deformable block (issue 14, validation "Energy").
+"""Energy of a deformable block (issue 14, validation "Energy"), 2D and 3D.
 
 theta = 1/2 without damping is the trapezoidal rule on the linear system of the co-rotated
 block, which conserves its energy exactly when the frame does not turn [Jean99, sec. 3; any
@@ -11,6 +11,7 @@ steps of sums of order the energy).
 """
 
 import numpy as np
+import pytest
 
 import saxum as sx
 from saxum.fe import Elastic
@@ -18,14 +19,30 @@ from saxum.model import BodyKind, ModelBuilder
 from saxum.simulation import Simulation
 
 G = 9.81
+DROP = 0.002
 
 
-def test_inelastic_bounce_never_gains_energy():
-    b = ModelBuilder(gravity=(0.0, -G))
-    b.add_block([(-1, -0.2), (1, -0.2), (1, 0), (-1, 0)], kind=BodyKind.FIXED, group="ground")
-    drop = 0.002
-    b.add_block([(-0.2, drop), (0.2, drop), (0.2, drop + 0.2), (-0.2, drop + 0.2)],
-                material=Elastic(1.0e7, 0.2, 2000.0), mesh_size=0.05, group="block")
+def _dropped(dim):
+    """A 0.4 x 0.2 (3D: x 0.2) block DROP above fixed ground, as a builder."""
+    if dim == 2:
+        b = ModelBuilder(gravity=(0.0, -G))
+        b.add_block([(-1, -0.2), (1, -0.2), (1, 0), (-1, 0)], kind=BodyKind.FIXED,
+                    group="ground")
+        b.add_block([(-0.2, DROP), (0.2, DROP), (0.2, DROP + 0.2), (-0.2, DROP + 0.2)],
+                    material=Elastic(1.0e7, 0.2, 2000.0), mesh_size=0.05, group="block")
+        return b
+    b = ModelBuilder(dim=3, gravity=(0.0, 0.0, -G))
+    b.add_block([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-0.2, 0)],
+                kind=BodyKind.FIXED, group="ground")
+    b.add_block([(x, y, z) for x in (-0.2, 0.2) for y in (-0.1, 0.1)
+                 for z in (DROP, DROP + 0.2)],
+                material=Elastic(1.0e7, 0.2, 2000.0), mesh_size=0.1, group="block")
+    return b
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_inelastic_bounce_never_gains_energy(dim):
+    b = _dropped(dim)
     law = sx.ContactLaw(friction=0.5)
     b.set_law("block", "ground", law)
     b.set_law("block", "block", law)
@@ -35,7 +52,7 @@ def test_inelastic_bounce_never_gains_energy():
     mass = sim.fe.blocks.node_mass
 
     def energy():
-        potential = G * float(mass @ state.node_x[:, 1])
+        potential = G * float(mass @ state.node_x[:, dim - 1])
         return (sim.fe.kinetic_energy(state.node_v) + sim.fe.strain_energy(state.node_x)
                 + potential)
 

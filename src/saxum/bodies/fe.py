@@ -1,16 +1,18 @@
 """Deformable blocks: the finite-element body kind (issue 14; design-deformable-and-joints.md).
 
-A DEFORMABLE block is a mesh of linear triangles whose node velocities are integrated by the
-same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K, in a co-rotated
-frame per block; the mechanics (meshing, assembly, frames, free velocity, stresses, energies)
-are saxum.fe's (FEBlocks). What is specific to the contact dynamics is here: the model's side
-(FEBodies: meshes, candidates, contact areas), the step's stages for the loop (FEKind), and
-the contact rows of an FE side:
+A DEFORMABLE block is a mesh of linear triangles (3D: tetrahedra) whose node velocities are
+integrated by the same theta-method as the rigid bodies, M~ = M + h theta C + h^2 theta^2 K,
+in a co-rotated frame per block; the mechanics (meshing, assembly, frames, free velocity,
+stresses, energies) are saxum.fe's (FEBlocks). What is specific to the contact dynamics is
+here: the model's side (FEBodies: meshes, candidates, contact areas), the step's stages for
+the loop (FEKind), and the contact rows of an FE side:
 
     U = F v_node - ...   (rows of H* on the node: the contact frame F),
     W_aa += F R G_pp R^T F^T,   v_q += R G_qp R^T F^T dR   (G = M~^-1 in the frame, q in the
     block), [Jean99, sec. 5; design section 3].
-Candidates are boundary nodes (saxum.detection.fe_nodes), antagonists rigid blocks' edges.
+Candidates are boundary nodes (saxum.detection.fe_nodes, .fe_nodes3d), antagonists rigid
+blocks' edges (3D: faces) and other deformable blocks' boundary facets. The 2D kernels here
+are written out for 2 x 2 blocks; saxum.bodies.fe3d has them for any dimension (used in 3D).
 """
 
 from dataclasses import dataclass
@@ -22,14 +24,22 @@ from ..errors import InputError
 from ..fe.blocks import FEBlocks
 from ..fe.material import Elastic
 from ..fe.mesh import Mesh, mesh_polygon
+from ..geometry3d import Polyhedron
+from .fe3d import (
+    fe_contact_rows_nd,
+    fe_end_gaps_nd,
+    frame_quaternions,
+    mesh_polyhedra,
+    principal_axes,
+)
 
 __all__ = ["FEBodies", "FEKind", "build_fe_bodies", "stored_blocks"]
 
 
 @dataclass(frozen=True)
 class FEBodies:
-    """The deformable blocks of a model (2D): their meshes and materials, and what detection
-    reads; nodes are numbered block after block (saxum.fe.FEBlocks' numbering)."""
+    """The deformable blocks of a model (d = 2 or 3): their meshes and materials, and what
+    detection reads; nodes are numbered block after block (saxum.fe.FEBlocks' numbering)."""
 
     body: np.ndarray
     """Body index of each deformable block, shape [n_fe], int32."""
@@ -38,12 +48,15 @@ class FEBodies:
     meshes: tuple[Mesh, ...]
     materials: tuple[Elastic, ...]
     node_x0: np.ndarray
-    """Reference (initial) node positions [m], shape [n_nodes, 2]."""
+    """Reference (initial) node positions [m], shape [n_nodes, d]."""
     node_side: np.ndarray
-    """Half of each of the (up to two) boundary edges at a node, as its outward normal times
-    half its length [m], in the block's reference axes, shape [n_nodes, 2, 2] (zeros inside):
-    a node's contact area on a face of normal n is sum max(0, -n . R s), the part of its
-    tributary boundary that faces the antagonist."""
+    """The node's tributary boundary in the block's reference axes, zeros inside: 2D half of
+    each of the (up to two) boundary edges at the node, as its outward normal times half its
+    length [m], shape [n_nodes, 2, 2]; 3D a third of each boundary triangle at the node, as
+    its outward normal times a third of its area [m^2], shape [n_nodes, K, 3] (K the most
+    triangles at a node, zeros beyond a node's own). A node's contact area on a face of
+    normal n is sum max(0, -n . R s), the part of its tributary boundary that faces the
+    antagonist."""
     boundary_start: np.ndarray
     """Block f's contact candidates are boundary_node[boundary_start[f]:...[f+1]], int64."""
     boundary_node: np.ndarray
@@ -51,8 +64,9 @@ class FEBodies:
     facet_start: np.ndarray
     """Block f's boundary edges are facet_node[facet_start[f]:facet_start[f+1]], int64."""
     facet_node: np.ndarray
-    """Boundary edges (global node numbers, counter-clockwise: outward normal = the edge
-    turned by -90 degrees), shape [n_facets, 2], int64: the antagonist edges."""
+    """Boundary facets (global node numbers), the antagonists: 2D edges, counter-clockwise
+    (outward normal = the edge turned by -90 degrees), shape [n_facets, 2]; 3D triangles (a,
+    b, c) with outward normal along (b - a) x (c - a), shape [n_facets, 3]; int64."""
 
     @property
     def count(self) -> int:
@@ -63,24 +77,24 @@ class FEBodies:
         return len(self.node_x0)
 
 
-def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: list[Elastic],
+def build_fe_bodies(bodies: list[int], shapes: list, materials: list[Elastic],
                     sizes: list[float | None], names: list[str], body_count: int) -> FEBodies:
-    """Mesh each polygon (vertices [k, 2] [m]) with elements of about its size [m] (None: a
-    fifth of its smallest side) with saxum.fe.mesh_polygon."""
-    meshes, sides = [], []
-    for poly, material, size, name in zip(polygons, materials, sizes, names, strict=True):
+    """Mesh each block's shape, a polygon (vertices [k, 2] [m]; saxum.fe.mesh_polygon) or a
+    polyhedron (saxum.geometry3d.Polyhedron; saxum.bodies.fe3d.mesh_polyhedra), with elements
+    of about its size [m] (None: 2D a fifth of its smallest side, 3D half its shortest
+    edge)."""
+    dim = 3 if shapes and isinstance(shapes[0], Polyhedron) else 2
+    for material, name in zip(materials, names, strict=True):
         if not isinstance(material, Elastic):
             raise InputError(f"{name}: material must be a saxum.fe.Elastic, got {material!r}")
-        if size is None:
-            size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).min())
-        mesh = mesh_polygon(poly, size, name=name)
-        meshes.append(mesh)
-        edge = mesh.nodes[mesh.facets[:, 1]] - mesh.nodes[mesh.facets[:, 0]]
-        half = 0.5 * np.column_stack((edge[:, 1], -edge[:, 0]))  # outward: counter-clockwise
-        side = np.zeros((len(mesh.nodes), 2, 2))
-        side[mesh.facets[:, 0], 0] = half  # each boundary node starts one edge, ends another
-        side[mesh.facets[:, 1], 1] = half
-        sides.append(side)
+        try:
+            material.depth(dim)
+        except InputError as error:
+            raise InputError(f"{name}: {error}") from None
+    if dim == 3:
+        meshes, sides = mesh_polyhedra(shapes, sizes, names)
+    else:
+        meshes, sides = _mesh_polygons(shapes, sizes, names)
     node_start = np.cumsum([0] + [len(m.nodes) for m in meshes])
     fe_index = np.full(body_count, -1, dtype=np.int32)
     fe_index[bodies] = np.arange(len(bodies), dtype=np.int32)
@@ -96,6 +110,23 @@ def build_fe_bodies(bodies: list[int], polygons: list[np.ndarray], materials: li
         facet_node=np.concatenate([m.facets + s for m, s in
                                    zip(meshes, node_start, strict=False)]).astype(np.int64),
     )
+
+
+def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]]:
+    """Triangle meshes of the polygons and their node sides [n, 2, 2] (FEBodies.node_side)."""
+    meshes, sides = [], []
+    for poly, size, name in zip(polygons, sizes, names, strict=True):
+        if size is None:
+            size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).min())
+        mesh = mesh_polygon(poly, size, name=name)
+        meshes.append(mesh)
+        edge = mesh.nodes[mesh.facets[:, 1]] - mesh.nodes[mesh.facets[:, 0]]
+        half = 0.5 * np.column_stack((edge[:, 1], -edge[:, 0]))  # outward: counter-clockwise
+        side = np.zeros((len(mesh.nodes), 2, 2))
+        side[mesh.facets[:, 0], 0] = half  # each boundary node starts one edge, ends another
+        side[mesh.facets[:, 1], 1] = half
+        sides.append(side)
+    return meshes, sides
 
 
 def stored_blocks(model: dict) -> FEBlocks:
@@ -116,20 +147,28 @@ def stored_blocks(model: dict) -> FEBlocks:
 class FEKind:
     """The deformable body kind of one simulation (time step h [s], theta [-]): the blocks'
     mechanics (saxum.fe.FEBlocks, M~^-1 for this h and theta), their frames, and the node
-    velocities of the step."""
+    velocities of the step. body_q0: the model's initial body rows (3D: their principal
+    axes, which the blocks' body rows keep turning)."""
 
-    def __init__(self, fe: FEBodies, h: float, theta: float) -> None:
+    def __init__(self, fe: FEBodies, h: float, theta: float,
+                 body_q0: np.ndarray | None = None) -> None:
         self.model = fe
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
         self.rotation = self.blocks.frames(fe.node_x0)[0]
-        """The frame of M~^-1 in the step, per block [n_fe, 2, 2] (FEBlocks.step_frames'
+        """The frame of M~^-1 in the step, per block [n_fe, d, d] (FEBlocks.step_frames'
         rotation_step: the start frame turned on by the block's spin)."""
-        n = fe.node_count
-        self.v_free = np.zeros((n, 2))
+        n, d = fe.node_x0.shape
+        self.dim = d
+        self.axes0 = None if d == 2 else principal_axes(body_q0[fe.body])
+        """3D: the principal axes of each block's body row at the start [n_fe, 3, 3] (the
+        body frame that the co-rotated frame turns: saxum.bodies.fe3d.frame_quaternions)."""
+        self._rows = fe_contact_rows if d == 2 else fe_contact_rows_nd
+        self._end_gaps = fe_end_gaps if d == 2 else fe_end_gaps_nd
+        self.v_free = np.zeros((n, d))
         """Free node velocities of the step [m/s]."""
-        self.v = np.zeros((n, 2))
+        self.v = np.zeros((n, d))
         """Node velocities during and after the contact solve [m/s]."""
-        self.x_pred = np.zeros((n, 2))
+        self.x_pred = np.zeros((n, d))
         """Node positions of the predicted configuration (for detection) [m]."""
 
     def free_velocity(self, node_x: np.ndarray, node_v: np.ndarray,
@@ -149,19 +188,24 @@ class FEKind:
 
     def update(self, node_x: np.ndarray, node_v: np.ndarray, body_q: np.ndarray) -> None:
         """End of step: x += h [(1 - theta) v_i + theta v_i+1], v = v_i+1; the blocks' body
-        rows get their new frames (centre of mass, angle)."""
+        rows get their new frames (centre of mass, angle; 3D quaternion)."""
         self.blocks.update_positions(node_x, node_v, self.v)
         node_v[:] = self.v
         rotation, centroid = self.blocks.frames(node_x)
-        body_q[self.model.body, :2] = centroid
-        body_q[self.model.body, 2] = np.arctan2(rotation[:, 1, 0], rotation[:, 0, 0])
+        body = self.model.body
+        if self.dim == 3:
+            body_q[body, :3] = centroid
+            body_q[body, 3:] = frame_quaternions(rotation, self.axes0)
+            return
+        body_q[body, :2] = centroid
+        body_q[body, 2] = np.arctan2(rotation[:, 1, 0], rotation[:, 0, 0])
 
     def kinetic_energy(self, node_v: np.ndarray) -> float:
-        """1/2 sum v^T M v over the blocks [J per m of depth]."""
+        """1/2 sum v^T M v over the blocks [J; 2D per m of depth]."""
         return float(self.blocks.kinetic_energy(node_v).sum())
 
     def strain_energy(self, node_x: np.ndarray) -> float:
-        """1/2 sum u^T K u over the blocks, u co-rotated [J per m of depth]."""
+        """1/2 sum u^T K u over the blocks, u co-rotated [J; 2D per m of depth]."""
         return float(self.blocks.strain_energy(node_x, *self.blocks.frames(node_x)).sum())
 
     def assemble_contacts(self, problem, v: np.ndarray) -> None:
@@ -169,18 +213,17 @@ class FEKind:
         frame, Delassus block += F G_pp F^T, and the warm start v_node += M~^-1 H R."""
         c = problem.contacts
         b = self.blocks
-        fe_contact_rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse,
-                        problem.count, problem.active, b.node_block, b.node_start, b.inv_start,
-                        b.inv, self.rotation, problem.h_cand, problem.h_ant, problem.delassus,
-                        self.v)
+        self._rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse, problem.count,
+                   problem.active, b.node_block, b.node_start, b.inv_start, b.inv,
+                   self.rotation, problem.h_cand, problem.h_ant, problem.delassus, self.v)
 
     def end_gaps(self, problem, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None,
                  h: float, theta: float) -> tuple[int, float]:
         """ContactProblem.end_gaps for problems with FE sides (no projection: w is None)."""
         c = problem.contacts
-        return fe_end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
-                           problem.h_cand, problem.h_ant, c.gap, problem.count, impulse, v,
-                           self.v, h, theta, problem.gap_end)
+        return self._end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate,
+                              c.antagonist, problem.h_cand, problem.h_ant, c.gap, problem.count,
+                              impulse, v, self.v, h, theta, problem.gap_end)
 
 
 @nb.njit(inline="always")

@@ -7,12 +7,14 @@ import numba as nb
 import numpy as np
 
 from ..bodies import rigid3d
+from ..bodies.fe3d import principal_axes
 from ..bodies.rigid2d import world_geometry
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .fe_nodes import node_contacts
+from .fe_nodes3d import node_contacts_3d
 from .polygons import polygon_contacts
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
 
@@ -150,19 +152,27 @@ class Detector:
         first = contacts.count
         room = int(np.diff(fe.boundary_start).max()) + m.max_vertices
         contacts.reserve(first + len(self._fe_pairs) * room)
+        count = self._node_kernel(q, node_x, first, contacts)
+        order = first + np.argsort(contacts.key[first:count], kind="stable")
+        for name in contacts._fields():
+            array = getattr(contacts, name)
+            array[first:count] = array[order]
+        contacts.count = count
+
+    def _node_kernel(self, q: np.ndarray, node_x: np.ndarray, first: int,
+                     contacts: Contacts) -> int:
+        """Write the node contacts of the deformable pairs from row `first` on
+        (saxum.detection.fe_nodes); returns the new count."""
+        m = self.model
+        fe = m.fe
         key_base = 2 * self.slots * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
-        count = node_contacts(
+        return node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
             fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
             m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
             first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)
-        order = first + np.argsort(contacts.key[first:count], kind="stable")
-        for name in contacts._fields():
-            array = getattr(contacts, name)
-            array[first:count] = array[order]
-        contacts.count = count
 
     def _refresh(self, q: np.ndarray) -> None:
         m = self.model
@@ -276,6 +286,9 @@ class PolyhedronDetector(Detector):
         self._max_faces = int(np.diff(model.body_face_start).max())
         self._max_edges = int(np.diff(model.body_edge_start).max())
         self._max_face_vertices = int(np.diff(model.face_vertex_start).max())
+        self._axes0 = None
+        """Deformable blocks: the principal axes of their body rows at the start [n_fe, 3,
+        3], which their body rows' quaternions turn (saxum.bodies.fe3d.principal_axes)."""
         features = self._max_faces + self._max_edges
         self.slots = SLOTS if model.law_points.max(initial=2) == 2 else 2 * SLOTS + 1
         if float(model.body_count) ** 2 * 2 * features**2 * self.slots >= 2.0**62:
@@ -306,6 +319,32 @@ class PolyhedronDetector(Detector):
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
+        if m.fe is not None:
+            contacts.side_kind[: contacts.count] = 0
+            self._node_contacts(q, contacts)
+
+    def _node_kernel(self, q: np.ndarray, node_x: np.ndarray, first: int,
+                     contacts: Contacts) -> int:
+        """Write the node contacts of the deformable pairs from row `first` on
+        (saxum.detection.fe_nodes3d); returns the new count."""
+        m = self.model
+        fe = m.fe
+        if self._axes0 is None:
+            self._axes0 = principal_axes(m.body_q0[fe.body])
+        features = self._max_faces + self._max_edges
+        key_base = 2 * self.slots * m.body_count ** 2 * features ** 2  # above polyhedron keys
+        if float(key_base) + float(len(node_x) + m.vertex_local.shape[0]) * float(
+                len(self._wn) + len(fe.facet_node)) >= 2.0 ** 62:
+            raise InputError(f"{m.body_count} blocks with {len(node_x)} mesh nodes are too many "
+                             "to number their contacts in 64 bits; use coarser meshes")
+        return node_contacts_3d(
+            self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
+            fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
+            self._wv, self._wn, m.body_face_start, m.face_vertex_start, m.face_vertex,
+            m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base, first,
+            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
+            contacts.side_node, contacts.side_weight)
 
 
 def detector_for(model: Model, settings: DetectionSettings | None = None) -> Detector:

@@ -30,7 +30,7 @@ import numba as nb
 
 from .polygons import _write as _polygon_row
 
-__all__ = ["node_contacts"]
+__all__ = ["candidate_node", "node_contacts", "pair_sides"]
 
 
 @nb.njit(inline="always")
@@ -109,6 +109,28 @@ def _node_area(node_side, p, c, s, nx, ny):
     return a
 
 
+@nb.njit(inline="always")
+def candidate_node(count, p, side_kind, side_node, side_weight):
+    """Row count's candidate side is node p alone (weight 1 in the first of its slots)."""
+    side_kind[count, 0] = 1
+    for k in range(side_node.shape[2]):
+        side_node[count, 0, k] = p
+        side_weight[count, 0, k] = 1.0 if k == 0 else 0.0
+
+
+@nb.njit(inline="always")
+def pair_sides(pairs, pr, fe_index, body_group, group_law):
+    """(fb, ob, law) of pair pr: the block whose boundary nodes are the candidates (of two
+    deformable blocks, the one of lower index), the other body, and the pair's law index (-1
+    when the pair has no deformable block or no law: no contacts)."""
+    i = pairs[pr, 0]
+    j = pairs[pr, 1]
+    fb, ob = (i, j) if fe_index[i] >= 0 else (j, i)
+    if fe_index[fb] < 0:
+        return fb, ob, -1
+    return fb, ob, group_law[body_group[fb], body_group[ob]]
+
+
 @nb.njit(cache=True)
 def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, boundary_node,
                   node_side, facet_start, facet_node, wv, wn, edge_length, body_vertex_start,
@@ -126,13 +148,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
     edges = vertices + facets
     vertex_base = key_base + node_x.shape[0] * edges
     for pr in range(pair_count):
-        i = pairs[pr, 0]
-        j = pairs[pr, 1]
-        if fe_index[i] < 0 and fe_index[j] < 0:
-            continue
-        # the candidate nodes' block fb (the lower index of two deformable ones), the other
-        fb, ob = (i, j) if fe_index[i] >= 0 else (j, i)
-        law_index = group_law[body_group[fb], body_group[ob]]
+        fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
         if law_index < 0:
             continue
         f = fe_index[fb]
@@ -172,11 +188,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                 edge_key = vertices + e
             if rigid:
                 side_kind[count, 1] = 0
-            side_kind[count, 0] = 1
-            side_node[count, 0, 0] = p
-            side_node[count, 0, 1] = p
-            side_weight[count, 0, 0] = 1.0
-            side_weight[count, 0, 1] = 0.0
+            candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * edges + edge_key, law_index, x, y, nx, ny, g,
                    _node_area(node_side, p, cf, sf, nx, ny), candidate, antagonist, key, law,
                    point, frame, gap, area)

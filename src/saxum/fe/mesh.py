@@ -18,7 +18,7 @@ from scipy.spatial import Delaunay
 
 from saxum.errors import InputError, plain
 
-__all__ = ["DEFAULT_MAX_NODES", "Mesh", "mesh_polygon", "mesh_polyhedron"]
+__all__ = ["DEFAULT_MAX_NODES", "Mesh", "boundary_facets", "mesh_polygon", "mesh_polyhedron"]
 
 DEFAULT_MAX_NODES = 1000
 """Largest number of nodes of one block's mesh unless max_nodes says otherwise: M~^-1 is stored
@@ -91,8 +91,14 @@ def _signed_volumes(nodes, cells):
 
 
 def _boundary_facets(cells, dim):
-    """Faces of exactly one (positive) cell, oriented outward. In a positive simplex the face
-    opposite vertex k, with the vertex order below, has the outward orientation."""
+    """Faces of exactly one (positive) cell, oriented outward (boundary_facets)."""
+    return boundary_facets(cells, dim)[0]
+
+
+def boundary_facets(cells, dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """(facets [f, dim], cell [f]): the faces of exactly one of the positive simplices
+    `cells` [m, dim + 1], oriented outward, and the index of that cell. In a positive simplex
+    the face opposite vertex k, with the vertex order below, has the outward orientation."""
     if dim == 2:
         local = np.array([[1, 2], [2, 0], [0, 1]])
     else:
@@ -100,7 +106,8 @@ def _boundary_facets(cells, dim):
     faces = cells[:, local].reshape(-1, dim)
     _, index, counts = np.unique(np.sort(faces, axis=1), axis=0, return_index=True,
                                  return_counts=True)
-    return faces[np.sort(index[counts == 1])]
+    outer = np.sort(index[counts == 1])
+    return faces[outer], outer // (dim + 1)
 
 
 def _check_size(name, size, diameter):

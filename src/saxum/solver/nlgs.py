@@ -48,6 +48,7 @@ from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .nlgs_fe import nlgs_fe_2d
+from .nlgs_fe3d import nlgs_fe_3d
 from .problem import ContactProblem
 from .velocity_change import change_ratio, change_sums
 
@@ -182,12 +183,13 @@ class NLGS(ContactSolver):
         c = problem.contacts
         kind = problem.fe
         b = kind.blocks
-        iterations, error = nlgs_fe_2d(
+        sweep = nlgs_fe_2d if problem.model.dim == 2 else nlgs_fe_3d
+        iterations, error = sweep(
             c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
             problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
             self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
             c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
-            np.repeat(b.node_mass[:, None], 2, axis=1), kind.v_free, kind.v,
+            np.repeat(b.node_mass[:, None], b.dim, axis=1), kind.v_free, kind.v,
             np.empty_like(kind.v), self.tolerance, self.max_iterations, self.relaxation)
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)

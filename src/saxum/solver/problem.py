@@ -97,6 +97,8 @@ class ContactProblem:
                       self.friction, self.active)
             _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
                    m.body_inv_mass, c.impulse, v)
+            if self.fe is not None:
+                self.fe.assemble_contacts(self, v)
         if self.joint_laws:
             law_terms(c.candidate, c.antagonist, c.law, c.gap, c.area, c.slip, c.damage,
                       c.history, k, self.h_cand, self.h_ant, v_begin, m.law_kind,

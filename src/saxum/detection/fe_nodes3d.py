@@ -1,0 +1,287 @@
+"""Narrow phase of deformable blocks in 3D, saxum.detection.fe_nodes' rules with faces for
+edges: a point is a boundary node of a deformable block or a vertex of a rigid polyhedron, a
+face is a rigid polyhedron's face or a boundary triangle of a deformable block.
+
+    deformable - rigid:       the block's boundary nodes against the polyhedron's faces, and
+                              the polyhedron's vertices against the block's triangles;
+    deformable - deformable:  the boundary nodes of the block of lower index against the
+                              other's triangles.
+
+For a point x outside a convex block, the largest signed distance to its faces' planes,
+g = max_f n_f . (x - a_f), is the distance to the nearest face when x projects into that face
+(a deformable block is taken as convex, as its undeformed shape is; among its coplanar
+triangles, the one x projects into); a point within `alert` of it becomes a contact on that
+face: frame (t, n, s) with n the face's outward normal, t along its first edge and s = t x n
+(saxum.detection.polyhedra's frame), point = x. A point that projects outside the face is left
+to the face's edges and corners (a rigid corner against a deformable block is a contact of
+its own; a rigid edge crossing a deformable block's edge is not detected). Sides: a node is
+side_node with weight 1; a triangle is its three nodes with the barycentric coordinates of
+the projection of x.
+
+Area: a node stands for the part of its tributary boundary (a third of each adjacent boundary
+triangle) that faces the face, sum max(0, -n . R s) over its triangles' shares s (outward
+normal times a third of the area, saxum.bodies.fe.FEBodies.node_side, turned by the block's
+frame R); a rigid vertex for nothing (0), as in 2D.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+from .fe_nodes import candidate_node, pair_sides
+from .polyhedra import _write as _polyhedron_row
+
+__all__ = ["node_contacts_3d"]
+
+
+@nb.njit(inline="always")
+def _nearest_face(x, y, z, f0, f1, wv, wn, fvs, fv, tie):
+    """(largest signed distance g [m], its face, or -1 where x projects outside it) of point
+    (x, y, z) over the faces f0..f1 of a rigid polyhedron (world vertices wv, outward unit
+    normals wn, face rings fvs/fv counter-clockwise seen from outside)."""
+    best = -1
+    g = -1e300
+    for f in range(f0, f1):
+        a = fv[fvs[f]]
+        d = wn[f, 0] * (x - wv[a, 0]) + wn[f, 1] * (y - wv[a, 1]) + wn[f, 2] * (z - wv[a, 2])
+        if d > g:
+            g = d
+            best = f
+    nx, ny, nz = wn[best, 0], wn[best, 1], wn[best, 2]
+    ring0 = fvs[best]
+    ring1 = fvs[best + 1]
+    for k in range(ring0, ring1):
+        a = fv[k]
+        b = fv[k + 1] if k + 1 < ring1 else fv[ring0]
+        ex = wv[b, 0] - wv[a, 0]
+        ey = wv[b, 1] - wv[a, 1]
+        ez = wv[b, 2] - wv[a, 2]
+        # n x e points into a counter-clockwise face: its distance from the edge's line
+        ix = ny * ez - nz * ey
+        iy = nz * ex - nx * ez
+        iz = nx * ey - ny * ex
+        inside = ix * (x - wv[a, 0]) + iy * (y - wv[a, 1]) + iz * (z - wv[a, 2])
+        if inside < -tie * math.sqrt(ex * ex + ey * ey + ez * ez):
+            return g, -1
+    return g, best
+
+
+@nb.njit(inline="always")
+def _triangle(node_x, facet_node, f):
+    """(unit outward normal, twice the area [m^2]) of boundary triangle f on node_x."""
+    a = facet_node[f, 0]
+    b = facet_node[f, 1]
+    c = facet_node[f, 2]
+    ux = node_x[b, 0] - node_x[a, 0]
+    uy = node_x[b, 1] - node_x[a, 1]
+    uz = node_x[b, 2] - node_x[a, 2]
+    vx = node_x[c, 0] - node_x[a, 0]
+    vy = node_x[c, 1] - node_x[a, 1]
+    vz = node_x[c, 2] - node_x[a, 2]
+    nx = uy * vz - uz * vy
+    ny = uz * vx - ux * vz
+    nz = ux * vy - uy * vx
+    twice = math.sqrt(nx * nx + ny * ny + nz * nz)
+    return nx / twice, ny / twice, nz / twice, twice
+
+
+@nb.njit(inline="always")
+def _edge_coordinate(node_x, p, q, x, y, z, nx, ny, nz, twice):
+    """Barycentric coordinate [-] of (x, y, z) projected on a triangle of normal n and twice
+    the area `twice`, for the vertex opposite edge (p, q) (p to q counter-clockwise), and
+    the point's distance from that edge's line [m] (positive inside)."""
+    ex = node_x[q, 0] - node_x[p, 0]
+    ey = node_x[q, 1] - node_x[p, 1]
+    ez = node_x[q, 2] - node_x[p, 2]
+    rx = x - node_x[p, 0]
+    ry = y - node_x[p, 1]
+    rz = z - node_x[p, 2]
+    s = nx * (ey * rz - ez * ry) + ny * (ez * rx - ex * rz) + nz * (ex * ry - ey * rx)
+    return s / twice, s / math.sqrt(ex * ex + ey * ey + ez * ez)
+
+
+@nb.njit(inline="always")
+def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, weight):
+    """(outside [m], g [m], facet) of point (x, y, z) against the boundary triangles f0..f1
+    of a deformable block (saxum.detection.fe_nodes._nearest_facet in 3D): outside the
+    largest signed distance over all triangles, g and the facet the largest over those into
+    which the point projects (within tie), ties broken by the normal most opposed to the
+    point's own outward direction (mx, my, mz); weight [3] gets the barycentric coordinates
+    of the projection on the chosen facet (clamped to the triangle). Facet -1: none."""
+    best = -1
+    g = -1e300
+    g_onto = -1e300
+    facing = 0.0
+    for f in range(f0, f1):
+        nx, ny, nz, twice = _triangle(node_x, facet_node, f)
+        a = facet_node[f, 0]
+        b = facet_node[f, 1]
+        c = facet_node[f, 2]
+        d = nx * (x - node_x[a, 0]) + ny * (y - node_x[a, 1]) + nz * (z - node_x[a, 2])
+        g = max(g, d)
+        la, da = _edge_coordinate(node_x, b, c, x, y, z, nx, ny, nz, twice)
+        lb, db = _edge_coordinate(node_x, c, a, x, y, z, nx, ny, nz, twice)
+        lc, dc = _edge_coordinate(node_x, a, b, x, y, z, nx, ny, nz, twice)
+        if da < -tie or db < -tie or dc < -tie:
+            continue
+        dot = nx * mx + ny * my + nz * mz
+        if d > g_onto + tie or (d >= g_onto - tie and dot < facing):
+            g_onto = d
+            best = f
+            facing = dot
+            la = max(la, 0.0)
+            lb = max(lb, 0.0)
+            lc = max(lc, 0.0)
+            total = la + lb + lc
+            weight[0] = la / total
+            weight[1] = lb / total
+            weight[2] = lc / total
+    return g, g_onto, best
+
+
+@nb.njit(inline="always")
+def _block_rotation(q, axes0, body, f, r):
+    """r = R_q R0^T [3, 3]: the turn of deformable block f (body `body`) from its reference,
+    R_q its body row's rotation (quaternion q[body, 3:]) and R0 = axes0[f] its reference."""
+    w, x, y, z = q[body, 3], q[body, 4], q[body, 5], q[body, 6]
+    rq = np.array([[1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)],
+                   [2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)],
+                   [2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)]])
+    r[:] = rq @ axes0[f].T
+
+
+@nb.njit(inline="always")
+def _node_side_sum(node_side, p, r, nx, ny, nz):
+    """(part of node p's tributary boundary facing the normal n [m^2], its outward direction
+    sum R s [m^2] as three numbers) (module doc)."""
+    a = 0.0
+    mx = my = mz = 0.0
+    for k in range(node_side.shape[1]):
+        s0 = node_side[p, k, 0]
+        s1 = node_side[p, k, 1]
+        s2 = node_side[p, k, 2]
+        sx = r[0, 0] * s0 + r[0, 1] * s1 + r[0, 2] * s2
+        sy = r[1, 0] * s0 + r[1, 1] * s1 + r[1, 2] * s2
+        sz = r[2, 0] * s0 + r[2, 1] * s1 + r[2, 2] * s2
+        a += max(0.0, -(nx * sx + ny * sy + nz * sz))
+        mx += sx
+        my += sy
+        mz += sz
+    return a, mx, my, mz
+
+
+@nb.njit(inline="always")
+def _write(count, cand, ant, key_value, law_index, x, y, z, tx, ty, tz, nx, ny, nz, g,
+           area_value, candidate, antagonist, key, law, point, frame, gap, area):
+    """Row count of the contact arrays (saxum.detection.polyhedra's row: t along the face's
+    first edge, made unit; s = t x n) and its area [m^2]."""
+    norm = math.sqrt(tx * tx + ty * ty + tz * tz)
+    _polyhedron_row(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
+                    key_value, law_index, x, y, z, tx / norm, ty / norm, tz / norm, nx, ny, nz,
+                    g)
+    area[count] = area_value
+
+
+@nb.njit(inline="always")
+def _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight):
+    """The antagonist side of row count: triangle e's nodes with the weights [3]."""
+    side_kind[count, 1] = 1
+    for k in range(3):
+        side_node[count, 1, k] = facet_node[e, k]
+        side_weight[count, 1, k] = weight[k]
+
+
+@nb.njit(cache=True)
+def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
+                     boundary_node, node_side, facet_start, facet_node, wv, wn, face_start, fvs,
+                     fv, body_vertex_start, body_group, group_law, alert, key_base, count,
+                     candidate, antagonist, key, law, point, frame, gap, area, side_kind,
+                     side_node, side_weight):
+    """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
+    from row `count` on; returns the new count. axes0 [n_fe, 3, 3]: the principal axes of the
+    blocks' body rows at the start (saxum.bodies.fe3d.principal_axes). Keys above key_base,
+    distinct per (point, face): node p against face or facet e, key_base + p E + e' with e' =
+    e for a rigid face and F_r + e for a facet (F_r rigid faces, E = F_r + facets); a rigid
+    vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays must
+    have room for every boundary node and vertex of every pair."""
+    tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
+    faces = wn.shape[0]
+    facets = facet_node.shape[0]
+    features = faces + facets
+    vertex_base = key_base + node_x.shape[0] * features
+    r = np.empty((3, 3))
+    weight = np.empty(3)
+    for pr in range(pair_count):
+        fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
+        if law_index < 0:
+            continue
+        f = fe_index[fb]
+        _block_rotation(q, axes0, fb, f, r)
+        rigid = fe_index[ob] < 0
+        for m in range(boundary_start[f], boundary_start[f + 1]):
+            p = boundary_node[m]
+            x = node_x[p, 0]
+            y = node_x[p, 1]
+            z = node_x[p, 2]
+            if rigid:
+                g, e = _nearest_face(x, y, z, face_start[ob], face_start[ob + 1], wv, wn, fvs,
+                                     fv, tie)
+                if e < 0 or g > alert:
+                    continue
+                nx, ny, nz = wn[e, 0], wn[e, 1], wn[e, 2]
+                a0 = fv[fvs[e]]
+                a1 = fv[fvs[e] + 1]
+                tx = wv[a1, 0] - wv[a0, 0]
+                ty = wv[a1, 1] - wv[a0, 1]
+                tz = wv[a1, 2] - wv[a0, 2]
+                side_kind[count, 1] = 0
+                for k in range(3):
+                    side_node[count, 1, k] = 0
+                    side_weight[count, 1, k] = 0.0
+                face_key = e
+            else:
+                o = fe_index[ob]
+                mx, my, mz = _node_side_sum(node_side, p, r, 0.0, 0.0, 0.0)[1:]
+                outside, g, e, = _nearest_facet(x, y, z, mx, my, mz, facet_start[o],
+                                                facet_start[o + 1], node_x, facet_node, tie,
+                                                weight)
+                if e < 0 or outside > alert:
+                    continue
+                nx, ny, nz = _triangle(node_x, facet_node, e)[:3]
+                tx = node_x[facet_node[e, 1], 0] - node_x[facet_node[e, 0], 0]
+                ty = node_x[facet_node[e, 1], 1] - node_x[facet_node[e, 0], 1]
+                tz = node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2]
+                _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
+                face_key = faces + e
+            candidate_node(count, p, side_kind, side_node, side_weight)
+            _write(count, fb, ob, key_base + p * features + face_key, law_index, x, y, z, tx,
+                   ty, tz, nx, ny, nz, g, _node_side_sum(node_side, p, r, nx, ny, nz)[0],
+                   candidate, antagonist, key, law, point, frame, gap, area)
+            count += 1
+        if not rigid:
+            continue
+        # the rigid polyhedron's corners against the deformable block's triangles
+        for k in range(body_vertex_start[ob], body_vertex_start[ob + 1]):
+            x = wv[k, 0]
+            y = wv[k, 1]
+            z = wv[k, 2]
+            outside, g, e = _nearest_facet(x, y, z, 0.0, 0.0, 0.0, facet_start[f],
+                                           facet_start[f + 1], node_x, facet_node, tie, weight)
+            if e < 0 or outside > alert:
+                continue
+            if weight[0] == 1.0 or weight[1] == 1.0 or weight[2] == 1.0:
+                continue  # on a node: the node's own contact on the polyhedron's face holds it
+            nx, ny, nz = _triangle(node_x, facet_node, e)[:3]
+            side_kind[count, 0] = 0
+            for c in range(3):
+                side_node[count, 0, c] = 0
+                side_weight[count, 0, c] = 0.0
+            _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
+            _write(count, ob, fb, vertex_base + k * facets + e, law_index, x, y, z,
+                   node_x[facet_node[e, 1], 0] - node_x[facet_node[e, 0], 0],
+                   node_x[facet_node[e, 1], 1] - node_x[facet_node[e, 0], 1],
+                   node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2], nx, ny, nz, g,
+                   0.0, candidate, antagonist, key, law, point, frame, gap, area)
+            count += 1
+    return count
