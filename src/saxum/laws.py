@@ -33,14 +33,20 @@ parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_loc
   the NSCD method, NSCD.md; V. Acary & B. Brogliato, Numerical Methods for Nonsmooth
   Dynamical Systems, Springer 2008, sec. 7: a smooth force in parallel with the non-smooth
   law).
-- COHESIVE: a mortar joint, a bond in parallel with the gap law's Signorini-Coulomb contact
-  (the adhesion-friction coupling of M. Raous, L. Cangemi & M. Cocu, CMAME 177 (1999) 383-399,
-  and F. Monerie & V. Acary, Rev. Eur. Elem. Finis 10 (2001) 489-503). With d in [0, 1] the
-  damage, the bond's stresses are sigma_b = -(1 - d) k_n g (tension where the joint opens,
-  g > 0) and tau_b = -(1 - d) k_t s, s the tangential jump since bonding; compression and
-  friction are the contact's, so a fully damaged joint (d = 1) is a Coulomb joint, and the
-  intact joint's shear strength under a normal stress sigma is c + mu sigma (Mohr-Coulomb with
-  a tension cut-off f_t). Damage follows the bilinear mixed-mode law of P.P. Camanho &
+- COHESIVE: a mortar joint, a bond in parallel with a Coulomb contact (the adhesion-friction
+  coupling of M. Raous, L. Cangemi & M. Cocu, CMAME 177 (1999) 383-399, and F. Monerie &
+  V. Acary, Rev. Eur. Elem. Finis 10 (2001) 489-503). With d in [0, 1] the damage and g the
+  gap (g > 0 open), the joint's normal stress (compression > 0) is
+      sigma = -k_n g (g <= 0, the contact's),   sigma = -(1 - d) k_n g (g > 0, the bond's),
+  so the intact joint (d = 0) is elastic with the same k_n in tension and compression, as
+  the interface of P.B. Lourenco & J.G. Rots, "Multisurface interface model for analysis of
+  masonry structures", J. Eng. Mech. 123 (1997) 660-668, is until it cracks: its stress
+  under a moment is linear (Navier's). The bond's shear stress is tau_b = -(1 - d) k_t s, s
+  the tangential jump since bonding, in parallel with Coulomb friction mu sigma on the
+  contact's compression, so the intact joint's shear strength under sigma is c + mu sigma
+  (Mohr-Coulomb with a tension cut-off f_t), and a fully damaged joint (d = 1) is a Coulomb
+  joint, still elastic (k_n) in compression as Lourenco and Rots' interface stays.
+  Damage follows the bilinear mixed-mode law of P.P. Camanho &
   C.G. Davila, "Mixed-mode decohesion finite elements for the simulation of delamination in
   composite materials", NASA/TM-2002-211737, with the openings scaled by the onset openings
   delta_n = f_t / k_n, delta_t = c / k_t (so that k_n and k_t may differ):
@@ -55,7 +61,10 @@ parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_loc
   So pure mode I peaks at f_t and dissipates G_I per unit area, pure mode II at c and G_II.
   lambda_I >= 1 and lambda_II >= 1 are needed (else the softening snaps back):
   G_I >= f_t^2 / (2 k_n), G_II >= c^2 / (2 k_t). Joints closed at the start are intact;
-  contacts that appear later start fully damaged (a joint does not heal).
+  contacts that appear later start fully damaged (a joint does not heal) and, having no
+  mortar, are the gap law's rigid Coulomb contacts. No damping: a load applied at once sets
+  a bonded assembly vibrating on its joints, which theta = 1/2 (energy-conserving for a
+  spring) keeps; quasi-static studies use theta = 1 or loads that rise smoothly.
 """
 
 import math

@@ -69,7 +69,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         "detection.detector._motion_since": (f2, f2, f1, f1, f1),
         "detection.broadphase.bounding_boxes": (f2, i32_1, F, f2, f2),
         "integrator.diagonal_free_velocity": (f2, f2, f2, F, f2),
-        "solver.projection._projection_targets": (i32_1, f1, I, i8_1, F, f1, b1),
+        "solver.projection._projection_targets": (i32_1, f1, I, i8_1, f2, F, f1, b1),
         "bodies.rigid2d.update_positions": (f2, f2, f2, F, F),
     }}
 

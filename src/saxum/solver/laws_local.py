@@ -17,18 +17,32 @@ U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area
   / (theta^2 h). So W' = W + diag(C) and the shift (b_t, b_n) [V. Acary & B. Brogliato,
   Numerical Methods for Nonsmooth Dynamical Systems, Springer 2008, sec. 7].
 - parallel part (VISCOUS_COULOMB, COHESIVE): R = R_d + R_l, R_l = -D U - e with D diagonal,
-  R_d Signorini-Coulomb (the gap law's b_n) on U. Eliminating U = W R + q:
+  R_d Signorini-Coulomb on U. Eliminating U = W R + q:
       U = W' R_d + q',  W' = (I + W D)^-1 W,  q' = (I + W D)^-1 (q - W e),
-  then R = R_d - D U - e. Viscous: D_t = h A eta. Cohesive bond with beta = 1 - d:
-  D = beta theta^2 h^2 A diag(k_t, k_n), e = beta h A (k_t (s + theta (1 - theta) h U^b_t),
-  k_n (g - (1 - theta)^2 h U^b_n)), i.e. the bond's impulse -beta h A k (s_theta, g_theta).
+  then R = R_d - D U - e. Viscous: D_t = h A eta, R_d the gap law's (its b_n).
+- COHESIVE (a bonded joint; beta = 1 - d): the normal stress is k_n (-g_theta) in compression
+  and -beta k_n g_theta in tension (saxum.laws), a kink at g_theta = 0 solved as two
+  branches. Compression: R_d is the compliant contact, ELASTIC's with c_n = 0 (C_n added to
+  W'_nn, b_n = g_0 / (theta^2 h), g_0 = g - (1 - theta)^2 h U^b_n), with Coulomb friction,
+  in parallel with the bond's shear spring D_t = beta theta^2 h^2 A k_t,
+  e_t = beta h A k_t (s + theta (1 - theta) h U^b_t). If its solution has R_d,n > 0 the
+  joint is closed and that is the solution; else (open) the tension branch: the bond alone,
+  R = -(I + D W)^-1 (D q + e) with D_n = beta theta^2 h^2 A k_n, e_n = beta h A k_n g_0,
+  linear in the kernel's u: R = T u + r. Since the law is monotone, an open compression
+  branch (g_theta >= 0 with no normal force) stays open when the bond pulls (g_theta shrinks
+  by a positive factor and does not change sign). A fully damaged bonded joint has only the
+  compression branch (an ELASTIC contact with k_t = 0); a contact that was never bonded is
+  the gap law's (flag 0), and only those are projected (saxum.solver.projection).
 
-`law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do):
-[flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim)];
+`law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do; 2: a
+bonded COHESIVE joint with a tension branch; 1: the others):
+[flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim),
+T (dim x dim), r (dim)];
 the sweep kernels visit the flagged rows after the dry ones and call `law_solve_2d` /
 `law_solve_3d`: u' = P u + s'' (u the kernel's local velocity with b_n added, so
 s'' = -P W e + b - P b), the dry solve on W', then R = R_d - D U - e with
-U = W' R_d + u' - b. For compliance, P = I, D = e = 0.
+U = W' R_d + u' - b (flag 2 and R_d,n = 0: R = T u + r instead). For compliance, P = I,
+D = e = 0.
 `update_joints` advances the state after the solve (slip, history, damage: saxum.laws).
 """
 
@@ -53,8 +67,8 @@ _F_T, _COH, _G_I, _G_II = (int(Parameter.F_T), int(Parameter.COHESION), int(Para
 
 
 def law_map_width(dim: int) -> int:
-    """Columns of a law_map row: flag, W', P, s'', D, e."""
-    return 1 + 2 * dim * dim + 3 * dim
+    """Columns of a law_map row: flag, W', P, s'', D, e, T, r."""
+    return 1 + 3 * dim * dim + 4 * dim
 
 
 @nb.njit(inline="always")
@@ -66,13 +80,15 @@ def _local(h_cand, h_ant, a, r, c, b, v):
 
 
 @nb.njit(cache=True)
-def law_terms(cand, ant, law, gap, area, slip, damage, count, h_cand, h_ant, v_begin, law_kind,
-              law_parameter, h, theta, delassus, bias, law_map):
-    """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones in
-    bias [m/s]; other rows get flag 0. delassus [1/kg] is W, left as it is."""
+def law_terms(cand, ant, law, gap, area, slip, damage, history, count, h_cand, h_ant, v_begin,
+              law_kind, law_parameter, h, theta, delassus, bias, law_map):
+    """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones and
+    bonded COHESIVE ones (damage < 1, or history > 0: bonded once) in bias [m/s]; other rows
+    get flag 0. delassus [1/kg] is W, left as it is."""
     dim = delassus.shape[1]
     o_w, o_p = 1, 1 + dim * dim
     o_s, o_d, o_e = 1 + 2 * dim * dim, 1 + 2 * dim * dim + dim, 1 + 2 * dim * dim + 2 * dim
+    o_x, o_r = 1 + 2 * dim * dim + 3 * dim, 1 + 3 * dim * dim + 3 * dim
     ub = np.empty(dim)
     dd = np.empty(dim)
     ee = np.empty(dim)
@@ -87,13 +103,13 @@ def law_terms(cand, ant, law, gap, area, slip, damage, count, h_cand, h_ant, v_b
             continue
         p = law_parameter[law[a]]
         beta = 1.0 - damage[a]
-        if kind == _COHESIVE and beta <= 0.0:
-            continue  # fully damaged: a Coulomb contact
+        if kind == _COHESIVE and beta <= 0.0 and history[a] <= 0.0:
+            continue  # never bonded (saxum.contacts): a gap-law Coulomb contact
         c = cand[a]
         b = ant[a]
         for r in range(dim):
             ub[r] = _local(h_cand, h_ant, a, r, c, b, v_begin)
-        row[0] = 1.0
+        row[0] = 2.0 if kind == _COHESIVE and beta > 0.0 else 1.0
         for r in range(dim * dim):
             row[o_p + r] = 0.0
         for r in range(dim):
@@ -120,34 +136,60 @@ def law_terms(cand, ant, law, gap, area, slip, damage, count, h_cand, h_ant, v_b
             dd[r] = 0.0
             ee[r] = 0.0
             bb[r] = 0.0
-        bb[1] = bias[a]
         if kind == _VISCOUS:
+            bb[1] = bias[a]
             for r in range(0, dim, 2):
                 dd[r] = h * area_a * p[_ETA]
-        else:
-            scale = beta * h * area_a
-            for j in range(dim - 1):
-                r = 0 if j == 0 else 2
-                dd[r] = scale * theta * theta * h * p[_K_T]
-                ee[r] = scale * p[_K_T] * (slip[a, j] + theta * (1.0 - theta) * h * ub[r])
-            dd[1] = scale * theta * theta * h * p[_K_N]
-            ee[1] = scale * p[_K_N] * (gap[a] - (1.0 - theta) ** 2 * h * ub[1])
+            _parallel(delassus[a], dd, ee, bb, m, row, o_w, o_p, o_s, o_d, o_e)
+            continue
+        # COHESIVE's compression branch: the contact part is compliant, k_n (ELASTIC's with
+        # c_n = 0), in parallel with the bond's shear spring
+        g0 = gap[a] - (1.0 - theta) ** 2 * h * ub[1]
+        bb[1] = bias[a] = g0 / (theta * theta * h)
+        scale = beta * h * area_a
+        for j in range(dim - 1):
+            r = 0 if j == 0 else 2
+            dd[r] = scale * theta * theta * h * p[_K_T]
+            ee[r] = scale * p[_K_T] * (slip[a, j] + theta * (1.0 - theta) * h * ub[r])
+        _parallel(delassus[a], dd, ee, bb, m, row, o_w, o_p, o_s, o_d, o_e)
+        row[o_w + dim + 1] += 1.0 / (theta * theta * h * h * area_a * p[_K_N])
+        if beta <= 0.0:
+            continue
+        # tension branch: the bond alone, R = -(I + D W)^-1 (D q + e) with q = u - b
+        dd[1] = scale * theta * theta * h * p[_K_N]
+        ee[1] = scale * p[_K_N] * g0
         for r in range(dim):
             for s in range(dim):
-                m[r, s] = (1.0 if r == s else 0.0) + delassus[a, r, s] * dd[s]
-        pm = np.linalg.inv(m)
-        wp = pm @ delassus[a]
-        we = delassus[a] @ ee
+                m[r, s] = (1.0 if r == s else 0.0) + dd[r] * delassus[a, r, s]
+        mi = np.linalg.inv(m)
         for r in range(dim):
-            row[o_d + r] = dd[r]
-            row[o_e + r] = ee[r]
-            shift = bb[r]
+            lin = 0.0
             for s in range(dim):
-                row[o_p + r * dim + s] = pm[r, s]
-                # W' is symmetric, (W^-1 + D)^-1: keep it so against round-off
-                row[o_w + r * dim + s] = 0.5 * (wp[r, s] + wp[s, r])
-                shift -= pm[r, s] * (we[s] + bb[s])
-            row[o_s + r] = shift
+                row[o_x + r * dim + s] = -mi[r, s] * dd[s]
+                lin += mi[r, s] * (dd[s] * bb[s] - ee[s])
+            row[o_r + r] = lin
+
+
+@nb.njit(inline="always")
+def _parallel(w, dd, ee, bb, m, row, o_w, o_p, o_s, o_d, o_e):
+    """law_map's W', P, s'', D, e of a parallel part D, e and shift bb (module doc)."""
+    dim = w.shape[0]
+    for r in range(dim):
+        for s in range(dim):
+            m[r, s] = (1.0 if r == s else 0.0) + w[r, s] * dd[s]
+    pm = np.linalg.inv(m)
+    wp = pm @ w
+    we = w @ ee
+    for r in range(dim):
+        row[o_d + r] = dd[r]
+        row[o_e + r] = ee[r]
+        shift = bb[r]
+        for s in range(dim):
+            row[o_p + r * dim + s] = pm[r, s]
+            # W' is symmetric, (W^-1 + D)^-1: keep it so against round-off
+            row[o_w + r * dim + s] = 0.5 * (wp[r, s] + wp[s, r])
+            shift -= pm[r, s] * (we[s] + bb[s])
+        row[o_s + r] = shift
 
 
 @nb.njit(inline="always")
@@ -159,6 +201,8 @@ def law_solve_2d(m, ut, un, bn, inv_nn, inv_tn, inv_tt, slide_plus, slide_minus,
     qn = m[7] * ut + m[8] * un + m[10]
     rdt, rdn = solve_factored_contact_2d(m[1], m[2], m[4], inv_nn, inv_tn, inv_tt, slide_plus,
                                          slide_minus, qt, qn, mu)
+    if m[0] > 1.5 and rdn <= 0.0:  # an open bonded joint: the tension branch
+        return m[15] * ut + m[16] * un + m[19], m[17] * ut + m[18] * un + m[20]
     vt = m[1] * rdt + m[2] * rdn + qt
     vn = m[3] * rdt + m[4] * rdn + qn - bn
     return rdt - m[11] * vt - m[13], rdn - m[12] * vn - m[14]
@@ -168,16 +212,18 @@ def law_solve_2d(m, ut, un, bn, inv_nn, inv_tn, inv_tt, slide_plus, slide_minus,
 def law_solve_3d(m, u, bn, mu, wp, rr):
     """law_solve_2d in 3D: u [m/s] (t, n + b_n, s) in, rr [N s] the impulse (in: the dry
     part's starting guess; out: the total); wp: 3 x 3 work memory for W'."""
-    q0 = m[10] * u[0] + m[11] * u[1] + m[12] * u[2] + m[19]
-    q1 = m[13] * u[0] + m[14] * u[1] + m[15] * u[2] + m[20]
-    q2 = m[16] * u[0] + m[17] * u[1] + m[18] * u[2] + m[21]
-    u[0] = q0
-    u[1] = q1
-    u[2] = q2
+    u0, u1, u2 = u[0], u[1], u[2]
+    u[0] = m[10] * u0 + m[11] * u1 + m[12] * u2 + m[19]
+    u[1] = m[13] * u0 + m[14] * u1 + m[15] * u2 + m[20]
+    u[2] = m[16] * u0 + m[17] * u1 + m[18] * u2 + m[21]
     for r in range(3):
         for s in range(3):
             wp[r, s] = m[1 + 3 * r + s]
     solve_contact_3d(wp, u, mu, rr)
+    if m[0] > 1.5 and rr[1] <= 0.0:  # an open bonded joint: the tension branch
+        for r in range(3):
+            rr[r] = m[28 + 3 * r] * u0 + m[29 + 3 * r] * u1 + m[30 + 3 * r] * u2 + m[37 + r]
+        return
     for r in range(3):
         vel = u[r] - (bn if r == 1 else 0.0)
         for s in range(3):

@@ -100,9 +100,9 @@ class ContactProblem:
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         if self.joint_laws:
-            law_terms(c.candidate, c.antagonist, c.law, c.gap, c.area, c.slip, c.damage, k,
-                      self.h_cand, self.h_ant, v_begin, m.law_kind, m.law_parameter, h, theta,
-                      self.delassus, self.bias, self.law_map)
+            law_terms(c.candidate, c.antagonist, c.law, c.gap, c.area, c.slip, c.damage,
+                      c.history, k, self.h_cand, self.h_ant, v_begin, m.law_kind,
+                      m.law_parameter, h, theta, self.delassus, self.bias, self.law_map)
 
     def end_gaps(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float,
                  w: np.ndarray | None = None) -> tuple[int, float]:

@@ -80,8 +80,8 @@ class PositionProjection:
         if k > len(self._bias):
             self._allocate(max(k, 2 * len(self._bias)))
         c = problem.contacts
-        worst = _projection_targets(c.law, problem.gap_end, k, self.model.law_kind, h,
-                                    self._bias, self._active)
+        worst = _projection_targets(c.law, problem.gap_end, k, self.model.law_kind,
+                                    problem.law_map, h, self._bias, self._active)
         if worst <= self.tolerance:
             return None
         self._friction[:k] = 0.0
@@ -92,14 +92,16 @@ class PositionProjection:
 
 
 @nb.njit(cache=True)
-def _projection_targets(law, gap_end, count, law_kind, h, bias, active):
-    """bias = g+ / h [m/s] for gap-law contacts, which include the viscous and cohesive
-    joints' contact part (the others inactive); returns the largest end-of-step
-    interpenetration -g+ [m] among them (0 if none)."""
+def _projection_targets(law, gap_end, count, law_kind, law_map, h, bias, active):
+    """bias = g+ / h [m/s] for gap-law contacts, which include the viscous joints' contact
+    part and the cohesive contacts that were never bonded (law_map flag 0: a bonded joint's
+    closure is its compliance's, saxum.solver.laws_local) (the others inactive); returns the
+    largest end-of-step interpenetration -g+ [m] among them (0 if none)."""
     worst = 0.0
     for a in range(count):
         kind = law_kind[law[a]]
-        active[a] = kind == _GAP or kind == _VISCOUS or kind == _COHESIVE
+        active[a] = kind == _GAP or kind == _VISCOUS or (kind == _COHESIVE
+                                                         and law_map[a, 0] == 0.0)
         if not active[a]:
             bias[a] = 0.0
             continue

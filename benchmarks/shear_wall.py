@@ -1,0 +1,230 @@
+"""A masonry shear wall pushed at its top: the TU Eindhoven walls of Vermeltfoort and
+Raijmakers as micro-modelled by Lourenco, with rigid bricks and COHESIVE joints.
+
+Wall (P.B. Lourenco, "Computational strategies for masonry structures", PhD thesis, TU Delft
+1996, ch. 6, and P.B. Lourenco & J.G. Rots, J. Eng. Mech. 123 (1997) 660-668): 990 mm wide,
+1000 mm high, 100 mm thick, bricks 210 x 52 x 100 mm, 10 mm mortar joints, 18 courses of
+which the bottom and top ones are clamped in steel beams (here: a fixed ground and a
+DRIVEN top beam; 16 free courses, 4.5 bricks each, running bond). A vertical pre-compression
+p is applied by the top beam, which is then pushed horizontally, kept horizontal and with no
+vertical movement (displacement control). 2D, per metre of depth; forces are reported for
+the 100 mm thick wall [kN].
+
+Joints (Lourenco's interface for the walls with p = 0.30 MPa, as we have them; see the
+report of branch shearwall for what could not be checked against the thesis): k_n = 82
+N/mm^3, k_s = 36 N/mm^3, f_t = 0.25 MPa, G_I = 0.018 N/mm, c = 0.35 MPa, tan phi = 0.75,
+G_II = 0.125 N/mm. Lourenco's bricks are elastic (E = 16700 MPa, nu = 0.15); rigid bricks
+with the unit's compliance lumped into the joints is the usual DEM simplification:
+1 / k = 1 / k_n + l / E (l the brick's height for bed joints, its length for head joints),
+1 / k_t = 1 / k_s + l / G. Not modelled: the compressive cap (crushing of the toes) and
+dilatancy, which Lourenco's model has.
+
+Run: PYTHONPATH=src python benchmarks/shear_wall.py [--precompression 0.30]
+Prints the peak horizontal load and where it occurred, the damaged joints at the peak, the
+run's wall time and the load-displacement curve.
+
+Measured (2026-11-28, p = 0.30 MPa, dt = 1e-4 s, theta = 1, 0.01 m/s, loaded 2-core
+machine, 189 s): the pre-compression is 29.7 kN as it should be; the horizontal load is
+36 kN at 0.3 mm, 75 kN at 1 mm and still rising at 3 mm (143 kN), with the vertical reaction
+rising with it (185 kN at 3 mm): with the beam held at its height, the wall's diagonal
+strut lifts it, and without the compressive cap and without cracks through the bricks
+(Lourenco's model has both, and the walls failed by a stair-case crack through the joints
+and bricks with crushed toes) nothing limits that confined strength. With --constant (the beam
+guided without rotation under a constant vertical load, pushed by a block): 36 kN at 0.3 mm,
+a plateau of 30-33 kN, a spike of 34.5 kN at 1.35 mm as the bed joints under the beam and
+on the ground slide, then 22.8 kN = tan phi x the vertical load (144 s); the tests' diagonal
+stair-case crack does not form. So this is not yet a validation: the measured peak loads
+are to be checked in the thesis (we could not read them: branch shearwall's report), and
+the model lacks the cap and cracks through the bricks. BENCHMARKS.md has the table.
+"""
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+import saxum as sx
+from saxum.laws import LawKind
+
+THICKNESS = 0.1  # [m]: the wall's depth, to turn N/m into N
+WIDTH, HEIGHT, COURSES = 0.99, 1.0, 16  # [m], [m], free courses
+UNIT = WIDTH / 4.5  # [m]: brick length plus a head joint
+COURSE = HEIGHT / COURSES  # [m]: brick height plus a bed joint
+BRICK_L, BRICK_H = 0.21, 0.052  # [m]
+E_BRICK, NU_BRICK = 16.7e9, 0.15  # [Pa], [-]
+K_N, K_S = 82e9, 36e9  # [Pa/m]
+F_T, G_I, COHESION, TAN_PHI, G_II = 0.25e6, 18.0, 0.35e6, 0.75, 125.0  # [Pa], [J/m^2], ...
+DENSITY = 1800.0  # [kg/m^3]
+
+
+def lumped(k_joint: float, length: float, modulus: float) -> float:
+    """Joint stiffness [Pa/m] with a unit's compliance length / modulus in series."""
+    return 1.0 / (1.0 / k_joint + length / modulus)
+
+
+def joint_law(length: float) -> sx.ContactLaw:
+    """The cohesive law of a joint across a brick dimension `length` [m]."""
+    g = E_BRICK / (2.0 * (1.0 + NU_BRICK))
+    return sx.ContactLaw(friction=TAN_PHI, kind=LawKind.COHESIVE,
+                         k_n=lumped(K_N, length, E_BRICK), k_t=lumped(K_S, length, g),
+                         f_t=F_T, cohesion=COHESION, g_i=G_I, g_ii=G_II, points=3)
+
+
+def smooth(t: float, t0: float, t1: float) -> float:
+    """Rate of a smooth (half-cosine) rise from 0 to 1 over [t0, t1] [1/s]."""
+    if t <= t0 or t >= t1:
+        return 0.0
+    return 0.5 * math.pi / (t1 - t0) * math.sin(math.pi * (t - t0) / (t1 - t0))
+
+
+def build(precompression: float, press: float, hold: float, speed: float,
+          constant: bool = False):
+    """(model, beam index, index of what pushes the beam or -1): the wall, the ground and the top
+    beam. The beam is DRIVEN: it lowers by the bed joints' closure under `precompression`
+    [Pa] over `press` [s], holds for `hold` [s], then moves sideways at `speed` [m/s]; or,
+    `constant`, FREE with its rotation held (a guided beam: its inverse rotational inertia
+    set to 0) under the force precompression x width, rising over `press`, and pushed
+    sideways by a DRIVEN block at its left end (a frictionless contact)."""
+    b = sx.ModelBuilder()
+    b.add_block([(-0.5, -0.2), (WIDTH + 0.5, -0.2), (WIDTH + 0.5, 0.0), (-0.5, 0.0)],
+                kind=sx.BodyKind.FIXED, group="ground", name="ground")
+    for c in range(COURSES):
+        y0, y1 = c * COURSE, (c + 1) * COURSE
+        odd = c % 2 == 0  # course 1 at the bottom
+        cuts = ([k * UNIT for k in range(5)] + [WIDTH] if odd
+                else [0.0] + [0.5 * UNIT + k * UNIT for k in range(5)])
+        for k, (x0, x1) in enumerate(zip(cuts[:-1], cuts[1:], strict=True)):
+            b.add_block([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], density=DENSITY,
+                        group="odd" if odd else "even", name=f"brick c{c + 1}b{k + 1}")
+    # the bed joints in series close by their stress / k each: 15 between courses, ground
+    # and beam, each under p and the weight of the courses above it
+    bed = joint_law(BRICK_H)
+    weight = DENSITY * 9.81 * COURSE  # [Pa] per course
+    closure = sum(precompression + weight * (COURSES - j) for j in range(COURSES + 1)) / bed.k_n
+
+    def motion(t: float) -> tuple[float, float, float]:
+        vx = speed if t > press + hold else 0.0
+        return vx, -closure * smooth(t, 0.0, press), 0.0
+
+    top = [(0.0, HEIGHT), (WIDTH, HEIGHT), (WIDTH, HEIGHT + 0.1), (0.0, HEIGHT + 0.1)]
+    if constant:
+        beam = b.add_block(top, density=7850.0, group="beam", name="top beam")
+        b.add_force([beam], lambda t: (0.0, -precompression * WIDTH * min(
+            1.0, 0.5 * (1.0 - math.cos(math.pi * min(t, press) / press))), 0.0))
+        pusher = b.add_block([(-0.1, HEIGHT + 0.01), (0.0, HEIGHT + 0.01), (0.0, HEIGHT + 0.09),
+                              (-0.1, HEIGHT + 0.09)], kind=sx.BodyKind.DRIVEN,
+                             motion=lambda t: (speed if t > press + hold else 0.0, 0.0, 0.0),
+                             group="pusher", name="pusher")
+        for g in ("beam", "pusher"):
+            b.set_law(g, g, sx.ContactLaw(friction=0.0))
+        b.set_law("pusher", "beam", sx.ContactLaw(friction=0.0))
+        for g in ("ground", "odd", "even"):
+            b.set_law("pusher", g, sx.ContactLaw(friction=0.0))
+    else:
+        beam = b.add_block(top, kind=sx.BodyKind.DRIVEN, motion=motion, group="beam",
+                           name="top beam")
+        pusher = -1
+    for a, c in (("odd", "even"), ("ground", "odd"), ("beam", "even"), ("beam", "odd")):
+        b.set_law(a, c, bed)
+    head = joint_law(BRICK_L)
+    b.set_law("odd", "odd", head)
+    b.set_law("even", "even", head)
+    b.set_law("ground", "even", bed)
+    b.set_law("ground", "beam", sx.ContactLaw(friction=TAN_PHI))
+    model = b.finalize()
+    if constant:
+        model.body_inv_mass[beam, 2] = 0.0
+    return model, beam, pusher
+
+
+def beam_force(c: sx.Contacts, beam: int, h: float, pusher: int) -> np.ndarray:
+    """The force of the wall on the beam [N/m], world axes: the impulses / h of the beam's
+    contacts but that with the pusher."""
+    n = c.count
+    world = np.einsum("ar,ard->ad", c.impulse[:n], c.frame[:n]) / h
+    other = (c.candidate[:n] != pusher) & (c.antagonist[:n] != pusher)
+    sign = np.where(c.candidate[:n] == beam, 1.0,
+                    np.where(c.antagonist[:n] == beam, -1.0, 0.0)) * other
+    return sign @ world
+
+
+def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title: str) -> None:
+    """The blocks at q [m, rad] and the contact points coloured by damage, into `path`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 6))
+    for k in range(model.body_count):
+        c, s = math.cos(q[k, 2]), math.sin(q[k, 2])
+        local = model.vertex_local[model.body_vertex_start[k]:model.body_vertex_start[k + 1]]
+        world = local @ np.array([[c, s], [-s, c]]) + q[k, :2]
+        ax.fill(world[:, 0], world[:, 1], facecolor="#e8d9c0", edgecolor="#8a7550", lw=0.5)
+    n = contacts.count
+    dots = ax.scatter(contacts.point[:n, 0], contacts.point[:n, 1], c=contacts.damage[:n],
+                      cmap="inferno_r", vmin=0.0, vmax=1.0, s=6, zorder=3)
+    fig.colorbar(dots, ax=ax, label="damage d", shrink=0.7)
+    ax.set_xlim(-0.15, WIDTH + 0.1)
+    ax.set_ylim(-0.1, HEIGHT + 0.15)
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+
+
+def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift: float = 3e-3,
+         press: float = 0.05, hold: float = 0.05, constant: bool = False):
+    """Run the test; returns (top displacements [m], horizontal loads [N] on the 100 mm wall,
+    vertical loads [N], the contacts and positions at the peak's step, the model)."""
+    model, beam, pusher = build(precompression, press, hold, speed, constant)
+    sim = sx.Simulation(model, dt=dt, theta=1.0)
+    state = sim.initial_state()
+    x0 = state.body_q[beam, 0]
+    u, fx, fy = [], [], []
+    peak, at_peak, q_peak = -np.inf, None, None
+    end = press + hold + drift / speed
+    while state.time < end:
+        sim.step(state)
+        f = beam_force(state.contacts, beam, dt, pusher) * THICKNESS
+        u.append(state.body_q[beam, 0] - x0)
+        fx.append(-f[0])
+        fy.append(f[1])
+        if -f[0] > peak:
+            peak, at_peak, q_peak = -f[0], state.contacts.copy(), state.body_q.copy()
+    return np.array(u), np.array(fx), np.array(fy), at_peak, q_peak, model
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--precompression", type=float, default=0.30, help="p [MPa]")
+    parser.add_argument("--dt", type=float, default=1e-4)
+    parser.add_argument("--speed", type=float, default=0.01, help="[m/s]")
+    parser.add_argument("--drift", type=float, default=3e-3, help="[m]")
+    parser.add_argument("--figure", default=None, help="PNG of the damage at the peak")
+    parser.add_argument("--constant", action="store_true",
+                        help="hold the vertical load (a guided beam pushed by a block)")
+    args = parser.parse_args()
+    start = time.perf_counter()
+    u, fx, fy, contacts, q, model = push(args.precompression * 1e6, dt=args.dt,
+                                         speed=args.speed, drift=args.drift,
+                                         constant=args.constant)
+    wall_time = time.perf_counter() - start
+    k = int(np.argmax(fx))
+    n = contacts.count
+    print(f"p = {args.precompression} MPa: vertical load {fy[k] / 1e3:.1f} kN at the peak "
+          f"(p b t = {args.precompression * WIDTH * THICKNESS * 1e3:.1f} kN)")
+    print(f"peak horizontal load {fx[k] / 1e3:.1f} kN at u = {u[k] * 1e3:.2f} mm; "
+          f"at the end ({u[-1] * 1e3:.2f} mm) {fx[-1] / 1e3:.1f} kN")
+    print(f"damaged points at the peak: {int((contacts.damage[:n] > 0).sum())} of {n}, "
+          f"cracked {int((contacts.damage[:n] >= 1).sum())}; wall time {wall_time:.0f} s")
+    if args.figure:
+        draw(model, q, contacts, args.figure,
+             f"p = {args.precompression} MPa, peak {fx[k] / 1e3:.1f} kN at "
+             f"{u[k] * 1e3:.2f} mm: damage at the peak")
+    for i in range(0, len(u), max(1, len(u) // 40)):
+        print(f"  u = {u[i] * 1e3:6.3f} mm  H = {fx[i] / 1e3:7.2f} kN  V = {fy[i] / 1e3:7.2f} kN")
+
+
+if __name__ == "__main__":
+    main()
