@@ -58,6 +58,9 @@ _STATIONARY = 1e-6
 """A contact point whose relative virtual velocity is below this, relative to the fastest
 block point's speed, does not move (the dual of a simplex vertex is exact to ~1e-12; a
 conic solver's to its tolerance ~1e-8)."""
+_FEASIBLE = 1e-9
+"""HiGHS's primal and dual feasibility tolerances on the scaled programme (forces in units
+of the largest load) [-]: lambda to about this, relative."""
 _REPEAT = 1e-9
 """The non-associative iteration stops when the normal forces change by less than this,
 relative to the largest normal force [-]."""
@@ -122,8 +125,8 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
                    detection: DetectionSettings | None = None) -> LimitAnalysis:
     """The limit load factor of `model` (rigid blocks, 2D or 3D; module doc).
 
-    live: "horizontal" (an acceleration lambda g along `direction` on every free block: in
-    2D a sign along x, in 3D a horizontal vector or an azimuth [deg] from x towards y), "forces"
+    live: "horizontal" (an acceleration lambda g along `direction` on every free block: a
+    sign along x, or in 3D a horizontal vector), "forces"
     (the model's point loads times lambda, the rest dead), or an array (bodies, dof) [N/m,
     N m/m; 3D: N, N m] of generalized forces in the world frame. Dead load: gravity and the
     model's constant loads at t = 0 (uniform accelerations, point loads unless live,
@@ -144,10 +147,15 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
     dead, load, label = _loads(model, live, direction)
     _check_touching(model, contacts, free)
     k, dim = contacts.count, model.dim
-    unit = _unit_forces(model, contacts, free)
     mu = model.law_friction[contacts.law[:k]]
     solve = _solve_2d if dim == 2 else _solve_3d
-    rhs, lhs = -dead[free].ravel(), load[free].ravel()
+    # Scaled to entries of order one: forces in units of the largest load F0, moments over
+    # the smallest block size L0 (HiGHS's feasibility tolerances are absolute, ~1e-7)
+    f0 = float(max(np.abs(dead[free]).max(), np.abs(load[free]).max()))
+    l0 = float(model.body_size[free].min())
+    row = np.tile(np.r_[np.ones(dim), np.full(model.dof - dim, 1.0 / l0)], free.size)
+    unit = [sp.diags(row) @ e for e in _unit_forces(model, contacts, free)]
+    rhs, lhs = -row * dead[free].ravel() / f0, row * load[free].ravel() / f0
     try:
         force, u, lam = solve(unit, mu, rhs, lhs, None)
     except _Infeasible:
@@ -172,12 +180,14 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
             raise InputError(f"the non-associative iteration did not settle in {_ITERATIONS} "
                              f"programmes (the normal forces still change; the last factor "
                              f"{lam:.6g}): use friction=\"associative\" for an upper estimate")
+    force *= f0
     velocity = np.zeros((model.body_count, model.dof))
-    velocity[free] = u.reshape(free.size, model.dof)
+    velocity[free] = (row * u).reshape(free.size, model.dof)
     speed = np.linalg.norm(velocity[:, :dim], axis=1) + np.linalg.norm(
         velocity[:, dim:], axis=1) * model.body_radius
     velocity /= speed.max()
-    relative = np.stack([unit[r].T @ velocity[free].ravel() for r in range(dim)], axis=1)
+    relative = np.stack([e.T @ velocity[free].ravel()
+                         for e in _unit_forces(model, contacts, free)], axis=1)
     mech = _mechanism(model, contacts, force, relative, velocity, mu)
     return LimitAnalysis(lam, model, contacts, force, velocity, relative, mech, friction,
                          iterations, label)
@@ -269,11 +279,7 @@ def _loads(model: Model, live, direction) -> tuple[np.ndarray, np.ndarray, str]:
     if isinstance(live, str) and live == "horizontal":
         h = np.zeros(d)
         if np.ndim(direction) == 0:
-            if d == 3:
-                phi = math.radians(float(direction))
-                h[:2] = math.cos(phi), math.sin(phi)
-            else:
-                h[0] = math.copysign(1.0, float(direction))
+            h[0] = math.copysign(1.0, float(direction))
         else:
             h[:] = np.asarray(direction, dtype=np.float64)
             if abs(h[-1]) > 1e-12 * np.linalg.norm(h) or not np.linalg.norm(h) > 0.0:
@@ -353,7 +359,9 @@ def _solve_2d(unit, mu, rhs, load, limit):
     bounds[-1] = -np.inf, np.inf
     cost = np.zeros(2 * k + 1)
     cost[-1] = -1.0
-    res = linprog(cost, A_eq=a_eq, b_eq=rhs, bounds=bounds, method="highs-ds")
+    res = linprog(cost, A_eq=a_eq, b_eq=rhs, bounds=bounds, method="highs-ds",
+                  options={"primal_feasibility_tolerance": _FEASIBLE,
+                           "dual_feasibility_tolerance": _FEASIBLE})
     _check_status(res.status, res.message)
     x = res.x
     if limit is None:
