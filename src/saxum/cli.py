@@ -124,6 +124,22 @@ def _collapse(args) -> None:
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
 
 
+def _limit(args) -> None:
+    from .limit import scenario_limit_analysis
+    from .plot import plot_limit
+    from .scenario import load_scenario
+
+    result = scenario_limit_analysis(args.scenario, overrides=tuple(args.set), live=args.live,
+                                     friction=args.friction)
+    print(result.text())
+    if result.model.dim == 2:
+        picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
+                                                               + "-limit.png")
+        scenario = load_scenario(args.scenario, args.set)
+        plot_limit(result, picture, title=scenario.title or Path(args.scenario).stem)
+        print(f"picture: {picture.resolve()}")
+
+
 def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
     """A SolverWarning when some trial steps did not converge (saxum.collapse.SolverFailures);
     solver: the scenario's SolverSpec."""
@@ -488,6 +504,27 @@ def _parser() -> argparse.ArgumentParser:
                    help=f"simulated time [s] (default: the demo's own; at most "
                         f"{_MAX_DEMO_DURATION:g})")
     p.set_defaults(func=_demo)
+
+    p = sub.add_parser("limit", help="limit analysis: the largest load factor that the "
+                                     "joints can carry (a linear or conic programme) and the "
+                                     "collapse mechanism")
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
+    p.add_argument("--live", choices=("horizontal", "forces"), default="horizontal",
+                   help="the load multiplied by lambda: horizontal (an acceleration lambda g "
+                        "on every free block, along the sign of loads.horizontal_acceleration, "
+                        "which is taken out of the dead load; the default) or forces (the "
+                        "point loads)")
+    p.add_argument("--friction", choices=("associative", "non-associative"),
+                   default="associative",
+                   help="associative (one programme; an upper estimate where joints slide) "
+                        "or non-associative (Gilbert, Casapulla & Ahmed 2006: friction limits "
+                        "fixed from the previous normal forces until they repeat)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scenario key (repeatable)")
+    _unset_option(p)
+    p.add_argument("-o", "--output", type=Path,
+                   help="picture of the mechanism (2D; default: SCENARIO-limit.png)")
+    p.set_defaults(func=_limit)
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
                                         "thickness...) by bisection, and the mechanism")
