@@ -90,7 +90,10 @@ class CollapseCriterion:
     per_block: the force ratio is the largest over the free blocks of each block's own (its
     net force over the forces acting on it, the default) or, if False, the structure's (sums
     over all free blocks), which calls a small part that starts to move slowly on a large
-    structure (a parapet) at rest, its net force being tiny next to the forces on the rest."""
+    structure (a parapet) at rest, its net force being tiny next to the forces on the rest;
+    run_on: a trial still undecided after `duration` (neither certified at rest nor moved by
+    the displacement threshold) runs on for up to run_on x duration more before the energy
+    rule decides it, uncertified (module doc)."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -101,8 +104,11 @@ class CollapseCriterion:
     not_before: float = 0.0
     after_motion: bool = False
     per_block: bool = True
+    run_on: float = 4.0
 
     def __post_init__(self) -> None:
+        if not (math.isfinite(self.run_on) and self.run_on >= 0.0):
+            raise InputError(f"collapse criterion run_on must be >= 0, got {self.run_on}")
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
@@ -122,7 +128,11 @@ class Trial:
     this may be before the verdict, which waits for the pulse to end), and the state when that
     collapsing motion began (`at_collapse`: when a block last moved past ONSET times the limit
     before it), whose mechanism (`mechanism()`) shows the hinges that formed before the blocks
-    fell apart (nan and None when it stood)."""
+    fell apart (nan and None when it stood). certified: standing with an equilibrium
+    certificate (a rest solution of the last step, saxum.limit.rest_certificate), or
+    collapsed with a block moved past the threshold; False for a verdict of the energy rule
+    at the end of the longest trial, or at rest by the force ratio alone where no certificate
+    exists (deformable blocks, joint laws)."""
 
     value: float
     collapsed: bool
@@ -134,6 +144,7 @@ class Trial:
     state: State = field(repr=False)
     collapse_time: float = math.nan
     at_collapse: State | None = field(default=None, repr=False)
+    certified: bool = True
 
     def mechanism(self):
         """The saxum.mechanism.Mechanism at the time of collapse (None when it stood)."""
@@ -184,7 +195,9 @@ def run_trial(sim: Simulation, value: float = math.nan,
     g = float(np.linalg.norm(m.gravity)) or 1.0
     energy_scale = float(m.body_mass[free].sum()) * g * height
     state = sim.initial_state()
-    steps = round((crit.not_before + crit.duration) / h)
+    certify = _certifier(sim)
+    steps = round((crit.not_before + crit.duration * (1.0 if certify is None
+                                                      else 1.0 + crit.run_on)) / h)
     first = min(round(crit.not_before / h), steps - 1)  # the window the verdicts look at
     settle = max(1, round(crit.settle / h))
     quiet = 0
@@ -220,17 +233,32 @@ def run_trial(sim: Simulation, value: float = math.nan,
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
         if quiet >= settle and state.time >= crit.not_before:
-            return Trial(value, False, state.time, moved, ratio, report.kinetic_energy, sim,
-                         state)
+            if certify is None or certify():
+                return Trial(value, False, state.time, moved, ratio, report.kinetic_energy,
+                             sim, state, certified=certify is not None)
+            quiet = 0  # quiet, but no equilibrium holds it: a slow mechanism; run on
     half = (first + steps) // 2
     growing = (energies[half:].mean() > energies[first:half].mean()
                and displacements[half:].max() > displacements[first:half].max())
     if not growing:
-        return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state)
+        return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state,
+                     certified=False)
     over = moved > limit
     return Trial(value, True, state.time, moved, ratio, float(energies[-1]), sim, state,
                  crossed if over else state.time,
-                 onset if onset is not None and moved > ONSET * limit else state)
+                 onset if onset is not None and moved > ONSET * limit else state,
+                 certified=False)
+
+
+def _certifier(sim: Simulation):
+    """A function telling whether the structure can stand where it is under the last step's
+    loads (saxum.limit.rest_certificate), or None for models it does not serve (deformable
+    blocks, joint laws: their verdicts at rest rest on the force ratio alone)."""
+    from .limit import rest_certificate
+
+    if sim.fe is not None or sim.problem.joint_laws:
+        return None
+    return lambda: rest_certificate(sim.problem, sim.free_velocity)
 
 
 def _block_energy(model, v: np.ndarray) -> np.ndarray:

@@ -52,7 +52,7 @@ from .errors import InputError
 from .mechanism import Joint, Mechanism, _line_of, joint_index, joint_resultants, wall_frame
 from .model import BodyKind, Model
 
-__all__ = ["LimitAnalysis", "limit_analysis", "scenario_limit_analysis"]
+__all__ = ["LimitAnalysis", "limit_analysis", "rest_certificate", "scenario_limit_analysis"]
 
 _STATIONARY = 1e-6
 """A contact point whose relative virtual velocity is below this, relative to the fastest
@@ -149,13 +149,8 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
     k, dim = contacts.count, model.dim
     mu = model.law_friction[contacts.law[:k]]
     solve = _solve_2d if dim == 2 else _solve_3d
-    # Scaled to entries of order one: forces in units of the largest load F0, moments over
-    # the smallest block size L0 (HiGHS's feasibility tolerances are absolute, ~1e-7)
-    f0 = float(max(np.abs(dead[free]).max(), np.abs(load[free]).max()))
-    l0 = float(model.body_size[free].min())
-    row = np.tile(np.r_[np.ones(dim), np.full(model.dof - dim, 1.0 / l0)], free.size)
-    unit = [sp.diags(row) @ e for e in _unit_forces(model, contacts, free)]
-    rhs, lhs = -row * dead[free].ravel() / f0, row * load[free].ravel() / f0
+    unit, rhs, lhs, row, f0 = _scaled(model, _unit_forces(model, contacts, free),
+                                      -dead[free].ravel(), load[free].ravel())
     try:
         force, u, lam = solve(unit, mu, rhs, lhs, None)
     except _Infeasible:
@@ -226,6 +221,59 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
     return limit_analysis(scenario.build_model(), live=live, direction=direction,
                           friction=friction,
                           detection=DetectionSettings(alert=d.alert, margin=d.margin))
+
+
+def rest_certificate(problem, v_free: np.ndarray) -> bool:
+    """Whether the last step's contact problem (saxum.solver.ContactProblem, rigid blocks) has
+    a rest solution: impulses in the Coulomb cones of its closed contacts that bring every
+    free block to rest, H R = M (V - v_free) (saxum.solver.equilibrium, whose rest
+    hypothesis picks the closed contacts and the loads), found by the programme of this
+    module with lambda = 0. It certifies that the structure can stand where it is under the
+    step's loads (an equilibrium to the programme's tolerance, 1e-9 of the loads)."""
+    from .solver.equilibrium import rest_hypothesis
+
+    hypothesis = rest_hypothesis(problem, v_free)
+    if hypothesis is None:
+        return False
+    closed, slot, force = hypothesis
+    model = problem.model
+    dof = model.dof
+    if not np.any(force):
+        return True
+    c = problem.contacts
+    nfree = len(force)
+    unit = []
+    for r in range(model.dim):
+        rows, cols, vals = [], [], []
+        for body, h in ((c.candidate[closed], problem.h_cand), (c.antagonist[closed],
+                                                                 problem.h_ant)):
+            on = np.flatnonzero(slot[body] >= 0)
+            rows.append((slot[body[on]][:, None] * dof + np.arange(dof)[None, :]).ravel())
+            cols.append(np.repeat(on, dof))
+            vals.append(h[closed[on], r, :].ravel())
+        unit.append(sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                          np.concatenate(cols))),
+                                  shape=(nfree * dof, closed.size)))
+    unit, rhs, _, _, _ = _scaled(model, unit, force.ravel(), None)
+    solve = _solve_2d if model.dim == 2 else _solve_3d
+    try:
+        solve(unit, problem.friction[closed], rhs, None, None)
+    except InputError:  # infeasible, or no solution found: no certificate either way
+        return False
+    return True
+
+
+def _scaled(model: Model, unit: list, rhs: np.ndarray, load: np.ndarray | None):
+    """The programme scaled to entries of order one (HiGHS's feasibility tolerances are
+    absolute): forces in units of the largest load F0, moment rows over the smallest free
+    block size L0. Returns the scaled unit matrices, rhs and load, the row scale and F0."""
+    free = model.body_kind == BodyKind.FREE
+    f0 = float(max(np.abs(rhs).max(), 0.0 if load is None else np.abs(load).max()))
+    l0 = float(model.body_size[free].min())
+    d = model.dim
+    row = np.tile(np.r_[np.ones(d), np.full(model.dof - d, 1.0 / l0)], int(free.sum()))
+    return ([sp.diags(row) @ e for e in unit], row * rhs / f0,
+            None if load is None else row * load / f0, row, f0)
 
 
 def _touching(model: Model, detection: DetectionSettings | None) -> Contacts:
@@ -346,6 +394,8 @@ def _solve_2d(unit, mu, rhs, load, limit):
 
     e_t, e_n = unit
     k = e_t.shape[1]
+    fixed = load is None  # a feasibility problem: lambda = 0
+    load = np.zeros(e_t.shape[0]) if fixed else load
     if limit is None:
         a_eq = sp.hstack((e_n - e_t @ sp.diags(mu), e_n + e_t @ sp.diags(mu),
                           sp.csc_matrix(load[:, None])), format="csc")
@@ -356,7 +406,7 @@ def _solve_2d(unit, mu, rhs, load, limit):
         bounds = np.zeros((2 * k + 1, 2))
         bounds[:k, 0], bounds[:k, 1] = -limit, limit
     bounds[k:2 * k, 1] = np.inf
-    bounds[-1] = -np.inf, np.inf
+    bounds[-1] = (0.0, 0.0) if fixed else (-np.inf, np.inf)
     cost = np.zeros(2 * k + 1)
     cost[-1] = -1.0
     res = linprog(cost, A_eq=a_eq, b_eq=rhs, bounds=bounds, method="highs-ds",
@@ -378,6 +428,10 @@ def _solve_3d(unit, mu, rhs, load, limit):
 
     e_t, e_n, e_s = unit
     k = e_t.shape[1]
+    fixed = load is None  # a feasibility problem: lambda = 0 (one more equation)
+    if fixed:
+        e_t, e_n, e_s = (sp.vstack((e, sp.csc_matrix((1, k))), format="csc") for e in unit)
+        load, rhs = np.r_[np.zeros(e_t.shape[0] - 1), 1.0], np.r_[rhs, 0.0]
     m = e_t.shape[0]
     # variables: (R_t, R_n, R_s) per contact, interleaved, then lambda
     g = sp.hstack((e_t, e_n, e_s), format="csc")
@@ -424,7 +478,7 @@ def _solve_3d(unit, mu, rhs, load, limit):
         raise InputError(f"the conic solver (Clarabel) stopped without a solution: {status}")
     x = np.asarray(sol.x)
     force = x[:-1].reshape(k, 3)
-    return force, np.asarray(sol.z)[:m], float(x[-1])
+    return force, np.asarray(sol.z)[:m - fixed], float(x[-1])
 
 
 def _check_status(status: int, message: str) -> None:
