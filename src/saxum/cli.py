@@ -94,6 +94,17 @@ def _collapse(args) -> None:
         g = float(np.linalg.norm(scenario.loads.gravity_for(dim)))
         print(f"horizontal load factor lambda = a/g: {result.value / g:.4g} "
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
+    uncertified = [t.value for t in result.trials if not t.certified]
+    if uncertified:
+        warnings.warn(f"{len(uncertified)} of the {len(result.trials)} verdicts are not "
+                      "certified (no equilibrium certificate for this model, or a trial "
+                      "that neither came to rest nor moved away within "
+                      f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
+                      f"energy): {', '.join(f'{v:.6g}' for v in uncertified)}; the bracket "
+                      "may then miss the critical value (docs/collapse.md)", SolverWarning,
+                      stacklevel=1)
+    if args.check_limit:
+        _check_limit(args, result)
     trial = result.collapse()
     motion = scenario.loads.ground_motion
     if motion is not None:  # the state when the collapsing motion began
@@ -122,6 +133,25 @@ def _collapse(args) -> None:
         plot_frame(r, -1, picture, thrust_line=not wall and dim == 2, mechanism=mech,
                    title=title)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
+
+
+def _check_limit(args, result) -> None:
+    """--check-limit: the static critical value beside the dynamic bracket, and a warning
+    when it lies outside the bracket by more than --tolerance (relative)."""
+    from .limit import static_critical_value
+
+    static = static_critical_value(args.scenario, args.vary, args.stands, args.collapses,
+                                   overrides=tuple(args.set))
+    lo, hi = sorted((result.stands, result.collapses))
+    print(f"limit analysis (static, associative friction): {args.vary} = {static:.6g}; "
+          f"dynamic bracket {result.stands:.6g} .. {result.collapses:.6g}")
+    slack = args.tolerance * max(abs(lo), abs(hi))
+    if not lo - slack <= static <= hi + slack:
+        warnings.warn(f"the limit analysis ({static:.6g}) and the dynamic bisection "
+                      f"({result.value:.6g}) differ by more than the tolerance "
+                      f"{args.tolerance:g}: with sliding joints the dynamics follow "
+                      "non-associative friction, which may fail below the static value; "
+                      "check the mechanism (docs/collapse.md)", SolverWarning, stacklevel=1)
 
 
 def _limit(args) -> None:
@@ -545,6 +575,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
                         "has ended)")
+    p.add_argument("--check-limit", action="store_true",
+                   help="also find the critical value by limit analysis (static, constant "
+                        "loads) and warn if it lies outside the dynamic bracket by more than "
+                        "--tolerance")
     p.add_argument("--structure-ratio", action="store_true",
                    help="judge rest by the unbalanced force ratio of the structure as a "
                         "whole instead of every block's own (docs/collapse.md): hides a small "

@@ -27,14 +27,18 @@ the relative velocity U of each contact lies in the dual cone, U_n >= mu |U_T| (
 joint dilates): that is the price of a convex problem. For purely rotational mechanisms
 (hinges, no sliding) the associative and the true (non-associative) factors coincide; where
 sliding takes part the associative factor is only an upper estimate (Radenkovic's theorems:
-the true collapse factor lies between the associative factor and that with the friction
-limits fixed at any admissible state's mu R_n). `friction="non-associative"` runs the
-iterative scheme of Gilbert, Casapulla & Ahmed (2006): the friction limit of each contact is
-fixed at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1) (a Tresca-like limit: no
-dilatancy in the flow rule), from the associative solution on, until the normal forces repeat;
-the result is then statically admissible for Coulomb friction and has a non-dilatant
-mechanism: a solution of the non-associative problem (not proven the least; the scheme may
-also cycle, which is reported).
+the true collapse factor lies between the frictionless one and the associative one).
+`friction="non-associative"` follows the iterative scheme of Gilbert, Casapulla & Ahmed
+(2006) in a simplified form: from the associative solution on, each programme fixes the
+friction limit of every contact at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1)
+(a limit independent of the current normal force, whose flow rule has no dilatancy), until
+the factor repeats while the previous forces satisfy Coulomb with their own normal forces:
+those forces are then optimal for the last programme, and with its multipliers they make a
+state that is in equilibrium, within the Coulomb cones and has a non-dilatant mechanism
+sliding where the friction is spent: a collapse state of the non-associative model, its
+factor at most the associative one (which bounds every Coulomb-admissible state). It is not
+proven the least such state (non-associative collapse loads need not be unique); an
+iteration whose factor keeps changing is reported, not hidden.
 """
 
 from __future__ import annotations
@@ -52,7 +56,8 @@ from .errors import InputError
 from .mechanism import Joint, Mechanism, _line_of, joint_index, joint_resultants, wall_frame
 from .model import BodyKind, Model
 
-__all__ = ["LimitAnalysis", "limit_analysis", "rest_certificate", "scenario_limit_analysis"]
+__all__ = ["LimitAnalysis", "limit_analysis", "rest_certificate", "scenario_limit_analysis",
+           "stands", "static_critical_value"]
 
 _STATIONARY = 1e-6
 """A contact point whose relative virtual velocity is below this, relative to the fastest
@@ -62,8 +67,9 @@ _FEASIBLE = 1e-9
 """HiGHS's primal and dual feasibility tolerances on the scaled programme (forces in units
 of the largest load) [-]: lambda to about this, relative."""
 _REPEAT = 1e-9
-"""The non-associative iteration stops when the normal forces change by less than this,
-relative to the largest normal force [-]."""
+"""The non-associative iteration stops when lambda repeats to this, relative, and the
+forces satisfy Coulomb's |R_T| <= mu R_n with their own normal forces to this (in units of
+the largest load) [-]."""
 _ITERATIONS = 50
 """The non-associative iteration gives up (and says so) after this many programmes."""
 
@@ -167,13 +173,19 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
     iterations = 1
     if friction == "non-associative":
         for iterations in range(2, _ITERATIONS + 1):  # noqa: B007 (reported after the loop)
-            before = force[:, 1]
-            force, u, lam = solve(unit, mu, rhs, lhs, mu * before)
-            if np.abs(force[:, 1] - before).max() <= _REPEAT * max(before.max(), 1e-300):
+            # The last forces satisfy this programme's limits exactly when they satisfy
+            # Coulomb with their own normal forces; then, if they reach its optimum, they are
+            # an optimum of it, with its multipliers a non-dilatant mechanism (module doc)
+            last, admissible = (lam, force), (np.linalg.norm(np.delete(force, 1, axis=1),
+                                                             axis=1)
+                                              - mu * force[:, 1]).max() <= _REPEAT
+            force, u, lam = solve(unit, mu, rhs, lhs, mu * force[:, 1])
+            if admissible and abs(lam - last[0]) <= _REPEAT * abs(last[0]):
+                lam, force = last
                 break
         else:
             raise InputError(f"the non-associative iteration did not settle in {_ITERATIONS} "
-                             f"programmes (the normal forces still change; the last factor "
+                             f"programmes (the factor still changes, the last "
                              f"{lam:.6g}): use friction=\"associative\" for an upper estimate")
     force *= f0
     velocity = np.zeros((model.body_count, model.dof))
@@ -221,6 +233,64 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
     return limit_analysis(scenario.build_model(), live=live, direction=direction,
                           friction=friction,
                           detection=DetectionSettings(alert=d.alert, margin=d.margin))
+
+
+def stands(model: Model, *, detection: DetectionSettings | None = None) -> bool:
+    """Whether contact forces in the Coulomb cones of the touching contacts balance every
+    free block under all of `model`'s loads at t = 0 (the programme with lambda = 0):
+    the static verdict on a structure."""
+    free = np.flatnonzero(model.body_kind == BodyKind.FREE)
+    contacts = _touching(model, detection)
+    _check_touching(model, contacts, free)
+    dead, _, _ = _loads(model, "horizontal", 1.0)
+    unit, rhs, _, _, _ = _scaled(model, _unit_forces(model, contacts, free),
+                                 -dead[free].ravel(), None)
+    solve = _solve_2d if model.dim == 2 else _solve_3d
+    try:
+        solve(unit, model.law_friction[contacts.law[:contacts.count]], rhs, None, None)
+    except _Infeasible:
+        return False
+    return True
+
+
+def static_critical_value(path, key: str, stands_at: float, collapses_at: float, *,
+                          overrides: tuple[str, ...] = (),
+                          tolerance: float = 1e-6) -> float:
+    """The critical value of the scenario key `key` [its unit] by the static verdict
+    (stands()): loads.horizontal_acceleration directly from the limit factor (a = lambda
+    |g|), any other key (a thickness, a friction coefficient, a point load) by bisection
+    between a value where the structure stands and one where it does not, to `tolerance`
+    relative. Constant loads only (no ground motion or settlements)."""
+    from .scenario import load_scenario
+
+    scenario = load_scenario(path, list(overrides))
+    if scenario.loads.ground_motion is not None or scenario.loads.settlements:
+        raise InputError(f"{path}: the static analysis takes constant loads; a ground motion "
+                         "or a settlement has no static critical value")
+    if key == "loads.horizontal_acceleration":
+        sign = math.copysign(1.0, collapses_at)
+        result = scenario_limit_analysis(path, overrides=(
+            *overrides, f"loads.horizontal_acceleration={sign!r}"))
+        g = float(np.linalg.norm(scenario.loads.gravity_for(scenario.structure.dim)))
+        return sign * result.factor * g
+
+    def standing(x: float) -> bool:
+        s = load_scenario(path, [*overrides, f"{key}={x!r}"])
+        return stands(s.build_model(), detection=DetectionSettings(
+            alert=s.detection.alert, margin=s.detection.margin))
+
+    if not standing(stands_at):
+        raise InputError(f"the static analysis finds no equilibrium at {key} = {stands_at:g}")
+    if standing(collapses_at):
+        raise InputError(f"the static analysis finds an equilibrium at {key} = "
+                         f"{collapses_at:g}: widen the bracket")
+    while abs(collapses_at - stands_at) > tolerance * max(abs(stands_at), abs(collapses_at)):
+        mid = 0.5 * (stands_at + collapses_at)
+        if standing(mid):
+            stands_at = mid
+        else:
+            collapses_at = mid
+    return 0.5 * (stands_at + collapses_at)
 
 
 def rest_certificate(problem, v_free: np.ndarray) -> bool:
