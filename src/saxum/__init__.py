@@ -25,6 +25,7 @@ _EXPORTS = {
     "Hybrid": "solver",
     "InputError": "errors",
     "LawKind": "laws",
+    "LimitAnalysis": "limit",
     "Model": "model",
     "ModelBuilder": "model",
     "MoreauJean": "integrator",
@@ -37,6 +38,7 @@ _EXPORTS = {
     "State": "state",
     "StepLog": "steplog",
     "StepReport": "steplog",
+    "limit_analysis": "limit",
     "load_scenario": "scenario",
     "run_scenario": "runner",
 }

@@ -494,6 +494,13 @@ def _unset_option(p: argparse.ArgumentParser) -> None:
                         "(repeatable)")
 
 
+def _scenario_options(p: argparse.ArgumentParser, set_help: str, output_help: str) -> None:
+    """--set, --unset and -o of a command on a scenario file."""
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=set_help)
+    _unset_option(p)
+    p.add_argument("-o", "--output", type=Path, help=output_help)
+
+
 _MAX_PROCESSES = 4 * (os.cpu_count() or 1)
 _MAX_PERIODS = 1000
 _MAX_DEMO_DURATION = 1000.0  # [s]
@@ -549,11 +556,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="associative (one programme; an upper estimate where joints slide) "
                         "or non-associative (Gilbert, Casapulla & Ahmed 2006: friction limits "
                         "fixed from the previous normal forces until they repeat)")
-    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a scenario key (repeatable)")
-    _unset_option(p)
-    p.add_argument("-o", "--output", type=Path,
-                   help="picture of the mechanism (2D; default: SCENARIO-limit.png)")
+    _scenario_options(p, "override a scenario key (repeatable)",
+                      "picture of the mechanism (2D; default: SCENARIO-limit.png)")
     p.set_defaults(func=_limit)
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
@@ -583,12 +587,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="judge rest by the unbalanced force ratio of the structure as a "
                         "whole instead of every block's own (docs/collapse.md): hides a small "
                         "part (a parapet) that starts to fail slowly on a large structure")
-    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override another scenario key (repeatable)")
-    _unset_option(p)
-    p.add_argument("-o", "--output", type=Path,
-                   help="results of the collapsing case (default: SCENARIO-collapse.h5; "
-                        "replaced if it exists)")
+    _scenario_options(p, "override another scenario key (repeatable)",
+                      "results of the collapsing case (default: SCENARIO-collapse.h5; "
+                      "replaced if it exists)")
     p.set_defaults(func=_collapse)
 
     p = sub.add_parser("collapse-curve", help="smallest pulse amplitude that collapses the "

@@ -61,7 +61,7 @@ from .simulation import Simulation
 from .state import State
 
 __all__ = ["DYNAMIC_FRACTION", "ONSET", "BracketError", "CollapseCriterion", "CollapseEvent",
-           "CriticalValue", "CurvePoint", "SolverFailures", "Trial", "collapse_curve",
+           "CriticalValue", "CurvePoint", "SolverFailures", "Trial", "bisect", "collapse_curve",
            "critical_value", "find_collapse", "run_trial", "scenario_critical_value",
            "solver_failures", "unbalanced_force_ratio"]
 
@@ -309,6 +309,14 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
         trials.append(trial)
         return trial.collapsed
 
+    return CriticalValue(*bisect(collapsed, stands, collapses, tolerance), trials)
+
+
+def bisect(collapsed: Callable[[float], bool], stands: float, collapses: float,
+           tolerance: float) -> tuple[float, float]:
+    """The bracket (stands, collapses) of the value where the verdict collapsed(x) changes,
+    narrowed by bisection to `tolerance` times the larger magnitude of its ends, after
+    checking the verdicts at both ends (BracketError)."""
     if collapsed(stands):
         raise BracketError(f"the structure already collapses at {stands:g}; start the bracket "
                          "at a value where it stands")
@@ -320,7 +328,7 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
             collapses = mid
         else:
             stands = mid
-    return CriticalValue(stands, collapses, trials)
+    return stands, collapses
 
 
 def scenario_critical_value(path, key: str, stands: float, collapses: float, *,

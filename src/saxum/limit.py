@@ -279,18 +279,9 @@ def static_critical_value(path, key: str, stands_at: float, collapses_at: float,
         return stands(s.build_model(), detection=DetectionSettings(
             alert=s.detection.alert, margin=s.detection.margin))
 
-    if not standing(stands_at):
-        raise InputError(f"the static analysis finds no equilibrium at {key} = {stands_at:g}")
-    if standing(collapses_at):
-        raise InputError(f"the static analysis finds an equilibrium at {key} = "
-                         f"{collapses_at:g}: widen the bracket")
-    while abs(collapses_at - stands_at) > tolerance * max(abs(stands_at), abs(collapses_at)):
-        mid = 0.5 * (stands_at + collapses_at)
-        if standing(mid):
-            stands_at = mid
-        else:
-            collapses_at = mid
-    return 0.5 * (stands_at + collapses_at)
+    from .collapse import bisect
+
+    return 0.5 * sum(bisect(lambda x: not standing(x), stands_at, collapses_at, tolerance))
 
 
 def rest_certificate(problem, v_free: np.ndarray) -> bool:
