@@ -43,6 +43,25 @@ def test_the_mechanism_does_the_work_of_the_factor(model):
             - 1e-7).all()
 
 
+def test_point_loads_as_the_live_load():
+    """live="forces": a point load on the fifth voussoir times lambda; the mechanism does its
+    work (duality, as above) with four hinges, one at a joint of the loaded voussoir."""
+    from saxum.structures.arch import add_supported_semicircular_arch
+
+    builder = sx.ModelBuilder()
+    ids = add_supported_semicircular_arch(builder, radius=1.0, thickness=0.15, voussoirs=15)
+    builder.set_law("voussoir", "voussoir", sx.ContactLaw(friction=0.8))
+    builder.set_law("voussoir", "support", sx.ContactLaw(friction=0.8))
+    builder.add_force([ids[4]], lambda t: (0.0, -1000.0, 0.0))
+    model = builder.finalize()
+    result = limit_analysis(model, live="forces")
+    dead, live, _ = _loads(model, "forces", 1.0)
+    u = result.velocity
+    assert -(dead * u).sum() / (live * u).sum() == pytest.approx(result.factor, rel=1e-7)
+    assert len(result.mechanism.hinges) == 4
+    assert any("voussoir 5" in j.bodies for j in result.mechanism.hinges)
+
+
 def test_the_non_associative_iteration_ends_coulomb_admissible_and_not_dilatant():
     model = wall(courses=6, bricks=3, friction=0.5)
     assoc = limit_analysis(model)
