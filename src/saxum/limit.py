@@ -470,7 +470,7 @@ def _solve_2d(unit, mu, rhs, load, limit):
     bounds[-1] = (0.0, 0.0) if fixed else (-np.inf, np.inf)
     cost = np.zeros(2 * k + 1)
     cost[-1] = -1.0
-    res = linprog(cost, A_eq=a_eq, b_eq=rhs, bounds=bounds, method="highs-ds",
+    res = linprog(cost, A_eq=a_eq, b_eq=rhs, bounds=bounds, method="highs-ipm",
                   options={"primal_feasibility_tolerance": _FEASIBLE,
                            "dual_feasibility_tolerance": _FEASIBLE})
     _check_status(res.status, res.message)
