@@ -7,9 +7,10 @@ For the semicircular arch (R = 1 m, t/R = 0.15, 15 voussoirs, mu = 0.8) and a ru
 wall of 2000 bricks and halves (40 courses of 50 bricks, 0.25 x 0.065 m, mu = 0.6) under a
 horizontal load factor: the limit analysis (detection at the initial configuration, the
 linear programme with HiGHS, the mechanism; the fastest of --repeats runs, --wall-repeats
-for the wall, after a warm-up on a small wall; wall and CPU time) and the load-to-collapse bisection on the same model (certified verdicts,
-to 0.5 %; the wall's only with the part "wall-bisection", which takes minutes), with the
-factors each finds. Kernels are compiled (a warm-up run) before the clock starts.
+for the wall, after a warm-up on a small wall; wall and CPU time) and the load-to-collapse
+bisection on the same model (certified verdicts, to 0.5 %; the wall's only with the part
+"wall-bisection", which takes minutes), with the factors each finds. Kernels are compiled
+(a warm-up run) before the clock starts.
 """
 
 import argparse
