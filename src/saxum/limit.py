@@ -17,8 +17,8 @@ points for two faces in contact in 2D, the corners of the overlap in 3D), and la
 
 D the dead load (weight, constant loads), L the live load (a horizontal acceleration of g on
 every free block, or the point loads). In 2D each contact's cone is spanned by two rays,
-R = a_1 (n - mu t) + a_2 (n + mu t), a >= 0: a linear programme (scipy's HiGHS, dual simplex)
-with bounds only; in 3D (R_t, R_s, mu R_n) lies in a second-order cone: a conic programme
+R = a_1 (n - mu t) + a_2 (n + mu t), a >= 0: a linear programme with bounds only (scipy's
+HiGHS, interior point, then crossover to a vertex, whose multipliers are exact); in 3D (R_t, R_s, mu R_n) lies in a second-order cone: a conic programme
 (Clarabel). Any feasible R is a statically admissible state, so lambda is a lower bound of
 the collapse factor of the associative model; its dual is the kinematic problem, whose
 solution, the equalities' multipliers, are virtual velocities u of the blocks with
@@ -61,7 +61,7 @@ __all__ = ["LimitAnalysis", "limit_analysis", "rest_certificate", "scenario_limi
 
 _STATIONARY = 1e-6
 """A contact point whose relative virtual velocity is below this, relative to the fastest
-block point's speed, does not move (the dual of a simplex vertex is exact to ~1e-12; a
+block point's speed, does not move (the multipliers at a vertex are exact to ~1e-12; a
 conic solver's to its tolerance ~1e-8)."""
 _FEASIBLE = 1e-9
 """HiGHS's primal and dual feasibility tolerances on the scaled programme (forces in units
