@@ -16,18 +16,19 @@ points for two faces in contact in 2D, the corners of the overlap in 3D), and la
     joint, which bounds the eccentricity) and |R_T| <= mu R_n (Coulomb),
 
 D the dead load (weight, constant loads), L the live load (a horizontal acceleration of g on
-every free block, or the point loads). In 2D each contact's cone is spanned by two rays,
-R = a_1 (n - mu t) + a_2 (n + mu t), a >= 0: a linear programme with bounds only (scipy's
-HiGHS, interior point, then crossover to a vertex, whose multipliers are exact); in 3D (R_t, R_s, mu R_n) lies in a second-order cone: a conic programme
-(Clarabel). Any feasible R is a statically admissible state, so lambda is a lower bound of
-the collapse factor of the associative model; its dual is the kinematic problem, whose
-solution, the equalities' multipliers, are virtual velocities u of the blocks with
-L . u = 1 and lambda = -D . u (virtual work): the mechanism. With the associative flow rule
-the relative velocity U of each contact lies in the dual cone, U_n >= mu |U_T| (a sliding
-joint dilates): that is the price of a convex problem. For purely rotational mechanisms
-(hinges, no sliding) the associative and the true (non-associative) factors coincide; where
-sliding takes part the associative factor is only an upper estimate (Radenkovic's theorems:
-the true collapse factor lies between the frictionless one and the associative one).
+every free block, or the point loads). In 2D each contact's cone is spanned by two rays, R =
+a_1 (n - mu t) + a_2 (n + mu t), a >= 0: a linear programme with bounds only (scipy's HiGHS,
+interior point, then crossover to a vertex, whose multipliers are exact); in 3D (R_t, R_s,
+mu R_n) lies in a second-order cone: a conic programme (Clarabel). Any feasible R is a
+statically admissible state, so lambda is a lower bound of the collapse factor of the
+associative model; its dual is the kinematic problem, whose solution, the equalities'
+multipliers, are virtual velocities u of the blocks with L . u = 1 and lambda = -D . u
+(virtual work): the mechanism. With the associative flow rule the relative velocity U of
+each contact lies in the dual cone, U_n >= mu |U_T| (a sliding joint dilates): that is the
+price of a convex problem. For purely rotational mechanisms (hinges, no sliding) the
+associative and the true (non-associative) factors coincide; where sliding takes part the
+associative factor is only an upper estimate (Radenkovic's theorems: the true collapse
+factor lies between the frictionless one and the associative one).
 `friction="non-associative"` follows the iterative scheme of Gilbert, Casapulla & Ahmed
 (2006) in a simplified form: from the associative solution on, each programme fixes the
 friction limit of every contact at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1)
