@@ -10,13 +10,20 @@ load factor, a point load, a settlement, a thickness...) from rest, and decides:
   (its net force over the forces acting on it: weight and loads plus contact forces), stays
   below `force_ratio`, and the kinetic energy below `energy` times the potential energy scale
   m g L (L the structure's height). A mechanism that has started, however slowly, has a net
-  force m a on its blocks, so UFR = a/g-ish stays above the threshold. (The ratio of the sums
+  force m a on its blocks, so UFR = a/g-ish, above the threshold unless it starts very
+slowly (below). (The ratio of the sums
   over the whole structure, `per_block=False`, hides a small part, a parapet, that starts to
   move slowly on a large structure: its net force is tiny next to the forces on the rest.)
+  That quiet is only the trigger: the verdict needs an equilibrium certificate, a rest
+  solution of the last step found by the static programme (saxum.limit.rest_certificate);
+  a mechanism just past its limit starts too slowly for the force ratio to see it and has
+  none, so the trial runs on (up to `run_on` x `duration` more) until it moves away. Models
+  without a certificate (deformable blocks, joint laws) are judged by the quiet alone
+  (Trial.certified False);
 - **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
   initial position;
-- after `duration` seconds with neither (counted from `not_before`, the end of a pulse),
-  collapsed if over the second half of that time both the kinetic energy and the largest
+- after `duration` seconds with neither (counted from `not_before`, the end of a pulse;
+  with a certificate, `duration` x (1 + `run_on`)), uncertified: collapsed if over the second half of that time both the kinetic energy and the largest
   displacement grew (a mechanism that keeps going), standing otherwise (e.g. a block still
   rocking after a pulse, back and forth about its initial position).
 
