@@ -23,9 +23,10 @@ slowly (below). (The ratio of the sums
 - **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
   initial position;
 - after `duration` seconds with neither (counted from `not_before`, the end of a pulse;
-  with a certificate, `duration` x (1 + `run_on`)), uncertified: collapsed if over the second half of that time both the kinetic energy and the largest
-  displacement grew (a mechanism that keeps going), standing otherwise (e.g. a block still
-  rocking after a pulse, back and forth about its initial position).
+  with a certificate, `duration` x (1 + `run_on`)), uncertified: collapsed if over the
+  second half of that time both the kinetic energy and the largest displacement grew (a
+  mechanism that keeps going), standing otherwise (e.g. a block still rocking after a
+  pulse, back and forth about its initial position).
 
 Under an imposed settlement (`after_motion`, with `not_before` the end of the settlement)
 the blocks carried by the moving support move with it without collapsing, so a trial is
