@@ -95,6 +95,17 @@ def _collapse(args) -> None:
         g = float(np.linalg.norm(scenario.loads.gravity_for(dim)))
         print(f"horizontal load factor lambda = a/g: {result.value / g:.4g} "
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
+    uncertified = [t.value for t in result.trials if not t.certified]
+    if uncertified:
+        warnings.warn(f"{len(uncertified)} of the {len(result.trials)} verdicts are not "
+                      "certified (no equilibrium certificate for this model, or a trial "
+                      "that neither came to rest nor moved away within "
+                      f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
+                      f"energy): {', '.join(f'{v:.6g}' for v in uncertified)}; the bracket "
+                      "may then miss the critical value (docs/collapse.md)", SolverWarning,
+                      stacklevel=1)
+    if args.check_limit:
+        _check_limit(args, result)
     trial = result.collapse()
     motion = scenario.loads.ground_motion
     if motion is not None:  # the state when the collapsing motion began
@@ -123,6 +134,41 @@ def _collapse(args) -> None:
         plot_frame(r, -1, picture, thrust_line=not wall and dim == 2, mechanism=mech,
                    title=title)
     print(f"results of the collapsing case: {output}\npicture: {picture.resolve()}")
+
+
+def _check_limit(args, result) -> None:
+    """--check-limit: the static critical value beside the dynamic bracket, and a warning
+    when it lies outside the bracket by more than --tolerance (relative)."""
+    from .limit import static_critical_value
+
+    static = static_critical_value(args.scenario, args.vary, args.stands, args.collapses,
+                                   overrides=tuple(args.set))
+    lo, hi = sorted((result.stands, result.collapses))
+    print(f"limit analysis (static, associative friction): {args.vary} = {static:.6g}; "
+          f"dynamic bracket {result.stands:.6g} .. {result.collapses:.6g}")
+    slack = args.tolerance * max(abs(lo), abs(hi))
+    if not lo - slack <= static <= hi + slack:
+        warnings.warn(f"the limit analysis ({static:.6g}) and the dynamic bisection "
+                      f"({result.value:.6g}) differ by more than the tolerance "
+                      f"{args.tolerance:g}: with sliding joints the dynamics follow "
+                      "non-associative friction, which may fail below the static value; "
+                      "check the mechanism (docs/collapse.md)", SolverWarning, stacklevel=1)
+
+
+def _limit(args) -> None:
+    from .limit import scenario_limit_analysis
+    from .plot import plot_limit
+    from .scenario import load_scenario
+
+    result = scenario_limit_analysis(args.scenario, overrides=tuple(args.set), live=args.live,
+                                     friction=args.friction)
+    print(result.text())
+    if result.model.dim == 2:
+        picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
+                                                               + "-limit.png")
+        scenario = load_scenario(args.scenario, args.set)
+        plot_limit(result, picture, title=scenario.title or Path(args.scenario).stem)
+        print(f"picture: {picture.resolve()}")
 
 
 def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
@@ -476,6 +522,13 @@ def _unset_option(p: argparse.ArgumentParser) -> None:
                         "(repeatable)")
 
 
+def _scenario_options(p: argparse.ArgumentParser, set_help: str, output_help: str) -> None:
+    """--set, --unset and -o of a command on a scenario file."""
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=set_help)
+    _unset_option(p)
+    p.add_argument("-o", "--output", type=Path, help=output_help)
+
+
 _MAX_PROCESSES = 4 * (os.cpu_count() or 1)
 _MAX_PERIODS = 1000
 _MAX_DEMO_DURATION = 1000.0  # [s]
@@ -517,6 +570,24 @@ def _parser() -> argparse.ArgumentParser:
                         f"{_MAX_DEMO_DURATION:g})")
     p.set_defaults(func=_demo)
 
+    p = sub.add_parser("limit", help="limit analysis: the largest load factor that the "
+                                     "joints can carry (a linear or conic programme) and the "
+                                     "collapse mechanism")
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
+    p.add_argument("--live", choices=("horizontal", "forces"), default="horizontal",
+                   help="the load multiplied by lambda: horizontal (an acceleration lambda g "
+                        "on every free block, along the sign of loads.horizontal_acceleration, "
+                        "which is taken out of the dead load; the default) or forces (the "
+                        "point loads)")
+    p.add_argument("--friction", choices=("associative", "non-associative"),
+                   default="associative",
+                   help="associative (one programme; an upper estimate where joints slide) "
+                        "or non-associative (Gilbert, Casapulla & Ahmed 2006: friction limits "
+                        "fixed from the previous normal forces until they repeat)")
+    _scenario_options(p, "override a scenario key (repeatable)",
+                      "picture of the mechanism (2D; default: SCENARIO-limit.png)")
+    p.set_defaults(func=_limit)
+
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
                                         "thickness...) by bisection, and the mechanism")
     p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
@@ -536,16 +607,17 @@ def _parser() -> argparse.ArgumentParser:
                    help="collapse: a block moved by this fraction of the smallest block's "
                         "size (default 0.01, and 0.5 under a ground motion, judged once it "
                         "has ended)")
+    p.add_argument("--check-limit", action="store_true",
+                   help="also find the critical value by limit analysis (static, constant "
+                        "loads) and warn if it lies outside the dynamic bracket by more than "
+                        "--tolerance")
     p.add_argument("--structure-ratio", action="store_true",
                    help="judge rest by the unbalanced force ratio of the structure as a "
                         "whole instead of every block's own (docs/collapse.md): hides a small "
                         "part (a parapet) that starts to fail slowly on a large structure")
-    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override another scenario key (repeatable)")
-    _unset_option(p)
-    p.add_argument("-o", "--output", type=Path,
-                   help="results of the collapsing case (default: SCENARIO-collapse.h5; "
-                        "replaced if it exists)")
+    _scenario_options(p, "override another scenario key (repeatable)",
+                      "results of the collapsing case (default: SCENARIO-collapse.h5; "
+                      "replaced if it exists)")
     p.set_defaults(func=_collapse)
 
     p = sub.add_parser("collapse-curve", help="smallest pulse amplitude that collapses the "

@@ -10,15 +10,23 @@ load factor, a point load, a settlement, a thickness...) from rest, and decides:
   (its net force over the forces acting on it: weight and loads plus contact forces), stays
   below `force_ratio`, and the kinetic energy below `energy` times the potential energy scale
   m g L (L the structure's height). A mechanism that has started, however slowly, has a net
-  force m a on its blocks, so UFR = a/g-ish stays above the threshold. (The ratio of the sums
+  force m a on its blocks, so UFR = a/g-ish, above the threshold unless it starts very
+slowly (below). (The ratio of the sums
   over the whole structure, `per_block=False`, hides a small part, a parapet, that starts to
   move slowly on a large structure: its net force is tiny next to the forces on the rest.)
+  That quiet is only the trigger: the verdict needs an equilibrium certificate, a rest
+  solution of the last step found by the static programme (saxum.limit.rest_certificate);
+  a mechanism just past its limit starts too slowly for the force ratio to see it and has
+  none, so the trial runs on (up to `run_on` x `duration` more) until it moves away. Models
+  without a certificate (deformable blocks, joint laws) are judged by the quiet alone
+  (Trial.certified False);
 - **collapsed** as soon as a free block has moved by more than `displacement` [m] from its
   initial position;
-- after `duration` seconds with neither (counted from `not_before`, the end of a pulse),
-  collapsed if over the second half of that time both the kinetic energy and the largest
-  displacement grew (a mechanism that keeps going), standing otherwise (e.g. a block still
-  rocking after a pulse, back and forth about its initial position).
+- after `duration` seconds with neither (counted from `not_before`, the end of a pulse;
+  with a certificate, `duration` x (1 + `run_on`)), uncertified: collapsed if over the
+  second half of that time both the kinetic energy and the largest displacement grew (a
+  mechanism that keeps going), standing otherwise (e.g. a block still rocking after a
+  pulse, back and forth about its initial position).
 
 Under an imposed settlement (`after_motion`, with `not_before` the end of the settlement)
 the blocks carried by the moving support move with it without collapsing, so a trial is
@@ -61,7 +69,7 @@ from .simulation import Simulation
 from .state import State
 
 __all__ = ["DYNAMIC_FRACTION", "ONSET", "BracketError", "CollapseCriterion", "CollapseEvent",
-           "CriticalValue", "CurvePoint", "SolverFailures", "Trial", "collapse_curve",
+           "CriticalValue", "CurvePoint", "SolverFailures", "Trial", "bisect", "collapse_curve",
            "critical_value", "find_collapse", "run_trial", "scenario_critical_value",
            "solver_failures", "unbalanced_force_ratio"]
 
@@ -90,7 +98,10 @@ class CollapseCriterion:
     per_block: the force ratio is the largest over the free blocks of each block's own (its
     net force over the forces acting on it, the default) or, if False, the structure's (sums
     over all free blocks), which calls a small part that starts to move slowly on a large
-    structure (a parapet) at rest, its net force being tiny next to the forces on the rest."""
+    structure (a parapet) at rest, its net force being tiny next to the forces on the rest;
+    run_on: a trial still undecided after `duration` (neither certified at rest nor moved by
+    the displacement threshold) runs on for up to run_on x duration more before the energy
+    rule decides it, uncertified (module doc)."""
 
     displacement: float | None = None
     fraction: float = 0.01
@@ -101,8 +112,11 @@ class CollapseCriterion:
     not_before: float = 0.0
     after_motion: bool = False
     per_block: bool = True
+    run_on: float = 4.0
 
     def __post_init__(self) -> None:
+        if not (math.isfinite(self.run_on) and self.run_on >= 0.0):
+            raise InputError(f"collapse criterion run_on must be >= 0, got {self.run_on}")
         for name in ("fraction", "duration", "settle", "force_ratio", "energy"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
@@ -122,7 +136,11 @@ class Trial:
     this may be before the verdict, which waits for the pulse to end), and the state when that
     collapsing motion began (`at_collapse`: when a block last moved past ONSET times the limit
     before it), whose mechanism (`mechanism()`) shows the hinges that formed before the blocks
-    fell apart (nan and None when it stood)."""
+    fell apart (nan and None when it stood). certified: standing with an equilibrium
+    certificate (a rest solution of the last step, saxum.limit.rest_certificate), or
+    collapsed with a block moved past the threshold; False for a verdict of the energy rule
+    at the end of the longest trial, or at rest by the force ratio alone where no certificate
+    exists (deformable blocks, joint laws)."""
 
     value: float
     collapsed: bool
@@ -134,6 +152,7 @@ class Trial:
     state: State = field(repr=False)
     collapse_time: float = math.nan
     at_collapse: State | None = field(default=None, repr=False)
+    certified: bool = True
 
     def mechanism(self):
         """The saxum.mechanism.Mechanism at the time of collapse (None when it stood)."""
@@ -184,7 +203,9 @@ def run_trial(sim: Simulation, value: float = math.nan,
     g = float(np.linalg.norm(m.gravity)) or 1.0
     energy_scale = float(m.body_mass[free].sum()) * g * height
     state = sim.initial_state()
-    steps = round((crit.not_before + crit.duration) / h)
+    certify = _certifier(sim)
+    steps = round((crit.not_before + crit.duration * (1.0 if certify is None
+                                                      else 1.0 + crit.run_on)) / h)
     first = min(round(crit.not_before / h), steps - 1)  # the window the verdicts look at
     settle = max(1, round(crit.settle / h))
     quiet = 0
@@ -220,17 +241,44 @@ def run_trial(sim: Simulation, value: float = math.nan,
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
         if quiet >= settle and state.time >= crit.not_before:
-            return Trial(value, False, state.time, moved, ratio, report.kinetic_energy, sim,
-                         state)
+            if certify is None or certify():
+                return Trial(value, False, state.time, moved, ratio, report.kinetic_energy,
+                             sim, state, certified=certify is not None)
+            quiet = 0  # quiet, but no equilibrium holds it: a slow mechanism; run on
     half = (first + steps) // 2
     growing = (energies[half:].mean() > energies[first:half].mean()
                and displacements[half:].max() > displacements[first:half].max())
     if not growing:
-        return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state)
+        return Trial(value, False, state.time, moved, ratio, float(energies[-1]), sim, state,
+                     certified=False)
     over = moved > limit
     return Trial(value, True, state.time, moved, ratio, float(energies[-1]), sim, state,
                  crossed if over else state.time,
-                 onset if onset is not None and moved > ONSET * limit else state)
+                 onset if onset is not None and moved > ONSET * limit else state,
+                 certified=False)
+
+
+def _certifier(sim: Simulation):
+    """A function telling whether the structure can stand where it is under the last step's
+    loads: a rest solution strictly inside the cones (saxum.solver.equilibrium, a few sparse
+    factorizations), else one found by the static programme (saxum.limit.rest_certificate,
+    which also finds those on the cones' boundary, near a limit); None for models they do
+    not serve (deformable blocks, joint laws: their verdicts at rest rest on the force ratio
+    alone)."""
+    from .limit import rest_certificate
+    from .solver.equilibrium import rest_solution
+
+    if sim.fe is not None or sim.problem.joint_laws:
+        return None
+
+    def certify() -> bool:
+        p, v_free = sim.problem, sim.free_velocity
+        impulse = p.contacts.impulse.copy()
+        if rest_solution(p, impulse, v_free.copy(), np.empty_like(v_free)):
+            return True
+        return rest_certificate(p, v_free)
+
+    return certify
 
 
 def _block_energy(model, v: np.ndarray) -> np.ndarray:
@@ -281,6 +329,14 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
         trials.append(trial)
         return trial.collapsed
 
+    return CriticalValue(*bisect(collapsed, stands, collapses, tolerance), trials)
+
+
+def bisect(collapsed: Callable[[float], bool], stands: float, collapses: float,
+           tolerance: float) -> tuple[float, float]:
+    """The bracket (stands, collapses) of the value where the verdict collapsed(x) changes,
+    narrowed by bisection to `tolerance` times the larger magnitude of its ends, after
+    checking the verdicts at both ends (BracketError)."""
     if collapsed(stands):
         raise BracketError(f"the structure already collapses at {stands:g}; start the bracket "
                          "at a value where it stands")
@@ -292,7 +348,7 @@ def critical_value(make_simulation: Callable[[float], Simulation], stands: float
             collapses = mid
         else:
             stands = mid
-    return CriticalValue(stands, collapses, trials)
+    return stands, collapses
 
 
 def scenario_critical_value(path, key: str, stands: float, collapses: float, *,

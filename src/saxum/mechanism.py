@@ -53,7 +53,7 @@ from .state import State
 
 __all__ = ["BOND_STATES", "CREEP", "Joint", "Mechanism", "bond_states", "course_of",
            "frame_contacts", "frame_mechanism", "hinge_lines", "joint_index", "joint_opening",
-           "joint_resultants", "joint_states", "mechanism", "thrust_line"]
+           "joint_resultants", "joint_states", "mechanism", "thrust_line", "wall_frame"]
 
 CREEP = 1e-3
 """[1/s]: a slip (or a block) slower than this times the smallest block's size per second is
@@ -203,6 +203,15 @@ def thrust_line(contacts: dict, gap_tolerance: float, centre: tuple[float, float
     cop = cop[np.isfinite(cop[:, 0])]
     order = np.argsort(np.arctan2(cop[:, 0] - centre[0], cop[:, 1] - centre[1]))
     return cop[order]
+
+
+def wall_frame(model) -> tuple[dict[int, int], float]:
+    """The course of each coursed body of a wall (course_of: body index -> course) and the
+    wall's left end [m] (the leftmost initial vertex of the coursed bodies; 0 without any),
+    from which joints are located along their course (module doc)."""
+    course = {b: c for b, name in enumerate(model.body_name)
+              if (c := course_of(name)) is not None}
+    return course, min((float(model.vertices(b)[:, 0].min()) for b in course), default=0.0)
 
 
 def joint_index(candidate: np.ndarray, antagonist: np.ndarray) -> np.ndarray:
@@ -363,8 +372,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     pairs, cop, resultant = joint_resultants(contacts, gap_tol)
     joint = joint_index(cand, ant)
     names = model.body_name
-    course = {b: c for b, name in enumerate(names) if (c := course_of(name)) is not None}
-    left = min((float(model.vertices(b)[:, 0].min()) for b in course), default=0.0)
+    course, left = wall_frame(model)
     joints = []
     for j, (a, b) in enumerate(pairs):
         rows = np.flatnonzero(joint == j)

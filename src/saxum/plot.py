@@ -59,7 +59,7 @@ from .plot_common import (
     results_point_loads,
 )
 
-__all__ = ["REST", "animate", "joint_states", "plot_collapse_curve", "plot_frame",
+__all__ = ["REST", "animate", "joint_states", "plot_collapse_curve", "plot_frame", "plot_limit",
            "plot_histories", "plot_model", "save_states"]
 
 _WIDEST = 6.0  # line width [pt] of a segment carrying the full-scale force
@@ -769,3 +769,51 @@ def save_states(path: str | PathLike, panels: Sequence[tuple[Model, np.ndarray, 
         _finish_axes(ax, look, title)
         _colourbar(ax, look)
     fig.savefig(path, dpi=120)
+
+
+def plot_limit(result, path: str | PathLike | None = None, *, title: str = "",
+               thrust_line: bool | None = None, dpi: int = 150) -> Figure:
+    """The mechanism of a limit analysis (saxum.limit.LimitAnalysis, 2D): the blocks moved
+    by their virtual velocities, scaled so that the fastest point moves by 5 % of the
+    structure's extent (the initial outlines dashed), the hinges (white circles) and
+    sliding joints (diamonds), and for an arch (thrust_line None: a model without coursed
+    wall blocks) the thrust line at collapse (the joints' centres of pressure). Saved to
+    `path` at dpi when given."""
+    model = result.model
+    if model.dim != 2:
+        raise InputError("plot_limit draws 2D mechanisms; a 3D one is reported in words "
+                         "(LimitAnalysis.text)")
+    blocks = _model_blocks(model)
+    free = model.body_kind == BodyKind.FREE
+    owner = np.repeat(np.arange(model.body_count), np.diff(blocks.vertex_start))
+    pts = blocks.world(blocks.q0)[free[owner]]
+    extent = float((pts.max(axis=0) - pts.min(axis=0)).max())
+    q = blocks.q0 + 0.05 * extent * result.velocity  # fastest point at 1 m/s
+    look = _look(blocks, q[None], None)
+    lo, hi = np.minimum(pts.min(axis=0), blocks.world(q)[free[owner]].min(axis=0)), np.maximum(
+        pts.max(axis=0), blocks.world(q)[free[owner]].max(axis=0))
+    pad = 0.08 * float((hi - lo).max())
+    look = dataclasses.replace(look, xlim=(lo[0] - pad, hi[0] + pad),
+                               ylim=(lo[1] - pad, hi[1] + pad))
+    ax = Figure(figsize=_figsize(look), layout="constrained").add_subplot()
+    _draw_blocks(ax, look, blocks, q)
+    mech = result.mechanism
+    hinges = np.array([j.hinge_point for j in mech.hinges]).reshape(-1, 2)
+    slides = np.array([j.centre_of_pressure for j in mech.sliding]).reshape(-1, 2)
+    handles = ax.plot(hinges[:, 0], hinges[:, 1], ls="none", zorder=5,
+                      label=f"hinge ({len(hinges)})", **_MARKS["hinge"])
+    handles += ax.plot(slides[:, 0], slides[:, 1], ls="none", zorder=5,
+                       label=f"sliding ({len(slides)})", **_SLIDE)
+    wall = any(j.courses for j in mech.joints)
+    if thrust_line or (thrust_line is None and not wall):
+        centre = (float(pts[:, 0].mean()), float(pts[:, 1].min()))
+        line = result.thrust_line(centre)
+        handles += ax.plot(line[:, 0], line[:, 1], "-o", color="k", lw=1.2, ms=2.5,
+                           zorder=6, label="thrust line at collapse")
+    _draw_courses(ax, model.body_name, blocks)
+    _legend(ax, handles, False)
+    _finish_axes(ax, look, f"{title + ': ' if title else ''}limit load factor "
+                           f"{result.factor:.5g}, mechanism (virtual displacement, scaled)")
+    if path is not None:
+        ax.figure.savefig(path, dpi=dpi)
+    return ax.figure
