@@ -96,6 +96,28 @@ def test_hybrid_keeps_nlgs_iterate_where_the_conic_one_is_worse(monkeypatch):
     assert np.array_equal(state.body_q, nlgs_state.body_q)
 
 
+def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch):
+    """Where NLGS stops at its cap and no attempt is kept, the step reports (and the step log
+    keeps) the natural-map error of the impulses it ends with: that of the time stepper's
+    impulses in the step's exported problem (saxum.fclib.step_problem, u = W R + q
+    recomputed from R; relative tolerance 1e-12: the same sums in another order). A step
+    that converged has none (nan)."""
+    from saxum.fclib import step_problem
+
+    _worse_attempts(monkeypatch)
+    sim, state, report = _first_step(sx.Hybrid(rest_after=0))
+    assert not report.converged
+    exported = step_problem(sim, state)
+    expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r,
+                                 exported.spacedim)
+    assert math.isclose(report.natural_map, expected, rel_tol=1e-12)
+    assert math.isclose(sim.log.natural_map[-1], expected, rel_tol=1e-12)
+    assert f"natural-map error of their impulses up to {expected:.3g}" in sim.log.summary()
+    sim, _, report = _first_step(sx.Hybrid())  # the rest solution: converged
+    assert report.converged and math.isnan(report.natural_map)
+    assert math.isnan(sim.log.natural_map[-1])
+
+
 def test_hybrid_is_nlgs_where_nlgs_converges():
     """Where NLGS converges the hybrid runs the same sweeps: the same states bit for bit."""
     runs = []

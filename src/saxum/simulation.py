@@ -285,7 +285,7 @@ class Simulation:
         report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
                             contacts.count, loaded, depth, energy,
                             0 if projected is None else projected.iterations,
-                            SOLVER_NAMES.index(solved.solver))
+                            SOLVER_NAMES.index(solved.solver), solved.natural_map)
         self.log.append(report)
         return report
 
