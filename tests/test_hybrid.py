@@ -118,6 +118,34 @@ def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch):
     assert math.isnan(sim.log.natural_map[-1])
 
 
+def test_a_3d_step_above_the_tolerance_says_how_far_from_a_solution():
+    """A small 3D L wall (4 courses, walls 1.0 and 0.75 m long, 29 bricks) under 0.7 g: its
+    14th step is the first whose problem neither NLGS (cap) nor the hybrid's attempts solve
+    (the friction threshold of docs/method.md, with 3-4 contact points per face pair). The
+    step ends not converged and reports the natural-map error of its impulses, that of the
+    exported step problem (saxum.fclib.step_problem, 3D; relative tolerance 1e-12: the same
+    sums in another order); the steps before it converged and report none."""
+    import dataclasses
+
+    from saxum.fclib import step_problem
+    from saxum.structures import wall3d
+
+    model = wall3d(courses=4, length=1.0, return_length=0.75)
+    g = float(np.linalg.norm(model.gravity))
+    model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid())
+    state = sim.initial_state()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        while (report := sim.step(state)).converged:
+            assert math.isnan(report.natural_map) and state.step < 14
+    assert state.step == 14 and sim.solver.attempts == 1
+    exported = step_problem(sim, state)
+    expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
+    assert math.isclose(report.natural_map, expected, rel_tol=1e-12)
+    assert expected > report.error  # NLGS's criterion understates the distance here
+
+
 def test_hybrid_is_nlgs_where_nlgs_converges():
     """Where NLGS converges the hybrid runs the same sweeps: the same states bit for bit."""
     runs = []
