@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["STEP_DTYPES", "StepLog", "StepReport", "natural_map_note"]
+__all__ = ["STEP_DTYPES", "StepLog", "StepReport"]
 
 
 @dataclass(frozen=True)
