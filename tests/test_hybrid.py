@@ -96,13 +96,15 @@ def test_hybrid_keeps_nlgs_iterate_where_the_conic_one_is_worse(monkeypatch):
     assert np.array_equal(state.body_q, nlgs_state.body_q)
 
 
-def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch):
+def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch, tmp_path):
     """Where NLGS stops at its cap and no attempt is kept, the step reports (and the step log
     keeps) the natural-map error of the impulses it ends with: that of the time stepper's
     impulses in the step's exported problem (saxum.fclib.step_problem, u = W R + q
     recomputed from R; relative tolerance 1e-12: the same sums in another order). A step
     that converged has none (nan)."""
+    from saxum.cli import info_text
     from saxum.fclib import step_problem
+    from saxum.results import Results, ResultsWriter
 
     _worse_attempts(monkeypatch)
     sim, state, report = _first_step(sx.Hybrid(rest_after=0))
@@ -113,6 +115,12 @@ def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch):
     assert math.isclose(report.natural_map, expected, rel_tol=1e-12)
     assert math.isclose(sim.log.natural_map[-1], expected, rel_tol=1e-12)
     assert f"natural-map error of their impulses up to {expected:.3g}" in sim.log.summary()
+    with ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-3, theta=0.5) as w:
+        w.log_step(report)
+        w.write_frame(state)
+    with Results(tmp_path / "r.h5") as r:
+        assert math.isclose(r.steps["natural_map"][0], expected, rel_tol=1e-12)
+        assert f"natural-map error of their impulses up to {expected:.3g}" in info_text(r)
     sim, _, report = _first_step(sx.Hybrid())  # the rest solution: converged
     assert report.converged and math.isnan(report.natural_map)
     assert math.isnan(sim.log.natural_map[-1])
@@ -317,10 +325,12 @@ def test_results_written_before_the_solver_column_still_read(tmp_path):
         w.log_step(report)
         w.write_frame(state)
     with h5py.File(tmp_path / "r.h5", "a") as f:
-        del f["steps/solver"]  # as saxum wrote them before this column existed,
+        del f["steps/natural_map"]  # as saxum wrote them before these columns existed,
+        del f["steps/solver"]
         del f["steps/checksum"]  # when step rows had no checksums either (format 1)
     with Results(tmp_path / "r.h5") as r:
         assert "solver" not in r.steps and r.steps["step"].tolist() == [1]
+        assert "natural_map" not in r.steps
         assert "steps finished by" not in info_text(r)
 
 
