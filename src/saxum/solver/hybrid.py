@@ -26,7 +26,10 @@ iterate end above that iterate's error, the step ends at it. After k attempts in
 that were rejected or did not end their solve converged, the next 2^k - 1 solves (k at most
 6) are NLGS's alone: on the friction threshold the fixed point crawls too, and each attempt
 costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
-hybrid is NLGS: the same iterates bit for bit, one more Python call per window.
+hybrid is NLGS: the same iterates bit for bit, one more Python call per window. A solve that
+ends above the tolerance reports the natural-map error of the impulses it ends with
+(SolverReport.natural_map; saxum.solver.residual): how far they are from a solution, which
+NLGS's criterion (a sweep's change) does not say.
 """
 
 import math
