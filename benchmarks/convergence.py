@@ -189,6 +189,9 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
         "finished_conic": int(finished[1]),
         "finished_newton": int(finished[2]),
         "error_max": float(np.max(log.error)),
+        # the natural-map error of the steps that ended above the tolerance, where the solver
+        # measured it (saxum.solver.Hybrid; nan for NLGS alone or a saxum without it)
+        "natural_map_max": _largest_measured(getattr(log, "natural_map", None), converged),
         "bodies": int(model.body_count),
         "duration_s": duration,
         "steps": len(sweeps),
@@ -217,6 +220,15 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
         "sweeps": sweeps.tolist(),
     }
     return out
+
+
+def _largest_measured(values, converged) -> float:
+    """The largest finite entry of values on the steps not converged (nan if none)."""
+    if values is None:
+        return math.nan
+    measured = np.asarray(values)[~converged]
+    measured = measured[np.isfinite(measured)]
+    return float(measured.max()) if measured.size else math.nan
 
 
 # --------------------------------------------------------------------------------------------
@@ -451,7 +463,8 @@ def _print(r: dict) -> None:
             if r["rest_attempts"] is not None else "no rest solution")
     print(f"{r['case']} [{r['solver']}: steps finished by NLGS {r['finished_nlgs']}, by the "
           f"conic solver {r['finished_conic']}, by Newton {r['finished_newton']}; largest error "
-          f"{r['error_max']:.2g}]: "
+          f"{r['error_max']:.2g}, largest natural-map error of a step not converged "
+          f"{r['natural_map_max']:.2g}]: "
           f"{r['bodies']} bodies, {r['contacts_min']}..{r['contacts_max']} "
           f"contacts, {r['steps']} steps; first step {r['first_sweeps']} sweeps "
           f"({'converged' if r['first_converged'] else 'NOT converged'}, error "

@@ -96,6 +96,64 @@ def test_hybrid_keeps_nlgs_iterate_where_the_conic_one_is_worse(monkeypatch):
     assert np.array_equal(state.body_q, nlgs_state.body_q)
 
 
+def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch, tmp_path):
+    """Where NLGS stops at its cap and no attempt is kept, the step reports (and the step log
+    keeps) the natural-map error of the impulses it ends with: that of the time stepper's
+    impulses in the step's exported problem (saxum.fclib.step_problem, u = W R + q
+    recomputed from R; relative tolerance 1e-12: the same sums in another order). A step
+    that converged has none (nan)."""
+    from saxum.cli import info_text
+    from saxum.fclib import step_problem
+    from saxum.results import Results, ResultsWriter
+
+    _worse_attempts(monkeypatch)
+    sim, state, report = _first_step(sx.Hybrid(rest_after=0))
+    assert not report.converged
+    exported = step_problem(sim, state)
+    expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r,
+                                 exported.spacedim)
+    assert math.isclose(report.natural_map, expected, rel_tol=1e-12)
+    assert math.isclose(sim.log.natural_map[-1], expected, rel_tol=1e-12)
+    assert f"natural-map error of their impulses up to {expected:.3g}" in sim.log.summary()
+    with ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-3, theta=0.5) as w:
+        w.log_step(report)
+        w.write_frame(state)
+    with Results(tmp_path / "r.h5") as r:
+        assert math.isclose(r.steps["natural_map"][0], expected, rel_tol=1e-12)
+        assert f"natural-map error of their impulses up to {expected:.3g}" in info_text(r)
+    sim, _, report = _first_step(sx.Hybrid())  # the rest solution: converged
+    assert report.converged and math.isnan(report.natural_map)
+    assert math.isnan(sim.log.natural_map[-1])
+
+
+def test_a_3d_step_above_the_tolerance_says_how_far_from_a_solution():
+    """A small 3D L wall (4 courses, walls 1.0 and 0.75 m long, 29 bricks) under 0.7 g: its
+    14th step is the first whose problem neither NLGS (cap) nor the hybrid's attempts solve
+    (the friction threshold of docs/method.md, with 3-4 contact points per face pair). The
+    step ends not converged and reports the natural-map error of its impulses, that of the
+    exported step problem (saxum.fclib.step_problem, 3D; relative tolerance 1e-12: the same
+    sums in another order), as the run's warning says; the steps before it converged and
+    report none."""
+    import dataclasses
+
+    from saxum.fclib import step_problem
+    from saxum.structures import wall3d
+
+    model = wall3d(courses=4, length=1.0, return_length=0.75)
+    g = float(np.linalg.norm(model.gravity))
+    model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid())
+    state = sim.initial_state()
+    with pytest.warns(sx.SolverWarning, match="natural-map error of their impulses up to"):
+        sim.run(state, 0.014)
+    assert np.flatnonzero(~sim.log.converged).tolist() == [13]  # step 14
+    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == 1
+    exported = step_problem(sim, state)
+    expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
+    assert math.isclose(sim.log.natural_map[13], expected, rel_tol=1e-12)
+    assert expected > sim.log.error[13]  # NLGS's criterion understates the distance here
+
+
 def test_hybrid_is_nlgs_where_nlgs_converges():
     """Where NLGS converges the hybrid runs the same sweeps: the same states bit for bit."""
     runs = []
@@ -267,10 +325,12 @@ def test_results_written_before_the_solver_column_still_read(tmp_path):
         w.log_step(report)
         w.write_frame(state)
     with h5py.File(tmp_path / "r.h5", "a") as f:
-        del f["steps/solver"]  # as saxum wrote them before this column existed,
+        del f["steps/natural_map"]  # as saxum wrote them before these columns existed,
+        del f["steps/solver"]
         del f["steps/checksum"]  # when step rows had no checksums either (format 1)
     with Results(tmp_path / "r.h5") as r:
         assert "solver" not in r.steps and r.steps["step"].tolist() == [1]
+        assert "natural_map" not in r.steps
         assert "steps finished by" not in info_text(r)
 
 

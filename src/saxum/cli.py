@@ -31,6 +31,7 @@ import numpy as np
 
 from ._version import __version__
 from .errors import InputError, ResultsWriteError, SolverWarning
+from .steplog import natural_map_note
 
 __all__ = ["main"]
 
@@ -298,7 +299,9 @@ def info_text(r) -> str:
         lines.append(
             f"steps: {s['step'].size}; NLGS sweeps mean {s['iterations'].mean():.1f}, max "
             f"{s['iterations'].max()}; not converged at {bad.size} step(s)"
-            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs)
+            + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs
+            + (natural_map_note(s["natural_map"][~s["converged"]]) if "natural_map" in s
+               else ""))
         if "solver" in s:
             from .solver import SOLVER_NAMES
 

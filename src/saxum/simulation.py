@@ -35,7 +35,7 @@ from .solver import (
 )
 from .solver.laws_local import update_joints
 from .state import State
-from .steplog import StepLog, StepReport
+from .steplog import StepLog, StepReport, natural_map_note
 
 __all__ = ["Simulation"]
 
@@ -285,7 +285,7 @@ class Simulation:
         report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
                             contacts.count, loaded, depth, energy,
                             0 if projected is None else projected.iterations,
-                            SOLVER_NAMES.index(solved.solver))
+                            SOLVER_NAMES.index(solved.solver), solved.natural_map)
         self.log.append(report)
         return report
 
@@ -299,12 +299,14 @@ class Simulation:
             report = self.step(state)
             if callback is not None:
                 callback(state, report)
-        bad = self.log.non_converged()
-        bad = bad[bad > (self.log.step[first - 1] if first else 0)]
+        ran = slice(first, len(self.log))
+        bad = self.log.step[ran][~self.log.converged[ran]]
         if bad.size:
             warnings.warn(
                 f"the contact solver did not converge at {bad.size} of "
                 f"{len(self.log) - first} steps "
-                f"(first at step {bad[0]}); see Simulation.log", SolverWarning, stacklevel=2
+                f"(first at step {bad[0]}"
+                f"{natural_map_note(self.log.natural_map[ran][~self.log.converged[ran]])}); "
+                "see Simulation.log", SolverWarning, stacklevel=2
             )
         return self.log

@@ -1,5 +1,6 @@
 """Per-step record of what the solver did, kept with the results."""
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,7 +15,9 @@ class StepReport:
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
     position projection (0 when none was needed; saxum.solver.projection), the solver that
     finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
-    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid)."""
+    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid), and for a contact solve
+    that ended above its tolerance the natural-map error of its impulses [-]
+    (saxum.solver.SolverReport.natural_map: how far from a solution; nan where not measured)."""
 
     step: int
     time: float
@@ -27,6 +30,7 @@ class StepReport:
     kinetic_energy: float
     projection_iterations: int = 0
     solver: int = 0
+    natural_map: float = math.nan
 
 
 STEP_DTYPES = {
@@ -41,6 +45,7 @@ STEP_DTYPES = {
     "kinetic_energy": np.float64,
     "projection_iterations": np.int64,
     "solver": np.int8,
+    "natural_map": np.float64,
 }
 
 
@@ -82,7 +87,16 @@ class StepLog:
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
             + (f" (first: step {bad[0]})" if bad.size else "")
+            + natural_map_note(self.natural_map[~self.converged])
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )
+
+
+def natural_map_note(values: np.ndarray) -> str:
+    """', natural-map error of their impulses up to X' where the solver measured it."""
+    measured = values[np.isfinite(values)]
+    if measured.size == 0:
+        return ""
+    return f", natural-map error of their impulses up to {measured.max():.3g}"

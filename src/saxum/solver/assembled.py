@@ -14,6 +14,8 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
+from .residual import natural_map_error
+
 __all__ = ["AssembledProblem", "assemble_local", "fclib_order"]
 
 
@@ -44,6 +46,14 @@ class AssembledProblem:
         """The active contacts' impulses [N s] (count, dim) in saxum's frame -> flat r."""
         dim = impulse.shape[1]
         return impulse[self.active][:, fclib_order(dim)].ravel()
+
+    def natural_map_error(self, impulse: np.ndarray) -> float:
+        """||F_nat(r)|| / ||q|| (saxum.solver.residual) of the active contacts' impulses [N s]
+        (count, dim), u = W r + q recomputed from them; 0 without active contacts."""
+        if self.active.size == 0:
+            return 0.0
+        return natural_map_error(self.w, self.q, self.mu, self.impulses(impulse),
+                                 impulse.shape[1])
 
     def scatter(self, r: np.ndarray, v_free: np.ndarray, impulse: np.ndarray,
                 v: np.ndarray) -> None:

@@ -1,5 +1,6 @@
 """The interface every contact solver implements, and what it reports."""
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
@@ -18,12 +19,16 @@ class SolverReport:
     """What a solver did on one step: iterations (Gauss-Seidel sweeps), final error,
     converged or not, and which solver finished the step (an entry of SOLVER_NAMES: "nlgs",
     or "conic" / "newton" when saxum.solver.hybrid's attempt with the conic fixed point or
-    semismooth Newton was kept)."""
+    semismooth Newton was kept); natural_map: where the solve ended above the tolerance, the
+    natural-map error ||F_nat(R)|| / ||q|| of the impulses it returned (saxum.solver.residual:
+    how far they are from a solution of the step's problem, whatever the solver's own
+    criterion), nan where not measured (a converged solve; NLGS alone)."""
 
     iterations: int
     error: float
     converged: bool
     solver: str = "nlgs"
+    natural_map: float = math.nan
 
 
 class ContactSolver(ABC):

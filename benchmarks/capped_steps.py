@@ -1,0 +1,131 @@
+"""The steps a case ends above the tolerance, measured by the natural-map error, and the other
+solvers tried on them (docs/method.md, "The shaken 3D L wall").
+
+    python benchmarks/capped_steps.py                          # wall3d-shaken, 0.3 s (long)
+    python benchmarks/capped_steps.py --case wall3d-shaken --solve 1
+    python benchmarks/capped_steps.py --small --solve 1        # the 29-brick L wall, 0.02 s
+
+Runs the case (benchmarks/convergence.py's CASES; --small: the 4-course L wall of walls 1.0
+and 0.75 m under 0.7 g, tests/test_hybrid.py's) with NLGS alone and keeps the assembled
+local problem (saxum.solver.assembled: W, q, mu in FCLIB order) of every step that ends above
+the tolerance, with NLGS's iterate. Prints, per such step, NLGS's criterion and the natural-map
+error ||F_nat(r)|| / ||q|| of NLGS's iterate (saxum.solver.residual), then their spread.
+--solve K: on the first K of them, semismooth Newton (saxum.solver.newton) from NLGS's iterate
+and from zero impulses (--newton iterations), and the proximal point method (outer iterations
+r_k+1 solving u = (W + sigma I) r + q - sigma r_k by Newton; sigma = 1e-2, then 1e-3 times
+W's largest diagonal entry, --outer each): the natural-map error each reaches and its time.
+"""
+
+import argparse
+import dataclasses
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+import saxum as sx
+from saxum.solver.assembled import assemble_local
+from saxum.solver.newton import alart_curnier_newton
+from saxum.solver.residual import natural_map_error
+from saxum.structures import wall3d
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from convergence import CASES, DT  # noqa: E402  (benchmarks/ is not a package)
+
+
+class _Keeping(sx.ContactSolver):
+    """NLGS that keeps the assembled problem and NLGS's iterate of every step it does not
+    converge on (not the projections')."""
+
+    def __init__(self):
+        self.nlgs, self.kept, self.steps = sx.NLGS(), [], 0
+
+    def solve(self, problem, impulse, v_free, v):
+        report = self.nlgs.solve(problem, impulse, v_free, v)
+        if getattr(problem, "v_begin", None) is None:
+            return report
+        self.steps += 1
+        if not report.converged:
+            local = assemble_local(problem, v_free)
+            self.kept.append({"step": self.steps, "w": local.w, "q": local.q, "mu": local.mu,
+                              "r": local.impulses(impulse), "error": report.error})
+        return report
+
+
+def _small():
+    model = wall3d(courses=4, length=1.0, return_length=0.75)
+    g = float(np.linalg.norm(model.gravity))
+    return dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
+
+
+def _proximal(w, q, mu, r, outer: int, newton: int):
+    """The proximal point method from r: (natural-map error, seconds) after each sigma."""
+    identity = sp.identity(q.size, format="csr")
+    scale = float(w.diagonal().max())
+    out = []
+    start = time.perf_counter()
+    for relative in (1e-2, 1e-3):
+        sigma = relative * scale
+        for _ in range(outer):
+            r = alart_curnier_newton(w + sigma * identity, q - sigma * r, mu, 3, r, 1e-12,
+                                     newton).r
+        out.append((relative, natural_map_error(w, q, mu, r, 3),
+                    time.perf_counter() - start))
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--case", default="wall3d-shaken", choices=sorted(CASES))
+    parser.add_argument("--small", action="store_true",
+                        help="the 29-brick L wall under 0.7 g instead of --case")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="simulated time [s] (default: the case's; 0.02 with --small)")
+    parser.add_argument("--solve", type=int, default=0,
+                        help="run the other solvers on the first SOLVE steps kept")
+    parser.add_argument("--newton", type=int, default=100, help="Newton iterations at most")
+    parser.add_argument("--outer", type=int, default=15,
+                        help="proximal outer iterations per sigma")
+    args = parser.parse_args(argv)
+    if args.small:
+        model, duration = _small(), 0.02
+    else:
+        model, duration = CASES[args.case][0](), CASES[args.case][1]
+    duration = duration if args.duration is None else args.duration
+    keeping = _Keeping()
+    sim = sx.Simulation(model, dt=DT, solver=keeping)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sx.SolverWarning)
+        sim.run(sim.initial_state(), duration)
+    natural = np.array([natural_map_error(k["w"], k["q"], k["mu"], k["r"], 3)
+                        for k in keeping.kept])
+    criterion = np.array([k["error"] for k in keeping.kept])
+    for k, e in zip(keeping.kept, natural, strict=True):
+        print(f"step {k['step']}: {k['q'].size // 3} contacts, NLGS's criterion "
+              f"{k['error']:.3g}, natural-map error of its iterate {e:.3g}")
+    if natural.size:
+        print(f"{natural.size} of {keeping.steps} steps above the tolerance; natural-map error "
+              f"min / median / max {natural.min():.2g} / {np.median(natural):.2g} / "
+              f"{natural.max():.2g} ({np.count_nonzero(natural <= 1e-6)} at most 1e-6, "
+              f"{np.count_nonzero(natural <= 1e-5)} at most 1e-5); NLGS's criterion "
+              f"{criterion.min():.2g} / {np.median(criterion):.2g} / {criterion.max():.2g}; "
+              f"ratio {np.min(natural / criterion):.2g} to {np.max(natural / criterion):.2g}")
+    for k in keeping.kept[: args.solve]:
+        w, q, mu = k["w"], k["q"], k["mu"]
+        for name, r0 in (("NLGS's iterate", k["r"]), ("zero", None)):
+            start = time.perf_counter()
+            result = alart_curnier_newton(w, q, mu, 3, r0, 1e-10, args.newton)
+            print(f"step {k['step']}: Newton from {name}: {result.error:.3g} after "
+                  f"{result.iterations} iterations, {time.perf_counter() - start:.1f} s")
+        for relative, error, seconds in _proximal(w, q, mu, k["r"], args.outer, args.newton):
+            print(f"step {k['step']}: proximal point from NLGS's iterate, sigma {relative:g} "
+                  f"x max diag W, {args.outer} outer iterations: {error:.3g} ({seconds:.1f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
