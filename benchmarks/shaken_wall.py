@@ -15,11 +15,14 @@ displacement relative to the base (largest horizontal displacement of any brick,
 over the bottom course), the largest rotation. Every case runs in its own subprocess, the
 engines interleaved --repeats times (the median run by mean time per step is reported): on a
 shared machine only ratios measured in one run mean anything. --main PATH also runs saxum from
-another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop.
+another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop. --solvers
+nlgs,hybrid runs saxum with each (saxum.NLGS, saxum.Hybrid; --tolerance sets theirs); saxum's
+displacements are also sampled every 0.025 s (the JSON's "history").
 
     python benchmarks/shaken_wall.py                            # 0, 0.3 g, 2 s, 3 repeats
     python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --repeats 1
     python benchmarks/shaken_wall.py --main /work/main/src --amplitudes 0,0.3
+    python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --solvers nlgs,hybrid
 """
 
 import argparse
@@ -50,6 +53,7 @@ from wall import (  # noqa: E402  (benchmarks/ is not a package)
 
 DEFAULT_JSON = HERE / "results" / "shaken_wall.json"
 FREQUENCY = 2.0  # Hz
+SAMPLE = 0.025  # [s] between two samples of saxum's displacement history
 
 
 def _motion(amplitude_g: float, duration: float):
@@ -58,7 +62,8 @@ def _motion(amplitude_g: float, duration: float):
     return harmonic(amplitude_g * GRAVITY, 1.0 / FREQUENCY, duration * FREQUENCY)
 
 
-def worker_saxum(amplitude_g: float, duration: float, dt: float) -> dict:
+def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: str = "nlgs",
+                 tolerance: float = 1e-6) -> dict:
     import dataclasses
 
     import numpy as np
@@ -76,22 +81,29 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float) -> dict:
     state = warm.initial_state()
     for _ in range(3):
         warm.step(state)
-    solver = sx.NLGS()
+    solver = {"nlgs": sx.NLGS, "hybrid": sx.Hybrid}[solver_name](tolerance=tolerance)
     sim = sx.Simulation(model, dt=dt, solver=solver)
     state = sim.initial_state()
     q0 = state.body_q.copy()
     steps = round(duration / dt)
     times = np.empty(steps)
+    free = model.body_kind == sx.BodyKind.FREE
+    bottom = np.abs(q0[free, 1] - 0.5 * BRICK_HEIGHT) < 1e-9
+    every = max(round(SAMPLE / dt), 1)
+    history = []  # (t [s], bottom course's mean, largest |dx| [m]) every SAMPLE seconds
     for k in range(steps):
         s0 = time.perf_counter()
         sim.step(state)
         times[k] = time.perf_counter() - s0
+        if (k + 1) % every == 0:
+            dx = state.body_q[free, 0] - q0[free, 0]
+            history.append((state.time, float(dx[bottom].mean()), float(np.abs(dx).max())))
     log = sim.log
-    free = model.body_kind == sx.BodyKind.FREE
     dx = state.body_q[free, 0] - q0[free, 0]
-    bottom = np.abs(q0[free, 1] - 0.5 * BRICK_HEIGHT) < 1e-9
     return {
         "saxum": sx.__file__,
+        "solver": solver_name,
+        "tolerance": tolerance,
         "steps": steps,
         "step_time_s": _stats(times[1:].tolist()),
         "first_step_s": float(times[0]),
@@ -100,6 +112,10 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float) -> dict:
         "not_converged": int((~log.converged).sum()),
         "rest_attempts": getattr(solver, "rest_attempts", None),
         "rest_solutions": getattr(solver, "rest_solutions", None),
+        "finished_by": {name: int((log.solver == k).sum())
+                        for k, name in enumerate(sx.solver.SOLVER_NAMES)},
+        "largest_error": float(log.error.max()),
+        "history": history,
         "largest_displacement_m": float(np.abs(dx).max()),
         "bottom_course_displacement_m": float(dx[bottom].mean()),
         "top_displacement_m": float(dx[np.argmax(q0[free, 1])]),
@@ -173,6 +189,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--main", default=None,
                         help="another saxum source tree to run alongside (PYTHONPATH)")
+    parser.add_argument("--solvers", default="nlgs",
+                        help="saxum's solvers, comma-separated: nlgs, hybrid (default nlgs)")
+    parser.add_argument("--tolerance", type=float, default=1e-6,
+                        help="saxum's solver tolerance (default 1e-6)")
     parser.add_argument("--skip-pymunk", action="store_true")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
     parser.add_argument("--worker", choices=sorted(WORKERS), help=argparse.SUPPRESS)
@@ -186,9 +206,11 @@ def main(argv: list[str] | None = None) -> int:
         return 0
 
     amplitudes = [float(a) for a in args.amplitudes.split(",")]
-    engines = [("saxum", None)]
+    solvers = args.solvers.split(",")
+    engines = [("saxum" if s == "nlgs" else f"saxum-{s}", (None, s)) for s in solvers]
     if args.main:
-        engines.append(("saxum-main", args.main))
+        engines += [("saxum-main" if s == "nlgs" else f"saxum-main-{s}", (args.main, s))
+                    for s in solvers]
     if not args.skip_pymunk:
         engines += [("pymunk", None), ("pymunk-100", 100)]
     runs = {(a, e): [] for a in amplitudes for e, _ in engines}
@@ -197,8 +219,9 @@ def main(argv: list[str] | None = None) -> int:
             for name, extra in engines:
                 print(f"run {k + 1}/{args.repeats}: {name}, A = {a:g} g ...", flush=True)
                 if name.startswith("saxum"):
-                    src = extra if extra else os.environ.get("PYTHONPATH")
-                    r = _spawn("saxum", [a, args.duration, args.dt], src)
+                    src = extra[0] or os.environ.get("PYTHONPATH")
+                    r = _spawn("saxum", [a, args.duration, args.dt, extra[1],
+                                         args.tolerance], src)
                 else:
                     r = _spawn("pymunk", [a, args.duration, args.dt, extra], None)
                 runs[(a, name)].append(r)
