@@ -177,12 +177,17 @@ class _InertialLoad:
 
     def __init__(self, motion: GroundMotion) -> None:
         self.motion = motion
+        self._last = (math.nan, None)  # (t, v_g(t)) of the last call's end: the next's start
 
     def __call__(self, t: float) -> tuple[float, ...]:
         return tuple(-a for a in self.motion.acceleration_at(t))
 
     def mean_over(self, t0: float, t1: float) -> tuple[float, ...]:
-        dv = self.motion.velocity_at(t1) - self.motion.velocity_at(t0)
+        t_last, v_last = self._last
+        v0 = v_last if t0 == t_last else self.motion.velocity_at(t0)
+        v1 = self.motion.velocity_at(t1)
+        self._last = (t1, v1)
+        dv = v1 - v0
         return tuple(-float(x) / (t1 - t0) for x in dv)
 
 

@@ -233,14 +233,27 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
         else:
             slot[b] = -1
     force = np.zeros((nfree, dof))
-    # V: the velocity of the supports in closed contact (a translation, the same for all)
+    held = np.zeros(nfree, dtype=np.bool_)
+    # one pass over the contacts: the closed ones go to the front of `closed`, the other
+    # active ones (open) to its back; V, the velocity of the supports in closed contact, must
+    # be one translation, the same for all
     frame = np.zeros(dof)
     framed = False
-    for k in range(2 * count):
-        a = k // 2
-        body = cand[a] if k % 2 == 0 else ant[a]
-        if active[a] and bias[a] == 0.0 and slot[body] < 0:
-            if not framed:
+    m = 0
+    opened = 0
+    for a in range(count):
+        if not active[a]:
+            continue
+        if bias[a] != 0.0:
+            opened += 1
+            closed[count - opened] = a
+            continue
+        closed[m] = a
+        m += 1
+        for body in (cand[a], ant[a]):
+            if slot[body] >= 0:
+                held[slot[body]] = True  # U = 0 at rest: every body in it moves with V
+            elif not framed:
                 framed = True
                 for d in range(dof):
                     frame[d] = v_free[body, d]
@@ -263,22 +276,11 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
                 loads += (v_free[b, d] - v_begin[b, d]) ** 2 / inv_mass[b, d]
     if moving > loads:
         return -1, nfree, force
-    held = np.zeros(nfree, dtype=np.bool_)
-    m = 0
-    for a in range(count):
-        if not active[a]:
-            continue
+    for k in range(count - opened, count):
+        # an open contact: U_n + b_n >= 0 at rest, free bodies moving with V
+        a = closed[k]
         c = cand[a]
         b = ant[a]
-        if bias[a] == 0.0:  # U = 0 at rest: every body in it moves with V (checked above)
-            closed[m] = a
-            m += 1
-            if slot[c] >= 0:
-                held[slot[c]] = True
-            if slot[b] >= 0:
-                held[slot[b]] = True
-            continue
-        # an open contact: U_n + b_n >= 0 at rest, free bodies moving with V
         un = bias[a]
         for d in range(dof):
             vc = frame[d] if slot[c] >= 0 else v_free[c, d]
