@@ -252,6 +252,11 @@ def info_text(r) -> str:
             f"steps: {s['step'].size}; NLGS sweeps mean {s['iterations'].mean():.1f}, max "
             f"{s['iterations'].max()}; not converged at {bad.size} step(s)"
             + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs)
+        if bad.size and "outcome" in s:  # (files before the outcome column: no why)
+            from .steplog import why_not_converged
+
+            lines.append("why: " + why_not_converged(
+                s["step"], s["converged"], s["outcome"], s["rate"], s["error"]))
         if "solver" in s:
             from .solver import SOLVER_NAMES
 

@@ -35,7 +35,7 @@ from .solver import (
 )
 from .solver.laws_local import update_joints
 from .state import State
-from .steplog import StepLog, StepReport
+from .steplog import STEP_OUTCOMES, StepLog, StepReport
 
 __all__ = ["Simulation"]
 
@@ -282,10 +282,15 @@ class Simulation:
                 "reduce dt or check the loads"
             )
         converged = solved.converged and (projected is None or projected.converged)
+        if not solved.converged:
+            outcome = STEP_OUTCOMES.index("stalled" if solved.stalled else "out of sweeps")
+        else:
+            outcome = STEP_OUTCOMES.index("converged" if converged else "projection")
         report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
                             contacts.count, loaded, depth, energy,
                             0 if projected is None else projected.iterations,
-                            SOLVER_NAMES.index(solved.solver))
+                            SOLVER_NAMES.index(solved.solver), outcome,
+                            math.nan if solved.converged else solved.rate)
         self.log.append(report)
         return report
 
@@ -304,7 +309,7 @@ class Simulation:
         if bad.size:
             warnings.warn(
                 f"the contact solver did not converge at {bad.size} of "
-                f"{len(self.log) - first} steps "
-                f"(first at step {bad[0]}); see Simulation.log", SolverWarning, stacklevel=2
+                f"{len(self.log) - first} steps: {self.log.why(first)}; see Simulation.log",
+                SolverWarning, stacklevel=2
             )
         return self.log

@@ -1,10 +1,17 @@
 """Per-step record of what the solver did, kept with the results."""
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["STEP_DTYPES", "StepLog", "StepReport"]
+__all__ = ["STEP_DTYPES", "STEP_OUTCOMES", "StepLog", "StepReport", "why_not_converged"]
+
+STEP_OUTCOMES = ("converged", "stalled", "out of sweeps", "projection")
+"""How a step's solve ended (StepReport.outcome is the index): converged; not converged
+because the error had stalled (stopped falling: saxum.solver.base.error_trend) or because
+the sweeps ran out while it was still falling; or the contact solve converged and the
+gap-based law's position projection did not."""
 
 
 @dataclass(frozen=True)
@@ -14,7 +21,9 @@ class StepReport:
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
     position projection (0 when none was needed; saxum.solver.projection), the solver that
     finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
-    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid)."""
+    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid), how the step ended
+    (index into STEP_OUTCOMES) and, where the contact solve did not converge, its error's
+    factor per sweep over its last sweeps (rate [-], nan where not measured or converged)."""
 
     step: int
     time: float
@@ -27,6 +36,8 @@ class StepReport:
     kinetic_energy: float
     projection_iterations: int = 0
     solver: int = 0
+    outcome: int = 0
+    rate: float = math.nan
 
 
 STEP_DTYPES = {
@@ -41,6 +52,8 @@ STEP_DTYPES = {
     "kinetic_energy": np.float64,
     "projection_iterations": np.int64,
     "solver": np.int8,
+    "outcome": np.int8,
+    "rate": np.float64,
 }
 
 
@@ -71,6 +84,13 @@ class StepLog:
         """Step numbers at which the solver stopped on its iteration cap."""
         return self.step[~self.converged]
 
+    def why(self, first: int = 0) -> str:
+        """Why the steps from index `first` on that did not converge did not
+        (why_not_converged)."""
+        return why_not_converged(*(getattr(self, k)[first:] for k in
+                                   ("step", "converged", "outcome", "rate", "error")))
+
+
     def summary(self) -> str:
         """One line: steps, iterations (mean, max), non-converged steps, worst interpenetration."""
         if self._n == 0:
@@ -81,8 +101,34 @@ class StepLog:
         return (
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
-            + (f" (first: step {bad[0]})" if bad.size else "")
+            + (f" ({self.why()})" if bad.size else "")
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )
+
+
+def why_not_converged(step: np.ndarray, converged: np.ndarray, outcome: np.ndarray,
+                      rate: np.ndarray, error: np.ndarray) -> str:
+    """The step log's columns of the steps that did not converge, summed up by outcome
+    (STEP_OUTCOMES): how many stalled and their largest error, how many ran out of sweeps
+    with the error still falling and its slowest rate per sweep, how many failed in the
+    position projection; "" if every step converged."""
+    parts = []
+    for code, name in enumerate(STEP_OUTCOMES[1:], start=1):
+        k = ~converged & (outcome == code)
+        if not k.any():
+            continue
+        n, first = int(k.sum()), int(step[k][0])
+        if name == "stalled":
+            parts.append(f"{n} stalled (the error stopped falling; largest error "
+                         f"{error[k].max():.2g}; first at step {first})")
+        elif name == "out of sweeps":
+            rates = rate[k][np.isfinite(rate[k])]
+            trend = (f"error still falling, slowest rate {rates.max():.6f} per sweep"
+                     if rates.size else "the error's trend not measured")
+            parts.append(f"{n} ran out of sweeps ({trend}; largest error "
+                         f"{error[k].max():.2g}; first at step {first})")
+        else:
+            parts.append(f"{n} in the position projection (first at step {first})")
+    return "; ".join(parts)
