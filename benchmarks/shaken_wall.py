@@ -115,6 +115,9 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "finished_by": {name: int((log.solver == k).sum())
                         for k, name in enumerate(sx.solver.SOLVER_NAMES)},
         "largest_error": float(log.error.max()),
+        "outcomes": {name: int((log.outcome == k).sum())
+                     for k, name in enumerate(getattr(sx, "STEP_OUTCOMES", ()))},
+        "why": log.why() if hasattr(log, "why") else None,
         "history": history,
         "largest_displacement_m": float(np.abs(dx).max()),
         "bottom_course_displacement_m": float(dx[bottom].mean()),

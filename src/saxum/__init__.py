@@ -35,6 +35,7 @@ _EXPORTS = {
     "SimulationError": "errors",
     "SolverWarning": "errors",
     "State": "state",
+    "STEP_OUTCOMES": "steplog",
     "StepLog": "steplog",
     "StepReport": "steplog",
     "load_scenario": "scenario",
