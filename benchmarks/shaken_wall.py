@@ -9,7 +9,8 @@ inertial force -m a_g of the ground's frame (saxum.ground.GroundMotion.inertial_
 exact mean over each step; in pymunk the same mean, (v_g(t1) - v_g(t0)) / h, as a horizontal
 gravity set before each step), so positions are relative to the base.
 
-Per case and engine: time per step (mean, median; the first step apart), saxum's NLGS sweeps
+Per case and engine: time per step (mean, median; the first step apart; and the CPU time of
+the stepping thread per step, mean, which a loaded machine changes less), saxum's NLGS sweeps
 per step and steps at the sweep cap, rest solutions looked for and found, the final
 displacement relative to the base (largest horizontal displacement of any brick, and the mean
 over the bottom course), the largest rotation. Every case runs in its own subprocess, the
@@ -91,10 +92,11 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
     bottom = np.abs(q0[free, 1] - 0.5 * BRICK_HEIGHT) < 1e-9
     every = max(round(SAMPLE / dt), 1)
     history = []  # (t [s], bottom course's mean, largest |dx| [m]) every SAMPLE seconds
+    cpu = np.empty(steps)
     for k in range(steps):
-        s0 = time.perf_counter()
+        s0, c0 = time.perf_counter(), time.thread_time()
         sim.step(state)
-        times[k] = time.perf_counter() - s0
+        times[k], cpu[k] = time.perf_counter() - s0, time.thread_time() - c0
         if (k + 1) % every == 0:
             dx = state.body_q[free, 0] - q0[free, 0]
             history.append((state.time, float(dx[bottom].mean()), float(np.abs(dx).max())))
@@ -106,6 +108,7 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "tolerance": tolerance,
         "steps": steps,
         "step_time_s": _stats(times[1:].tolist()),
+        "step_cpu_s": _stats(cpu[1:].tolist()),
         "first_step_s": float(times[0]),
         "sweeps": _stats(log.iterations.tolist()),
         "steps_at_cap": int((log.iterations >= solver.max_iterations).sum()),
@@ -138,13 +141,14 @@ def worker_pymunk(amplitude_g: float, duration: float, dt: float, iterations: in
     a0 = np.array([b.angle for b in bodies])
     steps = round(duration / dt)
     times = np.empty(steps)
+    cpu = np.empty(steps)
     for k in range(steps):
-        s0 = time.perf_counter()
+        s0, c0 = time.perf_counter(), time.thread_time()
         if motion is not None:  # the ground frame's inertial force, mean over the step
             dv = motion.velocity_at((k + 1) * dt)[0] - motion.velocity_at(k * dt)[0]
             space.gravity = (-dv / dt, -GRAVITY)
         space.step(dt)
-        times[k] = time.perf_counter() - s0
+        times[k], cpu[k] = time.perf_counter() - s0, time.thread_time() - c0
     p = np.array([tuple(b.position) for b in bodies])
     dx = p[:, 0] - p0[:, 0]
     bottom = np.abs(p0[:, 1] - 0.5 * BRICK_HEIGHT) < 1e-9
@@ -153,6 +157,7 @@ def worker_pymunk(amplitude_g: float, duration: float, dt: float, iterations: in
         "iterations": space.iterations,
         "steps": steps,
         "step_time_s": _stats(times[1:].tolist()),
+        "step_cpu_s": _stats(cpu[1:].tolist()),
         "largest_displacement_m": float(np.abs(dx).max()),
         "bottom_course_displacement_m": float(dx[bottom].mean()),
         "top_displacement_m": float(dx[np.argmax(p0[:, 1])]),
@@ -236,6 +241,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\n512-brick wall, base {FREQUENCY:g} Hz, {args.duration:g} s, dt {args.dt:g} s; "
           f"median over {args.repeats} interleaved runs")
     print(f"{'A/g':>5} {'engine':>11} {'ms/step':>8} {'median':>7} {'/rest':>6} {'/pm100':>7} "
+          f"{'cpu ms':>7} {'/rest':>6} "
           f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'largest dx':>11} {'bottom dx':>10}")
     table = []
     for a in amplitudes:
@@ -243,8 +249,12 @@ def main(argv: list[str] | None = None) -> int:
             rs = runs[(a, name)]
             r = sorted(rs, key=lambda x: x["step_time_s"]["mean"])[(len(rs) - 1) // 2]
             t = med(a, name)
+            cpu = statistics.median(r["step_cpu_s"]["mean"] for r in rs)
+            cpu_rest = (statistics.median(r["step_cpu_s"]["mean"] for r in runs[(rest, name)])
+                        if rest is not None else math.nan)
             row = {"amplitude_g": a, "engine": name, "ms_per_step": t * 1e3,
                    "median_ms_per_step": med(a, name, "median") * 1e3,
+                   "cpu_ms_per_step": cpu * 1e3, "cpu_over_at_rest": cpu / cpu_rest,
                    "over_saxum_at_rest": t / med(rest, name) if rest is not None else None,
                    "over_pymunk100": (t / med(a, "pymunk-100")
                                       if (a, "pymunk-100") in runs else None),
@@ -258,7 +268,8 @@ def main(argv: list[str] | None = None) -> int:
                      else "-")
             pm = f"{row['over_pymunk100']:.2f}" if row["over_pymunk100"] is not None else "-"
             print(f"{a:>5g} {name:>11} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
-                  f"{ratio:>6} {pm:>7} {sweeps:>7} {capped:>6} {found:>10} "
+                  f"{ratio:>6} {pm:>7} {cpu * 1e3:>7.3f} {row['cpu_over_at_rest']:>6.2f} "
+                  f"{sweeps:>7} {capped:>6} {found:>10} "
                   f"{r['largest_displacement_m'] * 1e3:>8.3g} mm "
                   f"{r['bottom_course_displacement_m'] * 1e3:>7.3g} mm")
     result = {"command": " ".join([Path(sys.executable).name, *sys.argv]),
