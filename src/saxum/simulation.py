@@ -42,6 +42,14 @@ __all__ = ["Simulation"]
 _log = logging.getLogger(__name__)
 
 
+_OUTCOME = {(False, True): STEP_OUTCOMES.index("stalled"),
+            (False, False): STEP_OUTCOMES.index("out of sweeps"),
+            (True, False): STEP_OUTCOMES.index("projection"),
+            (True, True): STEP_OUTCOMES.index("projection")}
+"""A step's outcome where it did not converge, by (contact solve converged, its error
+stalled)."""
+
+
 class Simulation:
     """Steps a Model with Moreau-Jean time stepping and a contact solver (by default the
     hybrid: NLGS, and the conic fixed point where NLGS stalls; saxum.solver.Hybrid; NLGS for
@@ -282,15 +290,14 @@ class Simulation:
                 "reduce dt or check the loads"
             )
         converged = solved.converged and (projected is None or projected.converged)
-        if not solved.converged:
-            outcome = STEP_OUTCOMES.index("stalled" if solved.stalled else "out of sweeps")
-        else:
-            outcome = STEP_OUTCOMES.index("converged" if converged else "projection")
+        outcome, rate = 0, math.nan  # STEP_OUTCOMES: converged
+        if not converged:
+            outcome = _OUTCOME[(solved.converged, solved.stalled)]
+            rate = math.nan if solved.converged else solved.rate
         report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
                             contacts.count, loaded, depth, energy,
                             0 if projected is None else projected.iterations,
-                            SOLVER_NAMES.index(solved.solver), outcome,
-                            math.nan if solved.converged else solved.rate)
+                            SOLVER_NAMES.index(solved.solver), outcome, rate)
         self.log.append(report)
         return report
 

@@ -70,8 +70,9 @@ class StepLog:
     def append(self, r: StepReport) -> None:
         if self._n == len(self._cols["time"]):
             self._cols = {k: np.concatenate([a, np.zeros_like(a)]) for k, a in self._cols.items()}
+        fields = r.__dict__  # (StepReport has no slots: a dict lookup beats getattr)
         for k, col in self._cols.items():
-            col[self._n] = getattr(r, k)
+            col[self._n] = fields[k]
         self._n += 1
 
     def __getattr__(self, name: str) -> np.ndarray:

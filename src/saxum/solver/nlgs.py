@@ -69,6 +69,7 @@ _TREND_SWEEPS = 1000
 errors give the error's trend where it does not converge (SolverReport.rate and stalled,
 saxum.solver.base.error_trend): the same sweeps bit for bit, in ten calls instead of one."""
 _TREND_WINDOWS = 10
+_NO_TREND = (math.nan, False)
 
 
 @dataclass
@@ -187,10 +188,13 @@ class NLGS(ContactSolver):
         """`count` sweeps of `sweep` (nlgs_2d, nlgs_3d) on `args`, stopping at the tolerance;
         where they end the solve at its cap (`capped`), the last ones in windows whose errors
         give the trend (_TREND_SWEEPS). Returns (sweeps, error, (rate, stalled))."""
-        window = min(count, _TREND_SWEEPS) // _TREND_WINDOWS
-        if not (capped and self._trend) or window == 0:
+        if not (capped and self._trend):
             done, error = sweep(*args, count, self.relaxation)
-            return done, error, (math.nan, False)
+            return done, error, _NO_TREND
+        window = min(count, _TREND_SWEEPS) // _TREND_WINDOWS
+        if window == 0:
+            done, error = sweep(*args, count, self.relaxation)
+            return done, error, _NO_TREND
         done, error = 0, math.inf
         if count > window * _TREND_WINDOWS:
             done, error = sweep(*args, count - window * _TREND_WINDOWS, self.relaxation)
@@ -200,7 +204,7 @@ class NLGS(ContactSolver):
             done += more
             errors.append(error)
         if error <= self.tolerance:
-            return done, error, (math.nan, False)
+            return done, error, _NO_TREND
         return done, error, error_trend(errors, window)
 
 
