@@ -159,8 +159,11 @@ class NLGS(ContactSolver):
             # not confirm the start
             least = -(-_REST_WORK // problem.count)
             first = min(least if followed else max(rest_after, least), first)
-        iterations, error, trend = self._sweeps(sweep, args, first,
-                                                first == self.max_iterations)
+        if first == self.max_iterations:  # the sweeps can end the step at its cap
+            iterations, error, trend = self._sweeps(sweep, args, first)
+        else:
+            iterations, error = sweep(*args, first, self.relaxation)
+            trend = _NO_TREND
         confirmed = iterations == 1 and error <= self.tolerance
         followed = followed and not confirmed
         found = False
@@ -175,8 +178,7 @@ class NLGS(ContactSolver):
                 found = rest_solution(problem, impulse, v_free, v)
             if found:
                 self.rest_solutions += 1
-            more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations,
-                                              True)
+            more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
             iterations += more
         converged = error <= self.tolerance
         if follow:
@@ -184,11 +186,11 @@ class NLGS(ContactSolver):
                                    found and converged)
         return SolverReport(iterations, error, converged, "nlgs", *trend)
 
-    def _sweeps(self, sweep, args, count: int, capped: bool):
-        """`count` sweeps of `sweep` (nlgs_2d, nlgs_3d) on `args`, stopping at the tolerance;
-        where they end the solve at its cap (`capped`), the last ones in windows whose errors
-        give the trend (_TREND_SWEEPS). Returns (sweeps, error, (rate, stalled))."""
-        if not (capped and self._trend):
+    def _sweeps(self, sweep, args, count: int):
+        """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
+        stopping at the tolerance; the last ones in windows whose errors give the trend
+        (_TREND_SWEEPS). Returns (sweeps, error, (rate, stalled))."""
+        if not self._trend:
             done, error = sweep(*args, count, self.relaxation)
             return done, error, _NO_TREND
         window = min(count, _TREND_SWEEPS) // _TREND_WINDOWS
