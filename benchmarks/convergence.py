@@ -155,18 +155,19 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
     solver = _solver(rest_after, solver_name)
     sim = sx.Simulation(model, dt=DT, solver=solver)
     state = sim.initial_state()
-    times, changed = [], []
+    times, cpu, changed = [], [], []
     previous = [None]
-    clock = [time.perf_counter()]
+    clock = [time.perf_counter(), time.thread_time()]
 
     def after_step(state, report):
-        now = time.perf_counter()
+        now, now_cpu = time.perf_counter(), time.thread_time()
         times.append(now - clock[0])
+        cpu.append(now_cpu - clock[1])
         c = state.contacts
         keys = c.key[: c.count].copy()
         changed.append(previous[0] is not None and not np.array_equal(keys, previous[0]))
         previous[0] = keys
-        clock[0] = time.perf_counter()
+        clock[0], clock[1] = time.perf_counter(), time.thread_time()
 
     import warnings
 
@@ -215,6 +216,8 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
         "rest_solutions": getattr(solver, "rest_solutions", None),
         "ms_per_step_mean": 1e3 * statistics.fmean(times[1:]),
         "ms_per_step_median": 1e3 * statistics.median(times[1:]),
+        "cpu_ms_per_step_mean": 1e3 * statistics.fmean(cpu[1:]),
+        "why": log.why() if hasattr(log, "why") else None,
         "largest_displacement_m": float(moved.max()),
         "largest_interpenetration_m": float(np.max(log.max_interpenetration)),
         "sweeps": sweeps.tolist(),
@@ -473,7 +476,8 @@ def _print(r: dict) -> None:
           f"max {r['sweeps_max']}; not converged {r['not_converged']} "
           f"({r['not_converged_after_first']} after the first); contact set changed on "
           f"{r['steps_contacts_changed']} steps; {rest}; {r['ms_per_step_mean']:.3f} ms/step "
-          f"(median {r['ms_per_step_median']:.3f}); largest displacement "
+          f"(median {r['ms_per_step_median']:.3f}; CPU {r['cpu_ms_per_step_mean']:.3f}); "
+          + (f"not converged: {r['why']}; " if r["why"] else "") + "largest displacement "
           f"{r['largest_displacement_m']:.2g} m, interpenetration "
           f"{r['largest_interpenetration_m']:.2g} m")
 

@@ -9,17 +9,21 @@ inertial force -m a_g of the ground's frame (saxum.ground.GroundMotion.inertial_
 exact mean over each step; in pymunk the same mean, (v_g(t1) - v_g(t0)) / h, as a horizontal
 gravity set before each step), so positions are relative to the base.
 
-Per case and engine: time per step (mean, median; the first step apart), saxum's NLGS sweeps
+Per case and engine: time per step (mean, median; the first step apart; and the CPU time of
+the stepping thread per step, mean, which a loaded machine changes less), saxum's NLGS sweeps
 per step and steps at the sweep cap, rest solutions looked for and found, the final
 displacement relative to the base (largest horizontal displacement of any brick, and the mean
 over the bottom course), the largest rotation. Every case runs in its own subprocess, the
 engines interleaved --repeats times (the median run by mean time per step is reported): on a
 shared machine only ratios measured in one run mean anything. --main PATH also runs saxum from
-another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop.
+another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop. --solvers
+nlgs,hybrid runs saxum with each (saxum.NLGS, saxum.Hybrid; --tolerance sets theirs); saxum's
+displacements are also sampled every 0.025 s (the JSON's "history").
 
     python benchmarks/shaken_wall.py                            # 0, 0.3 g, 2 s, 3 repeats
     python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --repeats 1
     python benchmarks/shaken_wall.py --main /work/main/src --amplitudes 0,0.3
+    python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --solvers nlgs,hybrid
 """
 
 import argparse
@@ -50,6 +54,7 @@ from wall import (  # noqa: E402  (benchmarks/ is not a package)
 
 DEFAULT_JSON = HERE / "results" / "shaken_wall.json"
 FREQUENCY = 2.0  # Hz
+SAMPLE = 0.025  # [s] between two samples of saxum's displacement history
 
 
 def _motion(amplitude_g: float, duration: float):
@@ -58,7 +63,8 @@ def _motion(amplitude_g: float, duration: float):
     return harmonic(amplitude_g * GRAVITY, 1.0 / FREQUENCY, duration * FREQUENCY)
 
 
-def worker_saxum(amplitude_g: float, duration: float, dt: float) -> dict:
+def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: str = "nlgs",
+                 tolerance: float = 1e-6) -> dict:
     import dataclasses
 
     import numpy as np
@@ -76,30 +82,46 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float) -> dict:
     state = warm.initial_state()
     for _ in range(3):
         warm.step(state)
-    solver = sx.NLGS()
+    solver = {"nlgs": sx.NLGS, "hybrid": sx.Hybrid}[solver_name](tolerance=tolerance)
     sim = sx.Simulation(model, dt=dt, solver=solver)
     state = sim.initial_state()
     q0 = state.body_q.copy()
     steps = round(duration / dt)
     times = np.empty(steps)
-    for k in range(steps):
-        s0 = time.perf_counter()
-        sim.step(state)
-        times[k] = time.perf_counter() - s0
-    log = sim.log
     free = model.body_kind == sx.BodyKind.FREE
-    dx = state.body_q[free, 0] - q0[free, 0]
     bottom = np.abs(q0[free, 1] - 0.5 * BRICK_HEIGHT) < 1e-9
+    every = max(round(SAMPLE / dt), 1)
+    history = []  # (t [s], bottom course's mean, largest |dx| [m]) every SAMPLE seconds
+    cpu = np.empty(steps)
+    for k in range(steps):
+        s0, c0 = time.perf_counter(), time.thread_time()
+        sim.step(state)
+        times[k], cpu[k] = time.perf_counter() - s0, time.thread_time() - c0
+        if (k + 1) % every == 0:
+            dx = state.body_q[free, 0] - q0[free, 0]
+            history.append((state.time, float(dx[bottom].mean()), float(np.abs(dx).max())))
+    log = sim.log
+    dx = state.body_q[free, 0] - q0[free, 0]
     return {
         "saxum": sx.__file__,
+        "solver": solver_name,
+        "tolerance": tolerance,
         "steps": steps,
         "step_time_s": _stats(times[1:].tolist()),
+        "step_cpu_s": _stats(cpu[1:].tolist()),
         "first_step_s": float(times[0]),
         "sweeps": _stats(log.iterations.tolist()),
         "steps_at_cap": int((log.iterations >= solver.max_iterations).sum()),
         "not_converged": int((~log.converged).sum()),
         "rest_attempts": getattr(solver, "rest_attempts", None),
         "rest_solutions": getattr(solver, "rest_solutions", None),
+        "finished_by": {name: int((log.solver == k).sum())
+                        for k, name in enumerate(sx.solver.SOLVER_NAMES)},
+        "largest_error": float(log.error.max()),
+        "outcomes": {name: int((log.outcome == k).sum())
+                     for k, name in enumerate(getattr(sx, "STEP_OUTCOMES", ()))},
+        "why": log.why() if hasattr(log, "why") else None,
+        "history": history,
         "largest_displacement_m": float(np.abs(dx).max()),
         "bottom_course_displacement_m": float(dx[bottom].mean()),
         "top_displacement_m": float(dx[np.argmax(q0[free, 1])]),
@@ -119,13 +141,14 @@ def worker_pymunk(amplitude_g: float, duration: float, dt: float, iterations: in
     a0 = np.array([b.angle for b in bodies])
     steps = round(duration / dt)
     times = np.empty(steps)
+    cpu = np.empty(steps)
     for k in range(steps):
-        s0 = time.perf_counter()
+        s0, c0 = time.perf_counter(), time.thread_time()
         if motion is not None:  # the ground frame's inertial force, mean over the step
             dv = motion.velocity_at((k + 1) * dt)[0] - motion.velocity_at(k * dt)[0]
             space.gravity = (-dv / dt, -GRAVITY)
         space.step(dt)
-        times[k] = time.perf_counter() - s0
+        times[k], cpu[k] = time.perf_counter() - s0, time.thread_time() - c0
     p = np.array([tuple(b.position) for b in bodies])
     dx = p[:, 0] - p0[:, 0]
     bottom = np.abs(p0[:, 1] - 0.5 * BRICK_HEIGHT) < 1e-9
@@ -134,6 +157,7 @@ def worker_pymunk(amplitude_g: float, duration: float, dt: float, iterations: in
         "iterations": space.iterations,
         "steps": steps,
         "step_time_s": _stats(times[1:].tolist()),
+        "step_cpu_s": _stats(cpu[1:].tolist()),
         "largest_displacement_m": float(np.abs(dx).max()),
         "bottom_course_displacement_m": float(dx[bottom].mean()),
         "top_displacement_m": float(dx[np.argmax(p0[:, 1])]),
@@ -173,6 +197,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--main", default=None,
                         help="another saxum source tree to run alongside (PYTHONPATH)")
+    parser.add_argument("--solvers", default="nlgs",
+                        help="saxum's solvers, comma-separated: nlgs, hybrid (default nlgs)")
+    parser.add_argument("--tolerance", type=float, default=1e-6,
+                        help="saxum's solver tolerance (default 1e-6)")
     parser.add_argument("--skip-pymunk", action="store_true")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
     parser.add_argument("--worker", choices=sorted(WORKERS), help=argparse.SUPPRESS)
@@ -186,9 +214,11 @@ def main(argv: list[str] | None = None) -> int:
         return 0
 
     amplitudes = [float(a) for a in args.amplitudes.split(",")]
-    engines = [("saxum", None)]
+    solvers = args.solvers.split(",")
+    engines = [("saxum" if s == "nlgs" else f"saxum-{s}", (None, s)) for s in solvers]
     if args.main:
-        engines.append(("saxum-main", args.main))
+        engines += [("saxum-main" if s == "nlgs" else f"saxum-main-{s}", (args.main, s))
+                    for s in solvers]
     if not args.skip_pymunk:
         engines += [("pymunk", None), ("pymunk-100", 100)]
     runs = {(a, e): [] for a in amplitudes for e, _ in engines}
@@ -197,8 +227,9 @@ def main(argv: list[str] | None = None) -> int:
             for name, extra in engines:
                 print(f"run {k + 1}/{args.repeats}: {name}, A = {a:g} g ...", flush=True)
                 if name.startswith("saxum"):
-                    src = extra if extra else os.environ.get("PYTHONPATH")
-                    r = _spawn("saxum", [a, args.duration, args.dt], src)
+                    src = extra[0] or os.environ.get("PYTHONPATH")
+                    r = _spawn("saxum", [a, args.duration, args.dt, extra[1],
+                                         args.tolerance], src)
                 else:
                     r = _spawn("pymunk", [a, args.duration, args.dt, extra], None)
                 runs[(a, name)].append(r)
@@ -210,6 +241,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\n512-brick wall, base {FREQUENCY:g} Hz, {args.duration:g} s, dt {args.dt:g} s; "
           f"median over {args.repeats} interleaved runs")
     print(f"{'A/g':>5} {'engine':>11} {'ms/step':>8} {'median':>7} {'/rest':>6} {'/pm100':>7} "
+          f"{'cpu ms':>7} {'/rest':>6} "
           f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'largest dx':>11} {'bottom dx':>10}")
     table = []
     for a in amplitudes:
@@ -217,8 +249,12 @@ def main(argv: list[str] | None = None) -> int:
             rs = runs[(a, name)]
             r = sorted(rs, key=lambda x: x["step_time_s"]["mean"])[(len(rs) - 1) // 2]
             t = med(a, name)
+            cpu = statistics.median(r["step_cpu_s"]["mean"] for r in rs)
+            cpu_rest = (statistics.median(r["step_cpu_s"]["mean"] for r in runs[(rest, name)])
+                        if rest is not None else math.nan)
             row = {"amplitude_g": a, "engine": name, "ms_per_step": t * 1e3,
                    "median_ms_per_step": med(a, name, "median") * 1e3,
+                   "cpu_ms_per_step": cpu * 1e3, "cpu_over_at_rest": cpu / cpu_rest,
                    "over_saxum_at_rest": t / med(rest, name) if rest is not None else None,
                    "over_pymunk100": (t / med(a, "pymunk-100")
                                       if (a, "pymunk-100") in runs else None),
@@ -232,7 +268,8 @@ def main(argv: list[str] | None = None) -> int:
                      else "-")
             pm = f"{row['over_pymunk100']:.2f}" if row["over_pymunk100"] is not None else "-"
             print(f"{a:>5g} {name:>11} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
-                  f"{ratio:>6} {pm:>7} {sweeps:>7} {capped:>6} {found:>10} "
+                  f"{ratio:>6} {pm:>7} {cpu * 1e3:>7.3f} {row['cpu_over_at_rest']:>6.2f} "
+                  f"{sweeps:>7} {capped:>6} {found:>10} "
                   f"{r['largest_displacement_m'] * 1e3:>8.3g} mm "
                   f"{r['bottom_course_displacement_m'] * 1e3:>7.3g} mm")
     result = {"command": " ".join([Path(sys.executable).name, *sys.argv]),

@@ -55,7 +55,7 @@ def same_results(a_path, b_path, *, checkpoints: bool = False) -> None:
             for name in ca:
                 assert np.array_equal(ca[name], cb[name]), (k, name)
         for name in a.steps:
-            # natural_map is nan on the converged steps: nan == nan here
+            # natural_map and rate are nan where a step converged: nan == nan here
             assert np.array_equal(a.steps[name], b.steps[name],
                                   equal_nan=a.steps[name].dtype.kind == "f"), name
         assert (a.histories is None) == (b.histories is None)

@@ -276,7 +276,7 @@ def test_3d_run_results_picture_paraview_and_resume(tmp_path, monkeypatch):
     with Results(one_go) as a, Results(stopped) as b:
         assert np.array_equal(a.body_q, b.body_q) and np.array_equal(a.body_v, b.body_v)
         for name in a.steps:
-            # natural_map is nan on the converged steps: nan == nan here
+            # natural_map and rate are nan where a step converged: nan == nan here
             assert np.array_equal(a.steps[name], b.steps[name],
                                   equal_nan=a.steps[name].dtype.kind == "f"), name
 

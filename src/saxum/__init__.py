@@ -36,6 +36,7 @@ _EXPORTS = {
     "SimulationError": "errors",
     "SolverWarning": "errors",
     "State": "state",
+    "STEP_OUTCOMES": "steplog",
     "StepLog": "steplog",
     "StepReport": "steplog",
     "limit_analysis": "limit",

@@ -302,6 +302,11 @@ def info_text(r) -> str:
             + (f" (first: {', '.join(str(x) for x in bad[:5])})" if bad.size else "") + nlgs
             + (natural_map_note(s["natural_map"][~s["converged"]]) if "natural_map" in s
                else ""))
+        if bad.size and "outcome" in s:  # (files before the outcome column: no why)
+            from .steplog import why_not_converged
+
+            lines.append("why: " + why_not_converged(
+                s["step"], s["converged"], s["outcome"], s["rate"], s["error"]))
         if "solver" in s:
             from .solver import SOLVER_NAMES
 

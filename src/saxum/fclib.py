@@ -32,6 +32,7 @@ import scipy.sparse.linalg as spla
 
 from .errors import InputError
 from .solver.assembled import assemble_local
+from .solver.base import STALLED
 from .solver.conic import delassus_conic
 from .solver.delassus_nlgs import DelassusNLGS
 from .solver.residual import natural_map_error
@@ -432,9 +433,9 @@ Saxce fixed point with Clarabel alone: saxum.solver.conic)."""
 
 _WINDOW = 200
 """NLGS sweeps between two measurements of the natural-map error (one product W r each)."""
-_STALLED = 1e-5
+_STALLED = STALLED
 """An error that falls by less than this fraction per sweep over a window (0.2 % over 200
-sweeps) stalls; above it the error is still falling."""
+sweeps) stalls; above it the error is still falling (the time stepper's threshold)."""
 _RELAXED = 0.7
 """Relaxation the hybrid tries when NLGS stalls without relaxation (a cycling iterate)."""
 _FIXED_POINTS = 40

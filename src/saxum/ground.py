@@ -22,6 +22,7 @@ record with one horizontal component is put along any horizontal direction of a 
 
 from __future__ import annotations
 
+import bisect
 import functools
 import math
 from collections.abc import Callable, Sequence
@@ -127,16 +128,26 @@ class GroundMotion:
     def velocity_at(self, t: float) -> np.ndarray:
         """Ground velocity [m/s] at any time: the exact integral of the piecewise-linear
         acceleration (0 before the record, its final value after)."""
-        v = self._velocity
-        if t <= self.time[0]:
-            return np.zeros(self.components)
-        if t >= self.time[-1]:
-            return v[-1].copy()
-        k = int(np.searchsorted(self.time, t, side="right")) - 1
-        tau = t - self.time[k]
-        a0, a1 = self.acceleration[k], self.acceleration[k + 1]
-        slope = (a1 - a0) / (self.time[k + 1] - self.time[k])
-        return v[k] + a0 * tau + 0.5 * slope * tau * tau
+        return np.array(self._velocity_components(t))
+
+    @functools.cached_property
+    def _samples(self) -> tuple[list, list, list]:
+        # Python floats: velocity_at is called on every time step, and on two or three
+        # components numpy's per-call overhead is most of its cost
+        return self.time.tolist(), self.acceleration.tolist(), self._velocity.tolist()
+
+    def _velocity_components(self, t: float) -> tuple[float, ...]:
+        times, acceleration, velocity = self._samples
+        if t <= times[0]:
+            return (0.0,) * self.components
+        if t >= times[-1]:
+            return tuple(velocity[-1])
+        k = bisect.bisect_right(times, t) - 1
+        tau = t - times[k]
+        a0, a1, v = acceleration[k], acceleration[k + 1], velocity[k]
+        span = times[k + 1] - times[k]
+        return tuple(v[d] + a0[d] * tau + 0.5 * ((a1[d] - a0[d]) / span) * tau * tau
+                     for d in range(len(v)))
 
     def inertial_load(self):
         """The uniform acceleration -a_g(t) [m/s^2] that the ground frame adds to every free
@@ -177,13 +188,17 @@ class _InertialLoad:
 
     def __init__(self, motion: GroundMotion) -> None:
         self.motion = motion
+        self._last = (math.nan, None)  # (t, v_g(t)) of the last call's end: the next's start
 
     def __call__(self, t: float) -> tuple[float, ...]:
         return tuple(-a for a in self.motion.acceleration_at(t))
 
     def mean_over(self, t0: float, t1: float) -> tuple[float, ...]:
-        dv = self.motion.velocity_at(t1) - self.motion.velocity_at(t0)
-        return tuple(-float(x) / (t1 - t0) for x in dv)
+        t_last, v_last = self._last
+        v0 = v_last if t0 == t_last else self.motion._velocity_components(t0)
+        v1 = self.motion._velocity_components(t1)
+        self._last = (t1, v1)
+        return tuple(-(b - a) / (t1 - t0) for a, b in zip(v0, v1, strict=True))
 
 
 def _pulse(name: str, duration: float, shape: Callable[[np.ndarray], np.ndarray],

@@ -35,11 +35,19 @@ from .solver import (
 )
 from .solver.laws_local import update_joints
 from .state import State
-from .steplog import StepLog, StepReport, natural_map_note
+from .steplog import STEP_OUTCOMES, StepLog, StepReport, natural_map_note
 
 __all__ = ["Simulation"]
 
 _log = logging.getLogger(__name__)
+
+
+_OUTCOME = {(False, True): STEP_OUTCOMES.index("stalled"),
+            (False, False): STEP_OUTCOMES.index("out of sweeps"),
+            (True, False): STEP_OUTCOMES.index("projection"),
+            (True, True): STEP_OUTCOMES.index("projection")}
+"""A step's outcome where it did not converge, by (contact solve converged, its error
+stalled)."""
 
 
 class Simulation:
@@ -282,10 +290,15 @@ class Simulation:
                 "reduce dt or check the loads"
             )
         converged = solved.converged and (projected is None or projected.converged)
+        outcome, rate = 0, math.nan  # STEP_OUTCOMES: converged
+        if not converged:
+            outcome = _OUTCOME[(solved.converged, solved.stalled)]
+            rate = math.nan if solved.converged else solved.rate
         report = StepReport(state.step, t1, solved.iterations, solved.error, converged,
                             contacts.count, loaded, depth, energy,
                             0 if projected is None else projected.iterations,
-                            SOLVER_NAMES.index(solved.solver), solved.natural_map)
+                            SOLVER_NAMES.index(solved.solver), solved.natural_map, outcome,
+                            rate)
         self.log.append(report)
         return report
 
@@ -304,9 +317,8 @@ class Simulation:
         if bad.size:
             warnings.warn(
                 f"the contact solver did not converge at {bad.size} of "
-                f"{len(self.log) - first} steps "
-                f"(first at step {bad[0]}"
-                f"{natural_map_note(self.log.natural_map[ran][~self.log.converged[ran]])}); "
-                "see Simulation.log", SolverWarning, stacklevel=2
+                f"{len(self.log) - first} steps: {self.log.why(first)}"
+                f"{natural_map_note(self.log.natural_map[ran][~self.log.converged[ran]])}"
+                "; see Simulation.log", SolverWarning, stacklevel=2
             )
         return self.log

@@ -5,7 +5,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["STEP_DTYPES", "StepLog", "StepReport"]
+__all__ = ["STEP_DTYPES", "STEP_OUTCOMES", "StepLog", "StepReport", "natural_map_note",
+           "why_not_converged"]
+
+STEP_OUTCOMES = ("converged", "stalled", "out of sweeps", "projection")
+"""How a step's solve ended (StepReport.outcome is the index): converged; not converged
+because the error had stalled (stopped falling: saxum.solver.base.error_trend) or because
+the sweeps ran out while it was still falling; or the contact solve converged and the
+gap-based law's position projection did not."""
 
 
 @dataclass(frozen=True)
@@ -15,9 +22,12 @@ class StepReport:
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
     position projection (0 when none was needed; saxum.solver.projection), the solver that
     finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
-    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid), and for a contact solve
-    that ended above its tolerance the natural-map error of its impulses [-]
-    (saxum.solver.SolverReport.natural_map: how far from a solution; nan where not measured)."""
+    fixed point, 2 semismooth Newton, both of saxum.solver.hybrid), for a contact solve that
+    ended above its tolerance the natural-map error of its impulses [-]
+    (saxum.solver.SolverReport.natural_map: how far from a solution; nan where not measured),
+    how the step ended (index into STEP_OUTCOMES) and, where the contact solve did not
+    converge, its error's factor per sweep over its last sweeps (rate [-], nan where not
+    measured or converged)."""
 
     step: int
     time: float
@@ -31,6 +41,8 @@ class StepReport:
     projection_iterations: int = 0
     solver: int = 0
     natural_map: float = math.nan
+    outcome: int = 0
+    rate: float = math.nan
 
 
 STEP_DTYPES = {
@@ -46,6 +58,8 @@ STEP_DTYPES = {
     "projection_iterations": np.int64,
     "solver": np.int8,
     "natural_map": np.float64,
+    "outcome": np.int8,
+    "rate": np.float64,
 }
 
 
@@ -62,8 +76,9 @@ class StepLog:
     def append(self, r: StepReport) -> None:
         if self._n == len(self._cols["time"]):
             self._cols = {k: np.concatenate([a, np.zeros_like(a)]) for k, a in self._cols.items()}
+        fields = r.__dict__  # (StepReport has no slots: a dict lookup beats getattr)
         for k, col in self._cols.items():
-            col[self._n] = getattr(r, k)
+            col[self._n] = fields[k]
         self._n += 1
 
     def __getattr__(self, name: str) -> np.ndarray:
@@ -76,6 +91,12 @@ class StepLog:
         """Step numbers at which the solver stopped on its iteration cap."""
         return self.step[~self.converged]
 
+    def why(self, first: int = 0) -> str:
+        """Why the steps from index `first` on that did not converge did not
+        (why_not_converged)."""
+        return why_not_converged(*(getattr(self, k)[first:] for k in
+                                   ("step", "converged", "outcome", "rate", "error")))
+
     def summary(self) -> str:
         """One line: steps, iterations (mean, max), non-converged steps, worst interpenetration."""
         if self._n == 0:
@@ -86,7 +107,7 @@ class StepLog:
         return (
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
-            + (f" (first: step {bad[0]})" if bad.size else "")
+            + (f" ({self.why()})" if bad.size else "")
             + natural_map_note(self.natural_map[~self.converged])
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
@@ -100,3 +121,29 @@ def natural_map_note(values: np.ndarray) -> str:
     if measured.size == 0:
         return ""
     return f", natural-map error of their impulses up to {measured.max():.3g}"
+
+
+def why_not_converged(step: np.ndarray, converged: np.ndarray, outcome: np.ndarray,
+                      rate: np.ndarray, error: np.ndarray) -> str:
+    """The step log's columns of the steps that did not converge, summed up by outcome
+    (STEP_OUTCOMES): how many stalled and their largest error, how many ran out of sweeps
+    with the error still falling and its slowest rate per sweep, how many failed in the
+    position projection; "" if every step converged."""
+    parts = []
+    for code, name in enumerate(STEP_OUTCOMES[1:], start=1):
+        k = ~converged & (outcome == code)
+        if not k.any():
+            continue
+        n, first = int(k.sum()), int(step[k][0])
+        if name == "stalled":
+            parts.append(f"{n} stalled (the error stopped falling; largest error "
+                         f"{error[k].max():.2g}; first at step {first})")
+        elif name == "out of sweeps":
+            rates = rate[k][np.isfinite(rate[k])]
+            trend = (f"error still falling, slowest rate {rates.max():.6f} per sweep"
+                     if rates.size else "the error's trend not measured")
+            parts.append(f"{n} ran out of sweeps ({trend}; largest error "
+                         f"{error[k].max():.2g}; first at step {first})")
+        else:
+            parts.append(f"{n} in the position projection (first at step {first})")
+    return "; ".join(parts)

@@ -21,6 +21,7 @@ and one NLGS sweep from it changes nothing; when it does not: the impulses and v
 as they were (rest_check.py, with the tolerances).
 """
 
+import dataclasses
 import math
 
 import numpy as np
@@ -31,7 +32,8 @@ from limit_analysis import semicircular_four_hinge, with_load_factor
 from rest_check import DT, check, first_step
 
 import saxum as sx
-from saxum.structures import add_wall, semicircular_arch
+from saxum.solver import SolverReport
+from saxum.structures import add_wall, running_bond_wall, semicircular_arch
 
 G = 9.81
 
@@ -67,6 +69,35 @@ def test_block_under_horizontal_acceleration_rests_below_g_b_over_h(factor):
     b.set_law("block", "block", sx.ContactLaw(friction=1.0))
     b.add_acceleration(lambda t: (factor * G * width / height, 0.0))
     model = b.finalize()
+    check(first_step(model), model, factor < 1.0)
+
+
+class _Hypothesis(sx.ContactSolver):
+    """The first step's rest hypothesis (saxum.solver.equilibrium.rest_hypothesis; not the
+    position projection's problem, which has none)."""
+
+    def solve(self, problem, impulse, v_free, v):
+        from saxum.solver.equilibrium import rest_hypothesis
+
+        if not hasattr(self, "hypothesis"):
+            self.hypothesis = rest_hypothesis(problem, v_free)
+        return SolverReport(iterations=0, error=0.0, converged=True)
+
+
+@pytest.mark.parametrize("factor", [0.999, 1.001])
+def test_loads_outside_the_grounds_cone_rule_the_rest_solution_out_at_once(factor):
+    """A running-bond wall (4 courses x 3 bricks, b/h = 2.9: it slides before it tips) on a
+    flat ground, mu = 0.6 everywhere, under a horizontal acceleration a = factor mu g: the
+    ground's contacts share one Coulomb cone, which the sum of the loads leaves for a > mu g
+    (Coulomb); there the rest hypothesis already says that no rest solution exists, without
+    a Newton iteration, and below it the rest solution is found."""
+    model = running_bond_wall(courses=4, bricks=3, friction=0.6)
+    g = float(np.hypot(*model.gravity))
+    model = dataclasses.replace(model, accelerations=((lambda t: (factor * 0.6 * g, 0.0)),))
+    solver = _Hypothesis()
+    sim = sx.Simulation(model, dt=DT, solver=solver)
+    sim.step(sim.initial_state())
+    assert (solver.hypothesis is None) == (factor > 1.0)
     check(first_step(model), model, factor < 1.0)
 
 

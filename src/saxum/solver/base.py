@@ -8,10 +8,30 @@ import numpy as np
 
 from .problem import ContactProblem
 
-__all__ = ["SOLVER_NAMES", "ContactSolver", "SolverReport"]
+__all__ = ["SOLVER_NAMES", "STALLED", "ContactSolver", "SolverReport", "error_trend"]
 
 SOLVER_NAMES = ("nlgs", "conic", "newton")
 """Solvers that can finish a step; the step log stores the index (StepReport.solver)."""
+
+STALLED = 1e-5
+"""An error that falls by less than this fraction per sweep (0.5 % over 500 sweeps) has
+stalled; above it the error is still falling and more sweeps would have gone on."""
+
+
+def error_trend(errors: list[float], sweeps: int) -> tuple[float, bool]:
+    """(rate, stalled) of a solve that did not converge, from its error [-] at the end of
+    windows of `sweeps` sweeps each, oldest first: rate is the least error's factor per sweep
+    from the first half of the windows to the second (the least, not the last: NLGS's error
+    oscillates from sweep to sweep at the friction threshold), stalled that it is above
+    1 - STALLED. (nan, False) with fewer than two windows."""
+    half = len(errors) // 2
+    if half == 0 or sweeps < 1:
+        return math.nan, False
+    before, after = min(errors[-2 * half:-half]), min(errors[-half:])
+    if not (before > 0.0 and math.isfinite(before) and math.isfinite(after)):
+        return math.nan, False
+    rate = (after / before) ** (1.0 / (half * sweeps))
+    return rate, rate > 1.0 - STALLED
 
 
 @dataclass(frozen=True)
@@ -19,16 +39,20 @@ class SolverReport:
     """What a solver did on one step: iterations (Gauss-Seidel sweeps), final error,
     converged or not, and which solver finished the step (an entry of SOLVER_NAMES: "nlgs",
     or "conic" / "newton" when saxum.solver.hybrid's attempt with the conic fixed point or
-    semismooth Newton was kept); natural_map: where the solve ended above the tolerance, the
-    natural-map error ||F_nat(R)|| / ||q|| of the impulses it returned (saxum.solver.residual:
-    how far they are from a solution of the step's problem, whatever the solver's own
-    criterion), nan where not measured (a converged solve; NLGS alone)."""
+    semismooth Newton was kept). Where it did not converge: natural_map, the natural-map
+    error ||F_nat(R)|| / ||q|| of the impulses it returned (saxum.solver.residual: how far
+    they are from a solution of the step's problem, whatever the solver's own criterion; nan
+    where not measured: NLGS alone); rate, the error's factor per sweep over its last sweeps
+    (nan where not measured), and stalled, whether the error had stopped falling there
+    (error_trend) rather than the sweeps running out."""
 
     iterations: int
     error: float
     converged: bool
     solver: str = "nlgs"
     natural_map: float = math.nan
+    rate: float = math.nan
+    stalled: bool = False
 
 
 class ContactSolver(ABC):

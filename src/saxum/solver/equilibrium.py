@@ -204,22 +204,26 @@ def rest_hypothesis(problem, v_free: np.ndarray):
     slot = np.empty(len(inv_mass), dtype=np.int64)
     closed = np.empty(count, dtype=np.int64)
     m, _, force = _rest_contacts(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
-                                 problem.bias, problem.active, count, inv_mass, v_begin, v_free,
-                                 slot, closed)
+                                 problem.bias, problem.friction, problem.active, count,
+                                 inv_mass, v_begin, v_free, slot, closed)
     if m <= 0:
         return None
     return closed[:m], slot, force
 
 
 @nb.njit(cache=True)
-def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_begin, v_free,
-                   slot, closed):
+def _rest_contacts(cand, ant, h_cand, h_ant, bias, friction, active, count, inv_mass, v_begin,
+                   v_free, slot, closed):
     """Check the rest hypothesis: slot[b] = index of free body b among the free bodies (-1
     for the others), closed[:m] = the closed contacts. Returns (m, free bodies, f [N s] per
     free body: M (V - v_free), V the supports' velocity (see rest_solution)), m = -1 when no
     rest solution can exist: supports in closed contact that do not share one translation,
-    an open contact that would close, a restitution target, or a free body that needs an
-    impulse and has no closed contact; or when it is not worth looking for: the blocks move
+    an open contact that would close, a restitution target, a free body that needs an
+    impulse and has no closed contact, or supports whose closed contacts share one Coulomb
+    cone (one frame and one mu: a flat ground) that the sum of the loads, which only they can
+    carry, lies outside (a structure that slides on its ground as a whole, where NLGS would
+    otherwise stop to look for the rest solution on every step); or when it is not worth
+    looking for: the blocks move
     relative to the supports (|v_begin - V|_M above |v_free - v_begin|_M, the velocity that
     one step of the loads gives: a structure in motion, which the contacts would have to stop
     within one step)."""
@@ -233,14 +237,33 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
         else:
             slot[b] = -1
     force = np.zeros((nfree, dof))
-    # V: the velocity of the supports in closed contact (a translation, the same for all)
+    held = np.zeros(nfree, dtype=np.bool_)
+    # one pass over the contacts: the closed ones go to the front of `closed`, the other
+    # active ones (open) to its back; V, the velocity of the supports in closed contact, must
+    # be one translation, the same for all
     frame = np.zeros(dof)
     framed = False
-    for k in range(2 * count):
-        a = k // 2
-        body = cand[a] if k % 2 == 0 else ant[a]
-        if active[a] and bias[a] == 0.0 and slot[body] < 0:
-            if not framed:
+    m = 0
+    opened = 0
+    cone = -1  # a closed contact of a free body with a support, whose cone the others share
+    for a in range(count):
+        if not active[a]:
+            continue
+        if bias[a] != 0.0:
+            opened += 1
+            closed[count - opened] = a
+            continue
+        closed[m] = a
+        m += 1
+        if cone != -2 and (slot[cand[a]] < 0) != (slot[ant[a]] < 0):
+            if cone == -1:
+                cone = a
+            elif not _same_cone(h_cand, h_ant, friction, slot, cand, ant, cone, a, dim):
+                cone = -2
+        for body in (cand[a], ant[a]):
+            if slot[body] >= 0:
+                held[slot[body]] = True  # U = 0 at rest: every body in it moves with V
+            elif not framed:
                 framed = True
                 for d in range(dof):
                     frame[d] = v_free[body, d]
@@ -263,22 +286,13 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
                 loads += (v_free[b, d] - v_begin[b, d]) ** 2 / inv_mass[b, d]
     if moving > loads:
         return -1, nfree, force
-    held = np.zeros(nfree, dtype=np.bool_)
-    m = 0
-    for a in range(count):
-        if not active[a]:
-            continue
+    if cone >= 0 and not _inside_cone(h_cand, h_ant, friction, slot, cand, cone, force, dim):
+        return -1, nfree, force
+    for k in range(count - opened, count):
+        # an open contact: U_n + b_n >= 0 at rest, free bodies moving with V
+        a = closed[k]
         c = cand[a]
         b = ant[a]
-        if bias[a] == 0.0:  # U = 0 at rest: every body in it moves with V (checked above)
-            closed[m] = a
-            m += 1
-            if slot[c] >= 0:
-                held[slot[c]] = True
-            if slot[b] >= 0:
-                held[slot[b]] = True
-            continue
-        # an open contact: U_n + b_n >= 0 at rest, free bodies moving with V
         un = bias[a]
         for d in range(dof):
             vc = frame[d] if slot[c] >= 0 else v_free[c, d]
@@ -292,6 +306,42 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, active, count, inv_mass, v_be
                 if force[k, d] != 0.0:
                     return -1, nfree, force
     return m, nfree, force
+
+
+@nb.njit(inline="always")
+def _free_rows(h_cand, h_ant, slot, cand, a):
+    """The rows of H* on the free body of contact a with a support (frame rows t, n (, s)
+    seen from the free body: its impulse is their combination with R)."""
+    return h_cand[a] if slot[cand[a]] >= 0 else h_ant[a]
+
+
+@nb.njit(cache=True)
+def _same_cone(h_cand, h_ant, friction, slot, cand, ant, a, b, dim):
+    """Whether the support contacts a and b give their free bodies the same Coulomb cone:
+    the same frame (translational rows of H*) and the same mu, exactly."""
+    if friction[a] != friction[b]:
+        return False
+    rows_a = _free_rows(h_cand, h_ant, slot, cand, a)
+    rows_b = _free_rows(h_cand, h_ant, slot, cand, b)
+    for r in range(dim):
+        for d in range(dim):
+            if rows_a[r, d] != rows_b[r, d]:
+                return False
+    return True
+
+
+@nb.njit(cache=True)
+def _inside_cone(h_cand, h_ant, friction, slot, cand, a, force, dim):
+    """Whether the sum of the loads `force` [N s] of the free bodies lies in the Coulomb cone
+    of support contact a (the sum of such cones is the cone: what the supports can carry)."""
+    rows = _free_rows(h_cand, h_ant, slot, cand, a)
+    local = np.zeros(dim)
+    for k in range(force.shape[0]):
+        for r in range(dim):
+            for d in range(dim):
+                local[r] += rows[r, d] * force[k, d]
+    tangent = abs(local[0]) if dim == 2 else math.hypot(local[0], local[2])
+    return local[1] >= 0.0 and tangent <= friction[a] * local[1]
 
 
 @nb.njit(cache=True)

@@ -39,10 +39,10 @@ import numpy as np
 
 from ..errors import InputError
 from .assembled import assemble_local
-from .base import SOLVER_NAMES, ContactSolver, SolverReport
+from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
 from .newton import alart_curnier_newton
-from .nlgs import _REST_WORK, NLGS
+from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS
 from .problem import ContactProblem
 
 __all__ = ["ConicSolver", "Hybrid"]
@@ -97,7 +97,8 @@ class ConicSolver(ContactSolver):
               v: np.ndarray) -> SolverReport:
         self.conic(problem, impulse, v_free, v)
         report = self._nlgs.solve(problem, impulse, v_free, v)
-        return SolverReport(report.iterations, report.error, report.converged, "conic")
+        return SolverReport(report.iterations, report.error, report.converged, "conic",
+                            report.rate, report.stalled)
 
     def conic(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> None:
@@ -137,6 +138,7 @@ class Hybrid(ContactSolver):
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
                            self.rest_after)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0)
+        self._first._trend = self._more._trend = False  # the windows give it (solve)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self.finished = {name: 0 for name in SOLVER_NAMES}
         """Solves (steps and projections) finished by each solver."""
@@ -181,6 +183,7 @@ class Hybrid(ContactSolver):
         attempt = self._wait == 0  # else NLGS alone (back-off)
         self._wait = max(self._wait - 1, 0)
         attempted = False
+        errors = []  # at the end of NLGS's windows since the last iterate kept: the trend
         while not report.converged:
             if report.error < least:
                 least, since = report.error, 0
@@ -196,11 +199,14 @@ class Hybrid(ContactSolver):
                     report, solver = judged, judged.solver
                     done += judged.iterations
                     kept = judged, impulse.copy(), v.copy()
+                    errors.clear()
             if report.converged or done >= self.max_iterations:
                 break
             self._more.max_iterations = min(self.window, self.max_iterations - done)
             report = self._more.solve(problem, impulse, v_free, v)
             done += report.iterations
+            if report.iterations == self.window:
+                errors.append(report.error)
         if solver == "conic" and not report.converged and report.error > kept[0].error:
             # NLGS's error rose from the conic iterate's: the step ends at that iterate
             impulse[...] = kept[1]
@@ -217,10 +223,14 @@ class Hybrid(ContactSolver):
         # a step above the tolerance says how far its impulses are from a solution of its
         # problem, by the measure that does not depend on the solver (docs/method.md: on the
         # shaken 3D L wall NLGS's criterion of 1e-6 to 1e-5 at the cap is a natural-map
-        # error of 1e-5 to 1e-4)
-        natural = (math.nan if report.converged
-                   else assemble_local(problem, v_free).natural_map_error(impulse))
-        return SolverReport(done + judging, report.error, report.converged, solver, natural)
+        # error of 1e-5 to 1e-4), and whether its error stalled or was still falling
+        if report.converged:
+            natural, trend = math.nan, (math.nan, False)
+        else:
+            natural = assemble_local(problem, v_free).natural_map_error(impulse)
+            trend = error_trend(errors[-_TREND_WINDOWS:], self.window)
+        return SolverReport(done + judging, report.error, report.converged, solver, natural,
+                            *trend)
 
     def _attempt(self, problem, impulse, v_free, v, error: float):
         """The conic fixed point from NLGS's iterate, then (where NLGS rejects it)

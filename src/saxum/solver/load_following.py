@@ -19,7 +19,11 @@ at rest change along the ground motion's components only (f is affine in a_g(t))
 change that is a combination sum_j lambda_j df_j of the changes already answered from that
 anchor (to _FIT x the solver's tolerance, relative to |f_k|, in the norm |.|_M^-1) takes
 dR = sum_j lambda_j dR_j (least squares, the load changes kept orthonormal, at most _DEPTH of
-them) without any solve; a misfit is answered by one solve, which adds its direction.
+them) without any solve; a misfit is answered by one solve, which adds its direction. Beyond
+the ground motion's components, the loads also carry -M v_begin, the velocities that earlier
+steps left (round-off and the tolerance: misfits of ~1e-8 relative on the 0.3 g wall): a kept
+direction that the step's change uses least (the smallest |lambda_j|) makes room for a new
+one, so that these never push out the ground motion's own.
 The anchor of the last step is tried first, then the others, the first whose R is inside
 every cone is taken: a periodic load comes back to the loads of earlier anchors, so that
 after a cycle no new rest solution is needed. When none is, R of the last anchor is the start
@@ -36,7 +40,6 @@ import numba as nb
 import numpy as np
 
 from .equilibrium import LoadResponse, rest_hypothesis
-from .problem import _apply
 
 __all__ = ["START_MARGIN", "LoadFollowing"]
 
@@ -63,29 +66,41 @@ class _Anchor:
         self.response = response
         self.impulse = impulse
         self.loads = loads
-        self.q = np.empty((_DEPTH, *loads.shape))
+        # one more row than kept: a new direction joins the start before the oldest is dropped
+        self.q = np.empty((_DEPTH + 1, *loads.shape))
         """Orthonormal load changes M^-1/2 df_j (first `answers` rows) ..."""
-        self.dr = np.empty((_DEPTH, *impulse.shape))
+        self.dr = np.empty((_DEPTH + 1, *impulse.shape))
         """... and the impulse changes dR_j [N s] (count, dim) that balance them."""
+        self.lam = np.empty(_DEPTH + 1)
+        self.change = np.empty_like(loads)
         self.answers = 0
 
     def start(self, problem, loads: np.ndarray, weight: np.ndarray, tolerance: float,
-              out: np.ndarray) -> None:
-        """out = R_a + dR for the loads M^-1/2 f (module doc), one solve if the kept answers
-        do not span the change."""
-        change = np.empty_like(loads)
-        misfit, size = _combine(loads, self.loads, self.q, self.dr, self.answers,
-                                       self.impulse, change, out)
+              impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray) -> bool:
+        """impulse = R_a + dR for the loads M^-1/2 f (module doc; one solve if the kept
+        answers do not span their change), v = v_free + M^-1 H impulse [m/s, rad/s]; returns
+        whether every contact's impulse is in its Coulomb cone."""
+        misfit, size = _combine(loads, self.loads, self.q, self.answers, self.change, self.lam)
         if misfit > _FIT * tolerance * size:  # a new direction of the loads: one solve
-            dr = self.response.impulse_change(problem, change / weight)
-            out += dr
-            if self.answers == _DEPTH:  # drop the oldest
-                self.q[:-1] = self.q[1:].copy()
-                self.dr[:-1] = self.dr[1:].copy()
-                self.answers -= 1
-            self.q[self.answers] = change / misfit
-            self.dr[self.answers] = dr / misfit
+            dr = self.response.impulse_change(problem, self.change / weight)
+            n = self.answers
+            self.q[n] = self.change / misfit
+            self.dr[n] = dr / misfit
+            self.lam[n] = misfit
             self.answers += 1
+        c = problem.contacts
+        inside = _start(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                        problem.active, problem.friction, problem.model.body_inv_mass,
+                        self.impulse, self.dr, self.lam, self.answers, v_free, impulse, v)
+        if self.answers > _DEPTH:
+            # drop the old answer least used now (the smallest |lam_j|): the loads of a
+            # ground motion keep changing along its components, the rest of the change comes
+            # and goes with the velocities left by earlier steps
+            drop = int(np.argmin(np.abs(self.lam[:_DEPTH])))
+            for kept in (self.q, self.dr):
+                kept[drop:-1] = kept[drop + 1:].copy()
+            self.answers -= 1
+        return inside
 
 
 class LoadFollowing:
@@ -140,13 +155,14 @@ class LoadFollowing:
         count = problem.count
         step_loads = self._loads(problem, v_free)
         if (step_loads is None or len(self._keys) != count
-                or not np.array_equal(self._keys, problem.contacts.key[:count])
-                or not np.array_equal(step_loads[0], self._closed)):
+                or not _equal(self._keys, problem.contacts.key[:count])
+                or not _equal(step_loads[0], self._closed)):
             self.clear()
             return False
         loads = step_loads[1]
         self._pending = loads, None
-        if np.linalg.norm(loads - self._last_loads) <= tolerance * np.linalg.norm(loads):
+        change, size = _distance(loads, self._last_loads)
+        if change <= tolerance * size:
             # the warm start is at rest already; twice in a row: loads that do not change,
             # which need no following
             self._quiet += 1
@@ -154,20 +170,15 @@ class LoadFollowing:
                 self.clear()
             return False
         self._quiet = 0
-        start = np.empty((count, impulse.shape[1]))
         for k in range(len(self._anchors) - 1, -1, -1):
-            self._anchors[k].start(problem, loads, self._weight[1], tolerance, start)
-            if _inside_cones(start, problem.friction, self._closed):
+            if self._anchors[k].start(problem, loads, self._weight[1], tolerance, impulse,
+                                      v_free, v):
                 break
         else:
             k = len(self._anchors) - 1
-            self._anchors[k].start(problem, loads, self._weight[1], tolerance, start)
+            self._anchors[k].start(problem, loads, self._weight[1], tolerance, impulse, v_free,
+                                   v)
         self._pending = loads, k
-        impulse[:count] = start
-        v[:] = v_free
-        c = problem.contacts
-        _apply(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.active, count,
-               problem.model.body_inv_mass, impulse, v)
         return True
 
     def record(self, problem, impulse: np.ndarray, v_free: np.ndarray, confirmed: bool,
@@ -202,42 +213,86 @@ class LoadFollowing:
 
 
 @nb.njit(cache=True)
-def _inside_cones(impulse, friction, closed):
-    """Every closed contact's impulse in its Coulomb cone: R_n >= 0, |R_T| <= mu R_n."""
-    for k in range(closed.shape[0]):
-        a = closed[k]
-        tangent = abs(impulse[a, 0])
-        if impulse.shape[1] == 3:
-            tangent = math.hypot(tangent, impulse[a, 2])
-        if not (impulse[a, 1] >= 0.0 and tangent <= friction[a] * impulse[a, 1]):
+def _equal(a, b):
+    """Whether the integer arrays a and b (1D) are equal (np.array_equal without its temporary
+    arrays, on every step)."""
+    if a.shape[0] != b.shape[0]:
+        return False
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
             return False
     return True
 
 
 @nb.njit(cache=True)
-def _combine(loads, last_loads, q, dr, answers, last_impulse, change, start):
-    """change = loads - last_loads minus its projections lambda_j = q_j . change on the first
-    `answers` kept load changes (orthonormal), start = last_impulse + sum_j lambda_j dR_j;
-    returns (|change| (the misfit), |loads|)."""
+def _distance(a, b):
+    """(|a - b|, |a|) for arrays of the same shape (2D)."""
+    change = 0.0
+    size = 0.0
+    for i in range(a.shape[0]):
+        for d in range(a.shape[1]):
+            change += (a[i, d] - b[i, d]) ** 2
+            size += a[i, d] * a[i, d]
+    return math.sqrt(change), math.sqrt(size)
+
+
+@nb.njit(cache=True)
+def _start(cand, ant, h_cand, h_ant, active, friction, inv_mass, impulse_a, dr, lam, answers,
+           v_free, impulse, v):
+    """impulse = impulse_a + sum_j lam_j dr_j on the anchor's contacts (0 on inactive ones),
+    v = v_free + M^-1 H impulse, in one pass; returns whether every impulse is in its Coulomb
+    cone, R_n >= 0, |R_T| <= mu R_n (those of the contacts that are not closed are 0:
+    rest_solution)."""
+    dim = impulse_a.shape[1]
+    for b in range(v.shape[0]):
+        for d in range(v.shape[1]):
+            v[b, d] = v_free[b, d]
+    inside = True
+    for a in range(impulse_a.shape[0]):
+        if not active[a]:
+            impulse[a, :] = 0.0
+            continue
+        for r in range(dim):
+            x = impulse_a[a, r]
+            for j in range(answers):
+                x += lam[j] * dr[j, a, r]
+            impulse[a, r] = x
+        tangent = abs(impulse[a, 0])
+        if dim == 3:
+            tangent = math.hypot(tangent, impulse[a, 2])
+        if not (impulse[a, 1] >= 0.0 and tangent <= friction[a] * impulse[a, 1]):
+            inside = False
+        c = cand[a]
+        b = ant[a]
+        for d in range(v.shape[1]):
+            fc = 0.0
+            fa = 0.0
+            for r in range(dim):
+                fc += h_cand[a, r, d] * impulse[a, r]
+                fa += h_ant[a, r, d] * impulse[a, r]
+            v[c, d] += inv_mass[c, d] * fc
+            v[b, d] += inv_mass[b, d] * fa
+    return inside
+
+
+@nb.njit(cache=True)
+def _combine(loads, last_loads, q, answers, change, lam):
+    """change = loads - last_loads minus its projections lam_j = q_j . change on the first
+    `answers` kept load changes (orthonormal); returns (|change| (the misfit), |loads|)."""
     size = 0.0
     for i in range(loads.shape[0]):
         for d in range(loads.shape[1]):
             change[i, d] = loads[i, d] - last_loads[i, d]
             size += loads[i, d] * loads[i, d]
-    for a in range(last_impulse.shape[0]):
-        for r in range(last_impulse.shape[1]):
-            start[a, r] = last_impulse[a, r]
     for j in range(answers):
-        lam = 0.0
+        x = 0.0
         for i in range(loads.shape[0]):
             for d in range(loads.shape[1]):
-                lam += q[j, i, d] * change[i, d]
+                x += q[j, i, d] * change[i, d]
         for i in range(loads.shape[0]):
             for d in range(loads.shape[1]):
-                change[i, d] -= lam * q[j, i, d]
-        for a in range(last_impulse.shape[0]):
-            for r in range(last_impulse.shape[1]):
-                start[a, r] += lam * dr[j, a, r]
+                change[i, d] -= x * q[j, i, d]
+        lam[j] = x
     misfit = 0.0
     for i in range(loads.shape[0]):
         for d in range(loads.shape[1]):

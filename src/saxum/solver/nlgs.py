@@ -41,7 +41,7 @@ import numba as nb
 import numpy as np
 
 from ..errors import InputError
-from .base import ContactSolver, SolverReport
+from .base import ContactSolver, SolverReport, error_trend
 from .equilibrium import rest_solution
 from .laws_local import law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
@@ -59,6 +59,14 @@ _REST_WORK = 20_000
 least (a few calls into the kernels and scipy's SuperLU, ~0.3 ms): a step tries it only once
 its sweeps have done that much work, so that where sweeps are cheap (a few dozen contacts)
 NLGS alone goes on."""
+
+
+_TREND_SWEEPS = 1000
+"""The last sweeps of a solve that can end at its cap, run as _TREND_WINDOWS windows whose
+errors give the error's trend where it does not converge (SolverReport.rate and stalled,
+saxum.solver.base.error_trend): the same sweeps bit for bit, in ten calls instead of one."""
+_TREND_WINDOWS = 10
+_NO_TREND = (math.nan, False)
 
 
 @dataclass
@@ -94,6 +102,8 @@ class NLGS(ContactSolver):
         self._inv_mass = None
         self._mass = np.empty((0, 0))
         self._following = LoadFollowing()
+        self._trend = True
+        """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
 
     def forget(self) -> None:
         self._following.clear()
@@ -146,7 +156,11 @@ class NLGS(ContactSolver):
             # not confirm the start
             least = -(-_REST_WORK // problem.count)
             first = min(least if followed else max(rest_after, least), first)
-        iterations, error = sweep(*args, first, self.relaxation)
+        if first == self.max_iterations:  # the sweeps can end the step at its cap
+            iterations, error, trend = self._sweeps(sweep, args, first)
+        else:
+            iterations, error = sweep(*args, first, self.relaxation)
+            trend = _NO_TREND
         confirmed = iterations == 1 and error <= self.tolerance
         followed = followed and not confirmed
         found = False
@@ -161,13 +175,36 @@ class NLGS(ContactSolver):
                 found = rest_solution(problem, impulse, v_free, v)
             if found:
                 self.rest_solutions += 1
-            more, error = sweep(*args, self.max_iterations - iterations, self.relaxation)
+            more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
             iterations += more
         converged = error <= self.tolerance
         if follow:
             self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
-        return SolverReport(iterations=iterations, error=error, converged=converged)
+        return SolverReport(iterations, error, converged, "nlgs", *trend)
+
+    def _sweeps(self, sweep, args, count: int):
+        """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
+        stopping at the tolerance; the last ones in windows whose errors give the trend
+        (_TREND_SWEEPS). Returns (sweeps, error, (rate, stalled))."""
+        if not self._trend:
+            done, error = sweep(*args, count, self.relaxation)
+            return done, error, _NO_TREND
+        window = min(count, _TREND_SWEEPS) // _TREND_WINDOWS
+        if window == 0:
+            done, error = sweep(*args, count, self.relaxation)
+            return done, error, _NO_TREND
+        done, error = 0, math.inf
+        if count > window * _TREND_WINDOWS:
+            done, error = sweep(*args, count - window * _TREND_WINDOWS, self.relaxation)
+        errors = []
+        while error > self.tolerance and done < count:
+            more, error = sweep(*args, window, self.relaxation)
+            done += more
+            errors.append(error)
+        if error <= self.tolerance:
+            return done, error, _NO_TREND
+        return done, error, error_trend(errors, window)
 
 
     def _solve_deformable(self, problem: ContactProblem, impulse: np.ndarray,
