@@ -98,7 +98,7 @@ class ConicSolver(ContactSolver):
         self.conic(problem, impulse, v_free, v)
         report = self._nlgs.solve(problem, impulse, v_free, v)
         return SolverReport(report.iterations, report.error, report.converged, "conic",
-                            report.rate, report.stalled)
+                            rate=report.rate, stalled=report.stalled)
 
     def conic(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> None:
@@ -230,7 +230,7 @@ class Hybrid(ContactSolver):
             natural = assemble_local(problem, v_free).natural_map_error(impulse)
             trend = error_trend(errors[-_TREND_WINDOWS:], self.window)
         return SolverReport(done + judging, report.error, report.converged, solver, natural,
-                            *trend)
+                            *trend)  # (natural_map, rate, stalled)
 
     def _attempt(self, problem, impulse, v_free, v, error: float):
         """The conic fixed point from NLGS's iterate, then (where NLGS rejects it)

@@ -181,7 +181,8 @@ class NLGS(ContactSolver):
         if follow:
             self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
-        return SolverReport(iterations, error, converged, "nlgs", *trend)
+        rate, stalled = trend
+        return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
