@@ -66,7 +66,11 @@ def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie):
     the point projects (xi in [0, 1] along it), since a block's boundary has runs of collinear
     facets whose equal distances leave the choice to the projection. Between facets at equal
     distances (within tie: a point at a corner), the one whose normal is most opposed to the
-    point's own outward direction (mx, my) (0, 0 for none). Facet -1: none."""
+    point's own outward direction (mx, my) (0, 0 for none), and between facets equally
+    opposed (within 1e-3: the facets of a straight side, turned against each other by the
+    strain, ~1e-4, where two sides at a corner differ by ~1), the first: a node built on the
+    common end of two collinear facets then keeps its facet, and its contact its key, from
+    step to step (the warm start goes by key). Facet -1: none."""
     best = -1
     g = -1e300
     g_onto = -1e300
@@ -80,7 +84,7 @@ def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie):
         if not -tie <= s <= length + tie:
             continue
         dot = nx * mx + ny * my
-        if d > g_onto + tie or (d >= g_onto - tie and dot < facing):
+        if d > g_onto + tie or (d >= g_onto - tie and dot < facing - 1e-3):
             g_onto = d
             best = f
             facing = dot
