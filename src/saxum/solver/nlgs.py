@@ -49,6 +49,7 @@ from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .nlgs_fe import nlgs_fe_2d
 from .problem import ContactProblem
+from .sticking import sticking_solution
 from .velocity_change import change_ratio, change_sums
 
 __all__ = ["NLGS"]
@@ -182,13 +183,20 @@ class NLGS(ContactSolver):
         c = problem.contacts
         kind = problem.fe
         b = kind.blocks
-        iterations, error = nlgs_fe_2d(
-            c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
-            problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
-            self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
-            c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
-            np.repeat(b.node_mass[:, None], 2, axis=1), kind.v_free, kind.v,
-            np.empty_like(kind.v), self.tolerance, self.max_iterations, self.relaxation)
+        args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
+                problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
+                self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
+                c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
+                np.repeat(b.node_mass[:, None], 2, axis=1), kind.v_free, kind.v,
+                np.empty_like(kind.v), self.tolerance)
+        first = self.max_iterations if self.rest_after == 0 else min(self.rest_after,
+                                                                        self.max_iterations)
+        iterations, error = nlgs_fe_2d(*args, first, self.relaxation)
+        if error > self.tolerance and iterations < self.max_iterations:
+            self.rest_attempts += 1
+            sticking_solution(problem, impulse, v_free, v)
+            more, error = nlgs_fe_2d(*args, self.max_iterations - iterations, self.relaxation)
+            iterations += more
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
 
