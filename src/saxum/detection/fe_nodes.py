@@ -34,16 +34,22 @@ __all__ = ["node_contacts"]
 
 
 @nb.njit(inline="always")
-def _nearest_edge(x, y, v0, v1, wv, wn):
+def _nearest_edge(x, y, mx, my, v0, v1, wv, wn, tie):
     """(largest signed distance g [m], its edge k) of point (x, y) over edges v0..v1 of a
-    rigid polygon (world vertices wv, outward normals wn)."""
+    rigid polygon (world vertices wv, outward normals wn); between edges at equal distances
+    (within tie: a node on the polygon's corner), the one whose normal is most opposed to
+    the node's outward direction (mx, my), as in _nearest_facet, so that the choice, and the
+    contact's key, do not follow round-off from step to step."""
     best = -1
     g = -1e300
+    facing = 0.0
     for k in range(v0, v1):
         d = wn[k, 0] * (x - wv[k, 0]) + wn[k, 1] * (y - wv[k, 1])
-        if d > g:
+        dot = wn[k, 0] * mx + wn[k, 1] * my
+        if d > g + tie or (d >= g - tie and dot < facing - 1e-3):
             g = d
             best = k
+            facing = dot
     return g, best
 
 
@@ -147,9 +153,12 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
             p = boundary_node[m]
             x = node_x[p, 0]
             y = node_x[p, 1]
+            mx = node_side[p, 0, 0] + node_side[p, 1, 0]
+            my = node_side[p, 0, 1] + node_side[p, 1, 1]
             if rigid:
-                g, e = _nearest_edge(x, y, body_vertex_start[ob], body_vertex_start[ob + 1],
-                                     wv, wn)
+                g, e = _nearest_edge(x, y, cf * mx - sf * my, sf * mx + cf * my,
+                                     body_vertex_start[ob], body_vertex_start[ob + 1], wv, wn,
+                                     tie)
                 if g > alert:
                     continue
                 nx = wn[e, 0]
@@ -160,8 +169,6 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                 edge_key = e
             else:
                 o = fe_index[ob]
-                mx = node_side[p, 0, 0] + node_side[p, 1, 0]
-                my = node_side[p, 0, 1] + node_side[p, 1, 1]
                 outside, g, e, xi = _nearest_facet(x, y, cf * mx - sf * my, sf * mx + cf * my,
                                                    facet_start[o], facet_start[o + 1], node_x,
                                                    facet_node, tie)
@@ -195,8 +202,8 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                                                facet_start[f + 1], node_x, facet_node, tie)
             if e < 0 or outside > alert:
                 continue
-            nx, ny = _facet(node_x, facet_node, e)[2:4]
-            if xi == 0.0 or xi == 1.0:
+            nx, ny, length = _facet(node_x, facet_node, e)[2:5]
+            if min(xi, 1.0 - xi) * length <= tie:
                 continue  # on a node: the node's own contact on the polygon's edge holds it
             side_kind[count, 0] = 0
             side_kind[count, 1] = 1
