@@ -177,7 +177,9 @@ class NLGS(ContactSolver):
     def _solve_deformable(self, problem: ContactProblem, impulse: np.ndarray,
                           v_free: np.ndarray, v: np.ndarray) -> SolverReport:
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
-        and no load following: both are for rigid blocks (Simulation logs it)."""
+        and no load following (both are for rigid blocks; Simulation logs it): a step not
+        converged after rest_after sweeps sweeps on from the sticking solution
+        (saxum.solver.sticking), counted in rest_attempts."""
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         c = problem.contacts
