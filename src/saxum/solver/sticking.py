@@ -37,20 +37,12 @@ dependent rows (a node's tangent on one block is the difference of two normals o
 below), which leave the exact equations singular; with it they share the redundant impulse
 and each contact's U + b is off by 1e-9 of its W R, which NLGS's sweeps then take out."""
 
-_PASSES = 16
+_PASSES = 8
 """Solves at most, each with the contacts' status (open, sticking, sliding) from the last
 one's impulses and velocities (module doc)."""
 _OPEN, _STICK, _SLIDE_UP, _SLIDE_DOWN = 0, 1, 2, 3
 """A contact's status in the solve: R = 0; U + b = 0; U_n + b_n = 0 and R_t = +mu R_n, or
 -mu R_n."""
-_FLIPS = 4
-"""Status changes of one contact in one solve, at most (anti-cycling)."""
-_UPDATES = 20
-"""Contacts whose status may change since the last factorization before a solve refactors:
-up to it, the last factorization preconditions GMRES (_GMRES_TOLERANCE)."""
-_GMRES_TOLERANCE = 1e-10
-"""Relative residual of a solve by GMRES: far below what NLGS's tolerance asks of the start,
-which the sweeps after it judge anyway."""
 _EDGE = 1e-9
 """A warm-start impulse with |R_t| >= (1 - _EDGE) mu R_n is on its cone's edge: sliding."""
 _SLACK = 1e-9
@@ -112,10 +104,11 @@ def _world_iteration_matrix(kind) -> sp.csr_matrix:
     return (q @ kind.iteration_matrix @ q.T).tocsr()
 
 
-def _equations(a_matrix, h, status, mu, diagonal):
-    """(matrix, keep) of the equations (module doc) with each contact's rows by its status:
-    sticking U + b = 0 (with _REGULARIZATION), sliding U_n + b_n = 0 and R_t = +-mu R_n,
-    open R = 0; keep [m, 2]: 1 on the rows of U + b = 0 (where the right-hand side stays)."""
+def _solve_status(a_matrix, h, rhs, status, mu, diagonal):
+    """(x = (dv, -R) [m/s, N s], R [m, 2] [N s]) of the equations with each contact's rows by
+    its status: sticking U + b = 0 (with _REGULARIZATION), sliding U_n + b_n = 0 and R_t =
+    +-mu R_n, open R = 0."""
+    n = a_matrix.shape[0]
     m = len(status)
     open_ = status == _OPEN
     sliding = (status == _SLIDE_UP) | (status == _SLIDE_DOWN)
@@ -128,16 +121,12 @@ def _equations(a_matrix, h, status, mu, diagonal):
     k = np.flatnonzero(sliding)
     sign = np.where(status[k] == _SLIDE_UP, 1.0, -1.0)
     coupling = sp.csr_matrix((-sign * mu[k], (2 * k, 2 * k + 1)), shape=(2 * m, 2 * m))
-    matrix = sp.bmat([[a_matrix, h.T], [sp.diags(keep.ravel()) @ h,
-                                        -sp.diags(lower.ravel()) - coupling]], format="csc")
-    return matrix, keep
-
-
-def _factorize(matrix):
-    """SuperLU of the equations: minimum degree on the symmetric pattern, diagonal pivots
-    (the symmetric mode; the regularized lower block keeps them away from zero)."""
-    return scipy.sparse.linalg.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                    options={"SymmetricMode": True})
+    kkt = sp.bmat([[a_matrix, h.T], [sp.diags(keep.ravel()) @ h,
+                                     -sp.diags(lower.ravel()) - coupling]], format="csc")
+    x = scipy.sparse.linalg.splu(kkt, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                 options={"SymmetricMode": True}).solve(np.concatenate((np.zeros(n),
+                                                             keep.ravel() * rhs)))
+    return x, -x[n:].reshape(m, 2)
 
 
 def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
@@ -178,23 +167,8 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
     status[warm[:, 1] <= 0.0] = _OPEN
     edge = (warm[:, 1] > 0.0) & (np.abs(warm[:, 0]) >= (1.0 - _EDGE) * mu * warm[:, 1])
     status[edge] = np.where(warm[edge, 0] > 0.0, _SLIDE_UP, _SLIDE_DOWN)
-    lu, changed = None, 0
-    flips = np.zeros(m, dtype=np.int64)
     for _ in range(_PASSES):
-        matrix, keep = _equations(a_matrix, h, status, mu, diagonal)
-        b = np.concatenate((np.zeros(n), keep.ravel() * rhs))
-        x = None
-        if lu is not None and changed <= _UPDATES:
-            # a few rows changed since lu: GMRES preconditioned by it converges in about
-            # twice as many iterations as contacts changed, each one solve with lu
-            x, info = scipy.sparse.linalg.gmres(
-                matrix, b, M=scipy.sparse.linalg.LinearOperator(matrix.shape, lu.solve),
-                rtol=_GMRES_TOLERANCE, atol=0.0, restart=2 * changed + 5, maxiter=1)
-            x = x if info == 0 else None
-        if x is None:
-            lu, changed = _factorize(matrix), 0
-            x = lu.solve(b)
-        r = -x[n:].reshape(m, 2)
+        x, r = _solve_status(a_matrix, h, rhs, status, mu, diagonal)
         u = h @ x[:n] - rhs  # U + b of every contact in the solve [m/s]
         new = status.copy()
         new[(status == _OPEN) & (u[1::2] < -slack)] = _STICK
@@ -207,13 +181,8 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
         sliding = (new == _SLIDE_UP) | (new == _SLIDE_DOWN)
         wrong = sliding & (status == new) & (u[0::2] * r[:, 0] > 0.0)
         new[wrong] = _STICK
-        # anti-cycling: a contact keeps the status it has had _FLIPS times (coupled contacts,
-        # e.g. coincident nodes at a joint's corner, can swap opening and closing forever)
-        new[flips >= _FLIPS] = status[flips >= _FLIPS]
         if (new == status).all():
             break
-        flips += new != status
-        changed += int((new != status).sum())
         status = new
     impulse[:count] = 0.0
     impulse[take] = r
