@@ -6,11 +6,14 @@ equations in node and body velocities (2D):
     [ H   0  ] [ -R ] = [ -(H v_free + b) ]             M of the free rigid bodies),
 
 v = v_free + dv, H the rows of the contacts in the solve (saxum.solver.problem, side by side
-as in saxum.bodies.fe), b the normal shift of each law. A contact whose impulse comes out
-with R_n < 0 (a joint that opens) is released (R = 0) and the equations solved again, up to
-_PASSES times. When every kept impulse lies in its Coulomb cone and every released contact
-ends with U_n + b_n >= 0, this is a solution of the step's problem (the laws hold as
-equalities or with R = 0); otherwise it is a start near one, from which NLGS sweeps on.
+as in saxum.bodies.fe), b the normal shift of each law. Each contact has a status, first
+that of its warm-start impulse (open for R_n = 0, sliding on the cone's edge, else
+sticking), and after each solve an active set changes it: a closed contact with R_n < 0
+opens (R = 0), a sticking one outside its Coulomb cone slides (R_t = +-mu R_n, U_n + b_n =
+0), a sliding one whose slip goes with its friction impulse sticks, an open one with U_n +
+b_n < 0 closes; up to _PASSES solves. When no status changes, this is a solution of the
+step's problem (every law holds); otherwise it is a start near one, from which NLGS sweeps
+on (the caller judges convergence by the sweeps, as always).
 
 Why: a wall of elastic blocks has no rest solution (its nodes vibrate), and Gauss-Seidel
 over node contacts converges as slowly as a Gauss-Seidel on the blocks' stiffness: hundreds
@@ -132,8 +135,8 @@ def _solve_status(a_matrix, h, rhs, status, mu, diagonal):
 def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
                       v: np.ndarray) -> int:
     """Write the sticking solution (module doc) of the step's problem with deformable blocks
-    (problem.fe) into `impulse` [N s] (0 for inactive and released contacts), v [m/s, rad/s]
-    (the rigid bodies) and problem.fe.v (the nodes); returns the contacts released."""
+    (problem.fe) into `impulse` [N s] (0 for inactive and open contacts), v [m/s, rad/s]
+    (the rigid bodies) and problem.fe.v (the nodes); returns the contacts left open."""
     kind = problem.fe
     c = problem.contacts
     model = problem.model
