@@ -199,12 +199,14 @@ class NLGS(ContactSolver):
         iterations, error = nlgs_fe_2d(*args, first, self.relaxation)
         # a step after one whose sticking start did not settle does not try (its statuses
         # are likely changing still: under a pulse, most steps)
-        if (error > self.tolerance and iterations < self.max_iterations
-                and not self._sticking_failed):
-            self.rest_attempts += 1
-            found = sticking_solution(problem, impulse, v_free, v)
-            self.rest_solutions += found
-            self._sticking_failed = not found
+        if error > self.tolerance and iterations < self.max_iterations:
+            if self._sticking_failed:
+                self._sticking_failed = False
+            else:
+                self.rest_attempts += 1
+                found = sticking_solution(problem, impulse, v_free, v)
+                self.rest_solutions += found
+                self._sticking_failed = not found
             more, error = nlgs_fe_2d(*args, self.max_iterations - iterations, self.relaxation)
             iterations += more
         else:
