@@ -1,9 +1,13 @@
 """A running-bond wall of deformable bricks against the same wall of rigid bricks, in one run
-(issue 14, "Performance"): ms per step, NLGS sweeps per step, contacts, and the setup (meshing,
-assembly, M~^-1) of the deformable wall.
+(issue 14, "Performance"): ms per step, NLGS sweeps per step, the steps that took the sticking
+start (saxum.solver.sticking) and its time, contacts, and the setup (meshing, assembly,
+M~^-1) of the deformable wall.
 
-    python benchmarks/wall_fe.py --courses 20 --bricks 10 --steps 100
+    python benchmarks/wall_fe.py --courses 20 --bricks 10 --steps 100 [--pulse 2.0]
     python benchmarks/wall_fe.py --dim 3 --courses 4 --bricks 3 --steps 100
+
+--pulse A: a horizontal acceleration A [m/s^2] of the whole model over the measured steps
+(a ground motion felt as inertial forces), after the first step at rest.
 
 Bricks 0.4 x 0.2 m (half bricks at the ends of every other course), E = 10 GPa, nu = 0.2,
 2000 kg/m^3, Rayleigh beta = 1e-4 s, mesh 0.05 m; the wall stands on a fixed ground under its
@@ -21,12 +25,16 @@ import saxum as sx
 from saxum.fe import Elastic
 from saxum.model import BodyKind, ModelBuilder
 from saxum.simulation import Simulation
+from saxum.solver import nlgs
 from saxum.structures.solid import add_extruded
 from saxum.structures.wall import add_running_bond_wall
 
 
-def wall(courses: int, bricks: int, deformable: bool, dim: int = 2) -> sx.Model:
+def wall(courses: int, bricks: int, deformable: bool, dim: int = 2,
+         pulse: float = 0.0) -> sx.Model:
     b = ModelBuilder()
+    if pulse:
+        b.add_acceleration(lambda t: (pulse if t > 1.5e-3 else 0.0,) + (0.0,) * (dim - 1))
     add_running_bond_wall(b, courses=courses, bricks=bricks, brick_length=0.4,
                           brick_height=0.2, density=2000.0)
     width = 0.4 * bricks
@@ -47,19 +55,35 @@ def wall(courses: int, bricks: int, deformable: bool, dim: int = 2) -> sx.Model:
     return b.finalize()
 
 
-def run(model: sx.Model, steps: int) -> tuple[float, float, float, float]:
-    """(setup [s], ms per step, sweeps per step, contacts at the end)."""
+def run(model: sx.Model, steps: int) -> tuple[float, float, float, float, int, float]:
+    """(setup [s], ms per step, sweeps per step, contacts at the end, steps with a sticking
+    start, its ms per such step)."""
     start = time.perf_counter()
     sim = Simulation(model, dt=1e-3)
     state = sim.initial_state()
     sim.step(state)  # compiles
     setup = time.perf_counter() - start
+    sticking = [0, 0.0]
+    if sim.fe is not None:
+        solve = nlgs.sticking_solution
+
+        def timed(*args):
+            begin = time.perf_counter()
+            out = solve(*args)
+            sticking[0] += 1
+            sticking[1] += time.perf_counter() - begin
+            return out
+
+        nlgs.sticking_solution = timed
     start = time.perf_counter()
     for _ in range(steps):
         sim.step(state)
     elapsed = time.perf_counter() - start
+    if sim.fe is not None:
+        nlgs.sticking_solution = solve
     sweeps = float(np.mean(sim.log.iterations[-steps:]))
-    return setup, 1e3 * elapsed / steps, sweeps, float(state.contacts.count)
+    return (setup, 1e3 * elapsed / steps, sweeps, float(state.contacts.count), sticking[0],
+            1e3 * sticking[1] / max(sticking[0], 1))
 
 
 def main() -> None:
@@ -68,17 +92,18 @@ def main() -> None:
     parser.add_argument("--bricks", type=int, default=10)
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--dim", type=int, choices=(2, 3), default=2)
+    parser.add_argument("--pulse", type=float, default=0.0)
     args = parser.parse_args()
     for deformable in (False, True):
         start = time.perf_counter()
-        model = wall(args.courses, args.bricks, deformable, args.dim)
+        model = wall(args.courses, args.bricks, deformable, args.dim, args.pulse)
         built = time.perf_counter() - start
-        setup, ms, sweeps, contacts = run(model, args.steps)
+        setup, ms, sweeps, contacts, starts, start_ms = run(model, args.steps)
         nodes = model.fe.node_count if model.fe is not None else 0
         print(f"{'deformable' if deformable else 'rigid':>10}: {model.body_count - 1} bricks, "
               f"{nodes} nodes, model {built:.1f} s, simulation setup {setup:.1f} s, "
-              f"{ms:.1f} ms/step, {sweeps:.0f} sweeps/step, {contacts:.0f} contacts",
-              flush=True)
+              f"{ms:.1f} ms/step, {sweeps:.0f} sweeps/step, {contacts:.0f} contacts, "
+              f"sticking start in {starts} steps ({start_ms:.0f} ms each)", flush=True)
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import InputError
 from ..fe.blocks import FEBlocks
@@ -154,6 +155,16 @@ class FEKind:
                  body_q0: np.ndarray | None = None) -> None:
         self.model = fe
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
+        b = self.blocks
+        ht = h * theta
+        dof_block = np.repeat(b.node_block, 2)
+        self.iteration_matrix = (
+            sp.diags(1.0 + ht * b.alpha[dof_block])
+            @ sp.csr_matrix((b.m_data, b.m_indices, b.m_indptr))
+            + sp.diags(ht * b.beta[dof_block] + ht * ht)
+            @ sp.csr_matrix((b.k_data, b.k_indices, b.k_indptr))).tocsr()
+        """M~ = (1 + h theta alpha) M + (h theta beta + h^2 theta^2) K of all blocks, block
+        axes [kg], sparse: saxum.solver.sticking's equations."""
         self.rotation = self.blocks.frames(fe.node_x0)[0]
         """The frame of M~^-1 in the step, per block [n_fe, d, d] (FEBlocks.step_frames'
         rotation_step: the start frame turned on by the block's spin)."""

@@ -34,16 +34,22 @@ __all__ = ["candidate_node", "node_contacts", "pair_sides"]
 
 
 @nb.njit(inline="always")
-def _nearest_edge(x, y, v0, v1, wv, wn):
+def _nearest_edge(x, y, mx, my, v0, v1, wv, wn, tie):
     """(largest signed distance g [m], its edge k) of point (x, y) over edges v0..v1 of a
-    rigid polygon (world vertices wv, outward normals wn)."""
+    rigid polygon (world vertices wv, outward normals wn); between edges at equal distances
+    (within tie: a node on the polygon's corner), the one whose normal is most opposed to
+    the node's outward direction (mx, my), as in _nearest_facet, so that the choice, and the
+    contact's key, do not follow round-off from step to step."""
     best = -1
     g = -1e300
+    facing = 0.0
     for k in range(v0, v1):
         d = wn[k, 0] * (x - wv[k, 0]) + wn[k, 1] * (y - wv[k, 1])
-        if d > g:
+        dot = wn[k, 0] * mx + wn[k, 1] * my
+        if d > g + tie or (d >= g - tie and dot < facing - 1e-3):
             g = d
             best = k
+            facing = dot
     return g, best
 
 
@@ -66,7 +72,11 @@ def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie):
     the point projects (xi in [0, 1] along it), since a block's boundary has runs of collinear
     facets whose equal distances leave the choice to the projection. Between facets at equal
     distances (within tie: a point at a corner), the one whose normal is most opposed to the
-    point's own outward direction (mx, my) (0, 0 for none). Facet -1: none."""
+    point's own outward direction (mx, my) (0, 0 for none), and between facets equally
+    opposed (within 1e-3: the facets of a straight side, turned against each other by the
+    strain, ~1e-4, where two sides at a corner differ by ~1), the first: a node built on the
+    common end of two collinear facets then keeps its facet, and its contact its key, from
+    step to step (the warm start goes by key). Facet -1: none."""
     best = -1
     g = -1e300
     g_onto = -1e300
@@ -80,7 +90,7 @@ def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie):
         if not -tie <= s <= length + tie:
             continue
         dot = nx * mx + ny * my
-        if d > g_onto + tie or (d >= g_onto - tie and dot < facing):
+        if d > g_onto + tie or (d >= g_onto - tie and dot < facing - 1e-3):
             g_onto = d
             best = f
             facing = dot
@@ -159,9 +169,12 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
             p = boundary_node[m]
             x = node_x[p, 0]
             y = node_x[p, 1]
+            mx = node_side[p, 0, 0] + node_side[p, 1, 0]
+            my = node_side[p, 0, 1] + node_side[p, 1, 1]
             if rigid:
-                g, e = _nearest_edge(x, y, body_vertex_start[ob], body_vertex_start[ob + 1],
-                                     wv, wn)
+                g, e = _nearest_edge(x, y, cf * mx - sf * my, sf * mx + cf * my,
+                                     body_vertex_start[ob], body_vertex_start[ob + 1], wv, wn,
+                                     tie)
                 if g > alert:
                     continue
                 nx = wn[e, 0]
@@ -172,8 +185,6 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                 edge_key = e
             else:
                 o = fe_index[ob]
-                mx = node_side[p, 0, 0] + node_side[p, 1, 0]
-                my = node_side[p, 0, 1] + node_side[p, 1, 1]
                 outside, g, e, xi = _nearest_facet(x, y, cf * mx - sf * my, sf * mx + cf * my,
                                                    facet_start[o], facet_start[o + 1], node_x,
                                                    facet_node, tie)
@@ -203,8 +214,8 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                                                facet_start[f + 1], node_x, facet_node, tie)
             if e < 0 or outside > alert:
                 continue
-            nx, ny = _facet(node_x, facet_node, e)[2:4]
-            if xi == 0.0 or xi == 1.0:
+            nx, ny, length = _facet(node_x, facet_node, e)[2:5]
+            if min(xi, 1.0 - xi) * length <= tie:
                 continue  # on a node: the node's own contact on the polygon's edge holds it
             side_kind[count, 0] = 0
             side_kind[count, 1] = 1

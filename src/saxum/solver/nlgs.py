@@ -50,6 +50,7 @@ from .local3d import open_or_stick_3d, solve_contact_3d
 from .nlgs_fe import nlgs_fe_2d
 from .nlgs_fe3d import nlgs_fe_3d
 from .problem import ContactProblem
+from .sticking import sticking_solution
 from .velocity_change import change_ratio, change_sums
 
 __all__ = ["NLGS"]
@@ -104,12 +105,14 @@ class NLGS(ContactSolver):
         self._following = LoadFollowing()
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
+        self._sticking_failed = False
 
     def forget(self) -> None:
         self._following.clear()
+        self._sticking_failed = False
 
     def carries_state(self) -> bool:
-        return self._following.holds()
+        return self._following.holds() or self._sticking_failed
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -211,20 +214,40 @@ class NLGS(ContactSolver):
     def _solve_deformable(self, problem: ContactProblem, impulse: np.ndarray,
                           v_free: np.ndarray, v: np.ndarray) -> SolverReport:
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
-        and no load following: both are for rigid blocks (Simulation logs it)."""
+        and no load following (both are for rigid blocks; Simulation logs it): a 2D step not
+        converged after rest_after sweeps sweeps on from the sticking solution
+        (saxum.solver.sticking), counted in rest_attempts (and in rest_solutions where its
+        statuses settled and it was taken)."""
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         c = problem.contacts
         kind = problem.fe
         b = kind.blocks
         sweep = nlgs_fe_2d if problem.model.dim == 2 else nlgs_fe_3d
-        iterations, error = sweep(
-            c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
-            problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
-            self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
-            c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
-            np.repeat(b.node_mass[:, None], b.dim, axis=1), kind.v_free, kind.v,
-            np.empty_like(kind.v), self.tolerance, self.max_iterations, self.relaxation)
+        args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
+                problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
+                self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
+                c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
+                np.repeat(b.node_mass[:, None], b.dim, axis=1), kind.v_free, kind.v,
+                np.empty_like(kind.v), self.tolerance)
+        # the sticking start is written for 2D (saxum.solver.sticking): 3D sweeps alone
+        sticking = problem.model.dim == 2 and self.rest_after > 0
+        first = min(self.rest_after, self.max_iterations) if sticking else self.max_iterations
+        iterations, error = sweep(*args, first, self.relaxation)
+        # a step after one whose sticking start did not settle does not try (its statuses
+        # are likely changing still: under a pulse, most steps)
+        if error > self.tolerance and iterations < self.max_iterations:
+            if self._sticking_failed:
+                self._sticking_failed = False
+            else:
+                self.rest_attempts += 1
+                found = sticking_solution(problem, impulse, v_free, v)
+                self.rest_solutions += found
+                self._sticking_failed = not found
+            more, error = sweep(*args, self.max_iterations - iterations, self.relaxation)
+            iterations += more
+        else:
+            self._sticking_failed = False
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
 
