@@ -157,7 +157,7 @@ class FEKind:
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
         b = self.blocks
         ht = h * theta
-        dof_block = np.repeat(b.node_block, 2)
+        dof_block = np.repeat(b.node_block, b.dim)
         self.iteration_matrix = (
             sp.diags(1.0 + ht * b.alpha[dof_block])
             @ sp.csr_matrix((b.m_data, b.m_indices, b.m_indptr))
