@@ -31,7 +31,8 @@ import numpy as np
 
 from ._version import __version__
 from .errors import InputError, ResultsWriteError, SolverWarning
-from .steplog import natural_map_note
+from .laws import LawKind
+from .steplog import bonds_note, natural_map_note
 
 __all__ = ["main"]
 
@@ -314,6 +315,11 @@ def info_text(r) -> str:
             lines.append("steps finished by: " + ", ".join(
                 f"{name} {n}" for name, n in zip(SOLVER_NAMES, finished, strict=False))
                 + f"; error at the end of a step: max {s['error'].max():.3g}")
+        if "bonds_lost" in s and np.isin(r.model["law_kind"], LawKind.COHESIVE).any():
+            lost, damaged = s["bonds_lost"], s["damaged"]
+            lines.append("cohesive joints: " + (
+                bonds_note(s["step"], lost)[2:] + " over the run" if lost.any()
+                else "no bond cracked") + f"; {damaged[-1]} point(s) partly damaged at the end")
         free = r.model["body_kind"] == 0
         size = float(r.body_size[free].min()) if free.any() else math.nan
         worst = float(s["max_interpenetration"].max())

@@ -258,12 +258,13 @@ class Simulation:
         problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
                          self.detector.closed_gap, self._v)
         solved = self.solver.solve(problem, contacts.impulse, self._v_free, self._v)
+        lost = damaged = 0
         if problem.joint_laws:
             c = contacts
-            update_joints(c.candidate, c.antagonist, c.law, c.gap, c.area, c.impulse,
-                          problem.active, c.slip, c.damage, c.history, c.count,
-                          problem.h_cand, problem.h_ant, state.body_v, self._v, m.law_kind,
-                          m.law_friction, m.law_parameter, h, theta)
+            lost, damaged = update_joints(
+                c.candidate, c.antagonist, c.law, c.gap, c.area, c.impulse, problem.active,
+                c.slip, c.damage, c.history, c.count, problem.h_cand, problem.h_ant,
+                state.body_v, self._v, m.law_kind, m.law_friction, m.law_parameter, h, theta)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)
@@ -298,7 +299,7 @@ class Simulation:
                             contacts.count, loaded, depth, energy,
                             0 if projected is None else projected.iterations,
                             SOLVER_NAMES.index(solved.solver), solved.natural_map, outcome,
-                            rate)
+                            rate, lost, damaged)
         self.log.append(report)
         return report
 

@@ -5,8 +5,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["STEP_DTYPES", "STEP_OUTCOMES", "StepLog", "StepReport", "natural_map_note",
-           "why_not_converged"]
+__all__ = ["STEP_DTYPES", "STEP_OUTCOMES", "StepLog", "StepReport", "bonds_note",
+           "natural_map_note", "why_not_converged"]
 
 STEP_OUTCOMES = ("converged", "stalled", "out of sweeps", "projection")
 """How a step's solve ended (StepReport.outcome is the index): converged; not converged
@@ -27,7 +27,9 @@ class StepReport:
     (saxum.solver.SolverReport.natural_map: how far from a solution; nan where not measured),
     how the step ended (index into STEP_OUTCOMES) and, where the contact solve did not
     converge, its error's factor per sweep over its last sweeps (rate [-], nan where not
-    measured or converged)."""
+    measured or converged), and for cohesive joints (saxum.laws COHESIVE) the contact points
+    whose bond was lost in the step (damage reached 1: bonds_lost) and those partly damaged
+    (0 < d < 1) at its end (damaged); 0 without cohesive joints."""
 
     step: int
     time: float
@@ -43,6 +45,8 @@ class StepReport:
     natural_map: float = math.nan
     outcome: int = 0
     rate: float = math.nan
+    bonds_lost: int = 0
+    damaged: int = 0
 
 
 STEP_DTYPES = {
@@ -60,6 +64,8 @@ STEP_DTYPES = {
     "natural_map": np.float64,
     "outcome": np.int8,
     "rate": np.float64,
+    "bonds_lost": np.int64,
+    "damaged": np.int64,
 }
 
 
@@ -98,7 +104,8 @@ class StepLog:
                                    ("step", "converged", "outcome", "rate", "error")))
 
     def summary(self) -> str:
-        """One line: steps, iterations (mean, max), non-converged steps, worst interpenetration."""
+        """One line: steps, iterations (mean, max), non-converged steps, bonds lost (if any),
+        worst interpenetration."""
         if self._n == 0:
             return "no steps"
         bad = self.non_converged()
@@ -111,8 +118,19 @@ class StepLog:
             + natural_map_note(self.natural_map[~self.converged])
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
+            + bonds_note(self.step, self.bonds_lost)
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )
+
+
+def bonds_note(step: np.ndarray, bonds_lost: np.ndarray) -> str:
+    """', N bond(s) cracked (first at step S)' from the step log's bonds_lost column; "" if
+    none cracked."""
+    cracked = np.flatnonzero(bonds_lost)
+    if cracked.size == 0:
+        return ""
+    return (f", {int(bonds_lost.sum())} bond(s) cracked (first at step "
+            f"{int(step[cracked[0]])})")
 
 
 def natural_map_note(values: np.ndarray) -> str:

@@ -60,7 +60,8 @@ def test_pull_off_peak_force_and_fracture_energy(dim):
     sim = sx.Simulation(b.finalize(), dt=H)
     state = sim.initial_state()
     c = state.contacts
-    assert c.count == 2 * (dim - 1) and np.all(c.damage[: c.count] == 0.0)  # bonded
+    bonded = c.count
+    assert bonded == 2 * (dim - 1) and np.all(c.damage[: c.count] == 0.0)  # bonded
     area = c.area[: c.count].sum()
     y0 = state.body_q[top, dim - 1]
     force, rise = [0.0], [0.0]
@@ -73,6 +74,12 @@ def test_pull_off_peak_force_and_fracture_energy(dim):
             break
     else:
         raise AssertionError("the joint did not break")
+    # the step log counts each bonded point once, at the step its damage reached 1, and the
+    # softening points in between (0 < d < 1)
+    log = sim.log
+    assert log.bonds_lost.sum() == bonded and log.damaged.max() > 0
+    first = log.step[np.flatnonzero(log.bonds_lost)[0]]
+    assert f"{bonded} bond(s) cracked (first at step {first})" in log.summary()
     force, rise = np.array(force), np.array(rise)
     assert abs(force.max() / (F_T * area) - 1.0) < 0.01
     work = np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(rise))

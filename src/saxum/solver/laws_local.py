@@ -239,9 +239,11 @@ def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, hist
     """After the solve, from the end-of-step velocity v [m/s, rad/s]: ELASTIC slip s [m]
     (the spring's elongation: the jump while sticking, the slider's limit while sliding, 0
     when the contact is open); COHESIVE slip (the jump since bonding), history kappa and
-    damage d (saxum.laws; they never decrease). Returns how many joints damaged further."""
+    damage d (saxum.laws; they never decrease). Returns how many COHESIVE points became fully
+    damaged (d reached 1: bonds lost) and how many are partly damaged (0 < d < 1) after it."""
     dim = h_cand.shape[1]
-    grown = 0
+    lost = 0
+    damaged = 0
     for a in range(count):
         kind = law_kind[law[a]]
         if kind != _ELASTIC and kind != _COHESIVE:
@@ -277,21 +279,25 @@ def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, hist
                                + theta * _local(h_cand, h_ant, a, r, c, b, v))
             s2 += slip[a, j] * slip[a, j]
         opening = max(gap[a] + theta * h * _local(h_cand, h_ant, a, 1, c, b, v), 0.0)
-        grown += _damage(p, opening, math.sqrt(s2), damage, history, a)
-    return grown
+        _damage(p, opening, math.sqrt(s2), damage, history, a)
+        if damage[a] >= 1.0:
+            lost += 1
+        elif damage[a] > 0.0:
+            damaged += 1
+    return lost, damaged
 
 
 @nb.njit(inline="always")
 def _damage(p, opening, jump, damage, history, a):
     """Camanho-Davila's bilinear mixed-mode damage (saxum.laws) from the opening <g>+ [m]
-    and the tangential jump |s| [m]; returns 1 if d grew."""
+    and the tangential jump |s| [m]."""
     xn = opening * p[_K_N] / p[_F_T]
     xt = jump * p[_K_T] / p[_COH]
     lam = math.sqrt(xn * xn + xt * xt)
     kappa = max(history[a], lam)
     history[a] = kappa
     if kappa <= 1.0:
-        return 0
+        return
     lam_i = 2.0 * p[_G_I] * p[_K_N] / (p[_F_T] * p[_F_T])
     lam_ii = 2.0 * p[_G_II] * p[_K_T] / (p[_COH] * p[_COH])
     cos2 = xn * xn / (lam * lam) if lam > 0.0 else 1.0
@@ -299,5 +305,3 @@ def _damage(p, opening, jump, damage, history, a):
     d = 1.0 if kappa >= lam_f else lam_f * (kappa - 1.0) / (kappa * (lam_f - 1.0))
     if d > damage[a]:
         damage[a] = min(d, 1.0)
-        return 1
-    return 0
