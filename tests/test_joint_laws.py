@@ -107,6 +107,7 @@ def test_joints_closed_at_the_start_are_bonded_and_open_ones_are_not():
     b.add_block([(0.5, 1e-4), (0.7, 1e-4), (0.7, 0.2), (0.5, 0.2)], density=2000.0)
     b.set_law("block", "ground", sx.ContactLaw(friction=0.6, **COHESIVE))
     b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
     sim = sx.Simulation(b.finalize(), dt=1e-4)
     state = sim.initial_state()
     c = state.contacts
@@ -150,12 +151,18 @@ def test_resume_with_damage_is_bit_for_bit(tmp_path, monkeypatch):
     from its checkpoint at 0.25 s, with some joints partly damaged."""
     one_go = tmp_path / "one.h5"
     assert run_scenario(parse_scenario(WALL), one_go, quiet=True).status == "finished"
+    from saxum.cli import info_text
     from saxum.results import Results, ResultsWriter
     with Results(one_go) as r:
         k = np.searchsorted(r.time, 0.25 - 1e-9)
         damage = r.contacts(k)["damage"]
         assert 0.0 < damage.max() < 1.0  # cracking at the checkpoint
         assert r.contacts(r.frame_count - 1)["damage"].max() == 1.0
+        lost = r.steps["bonds_lost"]
+        first = r.steps["step"][np.flatnonzero(lost)[0]]
+        assert r.steps["damaged"].max() > 0 and lost.sum() > 0
+        assert (f"cohesive joints: {lost.sum()} bond(s) cracked (first at step {first}) over "
+                "the run") in info_text(r)
     stopped = tmp_path / "stopped.h5"
     original = ResultsWriter.log_step
 
@@ -289,3 +296,34 @@ def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatc
         assert "damage" not in r.contacts(5) and "area" in r.contacts(5)
     assert resume_run(stopped, quiet=True).status == "finished"
     same_results(stopped, one_go)
+
+
+@pytest.mark.parametrize("older", [False, True])
+def test_bonds_lost_columns_are_written_and_older_files_read(tmp_path, monkeypatch, older):
+    """One step of a bonded pair written with the step log's columns, or as saxum wrote it
+    before bonds_lost and damaged (every row intact, no cohesive line in saxum info)."""
+    from saxum import results
+    from saxum.cli import info_text
+
+    b = sx.ModelBuilder(gravity=(0.0, -9.81))
+    b.add_block([(-1, -0.2), (1, -0.2), (1, 0), (-1, 0)], kind=sx.BodyKind.FIXED, group="ground")
+    b.add_block([(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)], density=2000.0)
+    b.set_law("block", "ground", sx.ContactLaw(friction=0.6, **COHESIVE))
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    sim = sx.Simulation(b.finalize(), dt=1e-4)
+    state = sim.initial_state()
+    report = sim.step(state)
+    assert (report.bonds_lost, report.damaged) == (0, 0)  # its weight does not crack it
+    if older:
+        fields = [k for k in results._STEP_FIELDS if k not in ("bonds_lost", "damaged")]
+        monkeypatch.setattr(results, "_STEP_FIELDS", fields)
+        monkeypatch.setitem(results._ROWS, "steps", (tuple(fields), ()))
+    with results.ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-4, theta=0.5) as w:
+        w.log_step(report)
+        w.write_frame(state)
+    monkeypatch.undo()
+    with results.Results(tmp_path / "r.h5") as r:
+        assert not r.damage and r.steps["step"].tolist() == [1]
+        assert ("bonds_lost" in r.steps) != older
+        line = "cohesive joints: no bond cracked; 0 point(s) partly damaged at the end"
+        assert (line in info_text(r)) != older
