@@ -58,6 +58,7 @@ from .structures import (
     add_wall3d,
     block_file_dim,
 )
+from .structures._common import course_groups, name_course_joints
 
 __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
            "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
@@ -367,8 +368,11 @@ class PierStructure(_Generated):
     density: Positive = 2000.0
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_pier(builder, width=self.width, height=self.height, courses=self.courses,
-                 density=self.density, ground=True)
+        self._add_jointed(builder)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return add_pier(builder, width=self.width, height=self.height, courses=self.courses,
+                        density=self.density, ground=True).joints
 
 
 class ButtressedWallStructure(_Generated):
@@ -386,10 +390,17 @@ class ButtressedWallStructure(_Generated):
     density: Positive = 2000.0
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_buttressed_wall(builder, height=self.height, thickness=self.thickness,
-                            courses=self.courses, buttress_width=self.buttress_width,
-                            buttress_height=self.buttress_height, setbacks=self.setbacks,
-                            block_length=self.block_length, density=self.density, ground=True)
+        self._wall(builder, joint_groups=False)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return self._wall(builder, joint_groups=True).joints
+
+    def _wall(self, builder: ModelBuilder, *, joint_groups: bool) -> Assembly:
+        return add_buttressed_wall(
+            builder, height=self.height, thickness=self.thickness, courses=self.courses,
+            buttress_width=self.buttress_width, buttress_height=self.buttress_height,
+            setbacks=self.setbacks, block_length=self.block_length, density=self.density,
+            ground=True, joint_groups=joint_groups)
 
 
 class ArchBridgeStructure(_Rings):
@@ -414,7 +425,10 @@ class ArchBridgeStructure(_Rings):
     fill_density: Positive = 1800.0
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_arch_bridge(
+        self._add_jointed(builder)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return add_arch_bridge(
             builder, self.arch_shape(), spans=self.spans, voussoirs=self.voussoirs,
             pier_width=self.pier_width, pier_height=self.pier_height,
             abutment_width=self.abutment_width, joints=self.joints,
@@ -422,7 +436,7 @@ class ArchBridgeStructure(_Rings):
             spandrel_height=self.spandrel_height, fill=self.fill, fill_depth=self.fill_depth,
             course_height=self.course_height, block_length=self.block_length,
             min_piece=self.min_piece, density=self.density, fill_density=self.fill_density,
-            gravity=builder.gravity, **self._layers())
+            gravity=builder.gravity, **self._layers()).joints
 
 
 
@@ -441,9 +455,13 @@ class Arch3dStructure(_Generated):
     density: Positive = Field(2000.0, description="density [kg/m^3]")
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_semicircular_arch3d(builder, radius=self.radius, thickness=self.thickness,
-                                voussoirs=self.voussoirs, depth=self.depth, pieces=self.pieces,
-                                stagger=self.stagger, density=self.density)
+        self._add_jointed(builder)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return add_semicircular_arch3d(
+            builder, radius=self.radius, thickness=self.thickness, voussoirs=self.voussoirs,
+            depth=self.depth, pieces=self.pieces, stagger=self.stagger,
+            density=self.density).joints
 
 
 class Wall3dStructure(_Generated):
@@ -461,12 +479,21 @@ class Wall3dStructure(_Generated):
     density: Positive = Field(1800.0, description="[kg/m^3]")
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_ground_slab(builder, (0.0, 0.0), (self.length, self.return_length or
-                                              self.thickness), 0.0)
-        add_wall3d(builder, courses=self.courses, length=self.length,
-                   return_length=self.return_length, thickness=self.thickness,
-                   brick_length=self.brick_length, brick_height=self.brick_height,
-                   density=self.density)
+        self._wall(builder, joint_groups=False)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return self._wall(builder, joint_groups=True).joints
+
+    def _wall(self, builder: ModelBuilder, *, joint_groups: bool) -> Assembly:
+        asm = add_ground_slab(builder, (0.0, 0.0), (self.length, self.return_length or
+                                                    self.thickness), 0.0)
+        asm.merge(add_wall3d(builder, courses=self.courses, length=self.length,
+                             return_length=self.return_length, thickness=self.thickness,
+                             brick_length=self.brick_length, brick_height=self.brick_height,
+                             density=self.density, joint_groups=joint_groups))
+        if joint_groups:
+            name_course_joints(asm, course_groups("brick", True))
+        return asm
 
 
 class Pier3dStructure(_Generated):
@@ -482,9 +509,19 @@ class Pier3dStructure(_Generated):
     density: Positive = Field(2200.0, description="[kg/m^3]")
 
     def _add(self, builder: ModelBuilder) -> None:
-        add_ground_slab(builder, (0.0, 0.0), (self.width, self.depth), 0.0)
-        add_pier3d(builder, width=self.width, depth=self.depth, courses=self.courses,
-                   course_height=self.course_height, density=self.density)
+        self._pier(builder, joint_groups=False)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return self._pier(builder, joint_groups=True).joints
+
+    def _pier(self, builder: ModelBuilder, *, joint_groups: bool) -> Assembly:
+        asm = add_ground_slab(builder, (0.0, 0.0), (self.width, self.depth), 0.0)
+        asm.merge(add_pier3d(builder, width=self.width, depth=self.depth, courses=self.courses,
+                             course_height=self.course_height, density=self.density,
+                             joint_groups=joint_groups))
+        if joint_groups:
+            name_course_joints(asm, course_groups("pier", True))
+        return asm
 
 
 class Bridge3dStructure(_Generated):
@@ -527,18 +564,21 @@ class Bridge3dStructure(_Generated):
         return self
 
     def _add(self, builder: ModelBuilder) -> None:
+        self._add_jointed(builder)
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
         shape = ArchShape.segmental(span=self.span, rise=self.rise, thickness=self.thickness)
         parapet = (None if self.parapet_thickness is None
                    else (self.parapet_thickness, self.parapet_height))
-        add_bridge3d(builder, shape, voussoirs=self.voussoirs, width=self.width,
-                     spandrel_thickness=self.spandrel_thickness,
-                     abutment_width=self.abutment_width, pier_height=self.abutment_height,
-                     fill=self.fill, fill_density=self.fill_density, parapet=parapet,
-                     parapet_length=self.parapet_length, pieces=self.pieces,
-                     stagger=self.stagger, course_height=self.course_height,
-                     block_length=self.block_length, density=self.density,
-                     spandrel_height=self.spandrel_height, rings=self.rings,
-                     ring_thicknesses=self.ring_thicknesses, ring_stagger=self.ring_stagger)
+        return add_bridge3d(
+            builder, shape, voussoirs=self.voussoirs, width=self.width,
+            spandrel_thickness=self.spandrel_thickness, abutment_width=self.abutment_width,
+            pier_height=self.abutment_height, fill=self.fill, fill_density=self.fill_density,
+            parapet=parapet, parapet_length=self.parapet_length, pieces=self.pieces,
+            stagger=self.stagger, course_height=self.course_height,
+            block_length=self.block_length, density=self.density,
+            spandrel_height=self.spandrel_height, rings=self.rings,
+            ring_thicknesses=self.ring_thicknesses, ring_stagger=self.ring_stagger).joints
 
 
 class MeshStructure(_Strict):
@@ -574,11 +614,12 @@ Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedAr
 class LawSpec(_Strict):
     """The contact law between two groups of bodies; "*" stands for any group (a law for an
     exact pair wins over one with a "*", which wins over ["*", "*"]). Or, instead of groups,
-    a kind of joint of a generated wall or arch (saxum.structures.JOINT_TYPES): the law of
+    a kind of joint of a generated structure (saxum.structures.JOINT_TYPES): the law of
     every pair of groups the structure names as such joints (as exact pairs)."""
 
     groups: tuple[str, str] | None = None
-    joint: Literal["bed", "head", "radial", "ring", "support"] | None = None
+    joint: Literal["bed", "head", "radial", "ring", "support", "spandrel", "fill",
+                   "parapet"] | None = None
     friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
                   "viscous", "cohesive"] = "gap_signorini_coulomb"

@@ -19,11 +19,13 @@ from ..model import BodyKind, Model, ModelBuilder
 
 __all__ = ["JOINT_TYPES", "Assembly"]
 
-JOINT_TYPES = ("bed", "head", "radial", "ring", "support")
+JOINT_TYPES = ("bed", "head", "radial", "ring", "support", "spandrel", "fill", "parapet")
 """Kinds of joints a generator names (Assembly.joints), so that a law can be given per kind:
 bed joints (between courses, and under what an opening's head bears on), head joints (within
 a course), radial joints (between the voussoirs of one ring), ring interfaces (between rings
-of an arch) and support joints (blocks against a fixed support, ground or pier)."""
+of an arch), support joints (blocks against a fixed support, ground or pier), and a bridge's
+spandrel, fill and parapet joints (every joint of a spandrel wall's, fill's or parapet's
+block but those against the ground)."""
 
 Force = tuple[float, float, float]
 
@@ -81,6 +83,40 @@ class Assembly:
         pairs = self.joints.setdefault(kind, [])
         if {group_a, group_b} not in [set(p) for p in pairs]:
             pairs.append((group_a, group_b))
+
+    def joint_kind(self, group_a: str, group_b: str) -> str | None:
+        """The kind of joint recorded for the pair (group_a, group_b), or None."""
+        for kind, pairs in self.joints.items():
+            if {group_a, group_b} in [set(p) for p in pairs]:
+                return kind
+        return None
+
+
+def name_course_joints(asm: Assembly, course_groups: Sequence[str]) -> None:
+    """Assembly.joints of courses that alternate between the two course_groups: "head" within
+    a course group, "bed" between them; the other groups but "ground" (an opening's head:
+    lintel or voussoirs) make "bed" joints with the bricks and each other ("radial" between
+    voussoirs); "support" against the ground."""
+    odd, even = course_groups
+    heads = [g for g in asm.groups if g not in (*course_groups, "ground")]
+    asm.add_joint("head", odd, odd)
+    asm.add_joint("head", even, even)
+    asm.add_joint("bed", odd, even)
+    for g in heads:
+        for brick in course_groups:
+            asm.add_joint("bed", g, brick)
+    for a, b in itertools.combinations_with_replacement(heads, 2):
+        asm.add_joint("radial" if a == b == "voussoir" else "bed", a, b)
+    if "ground" in asm.groups:
+        for g in asm.groups:
+            if g != "ground":
+                asm.add_joint("support", "ground", g)
+
+
+def course_groups(group: str, joint_groups: bool) -> tuple[str, ...]:
+    """The groups of odd and even courses ("<group> odd", "<group> even") where joint_groups,
+    else none (every course in `group`)."""
+    return (f"{group} odd", f"{group} even") if joint_groups else ()
 
 
 def finalize(builder: ModelBuilder, groups: Sequence[str], friction: float,

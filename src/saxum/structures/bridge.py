@@ -20,7 +20,7 @@ from ._common import (
     lay_courses,
     model_form,
 )
-from .arch import ArchShape, _add_voussoirs, arch_ring
+from .arch import ArchShape, _add_voussoirs, _name_joints, arch_ring
 from .piers import pier_polygons
 
 __all__ = ["add_arch_bridge", "arch_bridge"]
@@ -118,6 +118,8 @@ def add_arch_bridge(
     "pier", "voussoir", "spandrel", "fill"; masonry of density [kg/m^3]. rings,
     ring_thicknesses, ring_stagger: arches of several rings (saxum.structures.arch_rings;
     voussoirs named "arch <a> ring <i> voussoir <k>", in groups "voussoir ring <i>").
+    Assembly.joints (name_bridge_joints): "radial", "ring", "support" and "bed" as an arch on
+    piers (add_supported_arch) names them, "spandrel" and "fill" joints.
     """
     check_count("spans", spans)
     check_positive(pier_width=pier_width, pier_height=pier_height,
@@ -190,7 +192,24 @@ def add_arch_bridge(
         for body, force in surcharge(masonry, x0, x1, top + fill_depth, weight):
             builder.add_force([body], lambda t, f=force: f)
             asm.loads.append((body, force))
+    name_bridge_joints(asm)
     return asm
+
+
+def name_bridge_joints(asm: Assembly) -> None:
+    """Assembly.joints of a bridge (2D or 3D): the arch's and the piers' as add_supported_arch
+    names them (voussoirs in "voussoir" or "voussoir ring <i>"), "support" for any block
+    against the ground, then "spandrel" for the other joints of the spandrel walls (between
+    their blocks, on the voussoirs and the piers), "fill" for the other joints of the fill
+    and "parapet" for the other joints of the parapets; a pair of groups has one kind."""
+    _name_joints(asm, "voussoir")
+    for kind in ("support", "spandrel", "fill", "parapet"):
+        own = "ground" if kind == "support" else kind
+        if own not in asm.groups:
+            continue
+        for g in asm.groups:
+            if {own, g} != {"ground"} and asm.joint_kind(own, g) is None:
+                asm.add_joint(kind, own, g)
 
 
 arch_bridge = model_form(

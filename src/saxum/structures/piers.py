@@ -10,9 +10,11 @@ from ._common import (
     check_count,
     check_positive,
     clean,
+    course_groups,
     fit_edges,
     lay_courses,
     model_form,
+    name_course_joints,
     rectangle,
 )
 
@@ -69,7 +71,8 @@ def add_pier(
     """A pier: a column of `courses` equal blocks, width x height [m] in all, its lower-left
     corner at `origin` [m]; part "piers", bottom block first, named "pier c1", ....
     ground: first add a fixed "ground" block (part and group "ground") 3 widths wide and
-    width deep, under the pier's middle."""
+    width deep, under the pier's middle. Assembly.joints: "bed" between the pier's blocks,
+    "support" against the ground."""
     check_positive(width=width, height=height)
     check_count("courses", courses)
     x0, y0 = origin
@@ -79,6 +82,9 @@ def add_pier(
     for c, poly in enumerate(pier_polygons(x0, x0 + width, y0, y0 + height, courses)):
         asm.add_block(builder, "piers", poly, group=group, density=density, kind=kind,
                       name=f"pier c{c + 1}")
+    asm.add_joint("bed", group, group)
+    if ground:
+        asm.add_joint("support", "ground", group)
     return asm
 
 
@@ -103,6 +109,7 @@ def add_buttressed_wall(
     origin: tuple[float, float] = (0.0, 0.0),
     group: str = "wall",
     ground: bool = False,
+    joint_groups: bool = False,
 ) -> Assembly:
     """A wall in cross-section with a stepped buttress on its right, as courses of blocks.
 
@@ -115,6 +122,10 @@ def add_buttressed_wall(
     bonded to the wall. Returns part "blocks", course by course from the left, named
     "wall c<course>b<block>". ground: first add a fixed "ground" block (part and group
     "ground") three section widths wide and `thickness` deep, under the section's middle.
+    joint_groups: the blocks of odd courses (1, 3, ...: course 1 at the bottom) go into group
+    "<group> odd", the others into "<group> even", and Assembly.joints names "bed" joints
+    (between courses), "head" joints (within a course) and "support" joints (against the
+    ground), as add_wall's joint_groups.
     """
     buttress_height = height if buttress_height is None else buttress_height
     block_length = thickness if block_length is None else block_length
@@ -145,8 +156,11 @@ def add_buttressed_wall(
     if ground:
         width = thickness + buttress_width
         add_ground(builder, asm, x0 - width, x0 + 2.0 * width, y0, thickness)
+    courses_in = course_groups(group, joint_groups)
     lay_courses(builder, asm, part="blocks", group=group, density=density, levels=levels,
-                edges=edges, name="wall")
+                edges=edges, name="wall", course_groups=courses_in)
+    if joint_groups:
+        name_course_joints(asm, courses_in)
     return asm
 
 

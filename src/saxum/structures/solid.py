@@ -21,9 +21,17 @@ import numpy as np
 from ..errors import InputError, plain
 from ..laws import LawKind
 from ..model import BodyKind, Model, ModelBuilder
-from ._common import Assembly, check_count, check_positive, finalize, fit_edges
+from ._common import (
+    Assembly,
+    check_count,
+    check_positive,
+    course_groups,
+    finalize,
+    fit_edges,
+    name_course_joints,
+)
 from .arch import ArchShape, add_supported_arch, add_supported_semicircular_arch
-from .bridge import add_arch_bridge
+from .bridge import add_arch_bridge, name_bridge_joints
 
 __all__ = ["add_arch3d", "add_bridge3d", "add_extruded", "add_ground_slab", "add_pier3d",
            "add_semicircular_arch3d", "add_wall3d", "arch3d", "box", "bridge3d", "extruded",
@@ -174,8 +182,12 @@ def add_arch3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, depth
     `options` are passed to it) through `depth` [m], the voussoirs cut into `pieces` along
     the depth, with staggered joints if `stagger` (add_extruded). Groups as in 2D: "ground",
     "pier", "voussoir"."""
-    model2d = _plane(lambda b: add_supported_arch(b, shape, voussoirs=voussoirs, **options))
-    return add_extruded(builder, model2d, depth, pieces=pieces, stagger=stagger)
+    joints = {}
+    model2d = _plane(lambda b: joints.update(
+        add_supported_arch(b, shape, voussoirs=voussoirs, **options).joints))
+    asm = add_extruded(builder, model2d, depth, pieces=pieces, stagger=stagger)
+    asm.joints = joints
+    return asm
 
 
 def add_semicircular_arch3d(builder: ModelBuilder, *, radius: float, thickness: float,
@@ -187,7 +199,10 @@ def add_semicircular_arch3d(builder: ModelBuilder, *, radius: float, thickness: 
         add_supported_semicircular_arch(b, radius=radius, thickness=thickness,
                                         voussoirs=voussoirs, density=density)
 
-    return add_extruded(builder, _plane(add), depth, pieces=pieces, stagger=stagger)
+    asm = add_extruded(builder, _plane(add), depth, pieces=pieces, stagger=stagger)
+    asm.add_joint("radial", "voussoir", "voussoir")
+    asm.add_joint("support", "support", "voussoir")
+    return asm
 
 
 def arch3d(shape: ArchShape, *, voussoirs: int, depth: float, pieces: int = 1,
@@ -263,6 +278,7 @@ def add_bridge3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, wid
                                                       deck + high),
                               group="parapet", density=density,
                               name=f"parapet b{k + 1} y{y0:g}")
+    name_bridge_joints(asm)
     return asm
 
 
@@ -322,7 +338,7 @@ def add_wall3d(builder: ModelBuilder, *, courses: int, length: float,
                return_length: float | None = None, thickness: float = 0.12,
                brick_length: float = 0.25, brick_height: float = 0.065,
                density: float = 1800.0, origin: tuple[float, float, float] = (0.0, 0.0, 0.0),
-               group: str = "brick") -> Assembly:
+               group: str = "brick", joint_groups: bool = False) -> Assembly:
     """A wall one brick thick in running bond, `courses` courses of brick_length x thickness x
     brick_height bricks [m], along x from the origin over `length` [m], y from 0 to thickness.
 
@@ -332,7 +348,10 @@ def add_wall3d(builder: ModelBuilder, *, courses: int, length: float,
     runs through the corner and the return wall starts behind it, in odd courses the other way
     round; within each wall the courses are thus shifted by the thickness (half a brick for
     bricks twice as long as thick). Bricks touch exactly (no mortar joints). Parts "bricks"
-    ("brick c<course>a<k>" along x, "brick c<course>b<k>" along y).
+    ("brick c<course>a<k>" along x, "brick c<course>b<k>" along y). joint_groups: the bricks
+    of odd courses (1, 3, ...) go into group "<group> odd", the others into "<group> even",
+    and Assembly.joints names "head" (within a course) and "bed" joints (between courses), as
+    add_wall's joint_groups (name_course_joints: "support" once a "ground" is merged in).
     """
     check_count("courses", courses)
     check_positive(length=length, thickness=thickness, brick_length=brick_length,
@@ -345,7 +364,9 @@ def add_wall3d(builder: ModelBuilder, *, courses: int, length: float,
     x0, y0, z0 = origin
     asm = Assembly()
     half = 0.5 * brick_length
+    groups = course_groups(group, joint_groups) or (group,)
     for c in range(courses):
+        course_group = groups[c % len(groups)]
         z1, z2 = z0 + c * brick_height, z0 + (c + 1) * brick_height
         if return_length is None:
             xs = _edges(0.0, length, half if c % 2 else 0.0, brick_length)
@@ -359,11 +380,13 @@ def add_wall3d(builder: ModelBuilder, *, courses: int, length: float,
         for k in range(len(xs) - 1):
             asm.add_block(builder, "bricks", box(x0 + xs[k], y0, z1, x0 + xs[k + 1],
                                                  y0 + thickness, z2),
-                          group=group, density=density, name=f"brick c{c + 1}a{k + 1}")
+                          group=course_group, density=density, name=f"brick c{c + 1}a{k + 1}")
         for k in range(len(ys) - 1):
             asm.add_block(builder, "bricks", box(x0, y0 + ys[k], z1, x0 + thickness,
                                                  y0 + ys[k + 1], z2),
-                          group=group, density=density, name=f"brick c{c + 1}b{k + 1}")
+                          group=course_group, density=density, name=f"brick c{c + 1}b{k + 1}")
+    if joint_groups:
+        name_course_joints(asm, groups)
     return asm
 
 
@@ -402,14 +425,16 @@ def wall3d(*, courses: int, length: float, return_length: float | None = None,
 def add_pier3d(builder: ModelBuilder, *, width: float, depth: float, courses: int,
                course_height: float, density: float = 2200.0,
                origin: tuple[float, float, float] = (0.0, 0.0, 0.0),
-               group: str = "pier") -> Assembly:
+               group: str = "pier", joint_groups: bool = False) -> Assembly:
     """A pier width (x) x depth (y) [m], `courses` courses course_height [m] high, each of two
     blocks side by side, split across x in even courses and across y in odd ones so that the
-    joints cross. Part "piers" ("pier c<course>b<k>")."""
+    joints cross. Part "piers" ("pier c<course>b<k>"). joint_groups: as add_wall3d's ("head"
+    between the two blocks of a course, "bed" between courses)."""
     check_positive(width=width, depth=depth, course_height=course_height)
     check_count("courses", courses)
     x0, y0, z0 = origin
     asm = Assembly()
+    groups = course_groups(group, joint_groups) or (group,)
     for c in range(courses):
         z1, z2 = z0 + c * course_height, z0 + (c + 1) * course_height
         if c % 2 == 0:
@@ -419,8 +444,11 @@ def add_pier3d(builder: ModelBuilder, *, width: float, depth: float, courses: in
             halves = [(x0, y0, x0 + width, y0 + 0.5 * depth),
                       (x0, y0 + 0.5 * depth, x0 + width, y0 + depth)]
         for k, (a, b, c_, d) in enumerate(halves):
-            asm.add_block(builder, "piers", box(a, b, z1, c_, d, z2), group=group,
-                          density=density, name=f"pier c{c + 1}b{k + 1}")
+            asm.add_block(builder, "piers", box(a, b, z1, c_, d, z2),
+                          group=groups[c % len(groups)], density=density,
+                          name=f"pier c{c + 1}b{k + 1}")
+    if joint_groups:
+        name_course_joints(asm, groups)
     return asm
 
 

@@ -16,8 +16,10 @@ from ._common import (
     add_ground,
     check_count,
     check_positive,
+    course_groups,
     lay_courses,
     model_form,
+    name_course_joints,
     rectangle,
     separated,
 )
@@ -179,34 +181,15 @@ def add_wall(
                    [x0 + x for x in ground_splits])
     elif len(ground_splits):
         raise InputError("ground_splits needs ground=True")
-    course_groups = (f"{group} odd", f"{group} even") if joint_groups else ()
+    courses_in = course_groups(group, joint_groups)
     lay_courses(builder, asm, part="bricks", group=group, density=density,
                 levels=[y0 + c * brick_height for c in range(courses + 1)], edges=edges,
-                holes=holes, min_piece=min_piece, course_groups=course_groups)
+                holes=holes, min_piece=min_piece, course_groups=courses_in)
     for part, poly, head_group, name in heads:
         asm.add_block(builder, part, poly, group=head_group, density=density, name=name)
     if joint_groups:
-        _name_joints(asm, course_groups)
+        name_course_joints(asm, courses_in)
     return asm
-
-
-def _name_joints(asm: Assembly, course_groups: Sequence[str]) -> None:
-    """Assembly.joints of a wall whose courses alternate between the two course_groups
-    (add_wall's joint_groups)."""
-    odd, even = course_groups
-    heads = [g for g in asm.groups if g not in (*course_groups, "ground")]
-    asm.add_joint("head", odd, odd)
-    asm.add_joint("head", even, even)
-    asm.add_joint("bed", odd, even)
-    for g in heads:
-        for brick in course_groups:
-            asm.add_joint("bed", g, brick)
-    for a, b in itertools.combinations_with_replacement(heads, 2):
-        asm.add_joint("radial" if a == b == "voussoir" else "bed", a, b)
-    if "ground" in asm.groups:
-        for g in asm.groups:
-            if g != "ground":
-                asm.add_joint("support", "ground", g)
 
 
 wall = model_form(
