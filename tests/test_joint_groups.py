@@ -16,7 +16,8 @@ from saxum.structures import add_supported_arch, add_wall
 from saxum.structures.arch import ArchShape
 
 # a friction per kind of joint, so that a contact's law tells which kind it was given
-FRICTION = {"bed": 0.71, "head": 0.52, "radial": 0.63, "ring": 0.44, "support": 0.85}
+FRICTION = {"bed": 0.71, "head": 0.52, "radial": 0.63, "ring": 0.44, "support": 0.85,
+            "spandrel": 0.37, "fill": 0.29, "parapet": 0.33}
 
 
 def _laws(*kinds):
@@ -161,8 +162,6 @@ def test_without_joint_groups_a_wall_keeps_one_brick_group():
 @pytest.mark.parametrize(("text", "match"), [
     ('[structure]\ntype = "running_bond_wall"\ncourses = 2\nbricks = 2\n' + _laws("ring"),
      'joint = "ring": the structure has no such joints'),
-    ('[structure]\ntype = "pier"\nwidth = 0.5\nheight = 1.0\n' + _laws("bed"),
-     'type "pier" does not name its joints'),
     ('[structure]\ntype = "running_bond_wall"\ncourses = 2\nbricks = 2\n'
      + _laws("bed", "head", "support")
      + '\n[[laws]]\ngroups = ["brick odd", "brick even"]\nfriction = 0.3\n',
@@ -171,6 +170,16 @@ def test_without_joint_groups_a_wall_keeps_one_brick_group():
 def test_bad_joint_laws_are_refused(text, match):
     scenario = parse_scenario(text + "\n[output]\nduration = 0.01\n")
     with pytest.raises(InputError, match=match):
+        scenario.build_model()
+
+
+def test_blocks_from_a_file_do_not_name_their_joints(tmp_path):
+    from saxum.structures import pier, write_blocks
+
+    write_blocks(tmp_path / "pier.json", pier(width=0.5, height=1.0))
+    scenario = parse_scenario(f'[structure]\ntype = "blocks"\nfile = "{tmp_path / "pier.json"}"'
+                              + _laws("bed") + "\n[output]\nduration = 0.01\n")
+    with pytest.raises(InputError, match='structure type "blocks" does not name its joints'):
         scenario.build_model()
 
 
@@ -229,3 +238,87 @@ def test_mortared_wall_example_bonds_its_joints_by_kind():
             model.body_name[a] + model.body_name[b])
         assert strength == (1e3 if head else 2e3)
     assert set(c.law[:n].tolist()) == {0, 1}  # the same law for bed and support joints
+
+
+# --- the other generators: piers, buttressed walls, bridges, 3D ------------------------------
+
+PIER = '[structure]\ntype = "pier"\nwidth = 0.5\nheight = 1.5\ncourses = 3\n'
+BUTTRESSED = ('[structure]\ntype = "buttressed_wall"\nheight = 1.0\nthickness = 0.5\ncourses = 2\n'
+              "buttress_width = 0.5\nbuttress_height = 0.5\nblock_length = 0.5\n")
+ARCH3D = ('[structure]\ntype = "semicircular_arch_3d"\nradius = 1.0\nthickness = 0.2\n'
+          "voussoirs = 5\ndepth = 0.5\n")
+WALL3D = '[structure]\ntype = "wall_3d"\ncourses = 2\nlength = 0.5\n'
+PIER3D = ('[structure]\ntype = "pier_3d"\nwidth = 0.4\ndepth = 0.4\ncourses = 2\n'
+          "course_height = 0.3\n")
+
+
+@pytest.mark.parametrize(("structure", "points"), [
+    # 3 blocks on the ground: 2 bed joints and 1 support joint, 2 points each (2D)
+    (PIER, {"bed": 4, "support": 2}),
+    # course 1 two blocks (wall and buttress), course 2 one block on the wall's: 1 head, 1
+    # bed and 2 support joints, 2 points each
+    (BUTTRESSED, {"bed": 2, "head": 2, "support": 4}),
+    # 5 voussoirs, 4 joints between them and 2 on the support, 4 corners each (3D)
+    (ARCH3D, {"radial": 16, "support": 8}),
+    # 0.5 m of 0.25 m bricks: course 1 two bricks (1 head joint), course 2 shifted by half a
+    # brick three (2 head joints), 4 overlaps between them, 2 bricks on the ground; 4 corners
+    (WALL3D, {"bed": 16, "head": 12, "support": 8}),
+    # two blocks per course (1 head joint each), crossed: 4 quarter overlaps, 2 on the ground
+    (PIER3D, {"bed": 16, "head": 8, "support": 8}),
+])
+def test_piers_buttressed_walls_and_3d_structures_name_their_joints(structure, points):
+    model = _scenario(structure, *points).build_model()
+    friction = _contacts(model)[2]
+    found = {kind: int(np.count_nonzero(friction == FRICTION[kind])) for kind in points}
+    assert found == points and sum(found.values()) == friction.size
+
+
+def _bridge_kind(a: str, b: str) -> str:
+    """The kind of joint between groups a and b as docs/structures.md gives it for bridges."""
+    pair = {a, b}
+    if "ground" in pair or ({"voussoir", "pier"} == pair):
+        return "support"
+    for kind in ("parapet", "fill", "spandrel"):
+        if kind in pair:
+            return kind
+    return {"voussoir": "radial", "pier": "bed"}[a]
+
+
+@pytest.mark.parametrize("structure", [
+    '[structure]\ntype = "arch_bridge"\nshape = "segmental"\nspan = 4.0\nrise = 1.0\n'
+    "thickness = 0.4\nvoussoirs = 5\nspans = 2\npier_width = 1.0\npier_height = 1.0\n"
+    'abutment_width = 1.0\nfill = "blocks"\nfill_depth = 0.5\npier_courses = 2\n',
+    '[structure]\ntype = "bridge_3d"\nspan = 4.0\nrise = 2.0\nthickness = 0.5\nvoussoirs = 5\n'
+    "width = 4.0\nspandrel_thickness = 0.6\nabutment_width = 1.5\nabutment_height = 2.0\n"
+    "parapet_thickness = 0.4\nparapet_height = 1.0\nparapet_length = 2.5\ncourse_height = 1.0\n"
+    "block_length = 2.0\n",
+])
+def test_bridges_name_their_joints(structure):
+    kinds = ("bed", "radial", "support", "spandrel", "fill", "parapet")
+    if "arch_bridge" in structure:
+        kinds = kinds[:-1]
+    model = _scenario(structure, *kinds).build_model()
+    cand, ant, friction, _ = _contacts(model)
+    group = [model.group_names[g] for g in model.body_group]
+    found = set()
+    for a, b, mu in zip(cand, ant, friction, strict=True):
+        kind = _bridge_kind(group[a], group[b])
+        assert mu == FRICTION[kind], (model.body_name[a], model.body_name[b])
+        found.add(kind)
+    # the 2D bridge has piers of two courses; the 3D one a single abutment block per side
+    # (no bed joint)
+    assert found == set(kinds) - ({"bed"} if "bridge_3d" in structure else set())
+
+
+@pytest.mark.parametrize("structure", [BUTTRESSED, WALL3D, PIER3D])
+def test_joint_groups_leave_the_blocks_as_they_were(structure):
+    """The structures that split their courses into odd and even groups for laws per joint
+    have the same blocks without (the dry model as before) and with them."""
+    dry = parse_scenario(structure + '[[laws]]\ngroups = ["*", "*"]\nfriction = 0.6\n'
+                         "[output]\nduration = 0.01\n").build_model()
+    jointed = _scenario(structure, "bed", "head", "support").build_model()
+    assert "ground" in dry.group_names and len(dry.group_names) == 2
+    assert len(jointed.group_names) == 3
+    assert dry.body_name == jointed.body_name
+    assert np.array_equal(dry.body_q0, jointed.body_q0)
+    assert np.array_equal(dry.vertex_local, jointed.vertex_local)

@@ -134,8 +134,7 @@ class _Generated(_Strict):
         raise NotImplementedError
 
     def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
-        raise InputError(f'type "{self.type}" does not name its joints; give each law its '
-                         "groups instead of a joint")
+        raise NotImplementedError
 
 
 class ArchStructure(_Generated):

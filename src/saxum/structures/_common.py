@@ -24,8 +24,8 @@ JOINT_TYPES = ("bed", "head", "radial", "ring", "support", "spandrel", "fill", "
 bed joints (between courses, and under what an opening's head bears on), head joints (within
 a course), radial joints (between the voussoirs of one ring), ring interfaces (between rings
 of an arch), support joints (blocks against a fixed support, ground or pier), and a bridge's
-spandrel, fill and parapet joints (every joint of a spandrel wall's, fill's or parapet's
-block but those against the ground)."""
+parapet, fill and spandrel joints (every joint of a parapet's, the fill's or a spandrel
+wall's block but those against the ground, in this order where two meet)."""
 
 Force = tuple[float, float, float]
 

@@ -119,7 +119,7 @@ def add_arch_bridge(
     ring_thicknesses, ring_stagger: arches of several rings (saxum.structures.arch_rings;
     voussoirs named "arch <a> ring <i> voussoir <k>", in groups "voussoir ring <i>").
     Assembly.joints (name_bridge_joints): "radial", "ring", "support" and "bed" as an arch on
-    piers (add_supported_arch) names them, "spandrel" and "fill" joints.
+    piers (add_supported_arch) names them, "fill" and "spandrel" joints.
     """
     check_count("spans", spans)
     check_positive(pier_width=pier_width, pier_height=pier_height,
@@ -199,11 +199,13 @@ def add_arch_bridge(
 def name_bridge_joints(asm: Assembly) -> None:
     """Assembly.joints of a bridge (2D or 3D): the arch's and the piers' as add_supported_arch
     names them (voussoirs in "voussoir" or "voussoir ring <i>"), "support" for any block
-    against the ground, then "spandrel" for the other joints of the spandrel walls (between
-    their blocks, on the voussoirs and the piers), "fill" for the other joints of the fill
-    and "parapet" for the other joints of the parapets; a pair of groups has one kind."""
+    against the ground, then "parapet" for the other joints of the parapets (between their
+    blocks and on what they stand on), "fill" for the other joints of the fill (between its
+    blocks, against the spandrel walls, on the voussoirs and piers) and "spandrel" for the
+    other joints of the spandrel walls (between their blocks, on the voussoirs and piers);
+    a pair of groups has one kind."""
     _name_joints(asm, "voussoir")
-    for kind in ("support", "spandrel", "fill", "parapet"):
+    for kind in ("support", "parapet", "fill", "spandrel"):
         own = "ground" if kind == "support" else kind
         if own not in asm.groups:
             continue
