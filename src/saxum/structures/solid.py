@@ -180,9 +180,10 @@ def add_arch3d(builder: ModelBuilder, shape: ArchShape, *, voussoirs: int, depth
                pieces: int = 1, stagger: bool = False, **options) -> Assembly:
     """An arch or barrel vault: the 2D arch on its piers and ground (add_supported_arch;
     `options` are passed to it) through `depth` [m], the voussoirs cut into `pieces` along
-    the depth, with staggered joints if `stagger` (add_extruded). Groups as in 2D: "ground",
-    "pier", "voussoir"."""
-    joints = {}
+    the depth, with staggered joints if `stagger` (add_extruded). Groups and Assembly.joints
+    as in 2D: "ground", "pier", "voussoir" ("radial" joints include those between a
+    voussoir's pieces)."""
+    joints: dict[str, list[tuple[str, str]]] = {}
     model2d = _plane(lambda b: joints.update(
         add_supported_arch(b, shape, voussoirs=voussoirs, **options).joints))
     asm = add_extruded(builder, model2d, depth, pieces=pieces, stagger=stagger)
@@ -194,7 +195,8 @@ def add_semicircular_arch3d(builder: ModelBuilder, *, radius: float, thickness: 
                             voussoirs: int, depth: float, pieces: int = 1,
                             stagger: bool = False, density: float = 2000.0) -> Assembly:
     """The semicircular arch on its support block of saxum.structures.semicircular_arch (the
-    2D validation arch) through `depth` [m] (add_extruded; groups "support", "voussoir")."""
+    2D validation arch) through `depth` [m] (add_extruded; groups "support", "voussoir");
+    Assembly.joints "radial" (between voussoirs and their pieces) and "support"."""
     def add(b: ModelBuilder) -> None:
         add_supported_semicircular_arch(b, radius=radius, thickness=thickness,
                                         voussoirs=voussoirs, density=density)
