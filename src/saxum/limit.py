@@ -19,7 +19,7 @@ D the dead load (weight, constant loads), L the live load (a horizontal accelera
 every free block, or the point loads). In 2D each contact's cone is spanned by two rays, R =
 a_1 (n - mu t) + a_2 (n + mu t), a >= 0: a linear programme with bounds only (scipy's HiGHS,
 interior point, then crossover to a vertex, whose multipliers are exact; above _LARGE
-contact points Clarabel's interior point, ten times faster on a 2000-brick wall, whose
+contact points Clarabel's interior point, eight times faster on a 2000-brick wall, whose
 factor is a feasible lower bound within ~1e-7 of the vertex's and whose multipliers are the
 centre of the optimal face of mechanisms); in 3D (R_t, R_s,
 mu R_n) lies in a second-order cone: a conic programme (Clarabel). Any feasible R is a
@@ -495,7 +495,7 @@ def _solve_2d(unit, mu, rhs, load, limit):
 def _solve_rays_conic(a_eq, rhs, cost):
     """The associative 2D programme (rays a >= 0, lambda free, the last variable) with
     Clarabel's interior point method, for large programmes (_LARGE): its direct
-    factorisation is about 10 times faster than HiGHS's interior point (whose iterative
+    factorisation is about 8 times faster than HiGHS's interior point (whose iterative
     linear solves dominate on a wall) and its optimum is primal feasible (a lower bound, to
     round-off), the factor within ~1e-7 of the vertex's; but its multipliers are the
     centre of the optimal face, not a vertex (module doc). Returns (x, u) as _solve_2d's
