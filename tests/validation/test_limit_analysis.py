@@ -47,6 +47,7 @@ from limit_analysis import (
 from scipy.optimize import brentq
 
 import saxum as sx
+from saxum import limit as saxum_limit
 from saxum.errors import InputError
 from saxum.limit import limit_analysis
 from saxum.model import BodyKind
@@ -101,6 +102,27 @@ def test_polygonal_arch_horizontal_factor_equals_its_four_hinge_mechanism(vousso
         least, least_hinges = semicircular_four_hinge(1.0, 0.15, voussoirs)
         assert result.factor == pytest.approx(least, rel=1e-4)
         assert hinges == least_hinges
+
+
+@pytest.mark.parametrize("case", ["arch", "block"])
+def test_the_conic_path_of_large_walls_gives_the_same_factors_and_hinges(case, monkeypatch):
+    """The programmes above _LARGE contact points go to Clarabel (a 2000-brick wall, too big
+    for a test, in benchmarks/limit.py): forced here on the 9-voussoir arch (the least
+    four-hinge factor, by enumeration, 1e-4 and the same hinges, as above) and the block on a
+    plane (b/h, EXACT: Clarabel's tolerance 1e-11, a lower bound within ~1e-7)."""
+    monkeypatch.setattr(saxum_limit, "_LARGE", 0)
+    if case == "block":
+        result = limit_analysis(_block(0.4, 1.0, 0.6))
+        assert result.factor == pytest.approx(0.4, rel=EXACT)
+        (joint,) = result.mechanism.joints
+        assert joint.hinge and joint.hinge_point == pytest.approx((0.4, 0.0), abs=1e-6)
+        return
+    result = limit_analysis(semicircular_arch(radius=1.0, thickness=0.15, voussoirs=9,
+                                              friction=0.8))
+    least, least_hinges = semicircular_four_hinge(1.0, 0.15, 9)
+    assert result.factor == pytest.approx(least, rel=1e-4)
+    assert sorted((joint_index(j, 9), _side(j.hinge_point))
+                  for j in result.mechanism.hinges) == least_hinges
 
 
 def _continuous_minimum_thickness() -> tuple[float, float]:
