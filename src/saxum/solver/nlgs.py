@@ -272,19 +272,8 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     factors of its single-contact solve (factorize_contact_2d: the divisions, once per step;
     on W' for a joint) and b_n, mu go into one row of `work`, which the sweeps read in
     order."""
-    nactive = 0
-    for a in range(count):
-        if active[a]:
-            nactive += 1
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
-    if joints is not None:
-        nactive += joints.shape[0]
-        for j in range(joints.shape[0]):
-            a = joints[j]
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
-            m = law_map[a]
-            _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
-    if nactive == 0:
+    if _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, joints,
+                    law_map) == 0:
         return 0, 0.0
     error = np.inf
     it = 0
@@ -303,17 +292,139 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                                                row[13], row[14], row[15], ut, un, row[17])
             _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
         if joints is not None:
-            for j in range(joints.shape[0]):
-                a = joints[j]
-                row = work[a]
-                ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
-                rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
-                                      row[14], row[15], row[17])
-                _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
+            _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(parallel=True, cache=True)
+def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
+                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
+                     starts, free, tolerance, max_iterations, relaxation):
+    """nlgs_2d with its dry contacts swept colour by colour, the contacts of one colour in
+    parallel (numba threads): order, starts, free from colour_contacts_2d. It is still a
+    Gauss-Seidel sweep, in the colouring's order (not nlgs_2d's): a contact reads and writes
+    only the velocities of its own two bodies, which no other contact of its colour writes (a
+    fixed body, inv_mass 0, is read but never written), so the result is the same bit for bit
+    whatever the number of threads. The joints are swept after, in order, as nlgs_2d does."""
+    if _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, joints,
+                    law_map) == 0:
+        return 0, 0.0
+    error = np.inf
+    it = 0
+    _relative_change(v, v_prev, v_free, mass)
+    while it < max_iterations:
+        it += 1
+        for k in range(starts.shape[0] - 1):
+            for i in nb.prange(starts[k], starts[k + 1]):
+                a = order[i]
+                row = work[a]
+                ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+                rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12],
+                                                   row[13], row[14], row[15], ut, un, row[17])
+                _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
+        if joints is not None:
+            _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
+        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
+        if error <= tolerance:
+            break
+    return it, error
+
+
+@nb.njit(cache=True)
+def colour_contacts_2d(cand, ant, active, count, inv_mass):
+    """Greedy colouring of the active contacts, visited in nlgs_2d's order (last first): each
+    takes the smallest colour that no earlier contact on one of its free bodies has (a body
+    is free when one of its inv_mass is > 0; fixed ones, the ground, do not conflict).
+    Returns (order, starts, free): the contacts of colour k are order[starts[k]:starts[k+1]],
+    in visiting order; free [bool] per body."""
+    nbody = inv_mass.shape[0]
+    free = np.zeros(nbody, dtype=np.bool_)
+    for b in range(nbody):
+        for d in range(inv_mass.shape[1]):
+            if inv_mass[b, d] > 0.0:
+                free[b] = True
+    degree = np.zeros(nbody, dtype=np.int64)
+    for a in range(count):
+        if active[a]:
+            degree[cand[a]] += 1
+            degree[ant[a]] += 1
+    # colours < 2 * max degree: a contact sees at most deg - 1 others on each body
+    words = (2 * max(degree.max() if nbody > 0 else 0, 1)) // 64 + 1
+    used = np.zeros((nbody, words), dtype=np.uint64)
+    colour = np.full(count, -1, dtype=np.int64)
+    ncolours = 0
+    for k in range(count):
+        a = count - 1 - k
+        if not active[a]:
+            continue
+        c, b = cand[a], ant[a]
+        for w in range(words):
+            taken = np.uint64(0)
+            if free[c]:
+                taken |= used[c, w]
+            if free[b]:
+                taken |= used[b, w]
+            if taken != ~np.uint64(0):
+                bit = 0
+                while (taken >> np.uint64(bit)) & np.uint64(1):
+                    bit += 1
+                colour[a] = 64 * w + bit
+                mask = np.uint64(1) << np.uint64(bit)
+                if free[c]:
+                    used[c, w] |= mask
+                if free[b]:
+                    used[b, w] |= mask
+                break
+        ncolours = max(ncolours, colour[a] + 1)
+    starts = np.zeros(ncolours + 1, dtype=np.int64)
+    for a in range(count):
+        if colour[a] >= 0:
+            starts[colour[a] + 1] += 1
+    for k in range(ncolours):
+        starts[k + 1] += starts[k]
+    fill = starts[:-1].copy()
+    order = np.empty(starts[ncolours], dtype=np.int64)
+    for k in range(count):
+        a = count - 1 - k
+        if colour[a] >= 0:
+            order[fill[colour[a]]] = a
+            fill[colour[a]] += 1
+    return order, starts, free
+
+
+@nb.njit(inline="always")
+def _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, joints,
+                 law_map):
+    """The rows of `work` of the active dry contacts and of the joints (nlgs_2d); returns
+    how many."""
+    nactive = 0
+    for a in range(count):
+        if active[a]:
+            nactive += 1
+            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+    if joints is not None:
+        nactive += joints.shape[0]
+        for j in range(joints.shape[0]):
+            a = joints[j]
+            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+            m = law_map[a]
+            _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
+    return nactive
+
+
+@nb.njit(inline="always")
+def _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation):
+    """One sweep over the joints of nlgs_2d, in order."""
+    for j in range(joints.shape[0]):
+        a = joints[j]
+        row = work[a]
+        ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+        rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
+                              row[14], row[15], row[17])
+        _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
 
 
 @nb.njit(inline="always")
@@ -364,9 +475,10 @@ def _local_velocity_2d(a, cand, ant, row, v, impulse):
 
 
 @nb.njit(inline="always")
-def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn):
+def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free=None):
     """Second half: contact a's new impulse (rt, rn) [N s], relaxed, and its change pushed
-    into the velocities."""
+    into the velocities; with `free` (per body, colour_contacts_2d), only into free bodies:
+    a fixed one, shared by contacts that run in parallel, is not written (its change is 0)."""
     c = cand[a]
     b = ant[a]
     rt0 = impulse[a, 0]
@@ -381,12 +493,14 @@ def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn):
     fx = row[0] * dt + row[2] * dn
     fy = row[1] * dt + row[3] * dn
     mc, mb = inv_mass[c], inv_mass[b]
-    v[c, 0] = v[c, 0] + mc[0] * fx
-    v[c, 1] = v[c, 1] + mc[1] * fy
-    v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
-    v[b, 0] = v[b, 0] - mb[0] * fx
-    v[b, 1] = v[b, 1] - mb[1] * fy
-    v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
+    if free is None or free[c]:
+        v[c, 0] = v[c, 0] + mc[0] * fx
+        v[c, 1] = v[c, 1] + mc[1] * fy
+        v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
+    if free is None or free[b]:
+        v[b, 0] = v[b, 0] - mb[0] * fx
+        v[b, 1] = v[b, 1] - mb[1] * fy
+        v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
     impulse[a, 0] = rt
     impulse[a, 1] = rn
 
