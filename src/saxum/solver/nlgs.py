@@ -77,13 +77,18 @@ class NLGS(ContactSolver):
     converged tries the rest solution (saxum.solver.equilibrium) and sweeps on from it if
     there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK); follow_loads: a
     step that follows steps which ended at rest starts from their rest solutions extrapolated
-    to its loads (saxum.solver.load_following)."""
+    to its loads (saxum.solver.load_following). threads: None sweeps 2D rigid dry contacts
+    in nlgs_2d's order on one thread; a number n >= 1 (0: all cores) sweeps them colour by
+    colour on n threads (nlgs_2d_coloured), the same bit for bit for every n but not nlgs_2d's
+    order, so not bit for bit the serial result (None stays the default until the coloured
+    sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
     relaxation: float = 1.0
     rest_after: int = 50
     follow_loads: bool = True
+    threads: int | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
@@ -94,6 +99,9 @@ class NLGS(ContactSolver):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
         if self.rest_after < 0:
             raise InputError(f"solver.rest_after must be >= 0 (0: never), got {self.rest_after}")
+        if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
+            raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
+                             f"(0: all cores; the machine's numba threads), got {self.threads}")
         self.rest_attempts = 0
         """Solves (steps and projections) that looked for a rest solution..."""
         self.rest_solutions = 0
@@ -143,8 +151,13 @@ class NLGS(ContactSolver):
         sweep = nlgs_3d if dim == 3 else nlgs_2d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
-                self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map,
-                self.tolerance)
+                self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
+        if dim == 2 and self.threads is not None:
+            nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
+            sweep = nlgs_2d_coloured
+            args += colour_contacts_2d(c.candidate, c.antagonist, active, problem.count,
+                                       inv_mass)
+        args += (self.tolerance,)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
         rest_after = 0 if joints else self.rest_after
