@@ -299,11 +299,7 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            row = work[a]
-            ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
-            rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12],
-                                               row[13], row[14], row[15], ut, un, row[17])
-            _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
+            _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, None)
         if joints is not None:
             _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
@@ -333,11 +329,7 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
         for k in range(starts.shape[0] - 1):
             for i in nb.prange(starts[k], starts[k + 1]):
                 a = order[i]
-                row = work[a]
-                ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
-                rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12],
-                                                   row[13], row[14], row[15], ut, un, row[17])
-                _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
+                _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, free)
         if joints is not None:
             _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
@@ -426,6 +418,16 @@ def _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, j
             m = law_map[a]
             _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
     return nactive
+
+
+@nb.njit(inline="always")
+def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, free):
+    """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; free
+    as _push_2d's."""
+    ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+    rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12], row[13],
+                                       row[14], row[15], ut, un, row[17])
+    _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
 
 
 @nb.njit(inline="always")
