@@ -136,8 +136,9 @@ class NLGS(ContactSolver):
             self._v_prev = np.empty_like(v)
         dim = problem.model.dim
         width = 18 if dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
-        if len(self._work) < problem.count or self._work.shape[1] != width:
-            self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
+        rows = problem.count * (2 if dim == 2 and self.threads is not None else 1)
+        if len(self._work) < rows or self._work.shape[1] != width:
+            self._work = np.empty((max(rows, 2 * len(self._work)), width))
         # joint laws (saxum.solver.laws_local) change the local problems; a problem without
         # them (the projection's) has none, and a sweep without them is compiled without their
         # code (nlgs_2d)
@@ -317,9 +318,17 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
     Gauss-Seidel sweep, in the colouring's order (not nlgs_2d's): a contact reads and writes
     only the velocities of its own two bodies, which no other contact of its colour writes (a
     fixed body, inv_mass 0, is read but never written), so the result is the same bit for bit
-    whatever the number of threads. The joints are swept after, in order, as nlgs_2d does."""
-    if _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, joints,
-                    law_map) == 0:
+    whatever the number of threads. The joints are swept after, in order, as nlgs_2d does;
+    work: at least 2 count x 18."""
+    # the dry contacts' rows in the colours' order (the sweeps read them in sequence), after
+    # the joints' (in nlgs_2d's rows, which those of the dry ones do not overlap)
+    packed = order.shape[0]
+    for i in nb.prange(packed):
+        _pack_2d(work[count + i], h_cand, h_ant, delassus, bias, friction, order[i])
+    if joints is not None:
+        packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
+                                  law_map)
+    if packed == 0:
         return 0, 0.0
     error = np.inf
     it = 0
@@ -328,8 +337,8 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
         it += 1
         for k in range(starts.shape[0] - 1):
             for i in nb.prange(starts[k], starts[k + 1]):
-                a = order[i]
-                _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, free)
+                _update_dry_2d(order[i], cand, ant, work[count + i], v, impulse, inv_mass,
+                               relaxation, free)
         if joints is not None:
             _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
@@ -411,13 +420,20 @@ def _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, j
             nactive += 1
             _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
     if joints is not None:
-        nactive += joints.shape[0]
-        for j in range(joints.shape[0]):
-            a = joints[j]
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
-            m = law_map[a]
-            _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
+        nactive += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
+                                   law_map)
     return nactive
+
+
+@nb.njit(inline="always")
+def _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints, law_map):
+    """The joints' rows of `work` (nlgs_2d), with the factors of W'; returns how many."""
+    for j in range(joints.shape[0]):
+        a = joints[j]
+        _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+        m = law_map[a]
+        _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
+    return joints.shape[0]
 
 
 @nb.njit(inline="always")
