@@ -62,6 +62,11 @@ its sweeps have done that much work, so that where sweeps are cheap (a few dozen
 NLGS alone goes on."""
 
 
+_CHUNK = 64
+"""Contacts per chunk of the coloured sweep (colour_contacts_2d): a fixed number, so that the
+order does not depend on the threads."""
+
+
 _TREND_SWEEPS = 1000
 """The last sweeps of a solve that can end at its cap, run as _TREND_WINDOWS windows whose
 errors give the error's trend where it does not converge (SolverReport.rate and stalled,
@@ -312,14 +317,14 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 @nb.njit(parallel=True, cache=True)
 def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
                      inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
-                     starts, free, tolerance, max_iterations, relaxation):
-    """nlgs_2d with its dry contacts swept colour by colour, the contacts of one colour in
-    parallel (numba threads): order, starts, free from colour_contacts_2d. It is still a
-    Gauss-Seidel sweep, in the colouring's order (not nlgs_2d's): a contact reads and writes
-    only the velocities of its own two bodies, which no other contact of its colour writes (a
-    fixed body, inv_mass 0, is read but never written), so the result is the same bit for bit
-    whatever the number of threads. The joints are swept after, in order, as nlgs_2d does;
-    work: at least 2 count x 18."""
+                     chunks, colours, free, tolerance, max_iterations, relaxation):
+    """nlgs_2d with its dry contacts swept colour by colour, the chunks of one colour in
+    parallel (numba threads), each chunk's contacts in order: order, chunks, colours, free from
+    colour_contacts_2d. It is still a Gauss-Seidel sweep, in the colouring's order (not
+    nlgs_2d's): a chunk reads and writes only the velocities of its own contacts' bodies,
+    which no other chunk of its colour writes (a fixed body, inv_mass 0, is read but never
+    written), so the result is the same bit for bit whatever the number of threads. The
+    joints are swept after, in order, as nlgs_2d does; work: at least 2 count x 18."""
     # the dry contacts' rows in the colours' order (the sweeps read them in sequence), after
     # the joints' (in nlgs_2d's rows, which those of the dry ones do not overlap)
     packed = order.shape[0]
@@ -335,10 +340,11 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
     _relative_change(v, v_prev, v_free, mass)
     while it < max_iterations:
         it += 1
-        for k in range(starts.shape[0] - 1):
-            for i in nb.prange(starts[k], starts[k + 1]):
-                _update_dry_2d(order[i], cand, ant, work[count + i], v, impulse, inv_mass,
-                               relaxation, free)
+        for k in range(colours.shape[0] - 1):
+            for u in nb.prange(colours[k], colours[k + 1]):
+                for i in range(chunks[u], chunks[u + 1]):
+                    _update_dry_2d(order[i], cand, ant, work[count + i], v, impulse,
+                                   inv_mass, relaxation, free)
         if joints is not None:
             _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
         error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
@@ -349,64 +355,85 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
 
 @nb.njit(cache=True)
 def colour_contacts_2d(cand, ant, active, count, inv_mass):
-    """Greedy colouring of the active contacts, visited in nlgs_2d's order (last first): each
-    takes the smallest colour that no earlier contact on one of its free bodies has (a body
-    is free when one of its inv_mass is > 0; fixed ones, the ground, do not conflict).
-    Returns (order, starts, free): the contacts of colour k are order[starts[k]:starts[k+1]],
-    in visiting order; free [bool] per body."""
+    """Greedy colouring of the active contacts in chunks: the active contacts, in nlgs_2d's
+    order (last first), cut into chunks of _CHUNK; each chunk takes the smallest colour that
+    no earlier chunk on one of its free bodies has (a body is free when one of its inv_mass is
+    > 0; fixed ones, the ground, do not conflict). A chunk keeps nlgs_2d's order inside, and
+    its contacts, neighbours in that order, share bodies: the sweep keeps their velocities in
+    cache, which contacts of one colour one by one would not. The chunks do not depend on the
+    number of threads. Returns (order, chunks, colours, free): chunk u is
+    order[chunks[u]:chunks[u+1]], the chunks of colour k are colours[k] to colours[k+1] - 1;
+    free [bool] per body."""
     nbody = inv_mass.shape[0]
     free = np.zeros(nbody, dtype=np.bool_)
     for b in range(nbody):
         for d in range(inv_mass.shape[1]):
             if inv_mass[b, d] > 0.0:
                 free[b] = True
+    visit = np.empty(count, dtype=np.int64)
+    n = 0
     degree = np.zeros(nbody, dtype=np.int64)
-    for a in range(count):
-        if active[a]:
-            degree[cand[a]] += 1
-            degree[ant[a]] += 1
-    # colours < 2 * max degree: a contact sees at most deg - 1 others on each body
-    words = (2 * max(degree.max() if nbody > 0 else 0, 1)) // 64 + 1
-    used = np.zeros((nbody, words), dtype=np.uint64)
-    colour = np.full(count, -1, dtype=np.int64)
-    ncolours = 0
     for k in range(count):
         a = count - 1 - k
-        if not active[a]:
-            continue
-        c, b = cand[a], ant[a]
+        if active[a]:
+            visit[n] = a
+            n += 1
+            degree[cand[a]] += 1
+            degree[ant[a]] += 1
+    nchunks = -(-n // _CHUNK)
+    # a chunk meets at most as many other chunks as its contacts' bodies have contacts
+    bound = 1
+    for u in range(nchunks):
+        meets = 1
+        for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+            meets += degree[cand[visit[i]]] + degree[ant[visit[i]]]
+        bound = max(bound, meets)
+    words = bound // 64 + 1
+    used = np.zeros((nbody, words), dtype=np.uint64)
+    colour = np.empty(nchunks, dtype=np.int64)
+    ncolours = 0
+    for u in range(nchunks):
         for w in range(words):
             taken = np.uint64(0)
-            if free[c]:
-                taken |= used[c, w]
-            if free[b]:
-                taken |= used[b, w]
+            for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+                a = visit[i]
+                if free[cand[a]]:
+                    taken |= used[cand[a], w]
+                if free[ant[a]]:
+                    taken |= used[ant[a], w]
             if taken != ~np.uint64(0):
                 bit = 0
                 while (taken >> np.uint64(bit)) & np.uint64(1):
                     bit += 1
-                colour[a] = 64 * w + bit
+                colour[u] = 64 * w + bit
                 mask = np.uint64(1) << np.uint64(bit)
-                if free[c]:
-                    used[c, w] |= mask
-                if free[b]:
-                    used[b, w] |= mask
+                for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+                    a = visit[i]
+                    used[cand[a], w] |= mask
+                    used[ant[a], w] |= mask
                 break
-        ncolours = max(ncolours, colour[a] + 1)
-    starts = np.zeros(ncolours + 1, dtype=np.int64)
-    for a in range(count):
-        if colour[a] >= 0:
-            starts[colour[a] + 1] += 1
+        ncolours = max(ncolours, colour[u] + 1)
+    colours = np.zeros(ncolours + 1, dtype=np.int64)
+    for u in range(nchunks):
+        colours[colour[u] + 1] += 1
     for k in range(ncolours):
-        starts[k + 1] += starts[k]
-    fill = starts[:-1].copy()
-    order = np.empty(starts[ncolours], dtype=np.int64)
-    for k in range(count):
-        a = count - 1 - k
-        if colour[a] >= 0:
-            order[fill[colour[a]]] = a
-            fill[colour[a]] += 1
-    return order, starts, free
+        colours[k + 1] += colours[k]
+    fill = colours[:-1].copy()
+    place = np.empty(nchunks, dtype=np.int64)  # chunk u's rank in colour order
+    for u in range(nchunks):
+        place[u] = fill[colour[u]]
+        fill[colour[u]] += 1
+    chunks = np.zeros(nchunks + 1, dtype=np.int64)
+    for u in range(nchunks):
+        chunks[place[u] + 1] = min(n, (u + 1) * _CHUNK) - u * _CHUNK
+    for r in range(nchunks):
+        chunks[r + 1] += chunks[r]
+    order = np.empty(n, dtype=np.int64)
+    for u in range(nchunks):
+        start = chunks[place[u]]
+        for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+            order[start + i - u * _CHUNK] = visit[i]
+    return order, chunks, colours, free
 
 
 @nb.njit(inline="always")
