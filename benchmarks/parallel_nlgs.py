@@ -6,12 +6,13 @@ fixed ground, saxum.NLGS): a 160 x 100 wall (about 16 000 bricks) at rest, and a
 wall (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its base). Per case and
 solver (serial, coloured on 1 thread, coloured on 2), interleaved --repeats times: wall and
 CPU time (time.process_time: all threads) of the contact solve per step, and sweeps per step,
-after --warm steps of that simulation (the kernels compiled before, on a separate one). The
+after the first steps of that simulation (the kernels compiled before, on a separate one). The
 colouring (colour_contacts_2d, every solve) is inside the solve's time. On a shared machine
 only ratios from one run mean anything; CPU time changes less with load than wall time.
 
     python benchmarks/parallel_nlgs.py                    # both cases
     python benchmarks/parallel_nlgs.py --steps 10 --repeats 1
+    NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
 """
 
 import argparse
@@ -26,7 +27,9 @@ import saxum as sx
 from saxum.ground import harmonic
 from saxum.structures import running_bond_wall
 
-CASES = {"rest 160x100": ((160, 100), 0.0), "shaken 50x40": ((50, 40), 0.7)}
+CASES = {"rest 160x100": ((160, 100), 0.0, 5), "shaken 50x40": ((50, 40), 0.7, 150)}
+"""name: ((courses, bricks), base acceleration [g], steps before the timed ones: at 0.7 g the
+wall slides from about 0.1 s on)"""
 SOLVERS = {"serial": None, "coloured 1": 1, "coloured 2": 2}
 
 
@@ -65,11 +68,10 @@ def _run(model, threads, warm, steps):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20)
-    parser.add_argument("--warm", type=int, default=5)
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
-    print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}")
-    for name, (size, amplitude) in CASES.items():
+    print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}", flush=True)
+    for name, (size, amplitude, warm) in CASES.items():
         model = _model(size, amplitude)
         bricks = int((model.body_kind == sx.BodyKind.FREE).sum())
         for threads in SOLVERS.values():  # compile (or load) every kernel first
@@ -78,10 +80,10 @@ def main() -> None:
         q = {}
         for _ in range(args.repeats):
             for label, threads in SOLVERS.items():
-                *row, q[label] = _run(model, threads, args.warm, args.steps)
+                *row, q[label] = _run(model, threads, warm, args.steps)
                 rows[label].append(row)
         same = np.array_equal(q["coloured 1"], q["coloured 2"])
-        print(f"{name} ({bricks} bricks, {args.steps} steps after {args.warm}, "
+        print(f"{name} ({bricks} bricks, {args.steps} steps after {warm}, "
               f"median of {args.repeats}); coloured 1 == coloured 2 bit for bit: {same}")
         base = statistics.median(r[0] for r in rows["coloured 1"])
         for label, r in rows.items():
@@ -89,7 +91,8 @@ def main() -> None:
             cpu = statistics.median(x[1] for x in r)
             print(f"  {label:11s} solve {1e3 * wall:8.2f} ms/step wall, {1e3 * cpu:8.2f} ms "
                   f"CPU, {r[0][2]:7.1f} sweeps/step, {1e9 * wall / bricks / r[0][2]:6.1f} "
-                  f"ns/brick/sweep; coloured 1 / this: {base / wall:.2f}")
+                  f"ns/brick/sweep; coloured 1 / this: {base / wall:.2f}", flush=True)
+    print(f"threading layer: {numba.threading_layer()}")
 
 
 if __name__ == "__main__":

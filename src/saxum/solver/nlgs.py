@@ -119,6 +119,8 @@ class NLGS(ContactSolver):
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
+        self._coloured = None
+        """(the arrays it was computed for, colour_contacts_2d's result): _colouring."""
 
     def forget(self) -> None:
         self._following.clear()
@@ -161,8 +163,8 @@ class NLGS(ContactSolver):
         if dim == 2 and self.threads is not None:
             nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
             sweep = nlgs_2d_coloured
-            args += colour_contacts_2d(c.candidate, c.antagonist, active, problem.count,
-                                       inv_mass)
+            args += self._colouring(c.candidate, c.antagonist, active, problem.count,
+                                    inv_mass)
         args += (self.tolerance,)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
@@ -205,6 +207,17 @@ class NLGS(ContactSolver):
                                    found and converged)
         rate, stalled = trend
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
+
+    def _colouring(self, cand, ant, active, count, inv_mass) -> tuple:
+        """colour_contacts_2d's, reused while the active contacts' pairs and the masses have
+        not changed (comparing them costs ~1/20 of colouring them again)."""
+        key = (cand[:count], ant[:count], active[:count], inv_mass)
+        old = self._coloured
+        if old is None or not all(len(x) == len(y) and np.array_equal(x, y)
+                                  for x, y in zip(key, old[0], strict=True)):
+            self._coloured = old = (tuple(x.copy() for x in key),
+                                    colour_contacts_2d(cand, ant, active, count, inv_mass))
+        return old[1]
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
