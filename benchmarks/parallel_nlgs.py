@@ -69,9 +69,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20)
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--cases", default=",".join(CASES), help="comma-separated names")
     args = parser.parse_args()
     print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}", flush=True)
-    for name, (size, amplitude, warm) in CASES.items():
+    for name in args.cases.split(","):
+        size, amplitude, warm = CASES[name]
         model = _model(size, amplitude)
         bricks = int((model.body_kind == sx.BodyKind.FREE).sum())
         for threads in SOLVERS.values():  # compile (or load) every kernel first
