@@ -319,9 +319,8 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             if not active[a]:
                 continue
             _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, None)
-        if joints is not None:
-            _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
-        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
+        error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
+                              law_map, inv_mass, relaxation)
         if error <= tolerance:
             break
     return it, error
@@ -358,9 +357,8 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
                 for i in range(chunks[u], chunks[u + 1]):
                     _update_dry_2d(order[i], cand, ant, work[count + i], v, impulse,
                                    inv_mass, relaxation, free)
-        if joints is not None:
-            _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
-        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
+        error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
+                              law_map, inv_mass, relaxation)
         if error <= tolerance:
             break
     return it, error
@@ -484,6 +482,16 @@ def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, free):
     rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12], row[13],
                                        row[14], row[15], ut, un, row[17])
     _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
+
+
+@nb.njit(inline="always")
+def _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints, law_map,
+                  inv_mass, relaxation):
+    """The end of a sweep of nlgs_2d: the joints (if any, in order), then the error
+    (_relative_change: v_prev = v)."""
+    if joints is not None:
+        _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
+    return _relative_change(v, v_prev, v_free, mass)
 
 
 @nb.njit(inline="always")
