@@ -41,7 +41,8 @@ def _run(args) -> None:
     from .runner import describe, run_scenario
     from .scenario import load_scenario
 
-    scenario = load_scenario(args.scenario, args.set)
+    threads = [] if args.threads is None else [f"solver.threads={args.threads}"]
+    scenario = load_scenario(args.scenario, [*args.set, *threads])
     output = args.output or Path(args.scenario).with_suffix(".h5")
     summary = run_scenario(scenario, output, quiet=args.quiet, overwrite=args.overwrite,
                            scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
@@ -565,6 +566,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a scenario key, e.g. --set solver.dt=5e-4 (repeatable)")
     _unset_option(p)
+    p.add_argument("--threads", type=int, default=None, metavar="N",
+                   help="NLGS on N threads, its contacts swept colour by colour (0: all "
+                        "cores; the same as --set solver.threads=N)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 

@@ -939,7 +939,8 @@ class SolverSpec(_Strict):
     the conic fixed point or semismooth Newton where its error stalls or at the cap:
     saxum.solver.Hybrid), or "nlgs" alone; None (the default): "hybrid", or "nlgs" for a
     model with joint laws or deformable blocks, which only NLGS solves (saxum.solver.laws_local,
-    saxum.solver.nlgs_fe)."""
+    saxum.solver.nlgs_fe); threads: NLGS's (None: one, in the serial order; n >= 1: the
+    coloured sweep on n threads, 0 all cores: saxum.solver.NLGS)."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
@@ -948,6 +949,7 @@ class SolverSpec(_Strict):
     relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0
     rest_after: Annotated[Integer, Field(ge=0)] = 50
     kind: Literal["nlgs", "hybrid"] | None = None
+    threads: Annotated[Integer, Field(ge=0)] | None = None
 
 
 class DetectionSpec(_Strict):
@@ -1134,7 +1136,7 @@ class Scenario(_Strict):
             model, dt=s.dt, theta=s.theta,
             solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
-                rest_after=s.rest_after),
+                rest_after=s.rest_after, threads=s.threads),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration),

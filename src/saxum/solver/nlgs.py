@@ -62,6 +62,11 @@ its sweeps have done that much work, so that where sweeps are cheap (a few dozen
 NLGS alone goes on."""
 
 
+_CHUNK = 64
+"""Contacts per chunk of the coloured sweep (colour_contacts_2d): a fixed number, so that the
+order does not depend on the threads."""
+
+
 _TREND_SWEEPS = 1000
 """The last sweeps of a solve that can end at its cap, run as _TREND_WINDOWS windows whose
 errors give the error's trend where it does not converge (SolverReport.rate and stalled,
@@ -77,13 +82,18 @@ class NLGS(ContactSolver):
     converged tries the rest solution (saxum.solver.equilibrium) and sweeps on from it if
     there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK); follow_loads: a
     step that follows steps which ended at rest starts from their rest solutions extrapolated
-    to its loads (saxum.solver.load_following)."""
+    to its loads (saxum.solver.load_following). threads: None sweeps 2D rigid dry contacts
+    in nlgs_2d's order on one thread; a number n >= 1 (0: all cores) sweeps them colour by
+    colour on n threads (nlgs_2d_coloured), the same bit for bit for every n but not nlgs_2d's
+    order, so not bit for bit the serial result (None stays the default until the coloured
+    sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
     relaxation: float = 1.0
     rest_after: int = 50
     follow_loads: bool = True
+    threads: int | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
@@ -94,6 +104,9 @@ class NLGS(ContactSolver):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
         if self.rest_after < 0:
             raise InputError(f"solver.rest_after must be >= 0 (0: never), got {self.rest_after}")
+        if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
+            raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
+                             f"(0: all cores; the machine's numba threads), got {self.threads}")
         self.rest_attempts = 0
         """Solves (steps and projections) that looked for a rest solution..."""
         self.rest_solutions = 0
@@ -106,6 +119,8 @@ class NLGS(ContactSolver):
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
+        self._coloured = None
+        """(the arrays it was computed for, colour_contacts_2d's result): _colouring."""
 
     def forget(self) -> None:
         self._following.clear()
@@ -128,8 +143,9 @@ class NLGS(ContactSolver):
             self._v_prev = np.empty_like(v)
         dim = problem.model.dim
         width = 18 if dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
-        if len(self._work) < problem.count or self._work.shape[1] != width:
-            self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
+        rows = problem.count * (2 if dim == 2 and self.threads is not None else 1)
+        if len(self._work) < rows or self._work.shape[1] != width:
+            self._work = np.empty((max(rows, 2 * len(self._work)), width))
         # joint laws (saxum.solver.laws_local) change the local problems; a problem without
         # them (the projection's) has none, and a sweep without them is compiled without their
         # code (nlgs_2d)
@@ -143,8 +159,13 @@ class NLGS(ContactSolver):
         sweep = nlgs_3d if dim == 3 else nlgs_2d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
-                self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map,
-                self.tolerance)
+                self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
+        if dim == 2 and self.threads is not None:
+            nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
+            sweep = nlgs_2d_coloured
+            args += self._colouring(c.candidate, c.antagonist, active, problem.count,
+                                    inv_mass)
+        args += (self.tolerance,)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
         rest_after = 0 if joints else self.rest_after
@@ -186,6 +207,17 @@ class NLGS(ContactSolver):
                                    found and converged)
         rate, stalled = trend
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
+
+    def _colouring(self, cand, ant, active, count, inv_mass) -> tuple:
+        """colour_contacts_2d's, reused while the active contacts' pairs and the masses have
+        not changed (comparing them costs ~1/20 of colouring them again)."""
+        key = (cand[:count], ant[:count], active[:count], inv_mass)
+        old = self._coloured
+        if old is None or not all(len(x) == len(y) and np.array_equal(x, y)
+                                  for x, y in zip(key, old[0], strict=True)):
+            self._coloured = old = (tuple(x.copy() for x in key),
+                                    colour_contacts_2d(cand, ant, active, count, inv_mass))
+        return old[1]
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
@@ -272,19 +304,8 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     factors of its single-contact solve (factorize_contact_2d: the divisions, once per step;
     on W' for a joint) and b_n, mu go into one row of `work`, which the sweeps read in
     order."""
-    nactive = 0
-    for a in range(count):
-        if active[a]:
-            nactive += 1
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
-    if joints is not None:
-        nactive += joints.shape[0]
-        for j in range(joints.shape[0]):
-            a = joints[j]
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
-            m = law_map[a]
-            _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
-    if nactive == 0:
+    if _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, joints,
+                    law_map) == 0:
         return 0, 0.0
     error = np.inf
     it = 0
@@ -297,23 +318,192 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            row = work[a]
-            ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
-            rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12],
-                                               row[13], row[14], row[15], ut, un, row[17])
-            _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
-        if joints is not None:
-            for j in range(joints.shape[0]):
-                a = joints[j]
-                row = work[a]
-                ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
-                rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
-                                      row[14], row[15], row[17])
-                _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
-        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
+            _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, None)
+        error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
+                              law_map, inv_mass, relaxation)
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(parallel=True, cache=True)
+def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
+                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
+                     chunks, colours, free, tolerance, max_iterations, relaxation):
+    """nlgs_2d with its dry contacts swept colour by colour, the chunks of one colour in
+    parallel (numba threads), each chunk's contacts in order: order, chunks, colours, free from
+    colour_contacts_2d. It is still a Gauss-Seidel sweep, in the colouring's order (not
+    nlgs_2d's): a chunk reads and writes only the velocities of its own contacts' bodies,
+    which no other chunk of its colour writes (a fixed body, inv_mass 0, is read but never
+    written), so the result is the same bit for bit whatever the number of threads. The
+    joints are swept after, in order, as nlgs_2d does; work: at least 2 count x 18."""
+    # the dry contacts' rows in the colours' order (the sweeps read them in sequence), after
+    # the joints' (in nlgs_2d's rows, which those of the dry ones do not overlap)
+    packed = order.shape[0]
+    for i in nb.prange(packed):
+        _pack_2d(work[count + i], h_cand, h_ant, delassus, bias, friction, order[i])
+    if joints is not None:
+        packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
+                                  law_map)
+    if packed == 0:
+        return 0, 0.0
+    error = np.inf
+    it = 0
+    _relative_change(v, v_prev, v_free, mass)
+    while it < max_iterations:
+        it += 1
+        for k in range(colours.shape[0] - 1):
+            for u in nb.prange(colours[k], colours[k + 1]):
+                for i in range(chunks[u], chunks[u + 1]):
+                    _update_dry_2d(order[i], cand, ant, work[count + i], v, impulse,
+                                   inv_mass, relaxation, free)
+        error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
+                              law_map, inv_mass, relaxation)
+        if error <= tolerance:
+            break
+    return it, error
+
+
+@nb.njit(cache=True)
+def colour_contacts_2d(cand, ant, active, count, inv_mass):
+    """Greedy colouring of the active contacts in chunks: the active contacts, in nlgs_2d's
+    order (last first), cut into chunks of _CHUNK; each chunk takes the smallest colour that
+    no earlier chunk on one of its free bodies has (a body is free when one of its inv_mass is
+    > 0; fixed ones, the ground, do not conflict). A chunk keeps nlgs_2d's order inside, and
+    its contacts, neighbours in that order, share bodies: the sweep keeps their velocities in
+    cache, which contacts of one colour one by one would not. The chunks do not depend on the
+    number of threads. Returns (order, chunks, colours, free): chunk u is
+    order[chunks[u]:chunks[u+1]], the chunks of colour k are colours[k] to colours[k+1] - 1;
+    free [bool] per body."""
+    nbody = inv_mass.shape[0]
+    free = np.zeros(nbody, dtype=np.bool_)
+    for b in range(nbody):
+        for d in range(inv_mass.shape[1]):
+            if inv_mass[b, d] > 0.0:
+                free[b] = True
+    visit = np.empty(count, dtype=np.int64)
+    n = 0
+    degree = np.zeros(nbody, dtype=np.int64)
+    for k in range(count):
+        a = count - 1 - k
+        if active[a]:
+            visit[n] = a
+            n += 1
+            degree[cand[a]] += 1
+            degree[ant[a]] += 1
+    nchunks = -(-n // _CHUNK)
+    # a chunk meets at most as many other chunks as its contacts' bodies have contacts
+    bound = 1
+    for u in range(nchunks):
+        meets = 1
+        for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+            meets += degree[cand[visit[i]]] + degree[ant[visit[i]]]
+        bound = max(bound, meets)
+    words = bound // 64 + 1
+    used = np.zeros((nbody, words), dtype=np.uint64)
+    colour = np.empty(nchunks, dtype=np.int64)
+    ncolours = 0
+    for u in range(nchunks):
+        for w in range(words):
+            taken = np.uint64(0)
+            for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+                a = visit[i]
+                if free[cand[a]]:
+                    taken |= used[cand[a], w]
+                if free[ant[a]]:
+                    taken |= used[ant[a], w]
+            if taken != ~np.uint64(0):
+                bit = 0
+                while (taken >> np.uint64(bit)) & np.uint64(1):
+                    bit += 1
+                colour[u] = 64 * w + bit
+                mask = np.uint64(1) << np.uint64(bit)
+                for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+                    a = visit[i]
+                    used[cand[a], w] |= mask
+                    used[ant[a], w] |= mask
+                break
+        ncolours = max(ncolours, colour[u] + 1)
+    colours = np.zeros(ncolours + 1, dtype=np.int64)
+    for u in range(nchunks):
+        colours[colour[u] + 1] += 1
+    for k in range(ncolours):
+        colours[k + 1] += colours[k]
+    fill = colours[:-1].copy()
+    place = np.empty(nchunks, dtype=np.int64)  # chunk u's rank in colour order
+    for u in range(nchunks):
+        place[u] = fill[colour[u]]
+        fill[colour[u]] += 1
+    chunks = np.zeros(nchunks + 1, dtype=np.int64)
+    for u in range(nchunks):
+        chunks[place[u] + 1] = min(n, (u + 1) * _CHUNK) - u * _CHUNK
+    for r in range(nchunks):
+        chunks[r + 1] += chunks[r]
+    order = np.empty(n, dtype=np.int64)
+    for u in range(nchunks):
+        start = chunks[place[u]]
+        for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
+            order[start + i - u * _CHUNK] = visit[i]
+    return order, chunks, colours, free
+
+
+@nb.njit(inline="always")
+def _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, joints,
+                 law_map):
+    """The rows of `work` of the active dry contacts and of the joints (nlgs_2d); returns
+    how many."""
+    nactive = 0
+    for a in range(count):
+        if active[a]:
+            nactive += 1
+            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+    if joints is not None:
+        nactive += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
+                                   law_map)
+    return nactive
+
+
+@nb.njit(inline="always")
+def _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints, law_map):
+    """The joints' rows of `work` (nlgs_2d), with the factors of W'; returns how many."""
+    for j in range(joints.shape[0]):
+        a = joints[j]
+        _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+        m = law_map[a]
+        _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
+    return joints.shape[0]
+
+
+@nb.njit(inline="always")
+def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, free):
+    """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; free
+    as _push_2d's."""
+    ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+    rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12], row[13],
+                                       row[14], row[15], ut, un, row[17])
+    _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
+
+
+@nb.njit(inline="always")
+def _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints, law_map,
+                  inv_mass, relaxation):
+    """The end of a sweep of nlgs_2d: the joints (if any, in order), then the error
+    (_relative_change: v_prev = v)."""
+    if joints is not None:
+        _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
+    return _relative_change(v, v_prev, v_free, mass)
+
+
+@nb.njit(inline="always")
+def _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation):
+    """One sweep over the joints of nlgs_2d, in order."""
+    for j in range(joints.shape[0]):
+        a = joints[j]
+        row = work[a]
+        ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
+        rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
+                              row[14], row[15], row[17])
+        _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
 
 
 @nb.njit(inline="always")
@@ -364,9 +554,10 @@ def _local_velocity_2d(a, cand, ant, row, v, impulse):
 
 
 @nb.njit(inline="always")
-def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn):
+def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free=None):
     """Second half: contact a's new impulse (rt, rn) [N s], relaxed, and its change pushed
-    into the velocities."""
+    into the velocities; with `free` (per body, colour_contacts_2d), only into free bodies:
+    a fixed one, shared by contacts that run in parallel, is not written (its change is 0)."""
     c = cand[a]
     b = ant[a]
     rt0 = impulse[a, 0]
@@ -381,12 +572,14 @@ def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn):
     fx = row[0] * dt + row[2] * dn
     fy = row[1] * dt + row[3] * dn
     mc, mb = inv_mass[c], inv_mass[b]
-    v[c, 0] = v[c, 0] + mc[0] * fx
-    v[c, 1] = v[c, 1] + mc[1] * fy
-    v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
-    v[b, 0] = v[b, 0] - mb[0] * fx
-    v[b, 1] = v[b, 1] - mb[1] * fy
-    v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
+    if free is None or free[c]:
+        v[c, 0] = v[c, 0] + mc[0] * fx
+        v[c, 1] = v[c, 1] + mc[1] * fy
+        v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
+    if free is None or free[b]:
+        v[b, 0] = v[b, 0] - mb[0] * fx
+        v[b, 1] = v[b, 1] - mb[1] * fy
+        v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
     impulse[a, 0] = rt
     impulse[a, 1] = rn
 
