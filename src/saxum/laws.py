@@ -75,7 +75,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MAX_LAW_POINTS", "SMOOTH_KINDS", "ContactLaw", "LawKind", "Parameter"]
+__all__ = ["MAX_LAW_POINTS", "NO_CONTACT", "SMOOTH_KINDS", "ContactLaw", "LawKind", "NoContact",
+           "Parameter"]
 
 MAX_LAW_POINTS = 15
 """Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""
@@ -206,3 +207,17 @@ class ContactLaw:
                         f"{getattr(self, strength):g} Pa and {stiffness} = "
                         f"{getattr(self, stiffness):g} Pa/m: the softening would snap back; "
                         f"use {g} >= {strength}^2 / (2 {stiffness}) = {least:.6g} J/m^2")
+
+
+@dataclass(frozen=True)
+class NoContact:
+    """The "no contact" law: blocks of the two groups pass through each other (LMGC90 leaves
+    such a pair out of its see-tables). The detector drops their pairs before the narrow
+    phase, so they never make contacts. Use the instance `NO_CONTACT`."""
+
+    def __repr__(self) -> str:
+        return "NO_CONTACT"
+
+
+NO_CONTACT = NoContact()
+"""ModelBuilder.set_law(a, b, NO_CONTACT): groups a and b never touch."""

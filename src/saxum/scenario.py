@@ -34,7 +34,7 @@ from pydantic import (
 from .detection import DetectionSettings
 from .errors import InputError
 from .fe.material import Elastic
-from .laws import SMOOTH_KINDS, ContactLaw, LawKind
+from .laws import NO_CONTACT, SMOOTH_KINDS, ContactLaw, LawKind, NoContact
 from .model import BodyKind, Model, ModelBuilder
 from .simulation import Simulation
 from .solver import NLGS, Hybrid
@@ -579,9 +579,10 @@ class LawSpec(_Strict):
 
     groups: tuple[str, str] | None = None
     joint: Literal["bed", "head", "radial", "ring", "support"] | None = None
-    friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
+    friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] | None = None
+    """Coulomb coefficient mu [-]; required, except with kind "none"."""
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
-                  "viscous", "cohesive"] = "gap_signorini_coulomb"
+                  "viscous", "cohesive", "none"] = "gap_signorini_coulomb"
     restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
     k_n: NonNegative = 0.0
     """Normal stiffness [Pa/m] (elastic, cohesive)."""
@@ -609,10 +610,21 @@ class LawSpec(_Strict):
         if (self.groups is None) == (self.joint is None):
             raise ValueError("give a law either groups = [a, b] or joint = "
                              '"bed" | "head" | "radial" | "ring" | "support", not both')
+        if self.kind == "none":
+            given = sorted(self.model_fields_set - {"groups", "joint", "kind"})
+            if given:
+                raise ValueError(f'kind = "none" (no contact) takes no parameters; drop '
+                                 f"{', '.join(given)}")
+        elif self.friction is None:
+            raise ValueError(f'friction is required (kind = "{self.kind}"); kind = "none" '
+                             "is the law of groups that never touch")
         return self
 
-    def law(self, name: str = "") -> ContactLaw:
-        """The ContactLaw; `name` (e.g. "laws[2]") is how its errors name it."""
+    def law(self, name: str = "") -> ContactLaw | NoContact:
+        """The ContactLaw (NO_CONTACT for kind "none"); `name` (e.g. "laws[2]") is how its
+        errors name it."""
+        if self.kind == "none":
+            return NO_CONTACT
         kind = _LAW_KINDS.get(self.kind, self.kind.upper())
         return ContactLaw(friction=self.friction, kind=LawKind[kind],
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,

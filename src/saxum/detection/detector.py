@@ -102,6 +102,10 @@ class Detector:
         self._fe_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a deformable block (saxum.detection.fe_nodes), split off the broad
         phase's list, which keeps the rigid pairs."""
+        mobile_groups = np.zeros(len(model.group_names), dtype=bool)
+        mobile_groups[model.body_group[free]] = True
+        self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
+        """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
 
@@ -188,12 +192,22 @@ class Detector:
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
         sort_pairs(self._pairs, count, m.body_count)
+        if self._no_contact:
+            count = self._drop_no_contact(count)
         if m.fe is not None:
             count = self._split_deformable(count)
         self.pair_count = count
         self._q_ref[:] = q
         self._since_refresh = 0
         self.refresh_count += 1
+
+    def _drop_no_contact(self, count: int) -> int:
+        """Drop the pairs whose groups have no law (NO_CONTACT) from the first `count` pairs,
+        keeping the order; returns how many are left."""
+        g = self.model.body_group[self._pairs[:count]]
+        kept = self._pairs[:count][self.model.group_law[g[:, 0], g[:, 1]] >= 0]
+        self._pairs[: len(kept)] = kept
+        return len(kept)
 
     def _split_deformable(self, count: int) -> int:
         """Move the pairs with a deformable block out of the first `count` pairs into
