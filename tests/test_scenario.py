@@ -273,7 +273,7 @@ ARCH = textwrap.dedent("""\
      ["line 5: structure.voussoirs", "greater than or equal to 1"]),
     (('friction = 0.6\n\n[[laws]]\ngroups = ["voussoir", "support"]',
       'friction = 0.6\n\n[[laws]]\ngroups = ["voussoir", "support"]\nkind = "sticky"'),
-     ["laws[1].kind", "'gap_signorini_coulomb', 'elastic', 'viscous' or 'cohesive'",
+     ["laws[1].kind", "'gap_signorini_coulomb', 'elastic', 'viscous', 'cohesive' or 'none'",
       "line 13"]),
     (("friction = 0.6", "friction = -0.2"),
      ["line 9: laws[0].friction: Input should be greater than or equal to 0"]),
