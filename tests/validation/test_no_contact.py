@@ -3,11 +3,12 @@ with it pass through each other, as LMGC90's blocks do when no see-table names t
 
 A free block (group "stone") starts 5 mm above a fixed block (group "floor"), the pair
 with NO_CONTACT, and falls through it, in 2D and 3D. Closed form: free fall,
-y(t) = y0 - g t^2 / 2 (Newton). Moreau-Jean with theta = 1/2 integrates a constant acceleration exactly (the velocity is linear in
-t and q_{n+1} = q_n + h (v_n + v_{n+1}) / 2 is the trapezoid rule), so the only error is
-round-off: tolerance 1e-9 relative on the drop after 300 steps (round-off is ~1e-13 per step).
-No contact rows are made at any step. Control: the same model with a Coulomb law instead
-stops the block on the fixed one (its drop stays below 1 cm, the start gap plus the alert).
+y(t) = y0 - g t^2 / 2 (Newton). Moreau-Jean with theta = 1/2 integrates a constant
+acceleration exactly (the velocity is linear in t and q_{n+1} = q_n + h (v_n + v_{n+1}) / 2
+is the trapezoid rule), so the only error is round-off: tolerance 1e-9 relative on the drop
+after 300 steps (round-off is ~1e-13 per step). No contact rows are made at any step.
+Control: the same model with a Coulomb law instead stops the block on the fixed one (its
+drop stays below 1 cm, the start gap plus the alert).
 """
 
 import numpy as np
