@@ -141,6 +141,10 @@ class ContactLaw:
     1/6 of a panel): exact for the force and moment of a linear stress and for the
     rotational stiffness. 3D: 3 adds the midpoints of the polygon's edges and a centre, with
     a rule exact for linear stresses (module doc of saxum.detection.polyhedra).
+
+    alert [m]: the alert distance of the contacts of this law (LMGC90's per see-table):
+    pairs of blocks closer than this become contacts; None: the detector's
+    (DetectionSettings.alert).
     """
 
     friction: float
@@ -157,6 +161,7 @@ class ContactLaw:
     name: str = field(default="", compare=False)
     """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
     points: int = 2
+    alert: float | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.friction) and self.friction >= 0.0):
@@ -175,6 +180,9 @@ class ContactLaw:
                 f"odd number from 3 to {MAX_LAW_POINTS} (Simpson panels); use 3 for a joint in "
                 "stresses"
             )
+        if self.alert is not None and not (math.isfinite(self.alert) and self.alert > 0.0):
+            raise InputError(f"{self.name or 'a contact law'}: alert must be a finite length "
+                             f"> 0 [m], got {self.alert}; leave it out for the detector's")
         object.__setattr__(self, "kind", LawKind(self.kind))
         self._check_parameters()
 

@@ -600,6 +600,8 @@ class LawSpec(_Strict):
     """Mode I fracture energy G_I [J/m^2] (cohesive)."""
     g_ii: NonNegative = 0.0
     """Mode II fracture energy G_II [J/m^2] (cohesive)."""
+    alert: Annotated[Real, Field(gt=0.0, allow_inf_nan=False)] | None = None
+    """Alert distance [m] of this law's contacts (ContactLaw.alert); none: detection.alert."""
     points: int = 2
     """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
     stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
@@ -629,7 +631,8 @@ class LawSpec(_Strict):
         return ContactLaw(friction=self.friction, kind=LawKind[kind],
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
-                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points)
+                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points,
+                          alert=self.alert)
 
 
 _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}

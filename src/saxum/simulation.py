@@ -111,12 +111,14 @@ class Simulation:
     def _check_step(self) -> None:
         g = float(np.linalg.norm(self.model.gravity))
         h = self.integrator.dt
-        alert = self.detector.alert
+        law_alert = self.detector.law_alert
+        alert = float(law_alert.min()) if len(law_alert) else self.detector.alert
         if g * h * h > alert:
             raise InputError(
                 f"dt = {h:g} s is too large for the alert distance {alert:.3g} m: one step of "
                 f"gravity moves a block by |g| dt^2 = {g * h * h:.3g} m, so contacts can be "
-                f"missed; use dt <= {math.sqrt(alert / g):.3g} s or a larger detection.alert"
+                f"missed; use dt <= {math.sqrt(alert / g):.3g} s or a larger detection.alert "
+                "(or the laws' alert)"
             )
 
     def initial_state(self, *, check_overlaps: bool = True) -> State:

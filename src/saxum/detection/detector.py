@@ -66,6 +66,11 @@ class Detector:
         scale = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
         self.model = model
         self.alert = settings.alert if settings.alert is not None else 0.02 * scale
+        self.law_alert = np.array([self.alert if law.alert is None else law.alert
+                                   for law in model.laws], dtype=np.float64)
+        """Alert distance per law [m]: ContactLaw.alert, or alert where it has none."""
+        self.widest_alert = float(self.law_alert.max(initial=self.alert))
+        """The largest alert distance of any law [m], which the broad phase pads for."""
         self.margin = settings.margin if settings.margin is not None else self.alert
         self.refresh_every = settings.refresh_every
         self.reference_bias = 0.1 * self.alert
@@ -85,7 +90,7 @@ class Detector:
         # 2 (radius + pad):
         # bodies far larger than the median go through the broad phase's direct test, and
         # the grid's cell fits every other body's box.
-        extent = 2.0 * (model.body_radius + 0.5 * (self.alert + self.margin))
+        extent = 2.0 * (model.body_radius + 0.5 * (self.widest_alert + self.margin))
         self._large = extent > 4.0 * np.median(extent)
         self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
@@ -138,7 +143,8 @@ class Detector:
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
-            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.reference_bias,
+            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
+            self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
             self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
@@ -180,7 +186,7 @@ class Detector:
 
     def _refresh(self, q: np.ndarray) -> None:
         m = self.model
-        bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.alert + self.margin),
+        bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.widest_alert + self.margin),
                        self._lo, self._hi)
         while True:
             count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
@@ -328,8 +334,8 @@ class PolyhedronDetector(Detector):
             self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
             m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
             m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points, self.slots,
-            self.alert,
-            self.reference_bias, self._max_faces, self._max_edges, self._max_face_vertices,
+            self.alert, self.law_alert, self.reference_bias, self._max_faces, self._max_edges,
+            self._max_face_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
