@@ -179,7 +179,8 @@ class Detector:
         return node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
             fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
-            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
+            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert,
+            self.law_alert, key_base,
             first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)
@@ -361,7 +362,8 @@ class PolyhedronDetector(Detector):
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
             fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
             self._wv, self._wn, m.body_face_start, m.face_vertex_start, m.face_vertex,
-            m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base, first,
+            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.law_alert, key_base,
+            first,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)
