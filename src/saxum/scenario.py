@@ -933,6 +933,8 @@ class DetectionSpec(_Strict):
     margin: Positive | None = None
     interpenetration: Positive | None = None
     refresh_every: Count = 10
+    per_pair: bool = False
+    """Laws without `alert`: 2 % of the smaller block of each pair (DetectionSettings)."""
 
 
 class OutputSpec(_Strict):
@@ -1112,7 +1114,8 @@ class Scenario(_Strict):
                 rest_after=s.rest_after),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
-                                        interpenetration=d.interpenetration),
+                                        interpenetration=d.interpenetration,
+                                        per_pair=d.per_pair),
         )
 
 

@@ -28,18 +28,26 @@ class DetectionSettings:
     broad phase need only run every `refresh_every` steps (default: equal to alert); it also runs
     as soon as a body has moved by more than margin/2 since the last time.
     interpenetration [m]: the largest interpenetration that the gap-based law leaves at the end
-    of a step before it projects the positions (default: 0.1 % of alert)."""
+    of a step before it projects the positions (default: 0.1 % of alert).
+    per_pair: the laws without their own alert (ContactLaw.alert) take, instead of alert, 2 %
+    of the size of the smaller block of each pair (as LMGC90's users set an alert per
+    see-table from the blocks it names); alert then still sets the margin, the closed gap and
+    the interpenetration, and must be left out."""
 
     alert: float | None = None
     margin: float | None = None
     refresh_every: int = 10
     interpenetration: float | None = None
+    per_pair: bool = False
 
     def __post_init__(self) -> None:
         for name in ("alert", "margin", "interpenetration"):
             value = getattr(self, name)
             if value is not None and not (np.isfinite(value) and value > 0.0):
                 raise InputError(f"detection.{name} must be a finite length > 0 [m], got {value}")
+        if self.per_pair and self.alert is not None:
+            raise InputError("detection.alert and detection.per_pair exclude each other: "
+                             "per_pair takes each pair's alert from its blocks; drop one")
         if self.refresh_every < 1:
             raise InputError(f"detection.refresh_every must be >= 1, got {self.refresh_every}")
 
@@ -66,10 +74,16 @@ class Detector:
         scale = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
         self.model = model
         self.alert = settings.alert if settings.alert is not None else 0.02 * scale
-        self.law_alert = np.array([self.alert if law.alert is None else law.alert
+        unset = np.nan if settings.per_pair else self.alert
+        self.law_alert = np.array([unset if law.alert is None else law.alert
                                    for law in model.laws], dtype=np.float64)
-        """Alert distance per law [m]: ContactLaw.alert, or alert where it has none."""
-        self.widest_alert = float(self.law_alert.max(initial=self.alert))
+        """Alert distance per law [m]: ContactLaw.alert, or where it has none alert, or NaN
+        with per_pair (the pair's: polygons.alert_of_pair)."""
+        self._body_alert = 0.02 * model.body_size
+        """[m] per body, of which a pair takes the smaller where its law's alert is NaN."""
+        self.widest_alert = float(max(np.nanmax(self.law_alert, initial=self.alert),
+                                      self._body_alert[free].max(initial=0.0)
+                                      if np.isnan(self.law_alert).any() else 0.0))
         """The largest alert distance of any law [m], which the broad phase pads for."""
         self.margin = settings.margin if settings.margin is not None else self.alert
         self.refresh_every = settings.refresh_every
@@ -144,7 +158,7 @@ class Detector:
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
             m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
-            self.reference_bias,
+            self._body_alert, self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
             self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
@@ -180,7 +194,7 @@ class Detector:
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
             fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
             m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert,
-            self.law_alert, key_base,
+            self.law_alert, self._body_alert, key_base,
             first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)
@@ -335,8 +349,8 @@ class PolyhedronDetector(Detector):
             self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
             m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
             m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points, self.slots,
-            self.alert, self.law_alert, self.reference_bias, self._max_faces, self._max_edges,
-            self._max_face_vertices,
+            self.alert, self.law_alert, self._body_alert, self.reference_bias, self._max_faces,
+            self._max_edges, self._max_face_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
@@ -362,8 +376,8 @@ class PolyhedronDetector(Detector):
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
             fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
             self._wv, self._wn, m.body_face_start, m.face_vertex_start, m.face_vertex,
-            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.law_alert, key_base,
-            first,
+            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.law_alert,
+            self._body_alert, key_base, first,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)

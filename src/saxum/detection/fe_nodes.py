@@ -29,6 +29,7 @@ import math
 import numba as nb
 
 from .polygons import _write as _polygon_row
+from .polygons import alert_of_pair
 
 __all__ = ["candidate_node", "node_contacts", "pair_sides"]
 
@@ -144,7 +145,7 @@ def pair_sides(pairs, pr, fe_index, body_group, group_law):
 @nb.njit(cache=True)
 def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, boundary_node,
                   node_side, facet_start, facet_node, wv, wn, edge_length, body_vertex_start,
-                  body_group, group_law, alert, law_alert, key_base, count, candidate,
+                  body_group, group_law, alert, law_alert, body_alert, key_base, count, candidate,
                   antagonist, key, law, point, frame, gap, area, side_kind, side_node,
                   side_weight):
     """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
@@ -153,7 +154,8 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
     key_base + p * E + e' with e' = e for a rigid edge and V + e for a facet (V vertices, E =
     V + facets); a rigid vertex k against facet e, key_base + N E + k F + e (N nodes, F
     facets). The arrays must have room for every boundary node and vertex of every pair.
-    alert [m]: the detector's; law_alert [m]: per law (Detector.law_alert), which a pair uses."""
+    alert [m]: the detector's; law_alert, body_alert [m]: per law and body (Detector), which
+    a pair uses (alert_of_pair)."""
     tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
     vertices = wv.shape[0]
     facets = facet_node.shape[0]
@@ -163,7 +165,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
         fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
         if law_index < 0:
             continue
-        pair_alert = law_alert[law_index]
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, fb, ob, alert)
         f = fe_index[fb]
         cf = math.cos(q[fb, 2])
         sf = math.sin(q[fb, 2])

@@ -30,6 +30,7 @@ import numba as nb
 import numpy as np
 
 from .fe_nodes import candidate_node, pair_sides
+from .polygons import alert_of_pair
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
@@ -195,8 +196,8 @@ def _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
 @nb.njit(cache=True)
 def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
                      boundary_node, node_side, facet_start, facet_node, wv, wn, face_start, fvs,
-                     fv, body_vertex_start, body_group, group_law, alert, law_alert, key_base,
-                     count,
+                     fv, body_vertex_start, body_group, group_law, alert, law_alert, body_alert,
+                     key_base, count,
                      candidate, antagonist, key, law, point, frame, gap, area, side_kind,
                      side_node, side_weight):
     """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
@@ -206,7 +207,8 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     e for a rigid face and F_r + e for a facet (F_r rigid faces, E = F_r + facets); a rigid
     vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays must
     have room for every boundary node and vertex of every pair. alert [m]: the detector's;
-    law_alert [m]: per law (Detector.law_alert), which a pair uses."""
+    law_alert, body_alert [m]: per law and body (Detector), which a pair uses
+    (alert_of_pair)."""
     tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
     faces = wn.shape[0]
     facets = facet_node.shape[0]
@@ -218,7 +220,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
         fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
         if law_index < 0:
             continue
-        pair_alert = law_alert[law_index]
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, fb, ob, alert)
         f = fe_index[fb]
         _block_rotation(q, axes0, fb, f, r)
         rigid = fe_index[ob] < 0

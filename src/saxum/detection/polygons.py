@@ -146,17 +146,30 @@ def _alert_length(length, g0, g1, alert):
     return length * (alert - min(g0, g1)) / abs(g1 - g0)
 
 
+@nb.njit(inline="always")
+def alert_of_pair(law_alert, body_alert, law_index, i, j, alert):
+    """Alert distance [m] of the pair of bodies (i, j) of law law_index: law_alert[law_index],
+    or where that is NaN (DetectionSettings.per_pair) min(body_alert[i], body_alert[j]);
+    alert where the pair has no law."""
+    if law_index < 0:
+        return alert
+    a = law_alert[law_index]
+    return a if a == a else min(body_alert[i], body_alert[j])
+
+
 @nb.njit(cache=True)
 def polygon_contacts(
     pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, law_points,
-    slots, alert, law_alert, ref_tol, max_vertices, q, radius, motion, turn, record, faces, slack,
+    slots, alert, law_alert, body_alert, ref_tol, max_vertices, q, radius, motion, turn, record,
+    faces, slack,
     candidate, antagonist, key, law, point, frame, gap, area,
 ):
     """Contacts of the first npairs pairs of polygons with world vertices wv [m] and outward
     unit normals wn of the edges that start at them.
 
     alert: the detector's alert distance [m] (its closed gap is 1e-6 alert); law_alert [m]:
-    the alert distance per law (ContactLaw.alert, or alert), which a pair of that law uses;
+    the alert distance per law (ContactLaw.alert, or alert), which a pair of that law uses, or
+    NaN: min(body_alert[i], body_alert[j]) [m] for the pair (i, j) (DetectionSettings.per_pair);
     ref_tol: a face of the first body of a pair stays the reference
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
     identities stable across steps). law_points: points of a face-to-face contact per law
@@ -183,7 +196,7 @@ def polygon_contacts(
         i = pairs[p, 0]
         j = pairs[p, 1]
         law_index = group_law[body_group[i], body_group[j]]
-        pair_alert = law_alert[law_index] if law_index >= 0 else alert
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
         i0 = vertex_start[i]
         ni = vertex_start[i + 1] - i0
         j0 = vertex_start[j]

@@ -66,6 +66,8 @@ import math
 import numba as nb
 import numpy as np
 
+from .polygons import alert_of_pair
+
 __all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
 
 MAX_POINTS = 8
@@ -183,15 +185,16 @@ def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert,
 @nb.njit(cache=True)
 def polyhedron_contacts(
     pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
-    edge_face, body_group, group_law, law_points, slots, alert, law_alert, ref_tol, max_faces,
-    max_edges,
-    max_face_vertices, candidate, antagonist, key, law, point, frame, gap, area,
+    edge_face, body_group, group_law, law_points, slots, alert, law_alert, body_alert, ref_tol,
+    max_faces, max_edges, max_face_vertices, candidate, antagonist, key, law, point, frame, gap,
+    area,
 ):
     """Contacts of the first npairs pairs of polyhedra (module doc), world vertices wv [m] and
     outward unit face normals wn; q the configuration (centres of mass [m]).
 
     alert: the detector's alert distance [m] (its closed gap is 1e-6 alert); law_alert [m]: the
-    alert distance per law (ContactLaw.alert, or alert), which a pair of that law uses.
+    alert distance per law (ContactLaw.alert, or alert), which a pair of that law uses, or NaN:
+    min(body_alert[i], body_alert[j]) [m] for the pair (i, j) (DetectionSettings.per_pair).
     ref_tol [m]: a face of the first body of a pair stays the
     reference unless the second body's best face separates more by ref_tol, and faces are
     preferred to edge pairs unless these separate more by ref_tol (biases that keep contact
@@ -220,7 +223,7 @@ def polyhedron_contacts(
         i = pairs[p, 0]
         j = pairs[p, 1]
         law_index = group_law[body_group[i], body_group[j]]
-        pair_alert = law_alert[law_index] if law_index >= 0 else alert
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
         s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j,
                                     pair_alert, tie)
         if s_i > pair_alert:
