@@ -73,3 +73,28 @@ def test_scenario_alert_per_law(tmp_path):
 def test_bad_alert_names_the_key(alert):
     with pytest.raises(sx.InputError, match="alert must be a finite length > 0"):
         sx.ContactLaw(friction=0.6, alert=alert)
+
+
+def _pebble_and_stone(lift):
+    """A 0.05 m pebble and a 0.2 m stone, each `lift` [m] above a fixed ground."""
+    b = sx.ModelBuilder()
+    b.add_block([(-1, -0.1), (1, -0.1), (1, 0), (-1, 0)], kind=sx.BodyKind.FIXED,
+                group="ground")
+    b.add_block([(-0.5, lift), (-0.45, lift), (-0.45, lift + 0.05), (-0.5, lift + 0.05)],
+                density=2000.0)
+    b.add_block([(0, lift), (SIDE, lift), (SIDE, lift + SIDE), (0, lift + SIDE)],
+                density=2000.0)
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    b.set_law("block", "ground", sx.ContactLaw(friction=0.6))
+    return b.finalize()
+
+
+def test_per_pair_takes_the_alert_from_the_smaller_block_of_each_pair():
+    # 2 mm gaps: beyond the pebble's 2 % (1 mm), within the stone's (4 mm)
+    model = _pebble_and_stone(0.002)
+    plain = detector_for(model).contacts_at(model.body_q0)
+    paired = detector_for(model, sx.DetectionSettings(per_pair=True)).contacts_at(model.body_q0)
+    assert plain.count == 0  # the model's alert: 2 % of the pebble, 1 mm
+    assert paired.count == 2 and set(paired.candidate[:2]) | set(paired.antagonist[:2]) == {0, 2}
+    with pytest.raises(sx.InputError, match="detection.alert and detection.per_pair"):
+        sx.DetectionSettings(alert=0.01, per_pair=True)
