@@ -1,5 +1,5 @@
 """The "no contact" law: NO_CONTACT in Python, kind = "none" in scenarios (the free fall
-through each other is in tests/validation/test_no_contact.py)."""
+through each other is in tests/validation/test_no_contact_free_fall.py)."""
 
 import json
 import textwrap
