@@ -114,6 +114,7 @@ FULL = textwrap.dedent("""\
     margin = 0.003
     interpenetration = 1e-6
     refresh_every = 5
+    per_pair = true
 
     [output]
     duration = 0.1
@@ -141,7 +142,8 @@ PYTHON = Scenario(
                                 drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
                       rest_after=20, kind="nlgs"),
-    detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
+    detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5,
+                            per_pair=True),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
                       histories=["brick c1b1", 2]),
 )
