@@ -96,5 +96,3 @@ def test_per_pair_takes_the_alert_from_the_smaller_block_of_each_pair():
     paired = detector_for(model, sx.DetectionSettings(per_pair=True)).contacts_at(model.body_q0)
     assert plain.count == 0  # the model's alert: 2 % of the pebble, 1 mm
     assert paired.count == 2 and set(paired.candidate[:2]) | set(paired.antagonist[:2]) == {0, 2}
-    with pytest.raises(sx.InputError, match="detection.alert and detection.per_pair"):
-        sx.DetectionSettings(alert=0.01, per_pair=True)

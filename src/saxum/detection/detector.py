@@ -32,7 +32,7 @@ class DetectionSettings:
     per_pair: the laws without their own alert (ContactLaw.alert) take, instead of alert, 2 %
     of the size of the smaller block of each pair (as LMGC90's users set an alert per
     see-table from the blocks it names); alert then still sets the margin, the closed gap and
-    the interpenetration, and must be left out."""
+    the interpenetration."""
 
     alert: float | None = None
     margin: float | None = None
@@ -45,9 +45,6 @@ class DetectionSettings:
             value = getattr(self, name)
             if value is not None and not (np.isfinite(value) and value > 0.0):
                 raise InputError(f"detection.{name} must be a finite length > 0 [m], got {value}")
-        if self.per_pair and self.alert is not None:
-            raise InputError("detection.alert and detection.per_pair exclude each other: "
-                             "per_pair takes each pair's alert from its blocks; drop one")
         if self.refresh_every < 1:
             raise InputError(f"detection.refresh_every must be >= 1, got {self.refresh_every}")
 
