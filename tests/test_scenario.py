@@ -115,6 +115,7 @@ FULL = textwrap.dedent("""\
     margin = 0.003
     interpenetration = 1e-6
     refresh_every = 5
+    per_pair = true
 
     [output]
     duration = 0.1
@@ -142,7 +143,8 @@ PYTHON = Scenario(
                                 drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
                       rest_after=20, kind="nlgs", threads=1),
-    detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5),
+    detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5,
+                            per_pair=True),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
                       histories=["brick c1b1", 2]),
 )
@@ -274,7 +276,7 @@ ARCH = textwrap.dedent("""\
      ["line 5: structure.voussoirs", "greater than or equal to 1"]),
     (('friction = 0.6\n\n[[laws]]\ngroups = ["voussoir", "support"]',
       'friction = 0.6\n\n[[laws]]\ngroups = ["voussoir", "support"]\nkind = "sticky"'),
-     ["laws[1].kind", "'gap_signorini_coulomb', 'elastic', 'viscous' or 'cohesive'",
+     ["laws[1].kind", "'gap_signorini_coulomb', 'elastic', 'viscous', 'cohesive' or 'none'",
       "line 13"]),
     (("friction = 0.6", "friction = -0.2"),
      ["line 9: laws[0].friction: Input should be greater than or equal to 0"]),

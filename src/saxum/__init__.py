@@ -26,6 +26,7 @@ _EXPORTS = {
     "InputError": "errors",
     "LawKind": "laws",
     "LimitAnalysis": "limit",
+    "NO_CONTACT": "laws",
     "Model": "model",
     "ModelBuilder": "model",
     "MoreauJean": "integrator",

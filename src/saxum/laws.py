@@ -75,7 +75,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MAX_LAW_POINTS", "SMOOTH_KINDS", "ContactLaw", "LawKind", "Parameter"]
+__all__ = ["MAX_LAW_POINTS", "NO_CONTACT", "SMOOTH_KINDS", "ContactLaw", "LawKind", "NoContact",
+           "Parameter"]
 
 MAX_LAW_POINTS = 15
 """Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""
@@ -140,6 +141,10 @@ class ContactLaw:
     1/6 of a panel): exact for the force and moment of a linear stress and for the
     rotational stiffness. 3D: 3 adds the midpoints of the polygon's edges and a centre, with
     a rule exact for linear stresses (module doc of saxum.detection.polyhedra).
+
+    alert [m]: the alert distance of the contacts of this law (LMGC90's per see-table):
+    pairs of blocks closer than this become contacts; None: the detector's
+    (DetectionSettings.alert).
     """
 
     friction: float
@@ -156,6 +161,7 @@ class ContactLaw:
     name: str = field(default="", compare=False)
     """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
     points: int = 2
+    alert: float | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.friction) and self.friction >= 0.0):
@@ -174,6 +180,9 @@ class ContactLaw:
                 f"odd number from 3 to {MAX_LAW_POINTS} (Simpson panels); use 3 for a joint in "
                 "stresses"
             )
+        if self.alert is not None and not (math.isfinite(self.alert) and self.alert > 0.0):
+            raise InputError(f"{self.name or 'a contact law'}: alert must be a finite length "
+                             f"> 0 [m], got {self.alert}; leave it out for the detector's")
         object.__setattr__(self, "kind", LawKind(self.kind))
         self._check_parameters()
 
@@ -206,3 +215,17 @@ class ContactLaw:
                         f"{getattr(self, strength):g} Pa and {stiffness} = "
                         f"{getattr(self, stiffness):g} Pa/m: the softening would snap back; "
                         f"use {g} >= {strength}^2 / (2 {stiffness}) = {least:.6g} J/m^2")
+
+
+@dataclass(frozen=True)
+class NoContact:
+    """The "no contact" law: blocks of the two groups pass through each other (LMGC90 leaves
+    such a pair out of its see-tables). The detector drops their pairs before the narrow
+    phase, so they never make contacts. Use the instance `NO_CONTACT`."""
+
+    def __repr__(self) -> str:
+        return "NO_CONTACT"
+
+
+NO_CONTACT = NoContact()
+"""ModelBuilder.set_law(a, b, NO_CONTACT): groups a and b never touch."""

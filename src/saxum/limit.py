@@ -239,7 +239,8 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
     d = scenario.detection
     return limit_analysis(scenario.build_model(), live=live, direction=direction,
                           friction=friction,
-                          detection=DetectionSettings(alert=d.alert, margin=d.margin))
+                          detection=DetectionSettings(alert=d.alert, margin=d.margin,
+                                                      per_pair=d.per_pair))
 
 
 def stands(model: Model, *, detection: DetectionSettings | None = None) -> bool:
@@ -284,7 +285,7 @@ def static_critical_value(path, key: str, stands_at: float, collapses_at: float,
     def standing(x: float) -> bool:
         s = load_scenario(path, [*overrides, f"{key}={x!r}"])
         return stands(s.build_model(), detection=DetectionSettings(
-            alert=s.detection.alert, margin=s.detection.margin))
+            alert=s.detection.alert, margin=s.detection.margin, per_pair=s.detection.per_pair))
 
     from .collapse import bisect
 

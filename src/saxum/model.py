@@ -34,7 +34,7 @@ from .geometry3d import (
     quaternion_from_matrix,
     rotation_matrix,
 )
-from .laws import ContactLaw, Parameter
+from .laws import ContactLaw, NoContact, Parameter
 
 __all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder"]
 
@@ -119,7 +119,8 @@ class Model:
     motions: tuple[Motion, ...]
     group_names: tuple[str, ...]
     group_law: np.ndarray
-    """Law index for each pair of groups, -1 if none, shape [group_count, group_count], int32."""
+    """Law index for each pair of groups, -1 if none (no contacts: NO_CONTACT, or no free
+    block in either group), shape [group_count, group_count], int32."""
     laws: tuple[ContactLaw, ...]
     law_kind: np.ndarray
     """LawKind per law, shape [law_count], int8."""
@@ -224,7 +225,7 @@ class ModelBuilder:
             raise InputError(f"dim must be 2 or 3, got {dim}")
         self.dim = dim
         self._blocks: list[_Block] = []
-        self._laws: dict[frozenset[str], ContactLaw] = {}
+        self._laws: dict[frozenset[str], ContactLaw | NoContact] = {}
         self._accelerations: list[TimeVector] = []
         self._forces: list[tuple[np.ndarray, TimeVector]] = []
         self._field_loads: list[FieldLoad] = []
@@ -349,10 +350,12 @@ class ModelBuilder:
                          + ", ".join(b.name for b in self._blocks[:20])
                          + (" ..." if len(self._blocks) > 20 else ""))
 
-    def set_law(self, group_a: str, group_b: str, law: ContactLaw) -> None:
-        """Use `law` for every contact between a body of group_a and one of group_b."""
-        if not isinstance(law, ContactLaw):
-            raise InputError(f"law for ({group_a}, {group_b}) must be a ContactLaw, got {law!r}")
+    def set_law(self, group_a: str, group_b: str, law: ContactLaw | NoContact) -> None:
+        """Use `law` for every contact between a body of group_a and one of group_b;
+        saxum.laws.NO_CONTACT: bodies of the two groups never touch (no contacts)."""
+        if not isinstance(law, ContactLaw | NoContact):
+            raise InputError(f"law for ({group_a}, {group_b}) must be a ContactLaw or "
+                             f"NO_CONTACT, got {law!r}")
         self._laws[frozenset((group_a, group_b))] = law
 
     def add_acceleration(self, acceleration: TimeVector) -> None:
@@ -385,9 +388,12 @@ class ModelBuilder:
         groups = sorted({blk.group for blk in self._blocks})
         gidx = {g: i for i, g in enumerate(groups)}
         self._check_laws(groups)
-        laws = tuple(dict.fromkeys(self._laws.values()))
+        laws = tuple(law for law in dict.fromkeys(self._laws.values())
+                     if isinstance(law, ContactLaw))
         group_law = np.full((len(groups), len(groups)), -1, dtype=np.int32)
         for key, law in self._laws.items():
+            if isinstance(law, NoContact):
+                continue  # -1: no contacts between the two groups
             members = sorted(key) * (2 if len(key) == 1 else 1)
             if members[0] in gidx and members[1] in gidx:
                 i, j = gidx[members[0]], gidx[members[1]]
@@ -522,7 +528,7 @@ class ModelBuilder:
         mobile = {blk.group for blk in self._blocks
                   if blk.kind in (BodyKind.FREE, BodyKind.DEFORMABLE)}
         for key, law in self._laws.items():
-            if self.dim == 3 and law.points > 3:
+            if self.dim == 3 and isinstance(law, ContactLaw) and law.points > 3:
                 raise InputError(
                     f"the law between groups {sorted(key)} asks for {law.points} points per "
                     "contact; 3D contacts take 2 (the corners) or 3 (corners, edge midpoints "
@@ -538,5 +544,6 @@ class ModelBuilder:
                 if a <= b and (a in mobile or b in mobile) and frozenset((a, b)) not in self._laws:
                     raise InputError(
                         f"no contact law between groups {a!r} and {b!r}; "
-                        f"call set_law({a!r}, {b!r}, ContactLaw(friction=...))"
+                        f"call set_law({a!r}, {b!r}, ContactLaw(friction=...)), or "
+                        f"set_law({a!r}, {b!r}, NO_CONTACT) if they must pass through each other"
                     )

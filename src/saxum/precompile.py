@@ -52,8 +52,8 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25, ~0.6x that since they
         # compile without the joint laws' and law points' code (BENCHMARKS.md)
         "detection.polygons.polygon_contacts": (
-            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, N, I, F, F, I, f2, f1, f1, f1, B, i32_2,
-            f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
+            i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, N, I, F, f1, f1, F, I, f2, f1, f1, f1, B,
+            i32_2, f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
                                 f2, N, N, F, I, F),
         # this process's half, the smallest first (it tells whether the cache is empty)

@@ -34,7 +34,7 @@ from pydantic import (
 from .detection import DetectionSettings
 from .errors import InputError
 from .fe.material import Elastic
-from .laws import SMOOTH_KINDS, ContactLaw, LawKind
+from .laws import NO_CONTACT, SMOOTH_KINDS, ContactLaw, LawKind, NoContact
 from .model import BodyKind, Model, ModelBuilder
 from .simulation import Simulation
 from .solver import NLGS, Hybrid
@@ -619,9 +619,10 @@ class LawSpec(_Strict):
     groups: tuple[str, str] | None = None
     joint: Literal["bed", "head", "radial", "ring", "support", "spandrel", "fill",
                    "parapet"] | None = None
-    friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)]
+    friction: Annotated[Real, Field(ge=0.0, allow_inf_nan=False)] | None = None
+    """Coulomb coefficient mu [-]; required, except with kind "none"."""
     kind: Literal["signorini_coulomb", "restitution_coulomb", "gap_signorini_coulomb", "elastic",
-                  "viscous", "cohesive"] = "gap_signorini_coulomb"
+                  "viscous", "cohesive", "none"] = "gap_signorini_coulomb"
     restitution: Annotated[Real, Field(ge=0.0, le=1.0)] = 0.0
     k_n: NonNegative = 0.0
     """Normal stiffness [Pa/m] (elastic, cohesive)."""
@@ -639,6 +640,8 @@ class LawSpec(_Strict):
     """Mode I fracture energy G_I [J/m^2] (cohesive)."""
     g_ii: NonNegative = 0.0
     """Mode II fracture energy G_II [J/m^2] (cohesive)."""
+    alert: Annotated[Real, Field(gt=0.0, allow_inf_nan=False)] | None = None
+    """Alert distance [m] of this law's contacts (ContactLaw.alert); none: detection.alert."""
     points: int = 2
     """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
     stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
@@ -649,15 +652,27 @@ class LawSpec(_Strict):
         if (self.groups is None) == (self.joint is None):
             raise ValueError("give a law either groups = [a, b] or joint = "
                              '"bed" | "head" | "radial" | "ring" | "support", not both')
+        if self.kind == "none":
+            given = sorted(self.model_fields_set - {"groups", "joint", "kind"})
+            if given:
+                raise ValueError(f'kind = "none" (no contact) takes no parameters; drop '
+                                 f"{', '.join(given)}")
+        elif self.friction is None:
+            raise ValueError(f'friction is required (kind = "{self.kind}"); kind = "none" '
+                             "is the law of groups that never touch")
         return self
 
-    def law(self, name: str = "") -> ContactLaw:
-        """The ContactLaw; `name` (e.g. "laws[2]") is how its errors name it."""
+    def law(self, name: str = "") -> ContactLaw | NoContact:
+        """The ContactLaw (NO_CONTACT for kind "none"); `name` (e.g. "laws[2]") is how its
+        errors name it."""
+        if self.kind == "none":
+            return NO_CONTACT
         kind = _LAW_KINDS.get(self.kind, self.kind.upper())
         return ContactLaw(friction=self.friction, kind=LawKind[kind],
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
-                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points)
+                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points,
+                          alert=self.alert)
 
 
 _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
@@ -960,6 +975,8 @@ class DetectionSpec(_Strict):
     margin: Positive | None = None
     interpenetration: Positive | None = None
     refresh_every: Count = 10
+    per_pair: bool = False
+    """Laws without `alert`: 2 % of the smaller block of each pair (DetectionSettings)."""
 
 
 class OutputSpec(_Strict):
@@ -1139,7 +1156,8 @@ class Scenario(_Strict):
                 rest_after=s.rest_after, threads=s.threads),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
-                                        interpenetration=d.interpenetration),
+                                        interpenetration=d.interpenetration,
+                                        per_pair=d.per_pair),
         )
 
 

@@ -111,12 +111,16 @@ class Simulation:
     def _check_step(self) -> None:
         g = float(np.linalg.norm(self.model.gravity))
         h = self.integrator.dt
-        alert = self.detector.alert
+        law_alert = self.detector.law_alert
+        given = law_alert[~np.isnan(law_alert)]  # NaN: per_pair, 2 % of a block's size
+        alert = float(given.min(initial=np.inf)) if len(given) == len(law_alert) > 0 else min(
+            float(given.min(initial=np.inf)), self.detector.alert)
         if g * h * h > alert:
             raise InputError(
                 f"dt = {h:g} s is too large for the alert distance {alert:.3g} m: one step of "
                 f"gravity moves a block by |g| dt^2 = {g * h * h:.3g} m, so contacts can be "
-                f"missed; use dt <= {math.sqrt(alert / g):.3g} s or a larger detection.alert"
+                f"missed; use dt <= {math.sqrt(alert / g):.3g} s or a larger detection.alert "
+                "(or the laws' alert)"
             )
 
     def initial_state(self, *, check_overlaps: bool = True) -> State:

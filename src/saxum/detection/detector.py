@@ -28,12 +28,17 @@ class DetectionSettings:
     broad phase need only run every `refresh_every` steps (default: equal to alert); it also runs
     as soon as a body has moved by more than margin/2 since the last time.
     interpenetration [m]: the largest interpenetration that the gap-based law leaves at the end
-    of a step before it projects the positions (default: 0.1 % of alert)."""
+    of a step before it projects the positions (default: 0.1 % of alert).
+    per_pair: the laws without their own alert (ContactLaw.alert) take, instead of alert, 2 %
+    of the size of the smaller block of each pair (as LMGC90's users set an alert per
+    see-table from the blocks it names); alert then still sets the margin, the closed gap and
+    the interpenetration."""
 
     alert: float | None = None
     margin: float | None = None
     refresh_every: int = 10
     interpenetration: float | None = None
+    per_pair: bool = False
 
     def __post_init__(self) -> None:
         for name in ("alert", "margin", "interpenetration"):
@@ -66,6 +71,17 @@ class Detector:
         scale = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
         self.model = model
         self.alert = settings.alert if settings.alert is not None else 0.02 * scale
+        unset = np.nan if settings.per_pair else self.alert
+        self.law_alert = np.array([unset if law.alert is None else law.alert
+                                   for law in model.laws], dtype=np.float64)
+        """Alert distance per law [m]: ContactLaw.alert, or where it has none alert, or NaN
+        with per_pair (the pair's: polygons.alert_of_pair)."""
+        self._body_alert = 0.02 * model.body_size
+        """[m] per body, of which a pair takes the smaller where its law's alert is NaN."""
+        self.widest_alert = float(max(np.nanmax(self.law_alert, initial=self.alert),
+                                      self._body_alert[free].max(initial=0.0)
+                                      if np.isnan(self.law_alert).any() else 0.0))
+        """The largest alert distance of any law [m], which the broad phase pads for."""
         self.margin = settings.margin if settings.margin is not None else self.alert
         self.refresh_every = settings.refresh_every
         self.reference_bias = 0.1 * self.alert
@@ -85,7 +101,7 @@ class Detector:
         # 2 (radius + pad):
         # bodies far larger than the median go through the broad phase's direct test, and
         # the grid's cell fits every other body's box.
-        extent = 2.0 * (model.body_radius + 0.5 * (self.alert + self.margin))
+        extent = 2.0 * (model.body_radius + 0.5 * (self.widest_alert + self.margin))
         self._large = extent > 4.0 * np.median(extent)
         self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
@@ -102,6 +118,10 @@ class Detector:
         self._fe_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a deformable block (saxum.detection.fe_nodes), split off the broad
         phase's list, which keeps the rigid pairs."""
+        mobile_groups = np.zeros(len(model.group_names), dtype=bool)
+        mobile_groups[model.body_group[free]] = True
+        self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
+        """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
 
@@ -134,7 +154,8 @@ class Detector:
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
-            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.reference_bias,
+            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
+            self._body_alert, self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
             self._slack,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
@@ -169,14 +190,15 @@ class Detector:
         return node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
             fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
-            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base,
+            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert,
+            self.law_alert, self._body_alert, key_base,
             first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)
 
     def _refresh(self, q: np.ndarray) -> None:
         m = self.model
-        bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.alert + self.margin),
+        bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.widest_alert + self.margin),
                        self._lo, self._hi)
         while True:
             count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
@@ -188,12 +210,22 @@ class Detector:
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
         sort_pairs(self._pairs, count, m.body_count)
+        if self._no_contact:
+            count = self._drop_no_contact(count)
         if m.fe is not None:
             count = self._split_deformable(count)
         self.pair_count = count
         self._q_ref[:] = q
         self._since_refresh = 0
         self.refresh_count += 1
+
+    def _drop_no_contact(self, count: int) -> int:
+        """Drop the pairs whose groups have no law (NO_CONTACT) from the first `count` pairs,
+        keeping the order; returns how many are left."""
+        g = self.model.body_group[self._pairs[:count]]
+        kept = self._pairs[:count][self.model.group_law[g[:, 0], g[:, 1]] >= 0]
+        self._pairs[: len(kept)] = kept
+        return len(kept)
 
     def _split_deformable(self, count: int) -> int:
         """Move the pairs with a deformable block out of the first `count` pairs into
@@ -314,8 +346,8 @@ class PolyhedronDetector(Detector):
             self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
             m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
             m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points, self.slots,
-            self.alert,
-            self.reference_bias, self._max_faces, self._max_edges, self._max_face_vertices,
+            self.alert, self.law_alert, self._body_alert, self.reference_bias, self._max_faces,
+            self._max_edges, self._max_face_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
@@ -341,7 +373,8 @@ class PolyhedronDetector(Detector):
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
             fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
             self._wv, self._wn, m.body_face_start, m.face_vertex_start, m.face_vertex,
-            m.body_vertex_start, m.body_group, m.group_law, self.alert, key_base, first,
+            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.law_alert,
+            self._body_alert, key_base, first,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)

@@ -29,6 +29,7 @@ import math
 import numba as nb
 
 from .polygons import _write as _polygon_row
+from .polygons import alert_of_pair
 
 __all__ = ["candidate_node", "node_contacts", "pair_sides"]
 
@@ -144,14 +145,17 @@ def pair_sides(pairs, pr, fe_index, body_group, group_law):
 @nb.njit(cache=True)
 def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, boundary_node,
                   node_side, facet_start, facet_node, wv, wn, edge_length, body_vertex_start,
-                  body_group, group_law, alert, key_base, count, candidate, antagonist, key,
-                  law, point, frame, gap, area, side_kind, side_node, side_weight):
+                  body_group, group_law, alert, law_alert, body_alert, key_base, count, candidate,
+                  antagonist, key, law, point, frame, gap, area, side_kind, side_node,
+                  side_weight):
     """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
     from row `count` on; returns the new count. Keys are above key_base (every polygon
     contact's key is below it), distinct per (point, edge): a node p against edge or facet e,
     key_base + p * E + e' with e' = e for a rigid edge and V + e for a facet (V vertices, E =
     V + facets); a rigid vertex k against facet e, key_base + N E + k F + e (N nodes, F
-    facets). The arrays must have room for every boundary node and vertex of every pair."""
+    facets). The arrays must have room for every boundary node and vertex of every pair.
+    alert [m]: the detector's; law_alert, body_alert [m]: per law and body (Detector), which
+    a pair uses (alert_of_pair)."""
     tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
     vertices = wv.shape[0]
     facets = facet_node.shape[0]
@@ -161,6 +165,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
         fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
         if law_index < 0:
             continue
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, fb, ob, alert)
         f = fe_index[fb]
         cf = math.cos(q[fb, 2])
         sf = math.sin(q[fb, 2])
@@ -175,7 +180,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                 g, e = _nearest_edge(x, y, cf * mx - sf * my, sf * mx + cf * my,
                                      body_vertex_start[ob], body_vertex_start[ob + 1], wv, wn,
                                      tie)
-                if g > alert:
+                if g > pair_alert:
                     continue
                 nx = wn[e, 0]
                 ny = wn[e, 1]
@@ -188,7 +193,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                 outside, g, e, xi = _nearest_facet(x, y, cf * mx - sf * my, sf * mx + cf * my,
                                                    facet_start[o], facet_start[o + 1], node_x,
                                                    facet_node, tie)
-                if e < 0 or outside > alert:
+                if e < 0 or outside > pair_alert:
                     continue
                 nx, ny = _facet(node_x, facet_node, e)[2:4]
                 side_kind[count, 1] = 1
@@ -212,7 +217,7 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
             y = wv[k, 1]
             outside, g, e, xi = _nearest_facet(x, y, 0.0, 0.0, facet_start[f],
                                                facet_start[f + 1], node_x, facet_node, tie)
-            if e < 0 or outside > alert:
+            if e < 0 or outside > pair_alert:
                 continue
             nx, ny, length = _facet(node_x, facet_node, e)[2:5]
             if min(xi, 1.0 - xi) * length <= tie:

@@ -30,6 +30,7 @@ import numba as nb
 import numpy as np
 
 from .fe_nodes import candidate_node, pair_sides
+from .polygons import alert_of_pair
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
@@ -195,7 +196,8 @@ def _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
 @nb.njit(cache=True)
 def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
                      boundary_node, node_side, facet_start, facet_node, wv, wn, face_start, fvs,
-                     fv, body_vertex_start, body_group, group_law, alert, key_base, count,
+                     fv, body_vertex_start, body_group, group_law, alert, law_alert, body_alert,
+                     key_base, count,
                      candidate, antagonist, key, law, point, frame, gap, area, side_kind,
                      side_node, side_weight):
     """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
@@ -204,7 +206,9 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     distinct per (point, face): node p against face or facet e, key_base + p E + e' with e' =
     e for a rigid face and F_r + e for a facet (F_r rigid faces, E = F_r + facets); a rigid
     vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays must
-    have room for every boundary node and vertex of every pair."""
+    have room for every boundary node and vertex of every pair. alert [m]: the detector's;
+    law_alert, body_alert [m]: per law and body (Detector), which a pair uses
+    (alert_of_pair)."""
     tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
     faces = wn.shape[0]
     facets = facet_node.shape[0]
@@ -216,6 +220,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
         fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
         if law_index < 0:
             continue
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, fb, ob, alert)
         f = fe_index[fb]
         _block_rotation(q, axes0, fb, f, r)
         rigid = fe_index[ob] < 0
@@ -227,7 +232,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             if rigid:
                 g, e = _nearest_face(x, y, z, face_start[ob], face_start[ob + 1], wv, wn, fvs,
                                      fv, tie)
-                if e < 0 or g > alert:
+                if e < 0 or g > pair_alert:
                     continue
                 nx, ny, nz = wn[e, 0], wn[e, 1], wn[e, 2]
                 a0 = fv[fvs[e]]
@@ -246,7 +251,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 outside, g, e, = _nearest_facet(x, y, z, mx, my, mz, facet_start[o],
                                                 facet_start[o + 1], node_x, facet_node, tie,
                                                 weight)
-                if e < 0 or outside > alert:
+                if e < 0 or outside > pair_alert:
                     continue
                 nx, ny, nz = _triangle(node_x, facet_node, e)[:3]
                 tx = node_x[facet_node[e, 1], 0] - node_x[facet_node[e, 0], 0]
@@ -268,7 +273,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             z = wv[k, 2]
             outside, g, e = _nearest_facet(x, y, z, 0.0, 0.0, 0.0, facet_start[f],
                                            facet_start[f + 1], node_x, facet_node, tie, weight)
-            if e < 0 or outside > alert:
+            if e < 0 or outside > pair_alert:
                 continue
             if weight[0] == 1.0 or weight[1] == 1.0 or weight[2] == 1.0:
                 continue  # on a node: the node's own contact on the polyhedron's face holds it

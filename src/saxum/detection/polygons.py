@@ -146,16 +146,31 @@ def _alert_length(length, g0, g1, alert):
     return length * (alert - min(g0, g1)) / abs(g1 - g0)
 
 
+@nb.njit(inline="always")
+def alert_of_pair(law_alert, body_alert, law_index, i, j, alert):
+    """Alert distance [m] of the pair of bodies (i, j) of law law_index: law_alert[law_index],
+    or where that is NaN (DetectionSettings.per_pair) min(body_alert[i], body_alert[j]);
+    alert where the pair has no law."""
+    if law_index < 0:
+        return alert
+    a = law_alert[law_index]
+    return a if a == a else min(body_alert[i], body_alert[j])
+
+
 @nb.njit(cache=True)
 def polygon_contacts(
     pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, law_points,
-    slots, alert, ref_tol, max_vertices, q, radius, motion, turn, record, faces, slack,
+    slots, alert, law_alert, body_alert, ref_tol, max_vertices, q, radius, motion, turn, record,
+    faces, slack,
     candidate, antagonist, key, law, point, frame, gap, area,
 ):
     """Contacts of the first npairs pairs of polygons with world vertices wv [m] and outward
     unit normals wn of the edges that start at them.
 
-    alert: alert distance [m]; ref_tol: a face of the first body of a pair stays the reference
+    alert: the detector's alert distance [m] (its closed gap is 1e-6 alert); law_alert [m]:
+    the alert distance per law (ContactLaw.alert, or alert), which a pair of that law uses, or
+    NaN: min(body_alert[i], body_alert[j]) [m] for the pair (i, j) (DetectionSettings.per_pair);
+    ref_tol: a face of the first body of a pair stays the reference
     unless the second body's best face separates more by ref_tol [m] (a bias that keeps contact
     identities stable across steps). law_points: points of a face-to-face contact per law
     (Model.law_points), or None where every law has 2 (numba then compiles the kernel
@@ -180,6 +195,8 @@ def polygon_contacts(
     for p in range(npairs):
         i = pairs[p, 0]
         j = pairs[p, 1]
+        law_index = group_law[body_group[i], body_group[j]]
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
         i0 = vertex_start[i]
         ni = vertex_start[i + 1] - i0
         j0 = vertex_start[j]
@@ -196,7 +213,8 @@ def polygon_contacts(
             reused += 1
         else:
             choice, ref, inc, slack_length, slack_turn = _choose_faces(wv, wn, i0, ni, j0, nj,
-                                                                       alert, ref_tol, tie)
+                                                                       pair_alert, ref_tol,
+                                                                       tie)
             if record:
                 faces[p, 0] = choice
                 faces[p, 1] = ref
@@ -237,7 +255,6 @@ def polygon_contacts(
                 and min(s1, length) - max(s0, 0.0) <= tie):
             continue  # faces in line, meeting at one point: corner to corner (module doc)
         ds = s1 - s0
-        law_index = group_law[body_group[cand], body_group[ant]]
         base = (((i * nbody + j) * 2 + flip) * max_vertices + ref) * max_vertices + inc
         first = count
         for slot in range(2):
@@ -248,7 +265,7 @@ def polygon_contacts(
                 if ds <= 0.0:
                     break
             px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)
-            if g > alert:
+            if g > pair_alert:
                 continue
             _write(candidate, antagonist, key, law, point, frame, gap, count, cand, ant,
                    base * slots + slot, law_index, px, py, nx, ny, g)
@@ -263,19 +280,19 @@ def polygon_contacts(
                     s_clip = s_lo + (s_hi - s_lo) * (slot - 1) / (points - 1)
                     px, py, g = _clipped_end(s_clip, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax,
                                              ay)
-                    if g <= alert:
+                    if g <= pair_alert:
                         _write(candidate, antagonist, key, law, point, frame, gap, count,
                                cand, ant, base * slots + slot, law_index, px, py, nx, ny, g)
                         count += 1
                 _simpson_areas(key, area, first, count, base, slots, points, s_lo, s_hi, s0,
-                               ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay, alert)
+                               ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay, pair_alert)
                 continue
         if count - first == 2:  # flush faces, the common case: half each
             area[first] = area[first + 1] = 0.5 * max(s_hi - s_lo, 0.0)
         elif count > first:  # one end beyond alert (or ds = 0): the other stands for the rest
             g0 = _clipped_end(s_lo, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
             g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
-            area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, alert)
+            area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, pair_alert)
     return count, reused
 
 

@@ -66,6 +66,8 @@ import math
 import numba as nb
 import numpy as np
 
+from .polygons import alert_of_pair
+
 __all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
 
 MAX_POINTS = 8
@@ -183,13 +185,17 @@ def _edge_separation(wv, wn, edge_start, edge_vertex, edge_face, q, i, j, alert,
 @nb.njit(cache=True)
 def polyhedron_contacts(
     pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
-    edge_face, body_group, group_law, law_points, slots, alert, ref_tol, max_faces, max_edges,
-    max_face_vertices, candidate, antagonist, key, law, point, frame, gap, area,
+    edge_face, body_group, group_law, law_points, slots, alert, law_alert, body_alert, ref_tol,
+    max_faces, max_edges, max_face_vertices, candidate, antagonist, key, law, point, frame, gap,
+    area,
 ):
     """Contacts of the first npairs pairs of polyhedra (module doc), world vertices wv [m] and
     outward unit face normals wn; q the configuration (centres of mass [m]).
 
-    alert: alert distance [m]; ref_tol [m]: a face of the first body of a pair stays the
+    alert: the detector's alert distance [m] (its closed gap is 1e-6 alert); law_alert [m]: the
+    alert distance per law (ContactLaw.alert, or alert), which a pair of that law uses, or NaN:
+    min(body_alert[i], body_alert[j]) [m] for the pair (i, j) (DetectionSettings.per_pair).
+    ref_tol [m]: a face of the first body of a pair stays the
     reference unless the second body's best face separates more by ref_tol, and faces are
     preferred to edge pairs unless these separate more by ref_tol (biases that keep contact
     identities stable across steps). law_points: points of a face contact per law
@@ -216,19 +222,20 @@ def polyhedron_contacts(
     for p in range(npairs):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j, alert,
-                                    tie)
-        if s_i > alert:
+        law_index = group_law[body_group[i], body_group[j]]
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
+        s_i, f_i = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, i, j,
+                                    pair_alert, tie)
+        if s_i > pair_alert:
             continue
-        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i, alert,
-                                    tie)
-        if s_j > alert:
+        s_j, f_j = _face_separation(wv, wn, face_start, fvs, fv, vertex_start, j, i,
+                                    pair_alert, tie)
+        if s_j > pair_alert:
             continue
         s_e, e_i, e_j, ux, uy, uz = _edge_separation(wv, wn, edge_start, edge_vertex, edge_face,
-                                                     q, i, j, alert, tie)
-        if s_e > alert:
+                                                     q, i, j, pair_alert, tie)
+        if s_e > pair_alert:
             continue
-        law_index = group_law[body_group[i], body_group[j]]
         pair_key = (i * nbody + j) * 2
         if s_e > max(s_i, s_j) + ref_tol:
             # edge-edge: i is the antagonist, the point on j's edge
@@ -309,12 +316,12 @@ def polyhedron_contacts(
             dist[k] = nx * (px[src, k] - ax) + ny * (py[src, k] - ay) + nz * (pz[src, k] - az)
         sx, sy, sz = _cross(tx, ty, tz, nx, ny, nz)  # s = t x n, as _write's frame
         face_area = _alert_area(px, py, pz, dist, src, m, ax, ay, az, tx, ty, tz, sx, sy, sz,
-                                alert)
+                                pair_alert)
         # keep the points within the alert distance
         kept = 0
         for k in range(m):
             g = dist[k]
-            if g <= alert:
+            if g <= pair_alert:
                 px[src, kept] = px[src, k]
                 py[src, kept] = py[src, k]
                 pz[src, kept] = pz[src, k]

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..errors import InputError, plain
-from ..laws import LawKind
+from ..laws import NO_CONTACT, LawKind
 from ..model import BodyKind, Model, ModelBuilder
 from ._common import (
     Assembly,
@@ -142,10 +142,10 @@ def extruded(model2d: Model, depth: float, *, pieces: int = 1, stagger: bool = F
     for i, a in enumerate(model2d.group_names):
         for j, b in enumerate(model2d.group_names):
             law = model2d.group_law[i, j]
-            if i <= j and law >= 0:
+            if i <= j:
                 for ga in _renamed(a, spans, groups):
                     for gb in _renamed(b, spans, groups):
-                        builder.set_law(ga, gb, model2d.laws[law])
+                        builder.set_law(ga, gb, model2d.laws[law] if law >= 0 else NO_CONTACT)
     for acc in model2d.accelerations:
         builder.add_acceleration(lambda t, acc=acc: (acc(t)[0], 0.0, acc(t)[1]))
     for bodies2d, force in model2d.forces:
