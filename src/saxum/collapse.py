@@ -48,9 +48,10 @@ Deformable blocks (saxum.bodies.fe) are watched with the free ones: a deformable
 displacement is that of its body row, the centre of mass of its nodes (the co-rotated
 frame's centroid: the rigid block's centre plus the mean of its elastic displacement, which
 at masonry stiffnesses is far below the 1 % threshold; for soft blocks, E ~ 10 MPa, the
-sway under the load may reach it: raise `displacement` above it), its force ratio that of its momentum
-(unbalanced_force_ratio) and its kinetic energy 1/2 v^T M v of its nodes. No equilibrium
-certificate exists for them, so their verdicts at rest are uncertified (Trial.certified).
+sway under the load may reach it: raise `displacement` above it), its force ratio that of
+its momentum (unbalanced_force_ratio) and its kinetic energy 1/2 v^T M v of its nodes. No
+equilibrium certificate exists for them, so their verdicts at rest are uncertified
+(Trial.certified).
 
 For rigid blocks with unilateral frictional contacts a load below the collapse load is carried
 with no motion at all (a statically admissible set of contact forces exists and v = 0 solves

@@ -291,6 +291,17 @@ class FEBlocks:
         step_rotations(rotation, spin, self.h, self.theta, rotation_step)
         return rotation, centroid, spin, rotation_step
 
+    def rigid_velocities(self, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The rigid motion nearest (mass-weighted) to node velocities v [m/s] at positions x
+        [m], [N, d]: (velocity of each block's centre of mass [nb, d] [m/s], spin [nb, 1 | 3]
+        [rad/s], spins())."""
+        centroid = self.frames(x)[1]
+        spin = np.empty((self.n_blocks, 1 if self.dim == 2 else 3))
+        spins(self.node_start, self.node_mass, x, v, centroid, spin)
+        starts = self.node_start[:-1]
+        momentum = np.add.reduceat(self.node_mass[:, None] * v, starts, axis=0)
+        return momentum / np.add.reduceat(self.node_mass, starts)[:, None], spin
+
     def free_velocity(self, x, v, force, rotation, centroid, spin, rotation_step) -> np.ndarray:
         """v_free [m/s] [N, d] from positions x [m], velocities v [m/s], nodal forces `force`
         [N] [N, d] (world axes) and the step's frames (step_frames), for the h, theta of
