@@ -19,6 +19,7 @@ bisection's bracket (0.5 %) and that slip for E >= 100 MPa. Verdicts at rest are
 for deformable blocks (no equilibrium certificate: saxum.collapse module doc) and say so."""
 
 import pytest
+from test_fe_bodies import PIER as FE_PIER  # tests/ (conftest's folder) is on the path
 
 import saxum as sx
 from saxum.collapse import CollapseCriterion, critical_value
@@ -54,34 +55,11 @@ def test_deformable_block_collapse_load_factor(mu, modulus, expected):
     assert not any(t.certified for t in result.trials if not t.collapsed)
 
 
-PIER = """\
-[structure]
-type = "pier"
-width = 0.4
-height = 0.2
-courses = 1
-
-[[laws]]
-groups = ["*", "*"]
-friction = 0.5
-
-[[materials]]
-groups = ["pier"]
-E = 1.0e9
-nu = 0.2
-density = 2000.0
-damping = [0.0, 0.001]
-mesh_size = 0.1
-
-[loads]
-horizontal_acceleration = 0.0
-
-[solver]
-dt = 1e-3
-
-[output]
-duration = 0.3
-"""
+PIER = (FE_PIER.replace("width = 0.3", "width = 0.4").replace("height = 0.6", "height = 0.2")
+        .replace("courses = 2", "courses = 1").replace("friction = 0.6", "friction = 0.5")
+        .replace("E = 1.0e7", "E = 1.0e9").replace("mesh_size = 0.075", "mesh_size = 0.1")
+        .replace("[solver]", "[loads]\nhorizontal_acceleration = 0.0\n\n[solver]"))
+"""One deformable block 0.4 m wide, 0.2 m high, on the ground (tests/test_fe_bodies.py's pier)."""
 
 
 def test_saxum_collapse_of_a_deformable_block(tmp_path, capsys):
