@@ -191,6 +191,9 @@ def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, 
     applied = np.linalg.norm(force[:, :d], axis=1)
     fe = sim.fe
     if fe is not None:
+        if node_v_before is None:
+            raise InputError("unbalanced_force_ratio: this model has deformable blocks; give "
+                             "node_v_before, their node velocities at the start of the step")
         b = fe.blocks
         change = b.node_mass[:, None] * (state.node_v - node_v_before)
         net[fe.model.body] = np.linalg.norm(
