@@ -44,6 +44,15 @@ judged instead:
 The settlement must then be slow and start and stop smoothly (saxum.scenario Settlement
 with profile = "smooth"), so that no block is thrown by the support's own motion.
 
+Deformable blocks (saxum.bodies.fe) are watched with the free ones: a deformable block's
+displacement is that of its body row, the centre of mass of its nodes (the co-rotated
+frame's centroid: the rigid block's centre plus the mean of its elastic displacement, which
+at masonry stiffnesses is far below the 1 % threshold; for soft blocks, E ~ 10 MPa, the
+sway under the load may reach it: raise `displacement` above it), its force ratio that of
+its momentum (unbalanced_force_ratio) and its kinetic energy 1/2 v^T M v of its nodes. No
+equilibrium certificate exists for them, so their verdicts at rest are uncertified
+(Trial.certified).
+
 For rigid blocks with unilateral frictional contacts a load below the collapse load is carried
 with no motion at all (a statically admissible set of contact forces exists and v = 0 solves
 every step), so loading from rest to a fixed value and bisecting on that value gives the
@@ -164,23 +173,38 @@ class Trial:
 
 
 def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, *,
-                           per_block: bool = False) -> float:
-    """UFR of the last step (module doc): net force over acting forces on the free blocks
-    (per_block: the largest of each block's own ratio); v_before: the velocities at the
-    start of the step [m/s, rad/s]."""
+                           per_block: bool = False,
+                           node_v_before: np.ndarray | None = None) -> float:
+    """UFR of the last step (module doc): net force over acting forces on the free and
+    deformable blocks (per_block: the largest of each block's own ratio); v_before: the body
+    velocities at the start of the step [m/s, rad/s]; node_v_before: the deformable blocks'
+    node velocities then [m/s] (a deformable block's net force is the change of its momentum,
+    |sum_i m_i (v_i+ - v_i-)| / h, m_i its nodal masses; its applied force m_b |a|, a gravity
+    and the uniform accelerations)."""
     m = sim.model
     h = sim.integrator.dt
     d = m.dim
-    free = m.body_kind == BodyKind.FREE
-    net = np.linalg.norm(state.body_v[free, :d] - v_before[free, :d], axis=1) * m.body_mass[
-        free] / h
+    moving = _moving(m)
+    net = np.linalg.norm(state.body_v[:, :d] - v_before[:, :d], axis=1) * m.body_mass / h
     force = np.empty_like(state.body_v)
     sim.external_force(state.time, force, state.body_q)
-    applied = np.linalg.norm(force[free, :d], axis=1)
+    applied = np.linalg.norm(force[:, :d], axis=1)
+    fe = sim.fe
+    if fe is not None:
+        if node_v_before is None:
+            raise InputError("unbalanced_force_ratio: this model has deformable blocks; give "
+                             "node_v_before, their node velocities at the start of the step")
+        b = fe.blocks
+        change = b.node_mass[:, None] * (state.node_v - node_v_before)
+        net[fe.model.body] = np.linalg.norm(
+            np.add.reduceat(change, b.node_start[:-1], axis=0), axis=1) / h
+        applied[fe.model.body] = _fe_masses(fe) * float(np.linalg.norm(
+            sim._node_acceleration(state.time, state.time)))
+    net, applied = net[moving], applied[moving]
     c = state.contacts
     r = np.linalg.norm(c.impulse[: c.count], axis=1) / h
     contact = (np.bincount(c.candidate[: c.count], r, m.body_count)
-               + np.bincount(c.antagonist[: c.count], r, m.body_count))[free]
+               + np.bincount(c.antagonist[: c.count], r, m.body_count))[moving]
     if per_block:
         acting = applied + contact
         return float(np.max(net / np.where(acting > 0.0, acting, np.inf), initial=0.0))
@@ -188,20 +212,34 @@ def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, 
     return float(net.sum()) / acting if acting > 0.0 else 0.0
 
 
+def _moving(model) -> np.ndarray:
+    """The blocks a trial watches: FREE (rigid) and DEFORMABLE, [body_count] bool."""
+    return np.isin(model.body_kind, (BodyKind.FREE, BodyKind.DEFORMABLE))
+
+
+def _fe_masses(fe) -> np.ndarray:
+    """Mass of each deformable block [kg; 2D per its depth]: the sum of its nodal masses."""
+    b = fe.blocks
+    return np.add.reduceat(b.node_mass, b.node_start[:-1])
+
+
 def run_trial(sim: Simulation, value: float = math.nan,
               criterion: CollapseCriterion | None = None) -> Trial:
     """Run `sim` from rest until it is judged at rest or collapsed (module doc)."""
     crit = criterion or CollapseCriterion()
     m = sim.model
-    free = m.body_kind == BodyKind.FREE
+    free = _moving(m)
     if not free.any():
-        raise InputError("a collapse trial needs at least one free block")
+        raise InputError("a collapse trial needs at least one free or deformable block")
     limit = crit.displacement or crit.fraction * float(m.body_size[free].min())
     h = sim.integrator.dt
     up = m.dim - 1  # the vertical axis: y in 2D, z in 3D
     height = float(np.ptp(m.vertex_local[:, up]) + np.ptp(m.body_q0[:, up]))
     g = float(np.linalg.norm(m.gravity)) or 1.0
-    energy_scale = float(m.body_mass[free].sum()) * g * height
+    mass = m.body_mass.copy()
+    if sim.fe is not None:
+        mass[sim.fe.model.body] = _fe_masses(sim.fe)
+    energy_scale = float(mass[free].sum()) * g * height
     state = sim.initial_state()
     certify = _certifier(sim)
     steps = round((crit.not_before + crit.duration * (1.0 if certify is None
@@ -215,17 +253,19 @@ def run_trial(sim: Simulation, value: float = math.nan,
     crossed = math.nan  # when a block last moved past the limit
     onset: State | None = None  # the state when a block last moved past ONSET * limit
     v_before = np.empty_like(state.body_v)
+    node_v_before = np.empty_like(state.node_v)
     reference, anchored = m.body_q0[free, : m.dim], not crit.after_motion
-    fall = m.body_mass[free] * g * limit  # [J/m] the energy of a free fall by `limit`
+    fall = mass[free] * g * limit  # [J/m] the energy of a free fall by `limit`
     for k in range(steps):
         v_before[:] = state.body_v
+        node_v_before[:] = state.node_v
         report = sim.step(state)
         energies[k] = report.kinetic_energy
         if not anchored and state.time >= crit.not_before:
             reference, anchored = state.body_q[free, : m.dim].copy(), True
         moved = float(np.linalg.norm(state.body_q[free, : m.dim] - reference, axis=1).max())
         displacements[k] = moved
-        thrown = not anchored and bool(np.any(_block_energy(m, state.body_v)[free] > fall))
+        thrown = not anchored and bool(np.any(_block_energy(sim, state)[free] > fall))
         if thrown:  # during a settlement the displacements say nothing: collapse now
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
                          state, state.time, state.copy())
@@ -237,7 +277,8 @@ def run_trial(sim: Simulation, value: float = math.nan,
         if moved > limit and state.time >= crit.not_before:
             return Trial(value, True, state.time, moved, ratio, report.kinetic_energy, sim,
                          state, crossed, onset if onset is not None else state.copy())
-        ratio = unbalanced_force_ratio(sim, state, v_before, per_block=crit.per_block)
+        ratio = unbalanced_force_ratio(sim, state, v_before, per_block=crit.per_block,
+                                       node_v_before=node_v_before)
         rest = ratio <= crit.force_ratio and report.kinetic_energy <= crit.energy * energy_scale
         quiet = quiet + 1 if rest else 0
         if quiet >= settle and state.time >= crit.not_before:
@@ -281,11 +322,16 @@ def _certifier(sim: Simulation):
     return certify
 
 
-def _block_energy(model, v: np.ndarray) -> np.ndarray:
-    """Kinetic energy of each body, 1/2 (m |v|^2 + sum_k J_k omega_k^2) [J/m; 3D: J]."""
+def _block_energy(sim: Simulation, state: State) -> np.ndarray:
+    """Kinetic energy of each body, 1/2 (m |v|^2 + sum_k J_k omega_k^2) [J/m; 3D: J]; a
+    deformable block's 1/2 v^T M v of its nodes."""
+    model, v = sim.model, state.body_v
     d = model.dim
     spin = model.body_inertia.reshape(model.body_count, -1) * v[:, d:] ** 2
-    return 0.5 * (model.body_mass * np.sum(v[:, :d] ** 2, axis=1) + spin.sum(axis=1))
+    energy = 0.5 * (model.body_mass * np.sum(v[:, :d] ** 2, axis=1) + spin.sum(axis=1))
+    if sim.fe is not None:
+        energy[sim.fe.model.body] = sim.fe.blocks.kinetic_energy(state.node_v)
+    return energy
 
 
 class BracketError(InputError):

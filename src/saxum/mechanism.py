@@ -338,7 +338,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     slip_fraction: a joint slides when |U_t| exceeds it times the fastest point speed (and
     0.1 % of the smallest block size per second)."""
     d = model.dim
-    free = model.body_kind == BodyKind.FREE
+    free = np.isin(model.body_kind, (BodyKind.FREE, BodyKind.DEFORMABLE))
     size = float(model.body_size[free].min()) if free.any() else float(model.body_size.min())
     moved = np.linalg.norm(state.body_q[:, :d] - model.body_q0[:, :d], axis=1)
     largest = float(moved[free].max(initial=0.0))
@@ -360,7 +360,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
              if law_kind is not None else np.full(k, ""))
     # relative velocity of the candidate's material point over the antagonist's, world frame
     p_ant = point - gap[:, None] * frame[:, 1]
-    q, v = state.body_q, state.body_v
+    q, v = state.body_q, _with_deformable(model, state)
     u = (_point_velocity(q, v, cand, point) - _point_velocity(q, v, ant, p_ant))
     normal = frame[:, 1]
     slip = np.linalg.norm(u - np.einsum("kd,kd->k", u, normal)[:, None] * normal, axis=1)
@@ -403,6 +403,22 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
+
+
+def _with_deformable(model, state: State) -> np.ndarray:
+    """The body velocities, with the rows of deformable blocks (whose body rows hold only
+    their frames) set to their nodes' nearest rigid motion (FEBlocks.rigid_velocities)."""
+    fe = getattr(model, "fe", None)
+    if fe is None or not state.node_v.size:
+        return state.body_v
+    from .fe.blocks import FEBlocks
+
+    velocity, spin = FEBlocks.geometry(list(fe.meshes), list(fe.materials)).rigid_velocities(
+        state.node_x, state.node_v)
+    v = state.body_v.copy()
+    v[fe.body, : model.dim] = velocity
+    v[fe.body, model.dim:] = spin
+    return v
 
 
 class _Bodies(NamedTuple):

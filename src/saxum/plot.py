@@ -404,7 +404,7 @@ def _draw_frame(ax, results, k: int, look: _Look, blocks: _Blocks, forces: bool,
 
 def _draw_thrust_line(ax, results, k: int, look: _Look, blocks: _Blocks) -> list:
     """The thrust line of frame k (mechanism.thrust_line); returns its legend handle."""
-    free = blocks.kind == BodyKind.FREE
+    free = np.isin(blocks.kind, (BodyKind.FREE, BodyKind.DEFORMABLE))
     pts = blocks.world(blocks.q0[None])[0]
     owner = np.repeat(np.arange(len(blocks.kind)), np.diff(blocks.vertex_start))
     on_free = free[owner]

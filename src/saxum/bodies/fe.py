@@ -131,9 +131,9 @@ def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]
 
 
 def stored_blocks(model: dict) -> FEBlocks:
-    """The deformable blocks' mechanics (saxum.fe.FEBlocks) rebuilt from a results file's
-    model datasets (fe_node_x0, fe_node_start, fe_cell_node, fe_cell_start, fe_material), for
-    stresses and energies of stored node positions."""
+    """The deformable blocks' geometry (saxum.fe.FEBlocks.geometry: no M, K or M~^-1) rebuilt
+    from a results file's model datasets (fe_node_x0, fe_node_start, fe_cell_node,
+    fe_cell_start, fe_material), for frames and stresses of stored node positions."""
     node_start, cell_start = model["fe_node_start"], model["fe_cell_start"]
     meshes = [Mesh.from_cells(model["fe_node_x0"][a:b],
                               model["fe_cell_node"][c:d] - a)
@@ -142,7 +142,7 @@ def stored_blocks(model: dict) -> FEBlocks:
     materials = [Elastic(row[0], row[1], row[2], damping=(row[3], row[4]),
                          thickness=row[5] if row[5] > 0.0 else None)
                  for row in model["fe_material"]]
-    return FEBlocks.build(meshes, materials, 1.0, 0.5)  # (h, theta: unused here)
+    return FEBlocks.geometry(meshes, materials)
 
 
 class FEKind:

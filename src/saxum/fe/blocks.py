@@ -87,7 +87,7 @@ class FEBlocks:
     Ragged per-block ranges are `*_start [nb + 1]` offsets into flat arrays, with global node
     indices (0..N-1) everywhere:
     node_start; x0 [N, d] reference coordinates [m]; node_block [N]; node_mass [N] nodal masses
-    [kg] (row sums of M); c0 [nb, d] reference centres of mass [m];
+    [kg] (row sums of M, in closed form: geometry()); c0 [nb, d] reference centres of mass [m];
     cell_start, cell_node [Mc, d + 1], cell_block [Mc], cell_grad [Mc, d + 1, d] gradients of the
     shape functions on the reference cell [1/m], cell_lame [Mc, 2] (lambda, mu) [Pa] (plane
     stress: effective lambda), cell_volume [Mc] [m^2 in 2D, m^3 in 3D];
@@ -97,8 +97,8 @@ class FEBlocks:
     of each adjacent boundary triangle [m^2]); facet_start, facet_node [F, d] outward boundary
     edges/triangles (antagonists);
     M, K: block-diagonal CSR over all N d dofs (dof d * node + component) as (indptr, indices,
-    data) triples m_* and k_*, [kg] and [N/m]; alpha [nb] [1/s], beta [nb] [s]; material
-    [nb, 6] rows of Elastic.row();
+    data) triples m_* and k_*, [kg] and [N/m] (None from geometry()); alpha [nb] [1/s],
+    beta [nb] [s]; material [nb, 6] rows of Elastic.row();
     h [s], theta [-] and, for them, inv_start [nb + 1] and inv (flat): M~^-1 of block b,
     row-major (d n_b)^2 [1/kg], local frame; compliance_start [nb + 1]: offsets of the
     (d B_b)^2 condensed compliance G = B M~^-1 B^T of each block's boundary nodes.
@@ -122,15 +122,15 @@ class FEBlocks:
     boundary_area: np.ndarray
     facet_start: np.ndarray
     facet_node: np.ndarray
-    m_indptr: np.ndarray
-    m_indices: np.ndarray
-    m_data: np.ndarray
-    k_indptr: np.ndarray
-    k_indices: np.ndarray
-    k_data: np.ndarray
     alpha: np.ndarray
     beta: np.ndarray
     material: np.ndarray
+    m_indptr: np.ndarray | None = None
+    m_indices: np.ndarray | None = None
+    m_data: np.ndarray | None = None
+    k_indptr: np.ndarray | None = None
+    k_indices: np.ndarray | None = None
+    k_data: np.ndarray | None = None
     h: float = math.nan
     theta: float = math.nan
     inv_start: np.ndarray | None = None
@@ -150,6 +150,27 @@ class FEBlocks:
               theta: float) -> "FEBlocks":
         """Assemble M and K of each block (scikit-fem) and prepare M~^-1 for the step h [s] and
         theta [-]."""
+        blocks = cls.geometry(meshes, materials)
+        masses, stiffnesses = zip(*(mass_stiffness(m, mat)
+                                    for m, mat in zip(meshes, materials, strict=True)),
+                                  strict=True)
+        M = sp.block_diag(masses, format="csr")
+        K = sp.block_diag(stiffnesses, format="csr")
+        M.sort_indices()
+        K.sort_indices()
+        blocks.m_indptr, blocks.m_indices, blocks.m_data = (
+            M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data)
+        blocks.k_indptr, blocks.k_indices, blocks.k_data = (
+            K.indptr.astype(np.int64), K.indices.astype(np.int64), K.data)
+        blocks.prepare(h, theta)
+        return blocks
+
+    @classmethod
+    def geometry(cls, meshes: list[Mesh], materials: list[Elastic]) -> "FEBlocks":
+        """The blocks without M, K and M~^-1: what frames and stresses need (build() adds the
+        rest). Nodal masses are the row sums of the consistent P1 mass matrix in closed form,
+        rho t V_e / (d + 1) from each cell e at the node (t the depth in 2D, 1 m in 3D: the
+        element matrix rho t V_e (1 + delta_ij) / ((d + 1)(d + 2)) sums to that per row)."""
         if len(meshes) != len(materials) or not meshes:
             raise InputError(f"FE blocks: {len(meshes)} meshes and {len(materials)} materials; "
                              "give one material per mesh, at least one block")
@@ -180,39 +201,28 @@ class FEBlocks:
                                               axis=1)
         boundary_area = np.zeros(len(boundary_node))
         np.add.at(boundary_area, node_boundary[facet_node], facet_size[:, None] / dim)
-        masses, stiffnesses = zip(*(mass_stiffness(m, mat)
-                                    for m, mat in zip(meshes, materials, strict=True)),
-                                  strict=True)
-        M = sp.block_diag(masses, format="csr")
-        K = sp.block_diag(stiffnesses, format="csr")
-        M.sort_indices()
-        K.sort_indices()
-        node_mass = np.asarray(M.sum(axis=1)).ravel()[::dim].copy()
-        c0 = np.array([np.average(x0[a:b], axis=0, weights=node_mass[a:b])
-                       for a, b in zip(node_start[:-1], node_start[1:], strict=True)])
         xc = x0[cell_node]
         edges = np.swapaxes(xc[:, 1:] - xc[:, :1], 1, 2)  # [Mc, d, d]: columns x_k - x_0
         inverse = np.linalg.inv(edges)  # rows: gradients of the barycentric coordinates 1..d
         grad = np.concatenate([-inverse.sum(axis=1, keepdims=True), inverse], axis=1)
         lame = np.array([mat.lame(dim) for mat in materials])[cell_block]
         volume = np.abs(np.linalg.det(edges)) / math.factorial(dim)
-        blocks = cls(
+        density = np.array([mat.density * mat.depth(dim) for mat in materials])
+        node_mass = np.zeros(len(x0))
+        np.add.at(node_mass, cell_node, (density[cell_block] * volume / (dim + 1))[:, None])
+        return cls(
             dim=dim, node_start=node_start.astype(np.int64), x0=x0, node_block=node_block,
-            node_mass=node_mass, c0=c0, cell_start=cell_start.astype(np.int64),
+            node_mass=node_mass, c0=_centres(x0, node_start, node_mass),
+            cell_start=cell_start.astype(np.int64),
             cell_node=cell_node.astype(np.int64), cell_block=cell_block, cell_grad=grad,
             cell_lame=lame, cell_volume=volume,
             boundary_start=boundary_start.astype(np.int64),
             boundary_node=boundary_node.astype(np.int64), node_boundary=node_boundary,
             boundary_area=boundary_area,
             facet_start=facet_start.astype(np.int64), facet_node=facet_node.astype(np.int64),
-            m_indptr=M.indptr.astype(np.int64), m_indices=M.indices.astype(np.int64),
-            m_data=M.data, k_indptr=K.indptr.astype(np.int64),
-            k_indices=K.indices.astype(np.int64), k_data=K.data,
             alpha=np.array([mat.damping[0] for mat in materials]),
             beta=np.array([mat.damping[1] for mat in materials]),
             material=np.array([mat.row() for mat in materials]))
-        blocks.prepare(h, theta)
-        return blocks
 
     def prepare(self, h: float, theta: float) -> None:
         """Factor M~ = (1 + h theta alpha) M + (h theta beta + h^2 theta^2) K of every block
@@ -280,6 +290,17 @@ class FEBlocks:
         rotation_step = np.empty_like(rotation)
         step_rotations(rotation, spin, self.h, self.theta, rotation_step)
         return rotation, centroid, spin, rotation_step
+
+    def rigid_velocities(self, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The rigid motion nearest (mass-weighted) to node velocities v [m/s] at positions x
+        [m], [N, d]: (velocity of each block's centre of mass [nb, d] [m/s], spin [nb, 1 | 3]
+        [rad/s], spins())."""
+        centroid = self.frames(x)[1]
+        spin = np.empty((self.n_blocks, 1 if self.dim == 2 else 3))
+        spins(self.node_start, self.node_mass, x, v, centroid, spin)
+        starts = self.node_start[:-1]
+        momentum = np.add.reduceat(self.node_mass[:, None] * v, starts, axis=0)
+        return momentum / np.add.reduceat(self.node_mass, starts)[:, None], spin
 
     def free_velocity(self, x, v, force, rotation, centroid, spin, rotation_step) -> np.ndarray:
         """v_free [m/s] [N, d] from positions x [m], velocities v [m/s], nodal forces `force`
@@ -365,6 +386,12 @@ class FEBlocks:
         """Nodal forces of the self-weight [N] [N, d]: M times the uniform field g [m/s^2]
         is the nodal mass times g (consistent and lumped agree for a uniform field)."""
         return self.node_mass[:, None] * np.asarray(gravity, dtype=np.float64)[None, :]
+
+
+def _centres(x0: np.ndarray, node_start: np.ndarray, node_mass: np.ndarray) -> np.ndarray:
+    """Centre of mass of each block's reference nodes [m], [nb, d]."""
+    return np.array([np.average(x0[a:b], axis=0, weights=node_mass[a:b])
+                     for a, b in zip(node_start[:-1], node_start[1:], strict=True)])
 
 
 # ---- compiled kernels (all blocks in one call; no Python loop over blocks or nodes) ----
