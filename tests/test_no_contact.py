@@ -43,8 +43,10 @@ def test_kind_none_gives_no_law_and_no_contacts(tmp_path):
         friction = 0.5
         """).build_model()
     assert _groups(model, "ghost", "stone") == -1 and _groups(model, "ghost", "ghost") == -1
-    assert model.laws[_groups(model, "ghost", "ground")].friction == 0.5  # exact pair wins
-    assert model.laws[_groups(model, "stone", "ground")].friction == 0.6
+    # the given coefficients, read from TOML and stored: 1e-15 allows only a different float
+    assert model.laws[_groups(model, "ghost", "ground")].friction == pytest.approx(
+        0.5, rel=1e-15)  # exact pair wins
+    assert model.laws[_groups(model, "stone", "ground")].friction == pytest.approx(0.6, rel=1e-15)
     contacts = detector_for(model).contacts_at(model.body_q0)
     n = contacts.count
     pairs = {frozenset((int(c), int(a))) for c, a in
@@ -62,7 +64,8 @@ def test_extruded_model_keeps_no_contact():
     model = extruded(b.finalize(), 0.2)
     assert model.dim == 3 and _groups(model, "block", "ground") == -1
     assert detector_for(model).contacts_at(model.body_q0).count == 0
-    assert np.all(model.law_friction == 0.6)
+    # the given coefficient copied into the 3D model: 1e-15 allows only a different float
+    assert np.allclose(model.law_friction, 0.6, rtol=1e-15, atol=0.0)
 
 
 @pytest.mark.parametrize("laws, expected", [
