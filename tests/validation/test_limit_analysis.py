@@ -21,8 +21,10 @@ an independent kinematic analysis.
       r(phi) = (H R_e + M(phi)) / (H cos phi + A(phi) sin phi),
       A = (R_e^2 - R_i^2) phi / 2,  M = (R_e^3 - R_i^3) (1 - cos phi) / 3,
   H from r(pi/2) = R_e; the least t with min r = R_i is found here by root finding:
-  t/R = 0.107478 at 54.48 degrees (within Milankovitch's four digits; the 0.107426 quoted
-  in test_arch_limits.py is 5e-4 lower, and the programme converges to 0.107478: 60, 120,
+  t/R = 0.107478 at 54.48 degrees (within Milankovitch's four digits; the 0.107426 of
+  Cocchetti & Rizzi 2020 quoted in test_arch_limits.py is 5e-4 lower because it places the
+  weight along the centreline (their p. 361); the programme, with the voussoirs' true
+  weights, converges to 0.107478: 60, 120,
   240, 480 voussoirs give 0.107448, 0.107457, 0.107472, 0.107477). With 240 voussoirs the
   hinge can only sit on a joint, 0.375 degree (half a joint spacing) at most from 54.48, and
   t changes to second order in that offset: within 1e-4 relative.
