@@ -285,6 +285,7 @@ def main(argv: list[str] | None = None) -> int:
             pm = f"{row['over_pymunk100']:.2f}" if row["over_pymunk100"] is not None else "-"
             print(f"{a:>5g} {name:>16} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
                   f"{ratio:>6} {pm:>7} {cpu * 1e3:>7.3f} {row['cpu_over_at_rest']:>6.2f} "
+                  f"{cpu_median * 1e3:>7.3f} {row['median_cpu_over_at_rest']:>6.2f} "
                   f"{sweeps:>7} {capped:>6} {found:>10} "
                   f"{r['largest_displacement_m'] * 1e3:>8.3g} mm "
                   f"{r['bottom_course_displacement_m'] * 1e3:>7.3g} mm")
