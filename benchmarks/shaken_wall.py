@@ -19,7 +19,7 @@ shared machine only ratios measured in one run mean anything. --main PATH also r
 another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop. --solvers
 nlgs,hybrid runs saxum with each (saxum.NLGS, saxum.Hybrid), --tolerance 1e-6,1e-7 each
 solver with each tolerance; saxum's displacements are also sampled every 0.025 s (the JSON's
-"history").
+"history"), and its sweeps and convergence are kept per step.
 
     python benchmarks/shaken_wall.py                            # 0, 0.3 g, 2 s, 3 repeats
     python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --repeats 1
@@ -113,6 +113,8 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "step_cpu_s": _stats(cpu[1:].tolist()),
         "first_step_s": float(times[0]),
         "sweeps": _stats(log.iterations.tolist()),
+        "sweeps_per_step": log.iterations.tolist(),
+        "converged_per_step": log.converged.tolist(),
         "steps_at_cap": int((log.iterations >= solver.max_iterations).sum()),
         "not_converged": int((~log.converged).sum()),
         "rest_attempts": getattr(solver, "rest_attempts", None),
