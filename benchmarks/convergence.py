@@ -59,6 +59,9 @@ changed state, and the reference's degeneracy: closed contacts within 0.1 % of t
 and open contacts (R = 0) whose normal velocity U_n + b_n is below 1e-6 of the largest |U|
 (grazing).
 
+--tolerance: the solvers' tolerance instead of saxum's default 1e-6 (the shaken cases: a
+tighter one leaves less drift between the blocks for the steps after, docs/method.md).
+
 Kernels are compiled (a warm-up run) before the clock starts. The figures are printed and
 written as JSON (benchmarks/results/convergence.json by default) with the machine, the package
 versions and the git commit; per-step sweeps are kept in the JSON.
@@ -131,10 +134,11 @@ SOLVERS = {"nlgs": lambda **k: sx.NLGS(**k), "hybrid": lambda **k: sx.Hybrid(**k
 stalls)."""
 
 
-def _solver(rest_after: int | None, solver: str = "nlgs"):
-    if rest_after is None:
-        return SOLVERS[solver]()
-    return SOLVERS[solver](rest_after=rest_after)  # TypeError on a saxum without them
+def _solver(rest_after: int | None, solver: str = "nlgs", tolerance: float | None = None):
+    options = {} if tolerance is None else {"tolerance": tolerance}
+    if rest_after is not None:
+        options["rest_after"] = rest_after  # TypeError on a saxum without it
+    return SOLVERS[solver](**options)
 
 
 def _warm_up(rest_after: int | None) -> None:
@@ -148,11 +152,11 @@ def _warm_up(rest_after: int | None) -> None:
 
 
 def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
-             duration: float | None = None) -> dict:
+             duration: float | None = None, tolerance: float | None = None) -> dict:
     build, default_duration = CASES[name]
     duration = default_duration if duration is None else duration
     model = build()
-    solver = _solver(rest_after, solver_name)
+    solver = _solver(rest_after, solver_name, tolerance)
     sim = sx.Simulation(model, dt=DT, solver=solver)
     state = sim.initial_state()
     times, cpu, changed = [], [], []
@@ -199,6 +203,7 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
         "contacts_min": int(np.min(log.contacts)),
         "contacts_max": int(np.max(log.contacts)),
         "rest_after": getattr(solver, "rest_after", None),
+        "tolerance": solver.tolerance,
         "first_sweeps": int(sweeps[0]),
         "first_error": float(log.error[0]),
         "first_converged": bool(converged[0]),
@@ -493,6 +498,8 @@ def main(argv: list[str] | None = None) -> int:
                              "same process, interleaved): nlgs, hybrid (default: nlgs)")
     parser.add_argument("--duration", type=float, default=None,
                         help="simulated duration of every case [s] (default: the case's own)")
+    parser.add_argument("--tolerance", type=float, default=None,
+                        help="the solvers' tolerance (default: saxum's, 1e-6)")
     parser.add_argument("--spectral", action="store_true",
                         help="also the spectral radius of the linearized sweep (towers)")
     parser.add_argument("--orders", action="store_true",
@@ -511,7 +518,7 @@ def main(argv: list[str] | None = None) -> int:
                "saxum_file": sx.__file__, "cases": []}
     for name in args.cases.split(","):
         for solver in args.solvers.split(","):
-            r = run_case(name, args.rest_after, solver, args.duration)
+            r = run_case(name, args.rest_after, solver, args.duration, args.tolerance)
             _print(r)
             results["cases"].append(r)
     if args.diagnose:

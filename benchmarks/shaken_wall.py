@@ -17,13 +17,15 @@ over the bottom course), the largest rotation. Every case runs in its own subpro
 engines interleaved --repeats times (the median run by mean time per step is reported): on a
 shared machine only ratios measured in one run mean anything. --main PATH also runs saxum from
 another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop. --solvers
-nlgs,hybrid runs saxum with each (saxum.NLGS, saxum.Hybrid; --tolerance sets theirs); saxum's
-displacements are also sampled every 0.025 s (the JSON's "history").
+nlgs,hybrid runs saxum with each (saxum.NLGS, saxum.Hybrid), --tolerance 1e-6,1e-7 each
+solver with each tolerance; saxum's displacements are also sampled every 0.025 s (the JSON's
+"history"), and its sweeps and convergence are kept per step.
 
     python benchmarks/shaken_wall.py                            # 0, 0.3 g, 2 s, 3 repeats
     python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --repeats 1
     python benchmarks/shaken_wall.py --main /work/main/src --amplitudes 0,0.3
     python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --solvers nlgs,hybrid
+    python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --tolerance 1e-6,1e-7,1e-8
 """
 
 import argparse
@@ -111,6 +113,8 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "step_cpu_s": _stats(cpu[1:].tolist()),
         "first_step_s": float(times[0]),
         "sweeps": _stats(log.iterations.tolist()),
+        "sweeps_per_step": log.iterations.tolist(),
+        "converged_per_step": log.converged.tolist(),
         "steps_at_cap": int((log.iterations >= solver.max_iterations).sum()),
         "not_converged": int((~log.converged).sum()),
         "rest_attempts": getattr(solver, "rest_attempts", None),
@@ -199,8 +203,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="another saxum source tree to run alongside (PYTHONPATH)")
     parser.add_argument("--solvers", default="nlgs",
                         help="saxum's solvers, comma-separated: nlgs, hybrid (default nlgs)")
-    parser.add_argument("--tolerance", type=float, default=1e-6,
-                        help="saxum's solver tolerance (default 1e-6)")
+    parser.add_argument("--tolerance", default="1e-6",
+                        help="saxum's solver tolerances, comma-separated: each solver runs "
+                             "with each (engine name @tolerance where more than one; "
+                             "default 1e-6)")
     parser.add_argument("--skip-pymunk", action="store_true")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
     parser.add_argument("--worker", choices=sorted(WORKERS), help=argparse.SUPPRESS)
@@ -215,10 +221,16 @@ def main(argv: list[str] | None = None) -> int:
 
     amplitudes = [float(a) for a in args.amplitudes.split(",")]
     solvers = args.solvers.split(",")
-    engines = [("saxum" if s == "nlgs" else f"saxum-{s}", (None, s)) for s in solvers]
+    tolerances = [float(t) for t in args.tolerance.split(",")]
+
+    def named(base, s, tol):
+        name = base if s == "nlgs" else f"{base}-{s}"
+        return name if len(tolerances) == 1 else f"{name}@{tol:g}"
+
+    engines = [(named("saxum", s, t), (None, s, t)) for s in solvers for t in tolerances]
     if args.main:
-        engines += [("saxum-main" if s == "nlgs" else f"saxum-main-{s}", (args.main, s))
-                    for s in solvers]
+        engines += [(named("saxum-main", s, t), (args.main, s, t))
+                    for s in solvers for t in tolerances]
     if not args.skip_pymunk:
         engines += [("pymunk", None), ("pymunk-100", 100)]
     runs = {(a, e): [] for a in amplitudes for e, _ in engines}
@@ -228,8 +240,8 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"run {k + 1}/{args.repeats}: {name}, A = {a:g} g ...", flush=True)
                 if name.startswith("saxum"):
                     src = extra[0] or os.environ.get("PYTHONPATH")
-                    r = _spawn("saxum", [a, args.duration, args.dt, extra[1],
-                                         args.tolerance], src)
+                    r = _spawn("saxum", [a, args.duration, args.dt, extra[1], extra[2]],
+                               src)
                 else:
                     r = _spawn("pymunk", [a, args.duration, args.dt, extra], None)
                 runs[(a, name)].append(r)
@@ -240,8 +252,8 @@ def main(argv: list[str] | None = None) -> int:
     rest = amplitudes[0] if 0.0 in amplitudes else None
     print(f"\n512-brick wall, base {FREQUENCY:g} Hz, {args.duration:g} s, dt {args.dt:g} s; "
           f"median over {args.repeats} interleaved runs")
-    print(f"{'A/g':>5} {'engine':>11} {'ms/step':>8} {'median':>7} {'/rest':>6} {'/pm100':>7} "
-          f"{'cpu ms':>7} {'/rest':>6} "
+    print(f"{'A/g':>5} {'engine':>16} {'ms/step':>8} {'median':>7} {'/rest':>6} {'/pm100':>7} "
+          f"{'cpu ms':>7} {'/rest':>6} {'median':>7} {'/rest':>6} "
           f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'largest dx':>11} {'bottom dx':>10}")
     table = []
     for a in amplitudes:
@@ -252,9 +264,15 @@ def main(argv: list[str] | None = None) -> int:
             cpu = statistics.median(r["step_cpu_s"]["mean"] for r in rs)
             cpu_rest = (statistics.median(r["step_cpu_s"]["mean"] for r in runs[(rest, name)])
                         if rest is not None else math.nan)
+            cpu_median = statistics.median(r["step_cpu_s"]["median"] for r in rs)
+            cpu_median_rest = (statistics.median(r["step_cpu_s"]["median"]
+                                                 for r in runs[(rest, name)])
+                               if rest is not None else math.nan)
             row = {"amplitude_g": a, "engine": name, "ms_per_step": t * 1e3,
                    "median_ms_per_step": med(a, name, "median") * 1e3,
                    "cpu_ms_per_step": cpu * 1e3, "cpu_over_at_rest": cpu / cpu_rest,
+                   "median_cpu_ms_per_step": cpu_median * 1e3,
+                   "median_cpu_over_at_rest": cpu_median / cpu_median_rest,
                    "over_saxum_at_rest": t / med(rest, name) if rest is not None else None,
                    "over_pymunk100": (t / med(a, "pymunk-100")
                                       if (a, "pymunk-100") in runs else None),
@@ -267,8 +285,9 @@ def main(argv: list[str] | None = None) -> int:
             ratio = (f"{row['over_saxum_at_rest']:.2f}" if row["over_saxum_at_rest"] is not None
                      else "-")
             pm = f"{row['over_pymunk100']:.2f}" if row["over_pymunk100"] is not None else "-"
-            print(f"{a:>5g} {name:>11} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
+            print(f"{a:>5g} {name:>16} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
                   f"{ratio:>6} {pm:>7} {cpu * 1e3:>7.3f} {row['cpu_over_at_rest']:>6.2f} "
+                  f"{cpu_median * 1e3:>7.3f} {row['median_cpu_over_at_rest']:>6.2f} "
                   f"{sweeps:>7} {capped:>6} {found:>10} "
                   f"{r['largest_displacement_m'] * 1e3:>8.3g} mm "
                   f"{r['bottom_course_displacement_m'] * 1e3:>7.3g} mm")
