@@ -247,9 +247,9 @@ class NLGS(ContactSolver):
                           v_free: np.ndarray, v: np.ndarray) -> SolverReport:
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
         and no load following (both are for rigid blocks; Simulation logs it): a 2D step not
-        converged after rest_after sweeps sweeps on from the sticking solution
+        converged after min(rest_after, _FE_FIRST) sweeps sweeps on from the sticking solution
         (saxum.solver.sticking), counted in rest_attempts (and in rest_solutions where its
-        statuses settled and it was taken)."""
+        statuses settled, or nearly, and it was taken)."""
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         c = problem.contacts
@@ -264,9 +264,10 @@ class NLGS(ContactSolver):
                 np.empty_like(kind.v), self.tolerance)
         # the sticking start is written for 2D (saxum.solver.sticking): 3D sweeps alone
         sticking = problem.model.dim == 2 and self.rest_after > 0
-        first = min(self.rest_after, self.max_iterations) if sticking else self.max_iterations
+        first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
+                 else self.max_iterations)
         iterations, error = sweep(*args, first, self.relaxation)
-        # a step after one whose sticking start did not settle does not try (its statuses
+        # a step after one whose sticking start was not taken does not try (its statuses
         # are likely changing still: under a pulse, most steps)
         if error > self.tolerance and iterations < self.max_iterations:
             if self._sticking_failed:
@@ -282,6 +283,13 @@ class NLGS(ContactSolver):
             self._sticking_failed = False
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
+
+
+_FE_FIRST = 5
+"""Sweeps of a 2D step with deformable blocks before its sticking start (at most
+rest_after): a sweep of the 210-brick wall costs about a seventh of one of the start's LU
+(benchmarks/wall_fe.py), and steps that converge in a few sweeps (free flight, light
+contact) need no start."""
 
 
 @nb.njit(cache=True)
