@@ -47,7 +47,7 @@ time = 0.3
 type = "wall_3d"
 courses = 3
 length = 0.75
-""", 0.1),
+""", 0.2),
     "barrel vault": ("""
 [structure]
 type = "semicircular_arch_3d"
@@ -55,7 +55,7 @@ radius = 1.0
 thickness = 0.15
 voussoirs = 7
 depth = 0.3
-""", 0.1),
+""", 0.3),
     "arch": ("""
 [structure]
 type = "semicircular_arch"

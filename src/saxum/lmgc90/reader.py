@@ -276,18 +276,28 @@ def _read_contactor(lines: _Lines) -> Contactor:
     return tact
 
 
+def _body_key(lines: _Lines, bodies: dict[tuple[str, int], Body], what: str
+              ) -> tuple[str, int]:
+    """The (type, number) of the body a record of DOF.INI or DRV_DOF.DAT is about; an
+    InputError if BODIES.DAT has no such body."""
+    where = lines.where()
+    head = lines.next().split()
+    if len(head) < 2 or not head[1].isdigit():
+        raise InputError(f"{where}: expected a body type and number, found {' '.join(head)!r}")
+    key = (head[0], int(head[1]))
+    if key not in bodies:
+        raise InputError(f"{where}: {what} {head[0]} {head[1]}, which BODIES.DAT does not "
+                         "have; are the files of the same model?")
+    return key
+
+
 def _read_dof(path: Path, bodies: dict[tuple[str, int], Body]) -> None:
     lines = _Lines(path)
     while lines.peek() is not None:
         if _keyword(lines.next()) != "$bdyty":
             continue  # $steps, separators
         bwhere = lines.where()
-        head = lines.next().split()
-        key = (head[0], int(head[1]))
-        if key not in bodies:
-            raise InputError(f"{bwhere}: DOF.INI gives {head[0]} {head[1]}, which BODIES.DAT "
-                             "does not have; are the two files of the same model?")
-        body = bodies[key]
+        body = bodies[_body_key(lines, bodies, "DOF.INI gives")]
         text = ""
         while (nxt := lines.peek()) is not None and _keyword(nxt) != "$$$$$$":
             text += " " + lines.next()
@@ -313,12 +323,7 @@ def _read_drives(path: Path, bodies: dict[tuple[str, int], Body]
         where, line = lines.where(), lines.next()
         word = _keyword(line)
         if word == "$bdyty":
-            bwhere = lines.where()
-            head = lines.next().split()
-            key = (head[0], int(head[1]))
-            if key not in bodies:
-                raise InputError(f"{bwhere}: DRV_DOF.DAT drives {head[0]} {head[1]}, which "
-                                 "BODIES.DAT does not have")
+            key = _body_key(lines, bodies, "DRV_DOF.DAT drives")
             drives.setdefault(key, [])
         elif word in ("$nodty", "$dofty", "$$$$$$"):
             if word == "$nodty":
