@@ -191,10 +191,31 @@ def test_scenario_from_import_runs_like_the_python_model(tmp_path):
     assert scenario.detection.initial_overlap == pytest.approx(1e-5, rel=1e-15)
     sim = scenario.build_simulation()
     sim.initial_state()  # the 1 um interpenetration is accepted (detection.initial_overlap)
+    tight = load_scenario(tmp_path / "model.toml", ["detection.initial_overlap=5e-7"])
+    with pytest.raises(OverlapError, match="overlap by 1e-06 m"):
+        tight.build_simulation().initial_state()
     _same_models(imported.model(), sim.model, 1e-15)
     ground = sim.model.body("RBDY2 2")
     np.testing.assert_allclose(sim.model.motions[sim.model.body_motion[ground]](0.01),
                                (0.0, -0.1, 0.0), rtol=1e-14, atol=1e-18)
+
+
+def test_time_varying_drive(tmp_path):
+    # ground block 2: vy = [-0.1 + 0.05 cos(2 t + 0.5)] [1 + 0.5 t]
+    folder, line = _broken(tmp_path, "DRV_DOF.DAT",
+                           " vlocy      2 -1.0000000D-01   0.0000000D+00   0.0000000D+00   "
+                           "0.0000000D+00   1.0000000D+00   0.0000000D+00",
+                           " vlocy      2 -1.0000000D-01   5.0000000D-02   2.0000000D+00   "
+                           "5.0000000D-01   1.0000000D+00   5.0000000D-01")
+    imported = import_lmgc90(folder)
+    model = imported.model()
+    motion = model.motions[model.body_motion[model.body("RBDY2 2")]]
+    t = 0.7
+    expected = (-0.1 + 0.05 * np.cos(2.0 * t + 0.5)) * (1.0 + 0.5 * t)
+    assert motion(t)[1] == pytest.approx(expected, rel=1e-14)  # the formula, exactly
+    extra = imported.write_scenario(tmp_path / "m.toml")
+    assert any(f"DRV_DOF.DAT line {line}" in str(e) and "time-varying" in str(e)
+               for e in extra)
 
 
 def _broken(tmp_path, file, old, new):

@@ -172,10 +172,10 @@ class Lmgc90Import:
             if blk.kind != BodyKind.DRIVEN:
                 continue
             v = np.array(blk.motion(0.0))
-            if not all(d.constant for d in blk.drives):
+            varying = [d for d in blk.drives if not d.constant]
+            if varying:
                 extra.append(Untranslated(f"{blk.name}: a time-varying drive, written as its "
-                                          f"velocity at t = 0, {_vector(v)}",
-                                          blk.drives[0].where))
+                                          f"velocity at t = 0, {_vector(v)}", varying[0].where))
             lines += self._settlement(blk.name, v, duration)
         for (a, c), law in self.laws.items():
             lines += ["", "[[laws]]", f"groups = [{_string(a)}, {_string(c)}]"]
