@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from saxum import NO_CONTACT, BodyKind, ContactLaw, LawKind
+from saxum import NO_CONTACT, BodyKind, ContactLaw, DetectionSettings, LawKind, Simulation
 from saxum.cli import main
 from saxum.errors import InputError, OverlapError
-from saxum.lmgc90 import export_lmgc90, import_lmgc90
+from saxum.lmgc90 import OVERLAP_TOLERANCE, export_lmgc90, import_lmgc90
 from saxum.scenario import load_scenario, parse_scenario
 
 DATA = Path(__file__).parent / "data" / "lmgc90"
@@ -50,8 +50,13 @@ def test_wall2d_bodies_drives_and_laws():
     assert "DRV_DOF.DAT line 26: RBDY2 6: only dofs [1] of 3" in listed
     assert "TACT_BEHAV.DAT line 5: law 'rst01': tangential restitution" in listed
     assert "Vloc_Rloc.INI: 2 contacts" in listed
-    np.testing.assert_allclose(imported.initial_velocities(model)[model.body("RBDY2 7")],
-                               (0.0, -1e-3, 0.0), atol=1e-18)
+    settings = DetectionSettings(initial_overlap=OVERLAP_TOLERANCE)  # brick 7, 1 um in
+    state = Simulation(model, dt=1e-3, detection=settings).initial_state()
+    imported.set_initial_velocities(model, state)
+    np.testing.assert_allclose(state.body_v[model.body("RBDY2 7")], (0.0, -1e-3, 0.0),
+                               atol=1e-18)
+    np.testing.assert_allclose(state.body_v[model.body("RBDY2 2")], (0.0, -0.1, 0.0),
+                               atol=1e-15)  # the driven ground keeps its drive's
 
 
 def test_micrometre_interpenetration_accepted_real_overlap_refused():
@@ -78,8 +83,10 @@ def test_block3d_frame_and_plane():
                                (1.0, 1.0, 0.0), atol=1e-12)
     # V(4..6) in LMGC90's body axes (g = z): 0.5 rad/s about z; saxum's body frame of the
     # box is the world's (principal axes along x, y, z)
-    w = imported.initial_velocities(model)[b, 3:]
-    np.testing.assert_allclose(np.abs(w), (0.0, 0.0, 0.5), atol=1e-12)
+    settings = DetectionSettings(initial_overlap=OVERLAP_TOLERANCE)  # the 2 um into the plane
+    state = Simulation(model, dt=1e-3, detection=settings).initial_state()
+    imported.set_initial_velocities(model, state)
+    np.testing.assert_allclose(np.abs(state.body_v[b, 3:]), (0.0, 0.0, 0.5), atol=1e-12)
     assert imported.deepest_overlap(model)[0] == pytest.approx(2e-6, abs=1e-12)
 
 

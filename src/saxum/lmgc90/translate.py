@@ -113,14 +113,16 @@ class Lmgc90Import:
         """The saxum Model."""
         return self.builder().finalize()
 
-    def initial_velocities(self, model: Model) -> np.ndarray:
-        """DOF.INI's velocities in saxum's layout (model.body_v: 3D angular velocity in the
-        body frame), shape (bodies, dof); set state.body_v[:] to them."""
+    def set_initial_velocities(self, model: Model, state) -> None:
+        """Give the free blocks of `state` (a saxum.state.State of `model`, e.g.
+        Simulation.initial_state()) DOF.INI's velocities, in saxum's layout (3D: the angular
+        velocity in the body frame); fixed and driven blocks keep theirs (their drives')."""
         v = np.array([blk.velocity for blk in self.blocks], dtype=np.float64)
         if self.dim == 3:
             r = rotation_matrix(model.body_q0[:, 3:])
             v[:, 3:] = np.einsum("bji,bj->bi", r, v[:, 3:])
-        return v
+        free = model.body_kind == BodyKind.FREE
+        state.body_v[free] = v[free]
 
     def deepest_overlap(self, model: Model) -> tuple[float, str, str]:
         """The deepest interpenetration at the start [m] and the two blocks (0 if none)."""
@@ -160,10 +162,11 @@ class Lmgc90Import:
             if blk.kind == BodyKind.FREE:
                 row["density"] = blk.density
             rows.append(row)
-            if np.any(blk.velocity != 0.0):
+            if blk.kind == BodyKind.FREE and np.any(blk.velocity != 0.0):
                 extra.append(Untranslated(
                     f"{blk.name}: initial velocity {_vector(blk.velocity)} (scenarios start "
-                    "at rest; Lmgc90Import.initial_velocities gives it in Python)", "DOF.INI"))
+                    "at rest; Lmgc90Import.set_initial_velocities sets it in Python)",
+                    "DOF.INI"))
         blocks_path.write_text(json.dumps({"blocks": rows}, indent=1), encoding="utf-8")
         lines = ["", f"title = {_string('LMGC90 ' + self.folder.resolve().parent.name)}", "",
                  "[structure]", 'type = "blocks"', f"file = {_string(blocks_path.name)}", "",
