@@ -273,6 +273,11 @@ duration = 0.1
     assert main(["import-lmgc90", str(tmp_path / "DATBOX"), "-o", str(tmp_path / "m.toml")]) == 0
     out = capsys.readouterr().out
     assert "6 blocks (5 free, 1 fixed, 0 driven)" in out and "deepest interpenetration" in out
+    # an existing scenario is not replaced without --overwrite
+    assert main(["import-lmgc90", str(tmp_path / "DATBOX"), "-o", str(tmp_path / "m.toml")]) == 2
+    assert "give --overwrite" in capsys.readouterr().err
+    assert main(["import-lmgc90", str(tmp_path / "DATBOX"), "-o", str(tmp_path / "m.toml"),
+                 "--overwrite"]) == 0
     # a voussoir pushed 1 mm into its neighbour: a real overlap, refused
     dof = tmp_path / "DATBOX" / "DOF.INI"
     text = dof.read_text()

@@ -479,6 +479,10 @@ def _import_lmgc90(args) -> None:
 
     tolerance = args.overlap_tolerance if args.overlap_tolerance is not None else (
         OVERLAP_TOLERANCE)
+    blocks = args.output.with_name(args.output.stem + ".blocks.json")
+    taken = [p for p in (args.output, blocks) if p.exists()]
+    if taken and not args.overwrite:
+        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and {blocks.name})")
     imported = import_lmgc90(args.datbox)
     model = imported.model()
     depth = imported.check_overlaps(model, tolerance)
@@ -786,6 +790,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--overlap-tolerance", type=float, default=None, metavar="D",
                    help="deepest interpenetration accepted in the imported state [m] "
                         "(default 1e-5: LMGC90 states carry micrometre ones)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing scenario and its blocks file")
     p.set_defaults(func=_import_lmgc90)
 
     p = sub.add_parser("export-lmgc90", help="write a scenario's model as an LMGC90 DATBOX")
