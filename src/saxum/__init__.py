@@ -40,6 +40,8 @@ _EXPORTS = {
     "STEP_OUTCOMES": "steplog",
     "StepLog": "steplog",
     "StepReport": "steplog",
+    "export_lmgc90": "lmgc90",
+    "import_lmgc90": "lmgc90",
     "limit_analysis": "limit",
     "load_scenario": "scenario",
     "run_scenario": "runner",

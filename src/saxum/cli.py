@@ -15,6 +15,8 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
     saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
+    saxum import-lmgc90 DATBOX -o SCENARIO [--duration T] [--dt H] [--overlap-tolerance D]
+    saxum export-lmgc90 SCENARIO -o DATBOX [--precision lmgc90|full]
 
 `saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
 source repository.
@@ -472,6 +474,48 @@ def _view(args) -> None:
     print(f"viewer: {out.resolve()} ({size / 2**20:.1f} MB){opened}")
 
 
+def _import_lmgc90(args) -> None:
+    from .lmgc90 import OVERLAP_TOLERANCE, import_lmgc90
+
+    tolerance = args.overlap_tolerance if args.overlap_tolerance is not None else (
+        OVERLAP_TOLERANCE)
+    blocks = args.output.with_name(args.output.stem + ".blocks.json")
+    taken = [p for p in (args.output, blocks) if p.exists()]
+    if taken and not args.overwrite:
+        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and {blocks.name})")
+    imported = import_lmgc90(args.datbox)
+    model = imported.model()
+    depth = imported.check_overlaps(model, tolerance)
+    extra = imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
+                                    overlap_tolerance=tolerance)
+    kinds = np.bincount(model.body_kind, minlength=3)
+    print(f"{args.output}: {model.body_count} blocks ({kinds[0]} free, {kinds[1]} fixed, "
+          f"{kinds[2]} driven) in {len(model.group_names)} groups, {len(model.laws)} laws, "
+          f"{len(imported.no_contact)} pairs of groups without a see-table (no contact); "
+          f"deepest interpenetration {depth:.3g} m (accepted up to {tolerance:g} m: "
+          "detection.initial_overlap)")
+    items = [*imported.untranslated, *extra]
+    if items:
+        print(f"not translated or approximated ({len(items)}; all are listed at the top of "
+              f"{args.output}):")
+        for item in items[:20]:
+            print(f"  {item}")
+        if len(items) > 20:
+            print(f"  ... and {len(items) - 20} more")
+
+
+def _export_lmgc90(args) -> None:
+    from .lmgc90 import export_lmgc90
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    sim = scenario.build_simulation()
+    folder = export_lmgc90(sim.model, args.output, precision=args.precision,
+                           alert=sim.detector.alert)
+    print(f"{folder}: {sim.model.body_count} bodies, {len(sim.model.laws)} laws "
+          "(BODIES.DAT, BULK_BEHAV.DAT, TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT)")
+
+
 def _periods(text: str) -> list[float]:
     """--periods T1,T2,...: pulse periods [s], each > 0."""
     try:
@@ -519,11 +563,12 @@ def _check_output(args) -> None:
     out = getattr(args, "output", None)
     if out is None:
         return
-    if args.command == "export-vtk":
+    if args.command in ("export-vtk", "export-lmgc90"):
         if out.exists() and not out.is_dir():
-            raise InputError(f"-o {out}: is a file; export-vtk writes into a folder")
+            raise InputError(f"-o {out}: is a file; {args.command} writes into a folder")
     elif out.is_dir():
-        example = {"run": "results.h5", "view": "run.html"}.get(args.command, "out.png")
+        example = {"run": "results.h5", "view": "run.html",
+                   "import-lmgc90": "model.toml"}.get(args.command, "out.png")
         raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. {out / example}")
     elif not out.parent.is_dir():
         raise InputError(f"-o {out}: there is no folder {out.parent}; create it first")
@@ -733,6 +778,29 @@ def _parser() -> argparse.ArgumentParser:
                    help="only the blocks whose name or group matches this glob (e.g. "
                         "'parapet*'), and the supports: for a large model")
     p.set_defaults(func=_view)
+
+    p = sub.add_parser("import-lmgc90", help="translate an LMGC90 DATBOX folder into a "
+                                             "scenario (docs/lmgc90.md)")
+    p.add_argument("datbox", type=Path, help="the DATBOX folder (BODIES.DAT, TACT_BEHAV.DAT...)")
+    p.add_argument("-o", "--output", type=Path, required=True,
+                   help="scenario file to write (TOML; its blocks go to STEM.blocks.json)")
+    p.add_argument("--duration", type=float, default=1.0,
+                   help="output.duration [s] (default 1; also the time of the drives)")
+    p.add_argument("--dt", type=float, default=1e-3, help="solver.dt [s] (default 1e-3)")
+    p.add_argument("--overlap-tolerance", type=float, default=None, metavar="D",
+                   help="deepest interpenetration accepted in the imported state [m] "
+                        "(default 1e-5: LMGC90 states carry micrometre ones)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing scenario and its blocks file")
+    p.set_defaults(func=_import_lmgc90)
+
+    p = sub.add_parser("export-lmgc90", help="write a scenario's model as an LMGC90 DATBOX")
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
+    p.add_argument("-o", "--output", type=Path, required=True, help="DATBOX folder to write")
+    p.add_argument("--precision", choices=("lmgc90", "full"), default="lmgc90",
+                   help="lmgc90: LMGC90's fixed columns, 7 digits (default); full: 17 digits, "
+                        "exact for saxum import-lmgc90")
+    p.set_defaults(func=_export_lmgc90)
     return parser
 
 

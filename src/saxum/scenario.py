@@ -977,6 +977,8 @@ class DetectionSpec(_Strict):
     refresh_every: Count = 10
     per_pair: bool = False
     """Laws without `alert`: 2 % of the smaller block of each pair (DetectionSettings)."""
+    initial_overlap: Positive | None = None
+    """Deepest interpenetration accepted at the start [m] (DetectionSettings)."""
 
 
 class OutputSpec(_Strict):
@@ -1157,7 +1159,8 @@ class Scenario(_Strict):
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration,
-                                        per_pair=d.per_pair),
+                                        per_pair=d.per_pair,
+                                        initial_overlap=d.initial_overlap),
         )
 
 

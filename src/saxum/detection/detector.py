@@ -32,16 +32,20 @@ class DetectionSettings:
     per_pair: the laws without their own alert (ContactLaw.alert) take, instead of alert, 2 %
     of the size of the smaller block of each pair (as LMGC90's users set an alert per
     see-table from the blocks it names); alert then still sets the margin, the closed gap and
-    the interpenetration."""
+    the interpenetration.
+    initial_overlap [m]: the deepest interpenetration accepted at the start (default: 1e-6
+    of the largest block's size, round-off of generated geometry); e.g. the micrometre
+    interpenetrations of a state imported from LMGC90 (saxum.lmgc90)."""
 
     alert: float | None = None
     margin: float | None = None
     refresh_every: int = 10
     interpenetration: float | None = None
     per_pair: bool = False
+    initial_overlap: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("alert", "margin", "interpenetration"):
+        for name in ("alert", "margin", "interpenetration", "initial_overlap"):
             value = getattr(self, name)
             if value is not None and not (np.isfinite(value) and value > 0.0):
                 raise InputError(f"detection.{name} must be a finite length > 0 [m], got {value}")
@@ -84,6 +88,7 @@ class Detector:
         """The largest alert distance of any law [m], which the broad phase pads for."""
         self.margin = settings.margin if settings.margin is not None else self.alert
         self.refresh_every = settings.refresh_every
+        self.initial_overlap = settings.initial_overlap
         self.reference_bias = 0.1 * self.alert
         self.closed_gap = 1e-6 * self.alert
         """Gaps below this [m] count as closed: the round-off of geometry built touching."""
@@ -272,10 +277,12 @@ class Detector:
     def check_overlaps(self, q: np.ndarray, *, tolerance: float | None = None) -> None:
         """Raise OverlapError naming the deepest interpenetrating pair at configuration q.
 
-        tolerance [m]: overlaps up to this depth are accepted (default 1e-6 of the largest
-        block size, i.e. round-off of generated geometry).
+        tolerance [m]: overlaps up to this depth are accepted (default: the settings'
+        initial_overlap, else 1e-6 of the largest block size, i.e. round-off of generated
+        geometry).
         """
-        tol = tolerance if tolerance is not None else 1e-6 * float(self.model.body_size.max())
+        tol = next((t for t in (tolerance, self.initial_overlap) if t is not None),
+                   1e-6 * float(self.model.body_size.max()))
         probe = self.contacts_at(q)
         gaps = probe.gap[: probe.count]
         bad = np.flatnonzero(gaps < -tol)
