@@ -149,3 +149,67 @@ def test_static_critical_thickness():
                                     friction=0.8))
     assert not stands(semicircular_arch(radius=1.0, thickness=t * 0.999, voussoirs=9,
                                         friction=0.8))
+
+
+SPREADING = """\
+[structure]
+type = "arch"
+shape = "semicircular"
+span = 1.85
+thickness = 0.15
+voussoirs = 30
+
+[[laws]]
+groups = ["voussoir", "voussoir"]
+friction = 1.0
+
+[[laws]]
+groups = ["voussoir", "pier"]
+friction = 1.0
+
+[[laws]]
+groups = ["voussoir", "ground"]
+friction = 1.0
+
+[[laws]]
+groups = ["pier", "ground"]
+friction = 1.0
+
+[[loads.settlements]]
+block = "right pier c1"
+magnitude = 0.01
+direction = [1.0, 0.0]
+
+[output]
+duration = 1.0
+"""
+
+
+def test_cli_limit_settlement_finds_the_least_thrust_and_its_three_hinges(tmp_path, capsys):
+    """--live settlement: the right abutment of a semicircular arch (R = 1 m, t = 0.15 m)
+    moves outward at 0.01 m/s; the power on it is the minimum thrust times 0.01 m/s (the
+    thrust checked against the ring's equilibrium in
+    tests/validation/test_limit_loads.py), with three hinges."""
+    path = tmp_path / "spreading.toml"
+    path.write_text(SPREADING)
+    assert main(["limit", str(path), "--live", "settlement", "-o",
+                 str(tmp_path / "m.png")]) == 0
+    out = capsys.readouterr().out
+    assert "settled supports: the structure's forces on them do" in out
+    assert out.count("hinge between") == 3
+    assert main(["limit", str(path), "--live", "water"]) == 2
+    assert "analyse the settlements with --live settlement" in capsys.readouterr().err
+
+
+def test_settlement_input_is_checked():
+    model = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=9, friction=0.8)
+    with pytest.raises(InputError, match="give both or neither"):
+        limit_analysis(model, live="settlement")
+    with pytest.raises(InputError, match="no block called 'pier'"):
+        limit_analysis(model, live="settlement", settlement={"pier": (1.0, 0.0, 0.0)})
+    with pytest.raises(InputError, match="'voussoir 1' is a free block"):
+        limit_analysis(model, live="settlement", settlement={"voussoir 1": (1.0, 0.0, 0.0)})
+    with pytest.raises(InputError, match="must be 3 finite numbers"):
+        limit_analysis(model, live="settlement", settlement={"support": (1.0, 0.0)})
+    with pytest.raises(InputError, match="has none on its free blocks"):
+        limit_analysis(model, live="water")

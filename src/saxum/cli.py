@@ -637,11 +637,15 @@ def _parser() -> argparse.ArgumentParser:
                                      "joints can carry (a linear or conic programme) and the "
                                      "collapse mechanism")
     p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
-    p.add_argument("--live", choices=("horizontal", "forces"), default="horizontal",
+    p.add_argument("--live", choices=("horizontal", "forces", "water", "settlement"),
+                   default="horizontal",
                    help="the load multiplied by lambda: horizontal (an acceleration lambda g "
                         "on every free block, along the sign of loads.horizontal_acceleration, "
-                        "which is taken out of the dead load; the default) or forces (the "
-                        "point loads)")
+                        "which is taken out of the dead load; the default), forces (the "
+                        "point loads) or water (the flood's pressures); or settlement (no "
+                        "factor: the supports of loads.settlements move, and the state of "
+                        "least power on them is found, e.g. the minimum thrust of an arch "
+                        "on spreading supports)")
     p.add_argument("--friction", choices=("associative", "non-associative"),
                    default="associative",
                    help="associative (one programme; an upper estimate where joints slide) "

@@ -243,14 +243,33 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
     """limit_analysis of the scenario file at `path` (keys overridden by `overrides`,
     "key=value"). live "horizontal": the horizontal acceleration lambda g along the sign of
     loads.horizontal_acceleration (+x if 0; 3D: at loads.horizontal_azimuth), which is taken
-    out of the dead load; "forces": the point loads ([[loads.point_loads]]) times lambda."""
-    from .scenario import load_scenario
+    out of the dead load; "forces": the point loads ([[loads.point_loads]]) times lambda;
+    "water": the flood's pressures ([loads.flood]) times lambda; "settlement": the supports
+    of [[loads.settlements]] moving at their mean velocities (magnitude / time along
+    direction, rotation / time), the state of least power on them."""
+    from .scenario import _unit, load_scenario
 
     scenario = load_scenario(path, list(overrides))
     loads = scenario.loads
-    if loads.ground_motion is not None or loads.settlements:
+    if loads.ground_motion is not None or (loads.settlements and live != "settlement"):
         raise InputError(f"{path}: limit analysis takes constant loads; this scenario has "
-                         "a ground motion or settlements: leave them out (--unset)")
+                         "a ground motion or settlements: leave them out (--unset), or "
+                         "analyse the settlements with --live settlement")
+    if live == "settlement" and not loads.settlements:
+        raise InputError(f"{path}: --live settlement moves the supports of "
+                         "[[loads.settlements]], and this scenario has none")
+    if live == "water" and loads.flood is None:
+        raise InputError(f"{path}: --live water multiplies the water of [loads.flood], and "
+                         "this scenario has none")
+    model = scenario.build_model()  # checks the settlements' keys
+    dim, settlement = model.dim, None
+    if live == "settlement":
+        down = -np.eye(dim)[-1]
+        turning = np.zeros(model.dof - dim)
+        settlement = {s.block: np.r_[s.magnitude / s.time * _unit(
+            s.direction or down, f"settlements[{k}].direction", dim),
+            (turning + np.asarray(s.rotation, dtype=np.float64)) / s.time]
+            for k, s in enumerate(loads.settlements)}
     if loads.load_factor_rate != 0.0:
         raise InputError(f"{path}: loads.load_factor_rate is a dynamic ramp; limit analysis "
                          "finds the factor directly: set it to 0")
@@ -267,8 +286,10 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
         raise InputError(f"{path}: --live forces multiplies the point loads, and this "
                          "scenario has none ([[loads.point_loads]])")
     d = scenario.detection
-    return limit_analysis(scenario.build_model(), live=live, direction=direction,
-                          friction=friction,
+    if live == "horizontal":
+        model = scenario.build_model()
+    return limit_analysis(model, live=live, direction=direction,
+                          friction=friction, settlement=settlement,
                           detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                                       per_pair=d.per_pair))
 
