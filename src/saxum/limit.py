@@ -168,7 +168,8 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
     if friction not in ("associative", "non-associative"):
         raise InputError(f"friction must be \"associative\" or \"non-associative\", got "
                          f"{friction!r}")
-    if (live == "settlement") != (settlement is not None) or settlement == {}:
+    settling = isinstance(live, str) and live == "settlement"
+    if settling != (settlement is not None) or settlement == {}:
         raise InputError("a settlement analysis takes live=\"settlement\" and the supports' "
                          "velocities, settlement={fixed block name: generalized velocity}; "
                          "give both or neither")
