@@ -12,9 +12,10 @@ These are statements about equilibrium alone (a thrust line within the ring whos
 at every joint lies in the Coulomb cone), which is the static programme's feasibility
 (saxum.limit.stands): exact for any flow rule, associative or not (the non-associative
 scheme of saxum.limit changes only the collapse factor and mechanism of a loaded
-structure, not whether an admissible state exists). Bisections: t/R and mu to 1e-6. Tolerance 1e-4 relative: the weights lumped at 240 points and the joints at
-240 angles differ from the continuous ring by O(n^-2) (measured 4e-5 on t, 1.3e-5 on the
-0.3958; 60 voussoirs: 7e-4 on the 0.3092).
+structure, not whether an admissible state exists). Bisections: t/R and mu to 1e-6.
+Tolerance 1e-4 relative: the weights lumped at 240 points and the joints at 240 angles
+differ from the continuous ring by O(n^-2) (measured 4e-5 on t, 1.3e-5 on the 0.3958; 60
+voussoirs: 7e-4 on the 0.3092).
 """
 
 import math
