@@ -213,3 +213,20 @@ def test_settlement_input_is_checked():
         limit_analysis(model, live="settlement", settlement={"support": (1.0, 0.0)})
     with pytest.raises(InputError, match="has none on its free blocks"):
         limit_analysis(model, live="water")
+
+
+def test_the_3d_mechanism_is_drawn(tmp_path):
+    """plot_limit_3d: the extruded arch's four hinge lines, the blocks moved by their
+    virtual velocities; a 2D result is refused with the function to use."""
+    from saxum.plot3d import plot_limit_3d
+    from saxum.structures.solid import extruded
+
+    flat = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=9, friction=0.8)
+    result = limit_analysis(extruded(flat, 0.5))
+    fig = plot_limit_3d(result, tmp_path / "m.png", title="arch")
+    (ax,) = [a for a in fig.axes if a.name == "3d"]
+    assert len([line for line in ax.lines if line.get_linewidth() == 3.0]) == 4
+    assert "limit load factor" in ax.get_title()
+    assert (tmp_path / "m.png").stat().st_size > 0
+    with pytest.raises(InputError, match="plot.plot_limit draws 2D"):
+        plot_limit_3d(limit_analysis(flat))

@@ -163,17 +163,18 @@ def _check_limit(args, result) -> None:
 def _limit(args) -> None:
     from .limit import scenario_limit_analysis
     from .plot import plot_limit
+    from .plot3d import plot_limit_3d
     from .scenario import load_scenario
 
     result = scenario_limit_analysis(args.scenario, overrides=tuple(args.set), live=args.live,
                                      friction=args.friction)
     print(result.text())
-    if result.model.dim == 2:
-        picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
-                                                               + "-limit.png")
-        scenario = load_scenario(args.scenario, args.set)
-        plot_limit(result, picture, title=scenario.title or Path(args.scenario).stem)
-        print(f"picture: {picture.resolve()}")
+    picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
+                                                           + "-limit.png")
+    scenario = load_scenario(args.scenario, args.set)
+    draw = plot_limit if result.model.dim == 2 else plot_limit_3d
+    draw(result, picture, title=scenario.title or Path(args.scenario).stem)
+    print(f"picture: {picture.resolve()}")
 
 
 def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
@@ -652,7 +653,7 @@ def _parser() -> argparse.ArgumentParser:
                         "or non-associative (Gilbert, Casapulla & Ahmed 2006: friction limits "
                         "fixed from the previous normal forces until they repeat)")
     _scenario_options(p, "override a scenario key (repeatable)",
-                      "picture of the mechanism (2D; default: SCENARIO-limit.png)")
+                      "picture of the mechanism (default: SCENARIO-limit.png)")
     p.set_defaults(func=_limit)
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "

@@ -125,6 +125,13 @@ class LimitAnalysis:
 
         return thrust_line(self.contact_dict(), math.inf, centre)
 
+    def heading(self) -> str:
+        """The result in a few words, for a picture's title."""
+        if self.live == "settlement":
+            unit = "W/m" if self.model.dim == 2 else "W"
+            return f"settled supports, least power on them {self.support_power:.5g} {unit}"
+        return f"limit load factor {self.factor:.5g}"
+
     def text(self) -> str:
         """The factor and the mechanism in words."""
         what = {"horizontal": "horizontal acceleration lambda g",

@@ -812,8 +812,8 @@ def plot_limit(result, path: str | PathLike | None = None, *, title: str = "",
                            zorder=6, label="thrust line at collapse")
     _draw_courses(ax, model.body_name, blocks)
     _legend(ax, handles, False)
-    _finish_axes(ax, look, f"{title + ': ' if title else ''}limit load factor "
-                           f"{result.factor:.5g}, mechanism (virtual displacement, scaled)")
+    _finish_axes(ax, look, f"{title + ': ' if title else ''}{result.heading()}, mechanism "
+                           "(virtual displacement, scaled)")
     if path is not None:
         ax.figure.savefig(path, dpi=dpi)
     return ax.figure
