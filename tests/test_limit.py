@@ -160,19 +160,7 @@ thickness = 0.15
 voussoirs = 30
 
 [[laws]]
-groups = ["voussoir", "voussoir"]
-friction = 1.0
-
-[[laws]]
-groups = ["voussoir", "pier"]
-friction = 1.0
-
-[[laws]]
-groups = ["voussoir", "ground"]
-friction = 1.0
-
-[[laws]]
-groups = ["pier", "ground"]
+groups = ["*", "*"]
 friction = 1.0
 
 [[loads.settlements]]

@@ -148,14 +148,19 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
         ax.legend(handles=handles, fontsize=8, loc="upper left",
                   title="normal force" if forces and look.force_full > 0.0 else None,
                   title_fontsize=8)
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), c0, strict=True):
+    _cube(ax, c0, half)
+    ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
+                 fontsize=10, wrap=True)
+
+
+def _cube(ax, centre: np.ndarray, half: float) -> None:
+    """Axes limits: the cube of side 2 half [m] about centre [m], equal scales, labels."""
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
         setter(c - half, c + half)
     ax.set_box_aspect((1.0, 1.0, 1.0))
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
-    ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
-                 fontsize=10, wrap=True)
 
 
 def _draw_elements_3d(ax, results, k: int) -> None:
@@ -351,13 +356,7 @@ def plot_limit_3d(result, path: str | PathLike | None = None, *, title: str = ""
         ax.legend(handles=handles, fontsize=8, loc="upper left")
     every = np.concatenate((points[shown[owner]], initial[free[owner]]))
     lo, hi = every.min(axis=0), every.max(axis=0)
-    centre, half = 0.5 * (lo + hi), 0.55 * float((hi - lo).max())
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
-        setter(c - half, c + half)
-    ax.set_box_aspect((1.0, 1.0, 1.0))
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]")
+    _cube(ax, 0.5 * (lo + hi), 0.55 * float((hi - lo).max()))
     ax.set_title(f"{title + ': ' if title else ''}{result.heading()}, mechanism (virtual "
                  "displacement, scaled)", fontsize=10, wrap=True)
     if path is not None:
