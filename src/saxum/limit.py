@@ -32,6 +32,14 @@ price of a convex problem. For purely rotational mechanisms (hinges, no sliding)
 associative and the true (non-associative) factors coincide; where sliding takes part the
 associative factor is only an upper estimate (Radenkovic's theorems: the true collapse
 factor lies between the frictionless one and the associative one).
+Settlements (live="settlement"): no live load (lambda = 0); supports move at given velocities
+U_s, and the programme minimises the power of the contact forces on them, sum R . c with c
+the contacts' relative velocities due to the supports' motion alone: among the admissible
+states, the one that the imposed motion selects (the maximum work of the reactions on it,
+Drucker's principle; an arch on spreading supports takes its minimum thrust). The dual's
+multipliers are then velocities u of the free blocks with U = E^T u + c in the dilatancy
+cones, and gravity's power -D . u equals the power on the supports. Water (live="water"): the
+model's field loads (a flood's pressures at the initial configuration) times lambda.
 `friction="non-associative"` follows the iterative scheme of Gilbert, Casapulla & Ahmed
 (2006) in a simplified form: from the associative solution on, each programme fixes the
 friction limit of every contact at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1)
