@@ -38,8 +38,9 @@ the contacts' relative velocities due to the supports' motion alone: among the a
 states, the one that the imposed motion selects (the maximum work of the reactions on it,
 Drucker's principle; an arch on spreading supports takes its minimum thrust). The dual's
 multipliers are then velocities u of the free blocks with U = E^T u + c in the dilatancy
-cones, and gravity's power -D . u equals the power on the supports. Water (live="water"): the
-model's field loads (a flood's pressures at the initial configuration) times lambda.
+cones, and the dead load's power D . u equals the power on the supports. Water
+(live="water"): the model's field loads (a flood's pressures at the initial configuration)
+times lambda.
 `friction="non-associative"` follows the iterative scheme of Gilbert, Casapulla & Ahmed
 (2006) in a simplified form: from the associative solution on, each programme fixes the
 friction limit of every contact at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1)
