@@ -218,3 +218,13 @@ def test_the_3d_mechanism_is_drawn(tmp_path):
     assert (tmp_path / "m.png").stat().st_size > 0
     with pytest.raises(InputError, match="plot.plot_limit draws 2D"):
         plot_limit_3d(limit_analysis(flat))
+
+
+def test_cli_limit_draws_a_3d_mechanism(tmp_path, capsys):
+    path = tmp_path / "barrel.toml"
+    path.write_text('[structure]\ntype = "semicircular_arch_3d"\nradius = 1.0\n'
+                    'thickness = 0.15\nvoussoirs = 9\ndepth = 0.5\n\n[[laws]]\n'
+                    'groups = ["*", "*"]\nfriction = 0.8\n\n[output]\nduration = 1.0\n')
+    assert main(["limit", str(path), "-o", str(tmp_path / "m.png")]) == 0
+    assert "limit load factor lambda = 0.1473" in capsys.readouterr().out  # the 2D 0.147381
+    assert (tmp_path / "m.png").stat().st_size > 0
