@@ -203,6 +203,27 @@ def test_settlement_input_is_checked():
         limit_analysis(model, live="water")
 
 
+def test_a_settlement_that_nothing_bounds_is_said_so():
+    """A rigid block between two walls that close on it: its forces on them can be as large
+    as any (rigid, no crushing), so the least power is unbounded."""
+    builder = sx.ModelBuilder()
+    for name, (x0, x1, y0, y1) in (("ground", (-1.0, 2.0, -0.2, 0.0)),
+                                   ("left", (-0.5, 0.0, 0.0, 1.0)),
+                                   ("right", (0.4, 0.9, 0.0, 1.0))):
+        builder.add_block([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], kind=BodyKind.FIXED,
+                          group="support", name=name)
+    builder.add_block([(0.0, 0.0), (0.4, 0.0), (0.4, 0.5), (0.0, 0.5)], density=2000.0,
+                      group="block", name="block")
+    builder.set_law("support", "block", sx.ContactLaw(friction=0.6))
+    builder.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    model = builder.finalize()
+    with pytest.raises(InputError, match=r"supports' motion \(right\) finds no bound"):
+        limit_analysis(model, live="settlement", settlement={"right": (-1.0, 0.0, 0.0)})
+    opening = limit_analysis(model, live="settlement", settlement={"right": (1.0, 0.0, 0.0)})
+    # it leaves the block: no force, to the programme's tolerance, 1e-9 of the weight 3924 N/m
+    assert opening.support_power == pytest.approx(0.0, abs=4e-6)
+
+
 def test_the_3d_mechanism_is_drawn(tmp_path):
     """plot_limit_3d: the extruded arch's four hinge lines, the blocks moved by their
     virtual velocities; a 2D result is refused with the function to use."""

@@ -45,7 +45,8 @@ times lambda.
 (2006) in a simplified form: from the associative solution on, each programme fixes the
 friction limit of every contact at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1)
 (a limit independent of the current normal force, whose flow rule has no dilatancy), until
-the factor repeats while the previous forces satisfy Coulomb with their own normal forces:
+the factor (with settlements: the power on the supports) repeats while the previous forces
+satisfy Coulomb with their own normal forces:
 those forces are then optimal for the last programme, and with its multipliers they make a
 state that is in equilibrium, within the Coulomb cones and has a non-dilatant mechanism
 sliding where the friction is spent: a collapse state of the non-associative model, its
@@ -212,6 +213,11 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
     except _Infeasible:
         raise _dead_load_error(model, free, unit, mu, rhs, solve) from None
     except _Unbounded:
+        if settlement is not None:
+            raise InputError(f"the supports' motion ({_names(model, moved)}) finds no bound: "
+                             "the blocks can press on them with forces as large as any (an "
+                             "unbounded thrust, e.g. a wedge between closing supports); give "
+                             "them a motion that the structure resists finitely") from None
         loaded = free[np.abs(load[free]).max(axis=1) > 0.0]
         raise InputError(f"the live load ({label}) cannot cause collapse: the joints carry it "
                          f"at any factor (an unbounded factor); it acts on "
