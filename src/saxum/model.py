@@ -29,6 +29,7 @@ from .fe.material import Elastic
 from .geometry2d import normalize_polygon, polygon_properties
 from .geometry3d import (
     Polyhedron,
+    PolyhedronProperties,
     convex_polyhedron,
     polyhedron_properties,
     quaternion_from_matrix,
@@ -36,7 +37,7 @@ from .geometry3d import (
 )
 from .laws import ContactLaw, NoContact, Parameter
 
-__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder"]
+__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder", "Shape"]
 
 DENSITY_RANGE = (1.0, 1.0e5)
 """Densities a free block may have [kg/m^3]: masonry is 1000-3000 and the densest metal
@@ -74,6 +75,16 @@ class BodyKind(IntEnum):
     FIXED = 1
     DRIVEN = 2
     DEFORMABLE = 3
+
+
+class Shape(IntEnum):
+    """What the narrow phase takes a body's geometry to be: POLYGON (a convex polygon, in 3D a
+    convex polyhedron: its vertices, edges and faces) or ROUND (a disc, in 3D a sphere, of
+    radius Model.body_round_radius about its centre of mass; its vertices are the corners of
+    its bounding square (cube), which only the broad phase and plots of polygons read)."""
+
+    POLYGON = 0
+    ROUND = 1
 
 
 @dataclass(frozen=True)
@@ -161,10 +172,21 @@ class Model:
     from outside), indices into the face arrays, shape [edge_count, 2], int32."""
     fe: "FEBodies | None" = None
     """The deformable blocks' meshes and matrices (saxum.bodies.fe), None if there are none."""
+    body_shape: np.ndarray | None = None
+    """Shape per body (POLYGON or ROUND), shape [body_count], int8 (default: all POLYGON)."""
+    body_round_radius: np.ndarray | None = None
+    """Radius of a ROUND body [m] (0 for polygons), shape [body_count], float64."""
     max_vertices: int = field(init=False)
+    has_round: bool = field(init=False)
+    """Some body is a disc (sphere): detection runs the round pairs' kernels."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "max_vertices", int(np.diff(self.body_vertex_start).max()))
+        if self.body_shape is None:
+            object.__setattr__(self, "body_shape", np.zeros(self.body_count, dtype=np.int8))
+        if self.body_round_radius is None:
+            object.__setattr__(self, "body_round_radius", np.zeros(self.body_count))
+        object.__setattr__(self, "has_round", bool((self.body_shape == Shape.ROUND).any()))
 
     def body(self, name: str) -> int:
         """Index of the body called `name`."""
@@ -201,6 +223,8 @@ class _Block:
     motion: Motion | None
     material: Elastic | None = None
     mesh_size: float | None = None
+    round_radius: float = 0.0
+    """> 0: a disc (sphere) of this radius [m] whose vertices are its bounding square (cube)."""
 
 
 class ModelBuilder:
@@ -310,6 +334,47 @@ class ModelBuilder:
                                    mesh_size))
         return index
 
+    def add_disc(self, centre: Sequence[float], radius: float, *, density: float = 0.0,
+                 group: str = "block", kind: BodyKind = BodyKind.FREE,
+                 motion: Motion | None = None, name: str | None = None) -> int:
+        """Add a disc (2D) of `radius` [m] centred at (x, y) [m]; returns its body index.
+        Mass rho pi r^2 [kg per metre of depth], polar moment m r^2 / 2 [kg m^2]; density,
+        group, kind, motion, name as in add_block. Discs touch polygons and discs with the
+        laws of their groups, one contact point per pair (saxum.detection.round)."""
+        return self._add_round(centre, radius, 2, "add_disc", density=density, group=group,
+                               kind=kind, motion=motion, name=name)
+
+    def add_sphere(self, centre: Sequence[float], radius: float, *, density: float = 0.0,
+                   group: str = "block", kind: BodyKind = BodyKind.FREE,
+                   motion: Motion | None = None, name: str | None = None) -> int:
+        """Add a sphere (3D) of `radius` [m] centred at (x, y, z) [m]; returns its body index.
+        Mass rho 4/3 pi r^3 [kg], principal moments 2/5 m r^2 [kg m^2]; the other arguments as
+        in add_block (add_disc)."""
+        return self._add_round(centre, radius, 3, "add_sphere", density=density, group=group,
+                               kind=kind, motion=motion, name=name)
+
+    def _add_round(self, centre, radius, dim: int, call: str, **block) -> int:
+        """A disc (dim 2) or sphere (dim 3) as a block whose vertices are its bounding square
+        (cube) and whose round_radius is `radius`."""
+        name = block["name"] if block["name"] is not None else f"block {len(self._blocks)}"
+        if self.dim != dim:
+            other = "add_sphere" if dim == 2 else "add_disc"
+            raise InputError(f"{name}: {call} is for {dim}D models; this one is {self.dim}D "
+                             f"(use {other})")
+        c = np.asarray(centre, dtype=np.float64)
+        if c.shape != (dim,) or not np.all(np.isfinite(c)):
+            raise InputError(f"{name}: the centre must be {dim} finite coordinates [m], got "
+                             f"{plain(centre)}")
+        r = float(radius)
+        if not (math.isfinite(r) and r > 0.0):
+            raise InputError(f"{name}: the radius must be a finite length > 0 [m], got "
+                             f"{plain(radius)}")
+        square = [(-r, -r), (r, -r), (r, r), (-r, r)]
+        corners = np.array(square if dim == 2 else [(x, y, z) for x, y in square for z in (-r, r)])
+        index = self.add_block(c + corners, **{**block, "name": name})
+        self._blocks[index].round_radius = r
+        return index
+
     def set_material(self, group: str, material: Elastic, mesh_size: float | None = None) -> int:
         """Make every free block of `group` deformable: a finite-element mesh of elements of
         about mesh_size [m] (default as in add_block) of `material` (saxum.fe.Elastic), whose
@@ -323,6 +388,10 @@ class ModelBuilder:
         changed = 0
         for block in self._blocks:
             if block.group == group and block.kind in (BodyKind.FREE, BodyKind.DEFORMABLE):
+                if block.round_radius > 0.0:
+                    raise InputError(f"materials: group {group!r} has the disc (sphere) "
+                                     f"{block.name!r}, which cannot be deformable; put it in "
+                                     "another group")
                 block.kind, block.density = BodyKind.DEFORMABLE, material.density
                 block.material, block.mesh_size = material, mesh_size
                 changed += 1
@@ -441,6 +510,9 @@ class ModelBuilder:
             dim=self.dim,
             dof=dof,
             fe=self._deformable(),
+            body_shape=np.array([Shape.ROUND if blk.round_radius > 0.0 else Shape.POLYGON
+                                 for blk in self._blocks], dtype=np.int8),
+            body_round_radius=np.array([blk.round_radius for blk in self._blocks]),
             **geometry,
         )
         for load in model.field_loads:
@@ -475,6 +547,11 @@ class ModelBuilder:
             local.append(rel)
             radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
             size[b] = math.sqrt(props.area)
+            if blk.round_radius > 0.0:  # a disc inside its bounding square rel
+                r = blk.round_radius
+                mass[b] = blk.density * math.pi * r * r
+                inertia[b] = 0.5 * mass[b] * r * r
+                size[b] = math.sqrt(math.pi) * r
             starts[b + 1] = starts[b] + len(rel)
         vertex_local = np.ascontiguousarray(np.concatenate(local))
         following = np.concatenate([np.roll(rel, -1, axis=0) for rel in local]) - vertex_local
@@ -496,6 +573,11 @@ class ModelBuilder:
         for b, blk in enumerate(self._blocks):
             poly = blk.vertices
             props = polyhedron_properties(poly)
+            if blk.round_radius > 0.0:  # a sphere inside its bounding cube, axes the world's
+                r = blk.round_radius
+                volume = 4.0 / 3.0 * math.pi * r**3
+                props = PolyhedronProperties(volume, props.centroid,
+                                             np.full(3, 0.4 * volume * r * r), np.eye(3))
             mass[b] = blk.density * props.volume
             inertia[b] = blk.density * props.moments
             q0[b, :3] = props.centroid
