@@ -213,6 +213,23 @@ def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
                             y + s * local[:, 0] + c * local[:, 1]))
 
 
+def drawn_outlines(vertex_start: np.ndarray, vertex_local: np.ndarray,
+                   round_radius: np.ndarray | None, sides: int = 48
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(vertex_start, vertex_local [m]) of the polygons that draw 2D bodies (plots, VTK): a
+    disc's (round_radius > 0, as Model.body_round_radius; None: no discs) bounding square is
+    replaced by the regular polygon of `sides` sides inscribed in its circle."""
+    if round_radius is None or not (round_radius > 0.0).any():
+        return vertex_start, vertex_local
+    turn = 2.0 * np.pi * np.arange(sides) / sides
+    circle = np.column_stack((np.cos(turn), np.sin(turn)))
+    rings = [circle * r if r > 0.0 else vertex_local[vertex_start[b]:vertex_start[b + 1]]
+             for b, r in enumerate(round_radius)]
+    start = np.zeros(len(rings) + 1, dtype=vertex_start.dtype)
+    start[1:] = np.cumsum([len(ring) for ring in rings])
+    return start, np.concatenate(rings)
+
+
 @dataclass
 class _Block:
     name: str

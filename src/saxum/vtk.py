@@ -41,6 +41,7 @@ import numpy as np
 
 from .errors import InputError
 from .geometry3d import rotation_matrix, rotation_vectors, world_points
+from .model import drawn_outlines
 from .results import Results
 
 __all__ = ["export_vtk"]
@@ -92,12 +93,12 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
     """The blocks at output frame k: polygon cells (one cell block per vertex count, as meshio
     needs equal-sized cells in a block) over the world vertices [m] of all blocks."""
     m = res.model
-    start = m["body_vertex_start"]
+    start, loc = drawn_outlines(m["body_vertex_start"], m["vertex_local"],
+                                m.get("body_round_radius"))
     count = np.diff(start)
     q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
     # 2D: each vertex turned by its body's angle theta, then shifted to the centre of mass.
     owner = np.repeat(np.arange(count.size), count)
-    loc = m["vertex_local"]
     x, y, th = q[owner, 0], q[owner, 1], q[owner, 2]
     c, s = np.cos(th), np.sin(th)
     points = _pad3(np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
