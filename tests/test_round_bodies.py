@@ -137,16 +137,17 @@ def test_sphere_against_polyhedron_face_edge_vertex_and_sphere():
 
 
 def _fill(seed):
+    """A box of 30 discs with their laws: (builder, assembly)."""
     b = sx.ModelBuilder()
     asm = add_granular_box(b, 0.3, 0.4, radius=(0.015, 0.025), count=30, seed=seed)
+    law = sx.ContactLaw(friction=0.5)
+    b.set_law("grain", "grain", law)
+    b.set_law("grain", "container", law)
     return b, asm
 
 
 def test_granular_fill_is_seeded_and_without_overlaps():
     b, asm = _fill(seed=4)
-    law = sx.ContactLaw(friction=0.5)
-    b.set_law("grain", "grain", law)
-    b.set_law("grain", "container", law)
     model = b.finalize()
     assert len(asm["grains"]) == 30
     r = model.body_round_radius[asm["grains"]]
@@ -194,9 +195,6 @@ duration = 0.02
 
 def test_round_pairs_survive_a_checkpoint_bit_for_bit():
     b, _ = _fill(seed=1)
-    law = sx.ContactLaw(friction=0.5)
-    b.set_law("grain", "grain", law)
-    b.set_law("grain", "container", law)
     model = b.finalize()
     whole = sx.Simulation(model, dt=1e-3)
     state = whole.initial_state()

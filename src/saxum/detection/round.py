@@ -26,6 +26,7 @@ import math
 
 import numba as nb
 
+from .fe_nodes3d import _edge_coordinate
 from .polygons import _write as _write_2d
 from .polygons import alert_of_pair
 from .polyhedra import _write as _write_3d
@@ -33,6 +34,15 @@ from .polyhedra import _write as _write_3d
 __all__ = ["round_contacts_2d", "round_contacts_3d"]
 
 _ROUND = 1  # saxum.model.Shape.ROUND
+
+
+@nb.njit(inline="always")
+def _pair(pairs, p, body_group, group_law, law_alert, body_alert, alert):
+    """(i, j, law index, alert distance [m]) of pair p (polygons.alert_of_pair)."""
+    i = pairs[p, 0]
+    j = pairs[p, 1]
+    law_index = group_law[body_group[i], body_group[j]]
+    return i, j, law_index, alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
 
 
 @nb.njit(inline="always")
@@ -95,10 +105,8 @@ def round_contacts_2d(pairs, npairs, q, wv, wn, edge_length, vertex_start, shape
     nbody = q.shape[0]
     c = first
     for p in range(npairs):
-        i = pairs[p, 0]
-        j = pairs[p, 1]
-        law_index = group_law[body_group[i], body_group[j]]
-        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
+        i, j, law_index, pair_alert = _pair(pairs, p, body_group, group_law, law_alert,
+                                            body_alert, alert)
         feature = 0
         if shape[i] == _ROUND and shape[j] == _ROUND:
             n, g, curvature = _pair_of_round(q, round_radius, i, j, 2)
@@ -125,21 +133,12 @@ def round_contacts_2d(pairs, npairs, q, wv, wn, edge_length, vertex_start, shape
 @nb.njit(inline="always")
 def _inside_face(wv, wn, fvs, fv, f, px, py, pz):
     """Whether the point p [m] of face f's plane lies inside the face (CCW from outside)."""
-    nx = wn[f, 0]
-    ny = wn[f, 1]
-    nz = wn[f, 2]
     ring0 = fvs[f]
     m = fvs[f + 1] - ring0
     for k in range(m):
         a = fv[ring0 + k]
         b = fv[ring0 + (k + 1 if k + 1 < m else 0)]
-        ex = wv[b, 0] - wv[a, 0]
-        ey = wv[b, 1] - wv[a, 1]
-        ez = wv[b, 2] - wv[a, 2]
-        rx = px - wv[a, 0]
-        ry = py - wv[a, 1]
-        rz = pz - wv[a, 2]
-        if nx * (ey * rz - ez * ry) + ny * (ez * rx - ex * rz) + nz * (ex * ry - ey * rx) < 0.0:
+        if _edge_coordinate(wv, a, b, px, py, pz, wn[f, 0], wn[f, 1], wn[f, 2], 1.0)[0] < 0.0:
             return False
     return True
 
@@ -207,10 +206,8 @@ def round_contacts_3d(pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, f
     nbody = q.shape[0]
     c = first
     for p in range(npairs):
-        i = pairs[p, 0]
-        j = pairs[p, 1]
-        law_index = group_law[body_group[i], body_group[j]]
-        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
+        i, j, law_index, pair_alert = _pair(pairs, p, body_group, group_law, law_alert,
+                                            body_alert, alert)
         feature = 0
         if shape[i] == _ROUND and shape[j] == _ROUND:
             n, g, curvature = _pair_of_round(q, round_radius, i, j, 3)
