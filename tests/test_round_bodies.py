@@ -208,3 +208,32 @@ def test_round_pairs_survive_a_checkpoint_bit_for_bit():
     half = half.copy()
     second.run(half, 0.05)
     assert np.array_equal(state.body_q, half.body_q)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_discs_and_spheres_round_trip_through_a_json_block_file(tmp_path, dim):
+    from saxum.structures import add_blocks_from_file, write_blocks
+    b = sx.ModelBuilder(dim=dim)
+    corners = [(0, 0), (1, 0), (1, 0.1), (0, 0.1)] if dim == 2 else [
+        (x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 0.1)]
+    b.add_block(corners, kind=sx.BodyKind.FIXED, group="ground", name="ground")
+    add = b.add_disc if dim == 2 else b.add_sphere
+    add((0.5,) * (dim - 1) + (0.3,), 0.2, density=2500.0, name="pebble")
+    model = _two_groups(b)
+    write_blocks(tmp_path / "blocks.json", model)
+    again = sx.ModelBuilder(dim=dim)
+    add_blocks_from_file(again, tmp_path / "blocks.json")
+    read = _two_groups(again)
+    assert read.body_round_radius.tolist() == [0.0, 0.2]
+    assert np.array_equal(read.body_q0, model.body_q0)
+    assert np.array_equal(read.body_mass, model.body_mass)
+    with pytest.raises(sx.InputError, match="'pebble' is a disc .* write JSON"):
+        write_blocks(tmp_path / "blocks.csv", model)
+
+
+def test_json_disc_without_a_positive_radius_is_named(tmp_path):
+    from saxum.structures import read_blocks
+    path = tmp_path / "bad.json"
+    path.write_text('{"blocks": [{"centre": [0, 0], "radius": -1, "density": 2000}]}')
+    with pytest.raises(sx.InputError, match=r"blocks\[0\]: a disc \(sphere\) needs a radius > 0"):
+        read_blocks(path)
