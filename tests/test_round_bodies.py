@@ -237,3 +237,30 @@ def test_json_disc_without_a_positive_radius_is_named(tmp_path):
     path.write_text('{"blocks": [{"centre": [0, 0], "radius": -1, "density": 2000}]}')
     with pytest.raises(sx.InputError, match=r"blocks\[0\]: a disc \(sphere\) needs a radius > 0"):
         read_blocks(path)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_plane_face_passes_through_its_point_with_its_normal(dim):
+    b = sx.ModelBuilder(dim=dim)
+    normal = np.array([0.3, 1.0] if dim == 2 else [0.3, -0.2, 1.0])
+    point = np.array([0.5, -0.2] if dim == 2 else [0.5, 0.1, -0.2])
+    b.add_plane(point, normal, 2.0 if dim == 2 else (2.0, 1.5), name="ground")
+    n = normal / np.linalg.norm(normal)
+    add = b.add_disc if dim == 2 else b.add_sphere
+    ball = add(point + 0.105 * n, 0.1, density=2000.0)
+    model = _two_groups(b)
+    c = sx.Simulation(model, dt=1e-3, detection=sx.DetectionSettings(alert=0.02)
+                      ).detector.contacts_at(model.body_q0)
+    assert c.count == 1 and c.candidate[0] == ball
+    assert c.gap[0] == pytest.approx(0.005, abs=1e-12)
+    assert c.frame[0, 1] == pytest.approx(n, abs=1e-12)
+
+
+def test_bad_plane_is_named():
+    b = sx.ModelBuilder()
+    with pytest.raises(sx.InputError, match="floor: a plane needs a point and a non-zero"):
+        b.add_plane((0, 0), (0, 0), 1.0, name="floor")
+    with pytest.raises(sx.InputError, match="floor: half_size must be 1 length"):
+        b.add_plane((0, 0), (0, 1), -1.0, name="floor")
+    with pytest.raises(sx.InputError, match="floor: a plane is a support"):
+        b.add_plane((0, 0), (0, 1), 1.0, name="floor", kind=sx.BodyKind.FREE)

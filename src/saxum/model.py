@@ -370,6 +370,48 @@ class ModelBuilder:
         return self._add_round(centre, radius, 3, "add_sphere", density=density, group=group,
                                kind=kind, motion=motion, name=name)
 
+    def add_plane(self, point: Sequence[float], normal: Sequence[float],
+                  half_size: float | Sequence[float], *, thickness: float | None = None,
+                  group: str = "ground", kind: BodyKind = BodyKind.FIXED,
+                  motion: Motion | None = None, name: str | None = None) -> int:
+        """Add a ground plane (LMGC90's JONCx in 2D, PLANx in 3D) as a slab: a FIXED (or
+        DRIVEN) block whose face through `point` [m] has the outward `normal` (any length),
+        half_size [m] its half length along the face (3D: (a, b), its half sizes along t1 =
+        the world axis least along n made normal to n, and t2 = n x t1), `thickness` [m]
+        behind the face (default: the smaller half size / 10). Returns its body index; it
+        meets blocks, discs and spheres as any block does."""
+        name = name if name is not None else f"block {len(self._blocks)}"
+        kind = BodyKind(kind)
+        if kind == BodyKind.FREE or kind == BodyKind.DEFORMABLE:
+            raise InputError(f"{name}: a plane is a support, FIXED or DRIVEN, not {kind.name}")
+        n = np.asarray(normal, dtype=np.float64)
+        half = np.atleast_1d(np.asarray(half_size, dtype=np.float64))
+        p = np.asarray(point, dtype=np.float64)
+        length = float(np.linalg.norm(n)) if n.shape == (self.dim,) else 0.0
+        if not (math.isfinite(length) and length > 0.0) or p.shape != (self.dim,) \
+                or not np.all(np.isfinite(p)):
+            raise InputError(f"{name}: a plane needs a point and a non-zero normal of "
+                             f"{self.dim} finite coordinates each, got point {plain(point)}, "
+                             f"normal {plain(normal)}")
+        if half.shape != (self.dim - 1,) or not np.all(np.isfinite(half) & (half > 0.0)):
+            raise InputError(f"{name}: half_size must be {self.dim - 1} length(s) > 0 [m] "
+                             f"along the plane, got {plain(half_size)}")
+        t = 0.1 * float(half.min()) if thickness is None else float(thickness)
+        if not (math.isfinite(t) and t > 0.0):
+            raise InputError(f"{name}: thickness must be a length > 0 [m], got {thickness}")
+        n = n / length
+        axis = np.eye(self.dim)[int(np.argmin(np.abs(n)))]
+        t1 = axis - (axis @ n) * n
+        t1 /= np.linalg.norm(t1)
+        if self.dim == 2:
+            corners = [p + s * half[0] * t1 - d * n for s, d in ((-1, 0), (1, 0), (1, t),
+                                                                 (-1, t))]
+        else:
+            t2 = np.cross(n, t1)
+            corners = [p + a * half[0] * t1 + b * half[1] * t2 - d * n
+                       for a in (-1, 1) for b in (-1, 1) for d in (0.0, t)]
+        return self.add_block(corners, group=group, kind=kind, motion=motion, name=name)
+
     def _add_round(self, centre, radius, dim: int, call: str, **block) -> int:
         """A disc (dim 2) or sphere (dim 3) as a block whose vertices are its bounding square
         (cube) and whose round_radius is `radius`."""

@@ -32,22 +32,16 @@ SLOPE = 0.3  # [rad]
 
 
 def _incline(dim, mu, radius=0.1):
-    """A fixed slab tilted by SLOPE down +x, with a disc (sphere) of `radius` resting on it;
+    """A fixed plane tilted by SLOPE down +x, with a disc (sphere) of `radius` resting on it;
     returns (model, body, unit vector down the slope, unit normal)."""
     c, s = math.cos(SLOPE), math.sin(SLOPE)
     builder = sx.ModelBuilder(dim=dim)
-    if dim == 2:
-        down, normal = np.array([c, -s]), np.array([s, c])
-        slab = [x * down + y * normal for x, y in [(-1, -0.2), (5, -0.2), (5, 0), (-1, 0)]]
-        builder.add_block(slab, kind=sx.BodyKind.FIXED, group="plane", name="plane")
-        body = builder.add_disc(radius * normal, radius, density=2000.0, name="disc")
-    else:
-        down, normal = np.array([c, 0.0, -s]), np.array([s, 0.0, c])
-        side = np.array([0.0, 1.0, 0.0])
-        slab = [x * down + y * side + z * normal for x in (-1, 5) for y in (-1, 1)
-                for z in (-0.2, 0)]
-        builder.add_block(slab, kind=sx.BodyKind.FIXED, group="plane", name="plane")
-        body = builder.add_sphere(radius * normal, radius, density=2000.0, name="ball")
+    down = np.array([c, -s] if dim == 2 else [c, 0.0, -s])
+    normal = np.array([s, c] if dim == 2 else [s, 0.0, c])
+    builder.add_plane(np.zeros(dim), normal, 3.0 if dim == 2 else (3.0, 3.0), group="plane",
+                      name="plane")
+    add = builder.add_disc if dim == 2 else builder.add_sphere
+    body = add(radius * normal, radius, density=2000.0, name="ball")
     law = sx.ContactLaw(friction=mu)
     builder.set_law("block", "plane", law)
     builder.set_law("block", "block", law)
