@@ -264,3 +264,15 @@ def test_bad_plane_is_named():
         b.add_plane((0, 0), (0, 1), -1.0, name="floor")
     with pytest.raises(sx.InputError, match="floor: a plane is a support"):
         b.add_plane((0, 0), (0, 1), 1.0, name="floor", kind=sx.BodyKind.FREE)
+
+
+def test_flood_refuses_discs():
+    b = sx.ModelBuilder()
+    b.add_plane((0, 0), (0, 1), 2.0, name="ground")
+    b.add_disc((0.0, 0.1), 0.1, density=2000.0)
+    b.add_field_load(sx.FloodLoad(level=1.0))
+    law = sx.ContactLaw(friction=0.5)
+    b.set_law("block", "ground", law)
+    b.set_law("block", "block", law)
+    with pytest.raises(sx.InputError, match="discs .* which a flood does not load yet"):
+        b.finalize()
