@@ -276,3 +276,26 @@ def test_flood_refuses_discs():
     b.set_law("block", "block", law)
     with pytest.raises(sx.InputError, match="discs .* which a flood does not load yet"):
         b.finalize()
+
+
+def test_spheres_are_drawn_as_closed_outward_polyhedra_inscribed_in_them():
+    from saxum.model import drawn_polyhedra
+    b = sx.ModelBuilder(dim=3)
+    b.add_plane((0, 0, 0), (0, 0, 1), (1.0, 1.0), name="ground")
+    b.add_sphere((0.0, 0.0, 0.2), 0.2, density=2000.0)
+    model = _two_groups(b)
+    g = drawn_polyhedra({k: getattr(model, k) for k in (
+        "body_vertex_start", "vertex_local", "body_face_start", "face_vertex_start",
+        "face_vertex", "body_round_radius")})
+    assert np.array_equal(g["vertex_local"][:8], model.vertex_local[:8])  # the plane as is
+    sphere = g["vertex_local"][g["body_vertex_start"][1]:]
+    assert np.linalg.norm(sphere, axis=1) == pytest.approx(0.2, rel=1e-15)
+    # divergence theorem: faces outward and closed give a positive volume, less than the
+    # sphere's (inscribed)
+    volume = 0.0
+    fvs, fv = g["face_vertex_start"], g["face_vertex"]
+    for f in range(g["body_face_start"][1], g["body_face_start"][2]):
+        ring = g["vertex_local"][fv[fvs[f]:fvs[f + 1]]]
+        for k in range(1, len(ring) - 1):
+            volume += np.dot(ring[0], np.cross(ring[k], ring[k + 1])) / 6.0
+    assert 0.9 * 4 / 3 * math.pi * 0.008 < volume < 4 / 3 * math.pi * 0.008

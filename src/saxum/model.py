@@ -230,6 +230,54 @@ def drawn_outlines(vertex_start: np.ndarray, vertex_local: np.ndarray,
     return start, np.concatenate(rings)
 
 
+def drawn_polyhedra(m) -> dict[str, np.ndarray]:
+    """The 3D geometry that draws bodies (plots, VTK, viewer) from a mapping m of the Model's
+    arrays (a results file's /model): body_vertex_start, vertex_local [m], body_face_start,
+    face_vertex_start, face_vertex, each sphere's (m["body_round_radius"] > 0) bounding cube
+    replaced by a polyhedron inscribed in it (8 rings of 16 vertices and the poles)."""
+    keys = ("body_vertex_start", "vertex_local", "body_face_start", "face_vertex_start",
+            "face_vertex")
+    radius = m.get("body_round_radius")
+    if radius is None or not (radius > 0.0).any():
+        return {k: m[k] for k in keys}
+    rings, around = 8, 16
+    polar = np.pi * np.arange(1, rings + 1) / (rings + 1)
+    turn = 2.0 * np.pi * np.arange(around) / around
+    sin = np.sin(polar)
+    unit = np.concatenate([[[0.0, 0.0, 1.0]], np.column_stack((
+        np.outer(sin, np.cos(turn)).ravel(), np.outer(sin, np.sin(turn)).ravel(),
+        np.repeat(np.cos(polar), around))), [[0.0, 0.0, -1.0]]])
+
+    def ring(r: int, k: int) -> int:
+        """Index in unit of vertex k of ring r (from the north pole, 0)."""
+        return 1 + r * around + k % around
+
+    south = len(unit) - 1
+    # faces counter-clockwise seen from outside: caps of triangles, bands of quads
+    unit_faces = ([[0, ring(0, k), ring(0, k + 1)] for k in range(around)]
+                  + [[ring(r, k), ring(r + 1, k), ring(r + 1, k + 1), ring(r, k + 1)]
+                     for r in range(rings - 1) for k in range(around)]
+                  + [[south, ring(rings - 1, k + 1), ring(rings - 1, k)] for k in range(around)])
+    vs, fs, fvs = m["body_vertex_start"], m["body_face_start"], m["face_vertex_start"]
+    local, rings_of = [], []
+    for b, r in enumerate(radius):
+        if r > 0.0:
+            local.append(unit * r)
+            rings_of.append([np.array(f) for f in unit_faces])
+        else:
+            local.append(m["vertex_local"][vs[b]:vs[b + 1]])
+            rings_of.append([m["face_vertex"][fvs[f]:fvs[f + 1]] - vs[b]
+                             for f in range(fs[b], fs[b + 1])])
+    vertex_start = np.concatenate([[0], np.cumsum([len(v) for v in local])]).astype(np.int32)
+    faces = [f + vertex_start[b] for b, body in enumerate(rings_of) for f in body]
+    return {"body_vertex_start": vertex_start, "vertex_local": np.concatenate(local),
+            "body_face_start": np.concatenate([[0], np.cumsum([len(f) for f in rings_of])]
+                                              ).astype(np.int32),
+            "face_vertex_start": np.concatenate([[0], np.cumsum([len(f) for f in faces])]
+                                                ).astype(np.int32),
+            "face_vertex": np.concatenate(faces).astype(np.int32)}
+
+
 @dataclass
 class _Block:
     name: str

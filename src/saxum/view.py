@@ -43,7 +43,7 @@ import numpy as np
 from .errors import InputError
 from .laws import LawKind
 from .mechanism import bond_states, frame_mechanism
-from .model import BodyKind, drawn_outlines
+from .model import BodyKind, drawn_outlines, drawn_polyhedra
 from .plot_common import results_floods, results_heading
 
 __all__ = ["CONTACT_POINTS", "MAX_BYTES", "STEP_POINTS", "View", "dequantize",
@@ -147,6 +147,9 @@ def _geometry(results, shown: np.ndarray, pack: _Packer) -> None:
     vs, local = m["body_vertex_start"], m["vertex_local"]
     if results.dim == 2:
         vs, local = drawn_outlines(vs, local, m.get("body_round_radius"))
+    else:
+        m = drawn_polyhedra(m)
+        vs, local = m["body_vertex_start"], m["vertex_local"]
     counts = np.diff(vs)[shown]
     take = np.concatenate([np.arange(vs[b], vs[b + 1]) for b in shown])
     pack.add("vertex", local[take].astype(np.float32))

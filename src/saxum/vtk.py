@@ -41,7 +41,7 @@ import numpy as np
 
 from .errors import InputError
 from .geometry3d import rotation_matrix, rotation_vectors, world_points
-from .model import drawn_outlines
+from .model import drawn_outlines, drawn_polyhedra
 from .results import Results
 
 __all__ = ["export_vtk"]
@@ -122,8 +122,9 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
 def _faces(res: Results, k: int) -> meshio.Mesh:
     """3D blocks at output frame k: their faces as polygon cells over the world vertices."""
     m = res.model
+    g = drawn_polyhedra(m)
     q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
-    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
+    points = world_points(q, g["body_vertex_start"], g["vertex_local"])
     rot = rotation_matrix(q[:, 3:])
     body_data = {
         "displacement": q[:, :3] - q0[:, :3],
@@ -134,16 +135,16 @@ def _faces(res: Results, k: int) -> meshio.Mesh:
         "body_kind": m["body_kind"].astype(np.int32),
     }
     # faces as runs of the face_vertex list, each with its block's data
-    face_start = m["body_face_start"]
+    face_start = g["body_face_start"]
     owner = np.repeat(np.arange(len(q)), np.diff(face_start))
-    fvs = m["face_vertex_start"]
+    fvs = g["face_vertex_start"]
     order = np.argsort(np.diff(fvs), kind="stable")  # group equal sizes, keep face order
     count = np.diff(fvs)
     cells = []
     data: dict[str, list] = {name: [] for name in body_data}
     for n in np.unique(count):
         faces = order[count[order] == n]
-        cells.append(("polygon", m["face_vertex"][fvs[faces, None] + np.arange(n)]))
+        cells.append(("polygon", g["face_vertex"][fvs[faces, None] + np.arange(n)]))
         for name, a in body_data.items():
             data[name].append(a[owner[faces]])
     return meshio.Mesh(points, cells, cell_data=data)
