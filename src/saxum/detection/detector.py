@@ -17,7 +17,7 @@ from .fe_nodes import node_contacts
 from .fe_nodes3d import node_contacts_3d
 from .polygons import polygon_contacts
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
-from .round import round_contacts_2d, round_contacts_3d
+from .round import round_contacts
 
 __all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]
 
@@ -169,13 +169,7 @@ class Detector:
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
         if m.has_round:
-            contacts.count = round_contacts_2d(
-                self._round_pairs, len(self._round_pairs), q, self._wv, self._wn,
-                m.edge_length, m.body_vertex_start, m.body_shape, m.body_round_radius,
-                m.body_group, m.group_law, self.alert, self.law_alert, self._body_alert,
-                self._round_key_base(), 2 * m.max_vertices, contacts.count,
-                contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-                contacts.point, contacts.frame, contacts.gap, contacts.area)
+            self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0
         if m.fe is not None:
             self._node_contacts(q, contacts)
@@ -194,6 +188,21 @@ class Detector:
             array = getattr(contacts, name)
             array[first:count] = array[order]
         contacts.count = count
+
+    def _round_contacts(self, q: np.ndarray, contacts: Contacts) -> None:
+        """Append the contacts of the pairs with a disc or sphere (saxum.detection.round),
+        keyed above the polygons' (polyhedra's) and in increasing key order."""
+        m = self.model
+        # the features a round body can touch on the other body of a pair
+        faces, edges = (self._max_faces, self._max_edges) if m.dim == 3 else (m.max_vertices, 0)
+        contacts.count = round_contacts(
+            self._round_pairs, len(self._round_pairs), q, self._wv, self._wn, m.edge_length,
+            m.body_vertex_start, m.body_face_start, m.face_vertex_start, m.face_vertex,
+            m.body_edge_start, m.edge_vertex, m.body_shape, m.body_round_radius, m.body_group,
+            m.group_law, self.alert, self.law_alert, self._body_alert, faces, edges,
+            self._round_key_base(), faces + edges + m.max_vertices, contacts.count,
+            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap, contacts.area)
 
     def _round_key_base(self) -> int:
         """The first key above those of polygon (polyhedron) pairs, where the keys of
@@ -387,15 +396,7 @@ class PolyhedronDetector(Detector):
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
         if m.has_round:
-            contacts.count = round_contacts_3d(
-                self._round_pairs, len(self._round_pairs), q, self._wv, self._wn,
-                m.body_vertex_start, m.body_face_start, m.face_vertex_start, m.face_vertex,
-                m.body_edge_start, m.edge_vertex, m.body_shape, m.body_round_radius,
-                m.body_group, m.group_law, self.alert, self.law_alert, self._body_alert,
-                self._max_faces, self._max_edges, self._round_key_base(),
-                self._max_faces + self._max_edges + m.max_vertices, contacts.count,
-                contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-                contacts.point, contacts.frame, contacts.gap, contacts.area)
+            self._round_contacts(q, contacts)
         if m.fe is not None:
             contacts.side_kind[: contacts.count] = 0
             self._node_contacts(q, contacts)

@@ -31,18 +31,9 @@ from .polygons import _write as _write_2d
 from .polygons import alert_of_pair
 from .polyhedra import _write as _write_3d
 
-__all__ = ["round_contacts_2d", "round_contacts_3d"]
+__all__ = ["round_contacts"]
 
 _ROUND = 1  # saxum.model.Shape.ROUND
-
-
-@nb.njit(inline="always")
-def _pair(pairs, p, body_group, group_law, law_alert, body_alert, alert):
-    """(i, j, law index, alert distance [m]) of pair p (polygons.alert_of_pair)."""
-    i = pairs[p, 0]
-    j = pairs[p, 1]
-    law_index = group_law[body_group[i], body_group[j]]
-    return i, j, law_index, alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
 
 
 @nb.njit(inline="always")
@@ -92,42 +83,6 @@ def _disc_polygon(c_x, c_y, wv, wn, edge_length, v0, nv):
             if d < dist:
                 dist, nx, ny, feature = d, (c_x - ax) / d, (c_y - ay) / d, nv + e
     return nx, ny, dist, feature
-
-
-@nb.njit(cache=True)
-def round_contacts_2d(pairs, npairs, q, wv, wn, edge_length, vertex_start, shape, round_radius,
-                      body_group, group_law, alert, law_alert, body_alert, key_base, features,
-                      first, candidate, antagonist, key, law, point, frame, gap, area):
-    """Contacts of the first npairs pairs (sorted by (i, j)), each with a disc (module doc),
-    written from row `first` on; returns the new count. wv, wn: world vertices [m] and edge
-    normals of the polygons; q: configuration [m, rad]; shape, round_radius [m]: Model's;
-    alert, law_alert, body_alert [m]: as polygon_contacts; features: keys per pair."""
-    nbody = q.shape[0]
-    c = first
-    for p in range(npairs):
-        i, j, law_index, pair_alert = _pair(pairs, p, body_group, group_law, law_alert,
-                                            body_alert, alert)
-        feature = 0
-        if shape[i] == _ROUND and shape[j] == _ROUND:
-            n, g, curvature = _pair_of_round(q, round_radius, i, j, 2)
-            nx, ny = n[0], n[1]
-            cand, ant = i, j
-        else:
-            cand, ant = (i, j) if shape[i] == _ROUND else (j, i)
-            v0 = vertex_start[ant]
-            nx, ny, dist, feature = _disc_polygon(q[cand, 0], q[cand, 1], wv, wn, edge_length,
-                                                  v0, vertex_start[ant + 1] - v0)
-            g = dist - round_radius[cand]
-            curvature = round_radius[cand] if feature < vertex_start[ant + 1] - v0 else 0.0
-        if g > pair_alert:
-            continue
-        r = round_radius[cand]
-        _write_2d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant,
-                  key_base + (i * nbody + j) * features + feature, law_index,
-                  q[cand, 0] - r * nx, q[cand, 1] - r * ny, nx, ny, g)
-        area[c] = 2.0 * math.sqrt(2.0 * curvature * (pair_alert - g))
-        c += 1
-    return c
 
 
 @nb.njit(inline="always")
@@ -194,48 +149,65 @@ def _sphere_polyhedron(cx, cy, cz, wv, wn, vertex_start, face_start, fvs, fv, ed
 
 
 @nb.njit(cache=True)
-def round_contacts_3d(pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start,
-                      edge_vertex, shape, round_radius, body_group, group_law, alert, law_alert,
-                      body_alert, max_faces, max_edges, key_base, features, first, candidate,
-                      antagonist, key, law, point, frame, gap, area):
-    """Contacts of the first npairs pairs (sorted by (i, j)), each with a sphere (module doc),
-    written from row `first` on; returns the new count. wv [m], wn: world vertices and face
-    normals of the polyhedra, with Model's face and edge arrays; q: configuration [m, -];
-    the frame's t is n's component-free direction of the world axis least along n (a
-    fixed choice: the same n gives the same frame from step to step)."""
+def round_contacts(pairs, npairs, q, wv, wn, edge_length, vertex_start, face_start, fvs, fv,
+                   edge_start, edge_vertex, shape, round_radius, body_group, group_law, alert,
+                   law_alert, body_alert, max_faces, max_edges, key_base, features, first,
+                   candidate, antagonist, key, law, point, frame, gap, area):
+    """Contacts of the first npairs pairs (sorted by (i, j)), each with a disc or sphere
+    (module doc), written from row `first` on; returns the new count.
+
+    wv [m], wn: world vertices and outward normals, of the edges starting at them (2D) or of
+    the faces (3D); q: configuration; edge_length [m] (2D), and in 3D the face and edge arrays
+    and their largest counts per body (saxum.model.Model); shape, round_radius [m]: Model's;
+    alert, law_alert, body_alert [m]: as polygon_contacts; features: keys per pair. In 3D the
+    frame's t is the world axis least along n made normal to n (a fixed choice: the same n
+    gives the same frame from step to step)."""
+    dim = wv.shape[1]
     nbody = q.shape[0]
     c = first
     for p in range(npairs):
-        i, j, law_index, pair_alert = _pair(pairs, p, body_group, group_law, law_alert,
-                                            body_alert, alert)
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        law_index = group_law[body_group[i], body_group[j]]
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
+        cand, ant = (i, j) if shape[i] == _ROUND else (j, i)
+        r = round_radius[cand]
         feature = 0
-        if shape[i] == _ROUND and shape[j] == _ROUND:
-            n, g, curvature = _pair_of_round(q, round_radius, i, j, 3)
-            cand, ant = i, j
+        if shape[ant] == _ROUND:
+            n, g, curvature = _pair_of_round(q, round_radius, cand, ant, dim)
+        elif dim == 2:
+            v0 = vertex_start[ant]
+            nx, ny, dist, feature = _disc_polygon(q[cand, 0], q[cand, 1], wv, wn, edge_length,
+                                                  v0, vertex_start[ant + 1] - v0)
+            n, g = (nx, ny, 0.0), dist - r
+            curvature = r if feature < vertex_start[ant + 1] - v0 else 0.0
         else:
-            cand, ant = (i, j) if shape[i] == _ROUND else (j, i)
             n, dist, feature = _sphere_polyhedron(q[cand, 0], q[cand, 1], q[cand, 2], wv, wn,
                                                   vertex_start, face_start, fvs, fv,
                                                   edge_start, edge_vertex, ant, max_faces,
                                                   max_edges)
-            g = dist - round_radius[cand]
-            curvature = round_radius[cand] if feature < max_faces else 0.0
+            g = dist - r
+            curvature = r if feature < max_faces else 0.0
         if g > pair_alert:
             continue
         nx, ny, nz = n
-        # t: the world axis least along n, less its component along n
-        if abs(nx) <= abs(ny) and abs(nx) <= abs(nz):
-            tx, ty, tz = 1.0 - nx * nx, -nx * ny, -nx * nz
-        elif abs(ny) <= abs(nz):
-            tx, ty, tz = -ny * nx, 1.0 - ny * ny, -ny * nz
+        k = key_base + (i * nbody + j) * features + feature
+        if dim == 2:
+            _write_2d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k,
+                      law_index, q[cand, 0] - r * nx, q[cand, 1] - r * ny, nx, ny, g)
+            area[c] = 2.0 * math.sqrt(2.0 * curvature * (pair_alert - g))
         else:
-            tx, ty, tz = -nz * nx, -nz * ny, 1.0 - nz * nz
-        norm = math.sqrt(tx * tx + ty * ty + tz * tz)
-        r = round_radius[cand]
-        _write_3d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant,
-                  key_base + (i * nbody + j) * features + feature, law_index,
-                  q[cand, 0] - r * nx, q[cand, 1] - r * ny, q[cand, 2] - r * nz,
-                  tx / norm, ty / norm, tz / norm, nx, ny, nz, g)
-        area[c] = math.pi * 2.0 * curvature * (pair_alert - g)
+            # t: the world axis least along n, less its component along n
+            if abs(nx) <= abs(ny) and abs(nx) <= abs(nz):
+                tx, ty, tz = 1.0 - nx * nx, -nx * ny, -nx * nz
+            elif abs(ny) <= abs(nz):
+                tx, ty, tz = -ny * nx, 1.0 - ny * ny, -ny * nz
+            else:
+                tx, ty, tz = -nz * nx, -nz * ny, 1.0 - nz * nz
+            norm = math.sqrt(tx * tx + ty * ty + tz * tz)
+            _write_3d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k,
+                      law_index, q[cand, 0] - r * nx, q[cand, 1] - r * ny, q[cand, 2] - r * nz,
+                      tx / norm, ty / norm, tz / norm, nx, ny, nz, g)
+            area[c] = math.pi * 2.0 * curvature * (pair_alert - g)
         c += 1
     return c
