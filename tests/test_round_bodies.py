@@ -299,3 +299,14 @@ def test_spheres_are_drawn_as_closed_outward_polyhedra_inscribed_in_them():
         for k in range(1, len(ring) - 1):
             volume += np.dot(ring[0], np.cross(ring[k], ring[k + 1])) / 6.0
     assert 0.9 * 4 / 3 * math.pi * 0.008 < volume < 4 / 3 * math.pi * 0.008
+
+
+def test_discs_with_deformable_blocks_are_refused():
+    b = sx.ModelBuilder()
+    b.add_plane((0, 0), (0, 1), 2.0, name="ground")
+    b.add_block([(0, 0), (0.2, 0), (0.2, 0.2), (0, 0.2)], name="soft",
+                material=sx.Elastic(E=1e9, nu=0.2, density=2000.0))
+    b.add_disc((0.5, 0.1), 0.1, density=2000.0)
+    model = _two_groups(b)
+    with pytest.raises(sx.InputError, match="discs .spheres. and deformable blocks in one model"):
+        sx.Simulation(model, dt=1e-3)
