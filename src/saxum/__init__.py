@@ -33,6 +33,7 @@ _EXPORTS = {
     "OverlapError": "errors",
     "Results": "results",
     "Scenario": "scenario",
+    "Shape": "model",
     "Simulation": "simulation",
     "SimulationError": "errors",
     "SolverWarning": "errors",

@@ -46,7 +46,7 @@ from .mechanism import (
     joint_states,
     thrust_line,
 )
-from .model import BodyKind, Model
+from .model import BodyKind, Model, drawn_outlines
 from .plot3d import frames_3d, plot_frame_3d
 from .plot_common import (
     LOAD_COLOUR,
@@ -109,11 +109,13 @@ class _Blocks(NamedTuple):
 
 def _results_blocks(results) -> _Blocks:
     m = results.model
-    return _Blocks(m["body_vertex_start"], m["vertex_local"], m["body_kind"], m["body_q0"])
+    return _Blocks(*drawn_outlines(m["body_vertex_start"], m["vertex_local"],
+                                   m.get("body_round_radius")), m["body_kind"], m["body_q0"])
 
 
 def _model_blocks(model: Model) -> _Blocks:
-    return _Blocks(model.body_vertex_start, model.vertex_local, model.body_kind, model.body_q0)
+    return _Blocks(*drawn_outlines(model.body_vertex_start, model.vertex_local,
+                                   model.body_round_radius), model.body_kind, model.body_q0)
 
 
 # -- units ----------------------------------------------------------------------------------

@@ -32,7 +32,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from .fe.mesh import boundary_facets
 from .geometry3d import world_points
 from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
-from .model import BodyKind
+from .model import BodyKind, drawn_polyhedra
 from .plot_common import (
     LOAD_COLOUR,
     REST,
@@ -69,7 +69,8 @@ class _Look3d:
 
 def _look_3d(results, ks) -> _Look3d:
     m = results.model
-    start, local = m["body_vertex_start"], m["vertex_local"]
+    g = drawn_polyhedra(m)
+    start, local = g["body_vertex_start"], g["vertex_local"]
     q = results.body_q[ks]
     owner = np.repeat(np.arange(q.shape[1]), np.diff(start))
     free = m["body_kind"] == BodyKind.FREE
@@ -102,9 +103,10 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     m = results.model
     q = results.body_q[k]
     free = m["body_kind"] == BodyKind.FREE
-    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
-    fvs, fv = m["face_vertex_start"], m["face_vertex"]
-    owner = np.repeat(np.arange(len(q)), np.diff(m["body_face_start"]))
+    g = drawn_polyhedra(m)
+    points = world_points(q, g["body_vertex_start"], g["vertex_local"])
+    fvs, fv = g["face_vertex_start"], g["face_vertex"]
+    owner = np.repeat(np.arange(len(q)), np.diff(g["body_face_start"]))
     hidden = look.floor | (meshes & (m["body_kind"] == BodyKind.DEFORMABLE))
     keep = np.flatnonzero(~hidden[owner])
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
@@ -120,7 +122,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
         ax.add_collection3d(Poly3DCollection([[(x0, y0, z), (x1, y0, z), (x1, y1, z),
                                                (x0, y1, z)]], facecolors="0.92",
                                              edgecolors="0.6", zorder=0))
-    shown = points[free[np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))]]
+    shown = points[free[np.repeat(np.arange(len(q)), np.diff(g["body_vertex_start"]))]]
     shown = shown if len(shown) else points
     t = float(results.time[k])
     floods = results_floods(results)

@@ -11,7 +11,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            body_inertia [kg m^2/m], body_q0, body_vertex_start, vertex_local [m],
                            law_kind, law_friction, law_restitution, law_parameter (SI units,
                            columns saxum.laws.Parameter), group_law, gravity [m/s^2];
-                           3D also body_face_start, face_vertex_start, face_vertex (faces)
+                           3D also body_face_start, face_vertex_start, face_vertex (faces);
+                           with discs (spheres) body_shape, body_round_radius [m]
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
@@ -713,6 +714,9 @@ def _write_model(g: h5py.Group, model) -> None:
     if model.dim == 3:
         fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-"),
                    ("body_size", "m")]
+    if model.has_round:  # and a disc's size, which its bounding square does not give
+        fields += [("body_shape", "-"), ("body_round_radius", "m")] + (
+            [("body_size", "m")] if model.dim == 2 else [])
     for name, units in fields:
         ds = g.create_dataset(name, data=np.asarray(getattr(model, name)))
         ds.attrs["units"] = units

@@ -47,6 +47,7 @@ from .structures import (
     add_blocks_from_mesh,
     add_bridge3d,
     add_buttressed_wall,
+    add_granular_box,
     add_ground_slab,
     add_grounded_running_bond_wall,
     add_pier,
@@ -63,7 +64,8 @@ from .structures._common import course_groups, name_course_joints
 __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
            "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
            "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "FloodSpec",
-           "GroundMotionSpec", "LawSpec", "Loads", "MaterialSpec", "MeshStructure",
+           "GranularBoxStructure", "GroundMotionSpec", "LawSpec", "Loads", "MaterialSpec",
+           "MeshStructure",
            "OpeningSpec", "OutputSpec", "Pier3dStructure", "PierStructure", "PointLoad",
            "Scenario", "Settlement",
            "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
@@ -357,6 +359,25 @@ class BondedWallStructure(_Generated):
                         joint_groups=joint_groups)
 
 
+class GranularBoxStructure(_Generated):
+    """A 2D container of fixed blocks (group "container") filled with discs of random radii,
+    seeded (add_granular_box; group "grain")."""
+
+    type: Literal["granular_box"] = "granular_box"
+    width: Length = Field(description="inner width [m]")
+    height: Length = Field(description="inner height of the filled region [m]")
+    radius_min: Length = Field(description="smallest disc radius [m]")
+    radius_max: Length = Field(description="largest disc radius [m]")
+    count: Count = Field(description="number of discs")
+    seed: int = Field(0, ge=0, description="random seed: the same seed, the same discs")
+    density: Positive = Field(2000.0, description="[kg/m^3]")
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_granular_box(builder, self.width, self.height,
+                         radius=(self.radius_min, self.radius_max), count=self.count,
+                         seed=self.seed, density=self.density)
+
+
 class PierStructure(_Generated):
     """A pier of blocks on a fixed ground (add_pier; groups "ground", "pier")."""
 
@@ -606,7 +627,8 @@ _KIND = {"fixed": BodyKind.FIXED, "free": BodyKind.FREE}
 Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedArchStructure
                       | BondedWallStructure | PierStructure | ButtressedWallStructure
                       | ArchBridgeStructure | Arch3dStructure | Wall3dStructure
-                      | Pier3dStructure | Bridge3dStructure | MeshStructure,
+                      | Pier3dStructure | Bridge3dStructure | MeshStructure
+                      | GranularBoxStructure,
                       Field(discriminator="type")]
 
 
@@ -1342,7 +1364,7 @@ _TAGS = {"semicircular_arch": ArchStructure, "running_bond_wall": WallStructure,
          "pier": PierStructure, "buttressed_wall": ButtressedWallStructure,
          "arch_bridge": ArchBridgeStructure, "semicircular_arch_3d": Arch3dStructure,
          "wall_3d": Wall3dStructure, "pier_3d": Pier3dStructure, "bridge_3d": Bridge3dStructure,
-         "mesh": MeshStructure}
+         "mesh": MeshStructure, "granular_box": GranularBoxStructure}
 _TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
            "detection": DetectionSpec, "output": OutputSpec}
 
