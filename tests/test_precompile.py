@@ -151,3 +151,44 @@ def test_ctrl_c_while_llvm_compiles_stops_the_first_demo(tmp_path):
     assert done.returncode == 130, done.stderr
     assert done.stderr == "saxum: interrupted\n"
     assert not (tmp_path / "demo.png").exists()
+
+
+_ARCH3D = textwrap.dedent("""\
+    [structure]
+    type = "semicircular_arch_3d"
+    radius = 2.0
+    thickness = 0.3
+    voussoirs = 15
+    depth = 0.5
+    density = 2000.0
+
+    [[laws]]
+    groups = ["voussoir", "voussoir"]
+    friction = 0.6
+
+    [[laws]]
+    groups = ["voussoir", "support"]
+    friction = 0.6
+
+    [output]
+    duration = 0.2
+    interval = 0.02
+""")
+
+
+def test_ctrl_c_while_llvm_compiles_a_kernel_outside_precompile_stops_the_run(tmp_path):
+    """A 3D run's kernels compile on their first call (saxum.precompile lists 2D ones only),
+    the first while the initial contacts are found, before the run's own handler. Before: the
+    KeyboardInterrupt was printed with a traceback and dropped, and the run went on to the end
+    and exited 0; now the Ctrl-C is sent again (saxum.cli) and the command stops, 130."""
+    src = str(Path(saxum.precompile.__file__).parents[1])
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    (tmp_path / "arch3d.toml").write_text(_ARCH3D)
+    done = subprocess.run([sys.executable, "-c", _CTRL_C_WHILE_LLVM_COMPILES, "run",
+                           str(tmp_path / "arch3d.toml"), "--quiet"], env=env,
+                          capture_output=True, text=True, timeout=600,
+                          preexec_fn=sigint_as_from_a_terminal)
+    assert done.returncode == 130, done.stderr
+    assert done.stderr == "saxum: interrupted\n"
+    assert not (tmp_path / "arch3d.h5").exists()
