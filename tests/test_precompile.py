@@ -192,3 +192,28 @@ def test_ctrl_c_while_llvm_compiles_a_kernel_outside_precompile_stops_the_run(tm
     assert done.returncode == 130, done.stderr
     assert done.stderr == "saxum: interrupted\n"
     assert not (tmp_path / "arch3d.h5").exists()
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+@pytest.mark.parametrize("delay", [0.0, 0.7, 2.0])
+def test_one_ctrl_c_at_any_moment_of_a_first_demo_stops_it(tmp_path, delay):
+    """A single Ctrl-C, `delay` seconds [s] after the second process started (numba's cache
+    empty: imports, compiles in both processes, or the first steps), stops the demo: 130, one
+    line, no traceback. Before: one that Python dropped during a compile let the demo go on."""
+    src = str(Path(saxum.precompile.__file__).parents[1])
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
+                             str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=sigint_as_from_a_terminal)
+    try:
+        deadline = time.monotonic() + 240
+        while not _children(proc.pid) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        time.sleep(delay)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=240)
+    finally:
+        proc.kill()
+    assert (proc.returncode, err) == (130, "saxum: interrupted\n")
