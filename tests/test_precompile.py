@@ -82,16 +82,21 @@ def _children(pid: int) -> list[int]:
     return kids
 
 
-@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
-def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
-    """Before: the second process went on compiling after the command had said interrupted."""
+def _first_demo(tmp_path) -> subprocess.Popen:
+    """`saxum demo arch` (this saxum) started with an empty numba cache, as from a terminal."""
     src = str(Path(saxum.precompile.__file__).parents[1])
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
-    proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
+    return subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
                              str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True,
                             preexec_fn=sigint_as_from_a_terminal)
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
+    """Before: the second process went on compiling after the command had said interrupted."""
+    proc = _first_demo(tmp_path)
     try:
         deadline = time.monotonic() + 240
         while not (kids := _children(proc.pid)) and time.monotonic() < deadline:
@@ -153,26 +158,16 @@ def test_ctrl_c_while_llvm_compiles_stops_the_first_demo(tmp_path):
     assert not (tmp_path / "demo.png").exists()
 
 
+# A 3D arch (that Ctrl-C stops during its first compile)
 _ARCH3D = textwrap.dedent("""\
-    [structure]
-    type = "semicircular_arch_3d"
-    radius = 2.0
-    thickness = 0.3
-    voussoirs = 15
-    depth = 0.5
-    density = 2000.0
-
-    [[laws]]
-    groups = ["voussoir", "voussoir"]
-    friction = 0.6
-
-    [[laws]]
-    groups = ["voussoir", "support"]
-    friction = 0.6
-
-    [output]
-    duration = 0.2
-    interval = 0.02
+    structure.type = "semicircular_arch_3d"
+    structure.radius = 1.0
+    structure.thickness = 0.2
+    structure.voussoirs = 9
+    structure.depth = 0.4
+    laws = [{groups = ["voussoir", "voussoir"], friction = 0.6},
+            {groups = ["voussoir", "support"], friction = 0.6}]
+    output.duration = 0.1
 """)
 
 
@@ -200,13 +195,7 @@ def test_one_ctrl_c_at_any_moment_of_a_first_demo_stops_it(tmp_path, delay):
     """A single Ctrl-C, `delay` seconds [s] after the second process started (numba's cache
     empty: imports, compiles in both processes, or the first steps), stops the demo: 130, one
     line, no traceback. Before: one that Python dropped during a compile let the demo go on."""
-    src = str(Path(saxum.precompile.__file__).parents[1])
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
-           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
-    proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
-                             str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True,
-                            preexec_fn=sigint_as_from_a_terminal)
+    proc = _first_demo(tmp_path)
     try:
         deadline = time.monotonic() + 240
         while not _children(proc.pid) and time.monotonic() < deadline:

@@ -4,7 +4,7 @@ compiled co-rotational kernels of the Moreau-Jean step over all blocks (see bloc
 The names load on first use: a run of rigid blocks imports saxum.fe.blocks' kernels and not
 scikit-fem and scipy.sparse (~0.3 s), which only assembly needs."""
 
-import importlib
+from .. import _lazy_names
 
 _EXPORTS = {
     "DEFAULT_MAX_NODES": "mesh",
@@ -19,16 +19,4 @@ _EXPORTS = {
 """Each public name: the module that defines it."""
 
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    """A public name, imported from its module on first use."""
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_EXPORTS})
+__getattr__, __dir__ = _lazy_names(__name__, _EXPORTS, globals())
