@@ -23,10 +23,14 @@ source repository.
 """
 
 import argparse
+import contextlib
 import math
 import os
+import signal
 import sys
+import threading
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -810,11 +814,47 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     print(f"saxum: warning: {message}", file=sys.stderr)
 
 
+_CTRL_C_AGAIN = 0.05
+"""[s] after a dropped Ctrl-C (_ctrl_c_not_dropped) at which it is sent again."""
+
+
+@contextlib.contextmanager
+def _ctrl_c_not_dropped() -> Iterator[None]:
+    """A Ctrl-C whose KeyboardInterrupt Python drops is sent again until one is not dropped.
+
+    While numba compiles (a kernel on its first call: those that saxum.precompile does not
+    list, and 3D ones), Python often runs its SIGINT handler inside llvmlite's ctypes callback,
+    where a KeyboardInterrupt is printed ("Exception ignored on calling ctypes callback", with
+    a traceback) and dropped: the command went on. Here such a one is not printed, and SIGINT
+    is sent again _CTRL_C_AGAIN later, as a user would press Ctrl-C again; a run's own handler
+    (saxum.runner) then stops it after the step, Python's default one raises it where it
+    lands."""
+    previous = sys.unraisablehook
+    timers: list[threading.Timer] = []
+
+    def dropped(unraisable) -> None:
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            previous(unraisable)
+            return
+        again = threading.Timer(_CTRL_C_AGAIN, os.kill, (os.getpid(), signal.SIGINT))
+        again.daemon = True
+        timers.append(again)
+        again.start()
+
+    sys.unraisablehook = dropped
+    try:
+        yield
+    finally:
+        sys.unraisablehook = previous
+        for again in timers:
+            again.cancel()
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         _check_output(args)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _ctrl_c_not_dropped():
             warnings.showwarning = _show_warning
             args.func(args)
     except KeyboardInterrupt:  # Ctrl-C outside a run's own handling (start-up, a picture)

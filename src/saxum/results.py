@@ -387,9 +387,22 @@ def _grow(group: h5py.Group, name: str, dtype, tail: tuple, units: str, chunk: i
 
 
 def _append(ds: h5py.Dataset, rows: np.ndarray) -> None:
-    n = ds.shape[0]
-    ds.resize(n + len(rows), axis=0)
-    ds[n:] = rows
+    """ds[n:n + len(rows)] = rows after growing ds by len(rows), flushed. Rows of ds's own
+    (fixed-size) dtype go through h5py's low-level calls, which write the same as resize and
+    ds[n:] = rows in ~25 instead of ~180 us (a 2D frame has ~36 datasets: this was 6 ms of
+    the 6.5 a frame cost to write)."""
+    shape = ds.id.shape
+    n = shape[0]
+    if rows.dtype != ds.dtype or rows.dtype.kind == "O":  # variable-length strings
+        ds.resize(n + len(rows), axis=0)
+        ds[n:] = rows
+    else:
+        ds.id.set_extent((n + len(rows), *shape[1:]))
+        if len(rows):
+            rows = np.ascontiguousarray(rows)
+            space = ds.id.get_space()
+            space.select_hyperslab((n,) + (0,) * (rows.ndim - 1), rows.shape)
+            ds.id.write(h5py.h5s.create_simple(rows.shape), space, rows)
     ds.flush()
 
 

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import InputError
 from ..fe.blocks import FEBlocks
@@ -153,6 +152,8 @@ class FEKind:
 
     def __init__(self, fe: FEBodies, h: float, theta: float,
                  body_q0: np.ndarray | None = None) -> None:
+        import scipy.sparse as sp  # ~0.3 s: imported by the runs that have FE blocks
+
         self.model = fe
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
         b = self.blocks
