@@ -46,15 +46,15 @@ def test_colouring_separates_free_bodies():
     active = np.ones(c.count, dtype=np.bool_)
     active[::7] = False  # inactive contacts take no colour
     free = (sim.model.body_inv_mass > 0.0).any(axis=1)
-    strip, nstrips = body_strips(sim.model.body_q0, free)
+    strip, nstrips = body_strips(free)
     assert nstrips == 4 and np.all(strip[~free] == -1)  # 85 bricks and halves: 4 strips
     assert np.ptp(np.bincount(strip[free])) <= 1  # of as many as can be
     order, chunks, colours = colour_contacts_2d(c.candidate, c.antagonist, active, c.count,
                                                 strip, nstrips)
     assert len(chunks) == 5 and len(colours) == 3  # the strips are wider than a brick
     _check_colouring(c, active, free, order, chunks, colours)
-    # strips of one brick each: bricks have contacts in strips of one colour (a brick and the
-    # ones two further along the course touch one above), so they are merged until none has
+    # strips of one brick each: a brick has contacts in strips of one colour (those of the
+    # bricks two further along its course), so they are merged until none has
     strip[free] = np.arange(free.sum())
     order, chunks, colours = colour_contacts_2d(c.candidate, c.antagonist, active, c.count,
                                                 strip, free.sum())
