@@ -418,16 +418,17 @@ def run_ensemble(scenario: Scenario, output: str | Path, *,
     bare = scenario.model_copy(update={"ensemble": None}).model_dump_json()
     meta = {"scenario_json": bare, "spec_json": spec.model_dump_json()}
     started = time.perf_counter()
-    store = _Store(Path(output), meta, records, overwrite)
-    if scenario_text:
-        store.file.attrs["scenario"] = scenario_text
+    own = client is None
+    if own:  # (before the file: a scheduler that does not answer leaves none behind)
+        client = connect(scheduler, workers, processes=processes)
+    store = None
     good = [k for k, r in enumerate(records) if r.motion is not None]
     new = failed = 0
     interrupted = False
-    own = client is None
     try:
-        if own:
-            client = connect(scheduler, workers, processes=processes)
+        store = _Store(Path(output), meta, records, overwrite)
+        if scenario_text:
+            store.file.attrs["scenario"] = scenario_text
 
         def task(k: int, scale: float) -> dict:
             motion = records[k].motion
@@ -439,13 +440,14 @@ def run_ensemble(scenario: Scenario, output: str | Path, *,
 
         new, failed, interrupted = _schedule(client, store, spec, good, task, quiet, on_row)
     finally:
-        if own and client is not None:
+        if own:
             cluster = client.cluster
             client.close()
             if cluster is not None:
                 cluster.close()
-        runs = len(store.done)
-        store.close()
+        if store is not None:
+            runs = len(store.done)
+            store.close()
     return EnsembleSummary(Path(output), runs, new, failed,
                            tuple((r.name, r.error) for r in records if r.motion is None),
                            interrupted, time.perf_counter() - started)
@@ -544,21 +546,52 @@ class Ensemble:
     spec: EnsembleSpec
     scenario_json: str
 
-    def capacities(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per record, the largest scale at which it stood below its smallest collapsing
-        scale, and that collapsing scale (nan where no run collapsed, and standing 0 where
-        the smallest scale collapsed): the IDA bracket of its collapse capacity."""
+    def failed(self, edp: str | None = None, threshold: float | None = None) -> np.ndarray:
+        """Per run: collapsed, or (with `edp`, a demand column, and `threshold` in its unit)
+        its demand above the threshold or collapsed; a run that failed to run is neither."""
+        col = self.runs["collapsed"]
+        if edp is None:
+            return col == 1
+        if edp not in COLUMNS or COLUMNS[edp][0] != "f8" or not edp.startswith(("peak",
+                                                                                "residual")):
+            names = ", ".join(k for k in COLUMNS if k.startswith(("peak", "residual")))
+            raise InputError(f"no demand {edp!r}; the demands: {names}")
+        return (col == 1) | ((col == 0) & (self.runs[edp] > threshold))
+
+    def capacities(self, failed: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Per record, the smallest scale at which it failed (`failed`: per run, default
+        collapsed) and the largest scale below it at which it did not (0 if none): its IDA
+        bracket (nan, and the largest scale run, where it never failed)."""
+        failed = self.failed() if failed is None else failed
         n = len(self.record_names)
-        stands, collapses = np.zeros(n), np.full(n, math.nan)
-        rec, scale, col = self.runs["record"], self.runs["scale"], self.runs["collapsed"]
+        stands, fails = np.zeros(n), np.full(n, math.nan)
+        rec, scale = self.runs["record"], self.runs["scale"]
+        ran = self.runs["collapsed"] >= 0
         for k in range(n):
-            down = scale[(rec == k) & (col == 1)]
+            down = scale[(rec == k) & failed]
             if down.size:
-                collapses[k] = down.min()
-            up = scale[(rec == k) & (col == 0)
-                       & (scale < (collapses[k] if down.size else math.inf))]
+                fails[k] = down.min()
+            up = scale[(rec == k) & ran & ~failed & (scale < (fails[k] if down.size
+                                                               else math.inf))]
             stands[k] = up.max() if up.size else 0.0
-        return stands, collapses
+        return stands, fails
+
+    def fragility(self, edp: str | None = None, threshold: float | None = None):
+        """The lognormal fragility (saxum.fragility) of collapse, or of `edp` above
+        `threshold`: from the capacities (IDA: the midpoints of their brackets) or from the
+        stripes (MSA: failures of the runs at each scale)."""
+        from .fragility import fit_capacities, fit_stripes
+
+        failed = self.failed(edp, threshold)
+        if self.spec.ida:
+            stands, fails = self.capacities(failed)
+            read = [k for k, e in enumerate(self.record_errors) if not e]
+            return fit_capacities(0.5 * (stands + fails)[read], max(self.spec.scales))
+        ran = self.runs["collapsed"] >= 0
+        scales = np.unique(self.runs["scale"][ran])
+        runs = [int(np.count_nonzero(ran & (self.runs["scale"] == s))) for s in scales]
+        fails = [int(np.count_nonzero(failed & (self.runs["scale"] == s))) for s in scales]
+        return fit_stripes(scales, runs, fails)
 
 
 def read_ensemble(path: str | Path) -> Ensemble:
