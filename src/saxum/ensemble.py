@@ -288,6 +288,10 @@ class _Store:
                 ds.attrs["units"] = units
             self.file.flush()
         runs = self.file["runs"]
+        # (a client killed while writing a row leaves some columns one longer: cut them)
+        rows = min(runs[name].shape[0] for name in COLUMNS)
+        for name in COLUMNS:
+            runs[name].resize((rows,))
         self.done = {(int(r), float(s)): int(c) for r, s, c in zip(
             runs["record"][()], runs["scale"][()], runs["collapsed"][()], strict=True)}
 
@@ -377,8 +381,11 @@ def connect(scheduler: str | None = None, workers: int | None = None, *,
     that does not answer within CONNECT_TIMEOUT is an InputError), or of a new local cluster
     of `workers` (default: one per core) single-threaded worker processes (`processes`
     False: threads of this process)."""
-    from distributed import Client, LocalCluster
-
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError("ensembles run on Dask: pip install 'saxum[ensemble]' (or "
+                         "pip install 'dask[distributed]')") from None
     if scheduler is not None:
         try:
             return Client(scheduler, timeout=f"{CONNECT_TIMEOUT}s")

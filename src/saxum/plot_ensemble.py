@@ -62,7 +62,10 @@ def plot_ensemble(ensemble: Ensemble, path: str | PathLike | None = None, *,
         ida.legend(fontsize=6, loc="lower right")
     failed = ensemble.failed(None if threshold is None else edp, threshold)
     what = "collapse" if threshold is None else f"{edp} > {threshold:g} or collapse"
-    fit = ensemble.fragility(None if threshold is None else edp, threshold)
+    try:
+        fit = ensemble.fragility(None if threshold is None else edp, threshold)
+    except InputError as err:  # (the runs are drawn all the same)
+        fit, why = None, str(err).removeprefix("fragility: ")
     x = np.geomspace(min(ensemble.spec.scales) / 2, 2 * max(ensemble.spec.scales), 200)
     if ensemble.spec.ida:
         stands, fails = ensemble.capacities(failed)
@@ -74,16 +77,19 @@ def plot_ensemble(ensemble: Ensemble, path: str | PathLike | None = None, *,
         scales = np.unique(runs["scale"][ran])
         share = [failed[ran & (runs["scale"] == s)].mean() for s in scales]
         frag.plot(scales, share, "o", color="k", ms=4, label="fraction of runs failed")
-    lo, hi = fit.band(x, level)
-    frag.fill_between(x, lo, hi, color="#1f5fa8", alpha=0.2,
-                      label=f"{100 * level:g} % band (Fisher information)")
-    frag.plot(x, fit.probability(x), color="#1f5fa8",
-              label=f"lognormal: theta {fit.theta:.3g}, beta {fit.beta:.3g}")
+    if fit is not None:
+        lo, hi = fit.band(x, level)
+        frag.fill_between(x, lo, hi, color="#1f5fa8", alpha=0.2,
+                          label=f"{100 * level:g} % band (Fisher information)")
+        frag.plot(x, fit.probability(x), color="#1f5fa8",
+                  label=f"lognormal: theta {fit.theta:.3g}, beta {fit.beta:.3g}")
     frag.set_xscale("log")
     frag.set_xlabel(measure)
     frag.set_ylabel(f"P({what})")
     frag.set_ylim(0.0, 1.0)
-    frag.set_title("fragility (Baker 2015, maximum likelihood)", fontsize=10)
+    frag.set_title("fragility (Baker 2015, maximum likelihood)" if fit is not None
+                   else f"no fragility fit: {why}", fontsize=10 if fit is not None else 7,
+                   wrap=True)
     frag.grid(alpha=0.3)
     frag.legend(fontsize=7, loc="upper left")
     if title:
