@@ -7,6 +7,7 @@ from os import PathLike
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from .ensemble import Ensemble
 from .errors import InputError
@@ -52,8 +53,8 @@ def plot_ensemble(ensemble: Ensemble, path: str | PathLike | None = None, *,
             ida.plot(np.full(down.sum(), 1.1 * top), scale[down], "x",
                      color=line[0].get_color(), ms=4)
     ida.axvline(1.1 * top, color="#c0152f", lw=0.8, ls=":")
-    ida.text(1.1 * top, 0.0, " collapse", color="#c0152f", fontsize=8, rotation=90,
-             va="bottom", transform=ida.get_xaxis_transform())
+    ida.text(1.1 * top, 1.0, "collapse ", color="#c0152f", fontsize=8, rotation=90,
+             va="top", ha="right", transform=ida.get_xaxis_transform())
     ida.set_xlabel(_LABELS[edp])
     ida.set_ylabel(measure)
     ida.set_title("IDA curves" if ensemble.spec.ida else "stripes", fontsize=10)
@@ -69,9 +70,11 @@ def plot_ensemble(ensemble: Ensemble, path: str | PathLike | None = None, *,
     x = np.geomspace(min(ensemble.spec.scales) / 2, 2 * max(ensemble.spec.scales), 200)
     if ensemble.spec.ida:
         stands, fails = ensemble.capacities(failed)
-        cap = np.sort((0.5 * (stands + fails))[np.isfinite(fails)])
-        frag.step(cap, np.arange(1, cap.size + 1) / len(fails), where="post", color="k",
-                  lw=1.0, label=f"capacities of {cap.size} of {len(fails)} records")
+        read = np.array([not e for e in ensemble.record_errors])
+        cap = np.sort((0.5 * (stands + fails))[np.isfinite(fails) & read])
+        frag.step(np.concatenate(([x[0]], cap, [x[-1]])),
+                  np.arange(cap.size + 2).clip(max=cap.size) / read.sum(), where="post",
+                  color="k", lw=1.0, label=f"capacities of {cap.size} of {read.sum()} records")
     else:
         ran = runs["collapsed"] >= 0
         scales = np.unique(runs["scale"][ran])
@@ -84,6 +87,11 @@ def plot_ensemble(ensemble: Ensemble, path: str | PathLike | None = None, *,
         frag.plot(x, fit.probability(x), color="#1f5fa8",
                   label=f"lognormal: theta {fit.theta:.3g}, beta {fit.beta:.3g}")
     frag.set_xscale("log")
+    frag.xaxis.set_major_formatter(ScalarFormatter())
+    frag.xaxis.set_minor_formatter(NullFormatter())
+    stripes = list(ensemble.spec.scales)
+    frag.set_xticks(stripes if len(stripes) <= 10 else stripes[:: -(-len(stripes) // 10)])
+    frag.set_xlim(x[0], x[-1])
     frag.set_xlabel(measure)
     frag.set_ylabel(f"P({what})")
     frag.set_ylim(0.0, 1.0)
