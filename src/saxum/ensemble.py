@@ -47,8 +47,8 @@ from .errors import InputError
 from .ground import G_STANDARD, GroundMotion, read_at2, read_csv
 from .scenario import EnsembleSpec, GroundMotionSpec, Scenario
 
-__all__ = ["COLUMNS", "Ensemble", "EnsembleRecord", "EnsembleSummary", "ensemble_records",
-           "read_ensemble", "run_ensemble"]
+__all__ = ["COLUMNS", "Ensemble", "EnsembleRecord", "EnsembleSummary", "connect", "describe",
+           "ensemble_records", "read_ensemble", "run_ensemble"]
 
 KIND = "saxum ensemble"
 """The `kind` attribute of an ensemble file (saxum plot tells it from a run's results)."""
