@@ -266,8 +266,9 @@ def _ensemble(args) -> None:
                            quiet=args.quiet, overwrite=args.overwrite,
                            scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
     print(describe(summary))
-    if not summary.interrupted:
-        _fragility_lines(summary.path)
+    if summary.interrupted:
+        raise KeyboardInterrupt  # (exit code 130; the file holds the runs made)
+    _fragility_lines(summary.path)
     if summary.bad_records:
         raise InputError(f"{len(summary.bad_records)} record(s) left out, the others ran: "
                          + "; ".join(why for _, why in summary.bad_records))
