@@ -108,8 +108,12 @@ def test_another_ensemble_in_the_file_is_refused(tmp_path):
         ens.run_ensemble(other, tmp_path / "e.h5", workers=1, processes=False, quiet=True)
 
 
-def test_plot_draws_ida_and_fragility(tmp_path, capsys):
+def test_plot_draws_ida_and_fragility_and_info_says_what_ran(tmp_path, capsys):
     path = write_scenario(tmp_path)
     _run(path, tmp_path / "e.h5")
     assert main(["plot", str(tmp_path / "e.h5"), "-o", str(tmp_path / "e.png")]) == 0
     assert (tmp_path / "e.png").stat().st_size > 10_000
+    assert main(["info", str(tmp_path / "e.h5")]) == 0
+    runs = ens.read_ensemble(tmp_path / "e.h5").runs["collapsed"]
+    out = capsys.readouterr().out
+    assert f"runs: 6 ({int((runs == 1).sum())} collapsed, {int((runs == 0).sum())} stood" in out

@@ -319,6 +319,21 @@ def _info(args) -> None:
     from .errors import ResultsDamageWarning
     from .results import Results
 
+    if _is_ensemble(args.results):
+        from .ensemble import read_ensemble
+
+        e = read_ensemble(args.results)
+        col = e.runs["collapsed"]
+        bad = [f"{n}: {why}" for n, why in zip(e.record_names, e.record_errors, strict=True)
+               if why]
+        print(f"ensemble: {args.results} ({'IDA' if e.spec.ida else 'multiple stripes'}, "
+              f"records {e.spec.records}, scales {', '.join(f'{s:g}' for s in e.spec.scales)})"
+              f"\nrecords: {len(e.record_names)}" + (f", left out: {'; '.join(bad)}" if bad
+                                                      else "")
+              + f"\nruns: {col.size} ({int((col == 1).sum())} collapsed, "
+              f"{int((col == 0).sum())} stood, {int((col < 0).sum())} failed)")
+        _fragility_lines(args.results)
+        return
     with warnings.catch_warnings():  # info_text says what is damaged
         warnings.simplefilter("ignore", ResultsDamageWarning)
         r = Results(args.results)
