@@ -12,7 +12,7 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum ensemble SCENARIO [--records SET|FOLDER] [--scales A:B:STEP] [--ida]
                    [--scheduler tcp://HOST:8786 | --workers N] [-o ENSEMBLE.h5]
     saxum fclib solve FILE...
-    saxum info RESULTS
+    saxum info RESULTS | ENSEMBLE.h5
     saxum plot RESULTS [--frame K | --collapse | --histories [--body NAME]] [--thrust-line]
     saxum plot ENSEMBLE.h5 [--edp NAME] [--threshold X]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
