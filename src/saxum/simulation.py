@@ -86,10 +86,11 @@ class Simulation:
             if not isinstance(self.solver, NLGS):
                 raise InputError("a model with deformable blocks is solved by NLGS only; "
                                  "use solver.kind = \"nlgs\" (the default for them)")
-            if self.problem.joint_laws:
-                raise InputError("joint laws (elastic, viscous, cohesive) in a model with "
-                                 "deformable blocks are not supported yet: use dry laws "
-                                 "(signorini_coulomb, gap_signorini_coulomb, restitution_coulomb)")
+            if self.problem.joint_laws and model.dim == 3:
+                raise InputError("joint laws (elastic, viscous, cohesive) in a 3D model with "
+                                 "deformable blocks are not supported yet (2D models are): "
+                                 "use dry laws (signorini_coulomb, gap_signorini_coulomb, "
+                                 "restitution_coulomb)")
             _log.info("deformable blocks: the rest solution, load following and the position "
                       "projection are skipped (they are written for rigid blocks)")
         if self.problem.joint_laws and not isinstance(self.solver, NLGS):
@@ -265,10 +266,11 @@ class Simulation:
         lost = damaged = 0
         if problem.joint_laws:
             c = contacts
+            problem.local_velocities(self._v, problem.u_end)
             lost, damaged = update_joints(
-                c.candidate, c.antagonist, c.law, c.gap, c.area, c.impulse, problem.active,
-                c.slip, c.damage, c.history, c.count, problem.h_cand, problem.h_ant,
-                state.body_v, self._v, m.law_kind, m.law_friction, m.law_parameter, h, theta)
+                c.law, c.gap, c.area, c.impulse, problem.active, c.slip, c.damage, c.history,
+                c.count, problem.u_begin, problem.u_end, m.law_kind, m.law_friction,
+                m.law_parameter, h, theta)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)
