@@ -668,6 +668,9 @@ class LawSpec(_Strict):
     """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
     stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
     (2D: Simpson panels)."""
+    bond_at: NonNegative = 0.0
+    """When the joints bond [s] (cohesive; ContactLaw.bond_at): 0, those closed at the start;
+    later, those closed then, after a settling phase as Coulomb contacts."""
 
     @model_validator(mode="after")
     def _groups_or_joint(self) -> LawSpec:
@@ -694,7 +697,7 @@ class LawSpec(_Strict):
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
                           g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points,
-                          alert=self.alert)
+                          alert=self.alert, bond_at=self.bond_at)
 
 
 _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}

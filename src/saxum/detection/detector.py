@@ -306,11 +306,12 @@ class Detector:
         self._since_refresh = int(saved["since_refresh"])
         self.refresh_count = int(saved["refresh_count"])
 
-    def contacts_at(self, q: np.ndarray) -> Contacts:
-        """The contacts at configuration q [m, rad], found with a fresh broad phase."""
+    def contacts_at(self, q: np.ndarray, node_x: np.ndarray | None = None) -> Contacts:
+        """The contacts at configuration q [m, rad] (and deformable blocks' node positions
+        node_x [m], default the reference ones), found with a fresh broad phase."""
         probe = Contacts(self.model.dim)
         self._since_refresh = self.refresh_every
-        self.detect(q, probe)
+        self.detect(q, probe, node_x)
         return probe
 
     def check_overlaps(self, q: np.ndarray, *, tolerance: float | None = None) -> None:
