@@ -9,9 +9,9 @@ have all their dofs imposed at 0 in DRV_DOF.DAT, driven ones at their velocity a
 (written as constant). Groups become colours (5 characters), densities RIGID bulk laws.
 Laws: SIGNORINI_COULOMB -> IQS_CLB, GAP_SIGNORINI_COULOMB -> GAP_SGR_CLB,
 RESTITUTION_COULOMB -> RST_CLB (rstt = 0), one see-table per pair of groups with a law (its
-alert, or `alert`) and pair of contactor types the groups have (the round one the
-candidate, as in LMGC90's DKPLx, SPPRx); NO_CONTACT pairs get none. Joint laws (elastic, viscous, cohesive) are
-refused: LMGC90's joint laws are written in other terms.
+alert, or `alert`) and pair of contactor types the groups have (a disc or sphere the
+candidate, as in LMGC90's DKPLx); NO_CONTACT pairs get none. Joint laws (elastic, viscous,
+cohesive) are refused: LMGC90's joint laws are written in other terms.
 
 precision "lmgc90" writes LMGC90's fixed columns (7 significant digits, what its Fortran
 reader takes); "full" writes 17 significant digits (exact round trip through
