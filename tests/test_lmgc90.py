@@ -329,7 +329,10 @@ def test_discs_imported_run_like_the_python_model():
 
 
 def test_discs_and_spheres_round_trip(tmp_path):
-    model = import_lmgc90(DATA / "column2d").model()
+    imported = import_lmgc90(DATA / "column2d")
+    model = imported.model()
+    imported.write_scenario(tmp_path / "column.toml")  # discs as "centre" and "radius"
+    _same_models(model, load_scenario(tmp_path / "column.toml").build_model(), 1e-15)
     export_lmgc90(model, tmp_path / "disc", precision="full")
     text = (tmp_path / "disc" / "TACT_BEHAV.DAT").read_text()
     assert "RBDY2  DISKx  GRA01  law01  RBDY2  DISKx  GRA01" in text
