@@ -4,7 +4,8 @@ The DATBOX folders under tests/data/lmgc90 were written for these tests in LMGC9
 (its fixed columns and Fortran reals): `wall2d`, five bricks on a JONCx ground and a driven
 ground block, with a partly driven brick, a brick 1 um into the one below (DOF.INI), a
 colour without see-tables and a Vloc_Rloc.INI; `block3d`, a POLYR block turned a quarter
-turn about z (DOF.INI's frame) 2 um into a PLANx ground.
+turn about z (DOF.INI's frame) 2 um into a PLANx ground; `column2d`, five DISKx grains (radius
+0.05 m, a leaning column of four and one beside it) on a fixed JONCx ground.
 """
 
 import shutil
@@ -13,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import saxum as sx
 from saxum import NO_CONTACT, BodyKind, ContactLaw, DetectionSettings, LawKind, Simulation
 from saxum.cli import main
 from saxum.errors import InputError, OverlapError
@@ -127,6 +129,7 @@ def _same_models(a, b, tol):
     assert [a.group_names[g] for g in a.body_group] == [b.group_names[g] for g in b.body_group]
     np.testing.assert_array_equal(a.body_kind, b.body_kind)
     np.testing.assert_allclose(b.body_density, a.body_density, rtol=1e-15)
+    np.testing.assert_allclose(b.body_round_radius, a.body_round_radius, rtol=1e-15)
     scale = float(np.abs(np.concatenate([a.vertices(k) for k in range(a.body_count)])).max())
     for k in range(a.body_count):
         va, vb = a.vertices(k), b.vertices(k)
@@ -237,8 +240,8 @@ def _broken(tmp_path, file, old, new):
 
 @pytest.mark.parametrize("file, old, new, message", [
     ("BODIES.DAT", " RBDY2      8", " MAILx      8", "body type MAILx"),
-    ("BODIES.DAT", " POLYG      1  color  JAUNx", " DISKx      1  color  JAUNx",
-     "contactor DISKx of RBDY2 8 is not translated"),
+    ("BODIES.DAT", " POLYG      1  color  JAUNx", " xKSID      1  color  JAUNx",
+     "contactor xKSID of RBDY2 8 is not translated"),
     ("TACT_BEHAV.DAT", " gap01  GAP_SGR_CLB", " gap01  IQS_MOHR_DS_CLB",
      "law 'gap01' of type IQS_MOHR_DS_CLB has no saxum equivalent"),
     ("TACT_BEHAV.DAT", " RBDY2  POLYG  REDxx  rst01", " RBDY2  POLYG  ROSEx  rst01",
@@ -286,3 +289,80 @@ duration = 0.1
                                                        "X(1)= 5.0000000D-02", 1))
     assert main(["import-lmgc90", str(tmp_path / "DATBOX"), "-o", str(tmp_path / "n.toml")]) == 2
     assert "a real overlap" in capsys.readouterr().err
+
+
+def _column_in_python():
+    """column2d (tests/data/lmgc90) built with ModelBuilder from the numbers in its files."""
+    b = sx.ModelBuilder()
+    b.add_block([(-0.5, -0.1), (0.5, -0.1), (0.5, 0.0), (-0.5, 0.0)], group="GRNDx",
+                kind=BodyKind.FIXED, name="RBDY2 1")
+    for k, (x, y) in enumerate([(0.0, 0.051), (0.004, 0.153), (-0.003, 0.255),
+                                (0.006, 0.357), (0.11, 0.05)]):
+        b.add_disc((x, y), 0.05, density=2000.0, group="GRAIx", name=f"RBDY2 {k + 2}")
+    gap = LawKind.GAP_SIGNORINI_COULOMB  # GAP_SGR_CLB
+    b.set_law("GRAIx", "GRAIx", ContactLaw(friction=0.4, kind=gap, alert=0.002))
+    b.set_law("GRAIx", "GRNDx", ContactLaw(friction=0.6, kind=gap, alert=0.002))
+    return b.finalize()
+
+
+def _settle(model, steps=150):
+    sim = Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    for _ in range(steps):
+        sim.step(state)
+    return sim, state
+
+
+def test_discs_imported_run_like_the_python_model():
+    imported = import_lmgc90(DATA / "column2d")
+    model = imported.model()
+    assert model.body_round_radius.tolist() == [0.0] + [0.05] * 5  # byrd= 5.0000000D-02
+    assert not any("DISKx" in str(item) for item in imported.untranslated)
+    sim_a, a = _settle(model)
+    sim_b, b = _settle(_column_in_python())
+    # the same model by two routes: bit-identical positions (one machine, one test)
+    assert np.array_equal(a.body_q, b.body_q) and np.array_equal(a.body_v, b.body_v)
+    assert a.body_q[1:, 1].max() < 0.357 - 0.01  # the column has moved (fallen)
+    # the gap law: no interpenetration beyond the detector's tolerated one
+    probe = sim_a.detector.contacts_at(a.body_q)
+    assert probe.gap[:probe.count].min() > -sim_a.detector.interpenetration
+
+
+def test_discs_and_spheres_round_trip(tmp_path):
+    imported = import_lmgc90(DATA / "column2d")
+    model = imported.model()
+    imported.write_scenario(tmp_path / "column.toml")  # discs as "centre" and "radius"
+    _same_models(model, load_scenario(tmp_path / "column.toml").build_model(), 1e-15)
+    export_lmgc90(model, tmp_path / "disc", precision="full")
+    text = (tmp_path / "disc" / "TACT_BEHAV.DAT").read_text()
+    assert "RBDY2  DISKx  GRA01  law01  RBDY2  DISKx  GRA01" in text
+    assert "RBDY2  DISKx  GRA01  law02  RBDY2  POLYG  GRN02" in text  # the disc: candidate
+    _same_models(model, import_lmgc90(tmp_path / "disc").model(), 1e-12)
+    b = sx.ModelBuilder(dim=3)
+    b.add_plane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 1.0), name="ground")
+    b.add_sphere((0.1, 0.2, 0.3), 0.07, density=2500.0, name="ball")
+    b.add_block([(x, y, z) for x in (0.3, 0.5) for y in (0.0, 0.2) for z in (0.0, 0.2)],
+                density=2000.0, name="brick")
+    b.set_law("block", "block", ContactLaw(friction=0.5, alert=0.003))
+    b.set_law("block", "ground", ContactLaw(friction=0.5, alert=0.003))
+    model3 = b.finalize()
+    export_lmgc90(model3, tmp_path / "sphere", precision="full")
+    assert "SPHER      1  color  BLO01  byrd=" in (tmp_path / "sphere" / "BODIES.DAT").read_text()
+    back = import_lmgc90(tmp_path / "sphere").model()
+    _same_models(model3, back, 1e-12)
+    assert back.body_round_radius[back.body("ball")] == pytest.approx(0.07, rel=1e-15)
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("byrd= 5.0000000D-02", "byrd= 0.0000000D+00", "DISKx of RBDY2 2 has byrd = 0"),
+    ("byrd= 5.0000000D-02", "byrd= 5.0000000D-02  coo1= 1.0000000D-02",
+     "DISKx of RBDY2 2 has a shift coo1"),
+])
+def test_bad_disc_named_with_its_line(tmp_path, old, new, message):
+    folder = tmp_path / "DATBOX"
+    shutil.copytree(DATA / "column2d", folder)
+    text = (folder / "BODIES.DAT").read_text()
+    (folder / "BODIES.DAT").write_text(text.replace(old, new, 1))
+    line = text[:text.index(old)].count("\n") + 1
+    with pytest.raises(InputError, match=f"BODIES.DAT line {line}: {message}"):
+        import_lmgc90(folder)

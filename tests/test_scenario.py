@@ -18,6 +18,7 @@ from saxum.scenario import (
     Bridge3dStructure,
     ButtressedWallStructure,
     DetectionSpec,
+    EnsembleSpec,
     FemaP695Spec,
     FloodSpec,
     GroundMotionSpec,
@@ -368,7 +369,7 @@ def test_docs_describe_every_key():
                   Bridge3dStructure, MeshStructure, LawSpec, MaterialSpec, Loads, PointLoad,
                   Settlement,
                   GroundMotionSpec, FemaP695Spec, FloodSpec, SolverSpec, DetectionSpec,
-                  OutputSpec):
+                  OutputSpec, EnsembleSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"

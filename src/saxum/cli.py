@@ -9,9 +9,12 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum collapse SCENARIO --vary KEY --stands A --collapses B [--set KEY=VALUE ...]
                    [--unset KEY ...]
     saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B [-o PNG]
+    saxum ensemble SCENARIO [--records SET|FOLDER] [--scales A:B:STEP] [--ida]
+                   [--scheduler tcp://HOST:8786 | --workers N] [-o ENSEMBLE.h5]
     saxum fclib solve FILE...
-    saxum info RESULTS
+    saxum info RESULTS | ENSEMBLE.h5
     saxum plot RESULTS [--frame K | --collapse | --histories [--body NAME]] [--thrust-line]
+    saxum plot ENSEMBLE.h5 [--edp NAME] [--threshold X]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
     saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
@@ -23,10 +26,14 @@ source repository.
 """
 
 import argparse
+import contextlib
 import math
 import os
+import signal
 import sys
+import threading
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -238,6 +245,60 @@ def _collapse_curve(args) -> None:
     print(f"\npicture: {picture.resolve()}\ntable: {table.resolve()}")
 
 
+def _ensemble(args) -> None:
+    import json
+
+    from .ensemble import describe, run_ensemble
+    from .records import SETS
+    from .scenario import load_scenario
+
+    extra = []
+    if args.records is not None:
+        folder = args.records if args.records in SETS else str(Path(args.records).resolve())
+        extra.append(f"ensemble.records={json.dumps(folder)}")
+    if args.scales is not None:
+        extra.append(f"ensemble.scales={json.dumps(args.scales)}")
+    for key in ("ida", "tolerance", "measure", "after"):
+        value = getattr(args, key)
+        if value is not None:
+            extra.append(f"ensemble.{key}={json.dumps(value)}")
+    if args.blocks is not None:
+        extra.append(f"ensemble.blocks={json.dumps(args.blocks.split(','))}")
+    scenario = load_scenario(args.scenario, [*args.set, *extra])
+    if scenario.ensemble is None:
+        raise InputError(f"{args.scenario}: no [ensemble] table; give --records and --scales "
+                         "(docs/ensemble.md)")
+    output = args.output or Path(args.scenario).with_suffix(".ensemble.h5")
+    summary = run_ensemble(scenario, output, scheduler=args.scheduler, workers=args.workers,
+                           quiet=args.quiet, overwrite=args.overwrite,
+                           scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
+    print(describe(summary))
+    if summary.interrupted:
+        raise KeyboardInterrupt  # (exit code 130; the file holds the runs made)
+    _fragility_lines(summary.path)
+    if summary.bad_records:
+        raise InputError(f"{len(summary.bad_records)} record(s) left out, the others ran: "
+                         + "; ".join(why for _, why in summary.bad_records))
+
+
+def _fragility_lines(path) -> None:
+    """The collapse fragility of an ensemble file, or why there is none."""
+    from .ensemble import read_ensemble
+
+    ensemble = read_ensemble(path)
+    try:
+        fit = ensemble.fragility()
+    except InputError as err:
+        print(f"collapse fragility: none ({err})")
+        return
+    band = fit.interval()
+    print(f"collapse fragility (lognormal, Baker 2015): median {fit.theta:.4g} "
+          f"(95 % {band['theta'][0]:.4g} .. {band['theta'][1]:.4g}), beta {fit.beta:.3g} "
+          f"({band['beta'][0]:.3g} .. {band['beta'][1]:.3g}) from {fit.observations} "
+          f"{'records' if fit.method == 'capacities' else 'runs'}\n"
+          f"picture: saxum plot {path}")
+
+
 def _fclib_solve(args) -> None:
     from .fclib import format_table, solve_fclib_files
 
@@ -265,6 +326,21 @@ def _info(args) -> None:
     from .errors import ResultsDamageWarning
     from .results import Results
 
+    if _is_ensemble(args.results):
+        from .ensemble import read_ensemble
+
+        e = read_ensemble(args.results)
+        col = e.runs["collapsed"]
+        bad = [f"{n}: {why}" for n, why in zip(e.record_names, e.record_errors, strict=True)
+               if why]
+        print(f"ensemble: {args.results} ({'IDA' if e.spec.ida else 'multiple stripes'}, "
+              f"records {e.spec.records}, scales {', '.join(f'{s:g}' for s in e.spec.scales)})"
+              f"\nrecords: {len(e.record_names)}" + (f", left out: {'; '.join(bad)}" if bad
+                                                      else "")
+              + f"\nruns: {col.size} ({int((col == 1).sum())} collapsed, "
+              f"{int((col == 0).sum())} stood, {int((col < 0).sum())} failed)")
+        _fragility_lines(args.results)
+        return
     with warnings.catch_warnings():  # info_text says what is damaged
         warnings.simplefilter("ignore", ResultsDamageWarning)
         r = Results(args.results)
@@ -402,6 +478,15 @@ def _plot(args) -> None:
     from .plot import plot_frame, plot_histories
     from .results import Results
 
+    if _is_ensemble(args.results):
+        from .ensemble import read_ensemble
+        from .plot_ensemble import plot_ensemble
+
+        out = args.output or Path(args.results).with_suffix(".png")
+        plot_ensemble(read_ensemble(args.results), out, edp=args.edp,
+                      threshold=args.threshold, title=Path(args.results).stem)
+        print(f"picture: {Path(out).resolve()}")
+        return
     with Results(args.results) as r:
         if args.thrust_line and r.dim != 2:
             raise InputError(f"{args.results}: --thrust-line is drawn for 2D results (an arch "
@@ -426,6 +511,19 @@ def _plot(args) -> None:
             out = args.output or Path(args.results).with_suffix(".png")
             plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
     print(f"picture: {Path(out).resolve()}")
+
+
+def _is_ensemble(path: Path) -> bool:
+    """Whether `path` is an ensemble file (saxum.ensemble) rather than a run's results."""
+    import h5py
+
+    from .ensemble import KIND
+
+    try:
+        with h5py.File(path, "r") as f:
+            return f.attrs.get("kind") == KIND
+    except OSError:
+        return False  # (Results says what is wrong with it)
 
 
 def _animate(args) -> None:
@@ -569,7 +667,8 @@ def _check_output(args) -> None:
             raise InputError(f"-o {out}: is a file; {args.command} writes into a folder")
     elif out.is_dir():
         example = {"run": "results.h5", "view": "run.html",
-                   "import-lmgc90": "model.toml"}.get(args.command, "out.png")
+                   "import-lmgc90": "model.toml",
+                   "ensemble": "ensemble.h5"}.get(args.command, "out.png")
         raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. {out / example}")
     elif not out.parent.is_dir():
         raise InputError(f"-o {out}: there is no folder {out.parent}; create it first")
@@ -717,6 +816,44 @@ def _parser() -> argparse.ArgumentParser:
                         "the table goes next to it as .csv")
     p.set_defaults(func=_collapse_curve)
 
+    p = sub.add_parser("ensemble", help="a scenario through ground-motion records at many "
+                                        "scales (IDA or multiple stripes) on a Dask cluster, "
+                                        "and the fragility curve")
+    p.add_argument("scenario", type=Path, help="scenario file; its [ensemble] table, if any, "
+                                               "gives the defaults (docs/ensemble.md)")
+    p.add_argument("--records", help="far-field or near-field (FEMA P695, needs saxum[records])"
+                                     ", or a folder of .AT2/.csv records")
+    p.add_argument("--scales", help="START:STOP:STEP (e.g. 0.1:2.0:0.1) or A,B,C: the scale "
+                                    "factors (with --measure pga: PGAs [g])")
+    p.add_argument("--ida", action="store_const", const=True, default=None,
+                   help="incremental dynamic analysis: per record, scales up to the first "
+                        "collapse, then bisection (default: every record at every scale)")
+    p.add_argument("--tolerance", type=float, default=None,
+                   help="IDA: relative width of the final bracket (default 0.01)")
+    p.add_argument("--measure", choices=("scale", "pga"), default=None,
+                   help="scale: a factor on each record (default); pga: each record scaled "
+                        "to that peak ground acceleration [g]")
+    p.add_argument("--after", type=float, default=None,
+                   help="each run lasts its record plus this [s] (default 2)")
+    p.add_argument("--blocks", metavar="NAME,...",
+                   help="the blocks whose displacement, drift and rotation are the demand "
+                        "(default: every free block)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="a running Dask scheduler, e.g. tcp://host:8786 (default: a local "
+                        "cluster)")
+    p.add_argument("--workers", default=None,
+                   type=_count(_MAX_PROCESSES, "more worker processes than CPUs only share "
+                                               "them"),
+                   help=f"worker processes of the local cluster (default: one per CPU; at "
+                        f"most {_MAX_PROCESSES})")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing ensemble file of another ensemble (the same "
+                        "ensemble's file is resumed)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    _scenario_options(p, "override a scenario key (repeatable)",
+                      "ensemble file (HDF5; default: SCENARIO.ensemble.h5)")
+    p.set_defaults(func=_ensemble)
+
     p = sub.add_parser("fclib", help="FCLIB frictional-contact problems")
     fc = p.add_subparsers(dest="fclib_command", required=True, metavar="ACTION")
     q = fc.add_parser("solve", help="solve FCLIB problems (NLGS, switching to the conic fixed "
@@ -755,6 +892,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="draw the thrust line of an arch (joints' centres of pressure)")
     p.add_argument("--body", help="block for --histories (name or index; default: the one "
                                   "that moved most)")
+    p.add_argument("--edp", default="peak_drift",
+                   help="an ensemble's demand on its IDA curves: peak_drift (default), "
+                        "peak_displacement, peak_horizontal, peak_rotation, "
+                        "residual_displacement")
+    p.add_argument("--threshold", type=float, default=None,
+                   help="an ensemble's fragility of --edp above this (default: of collapse)")
     p.add_argument("-o", "--output", type=Path, help="PNG file (default: next to RESULTS)")
     p.set_defaults(func=_plot)
 
@@ -815,11 +958,47 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     print(f"saxum: warning: {message}", file=sys.stderr)
 
 
+_CTRL_C_AGAIN = 0.05
+"""[s] after a dropped Ctrl-C (_ctrl_c_not_dropped) at which it is sent again."""
+
+
+@contextlib.contextmanager
+def _ctrl_c_not_dropped() -> Iterator[None]:
+    """A Ctrl-C whose KeyboardInterrupt Python drops is sent again until one is not dropped.
+
+    While numba compiles (a kernel on its first call: those that saxum.precompile does not
+    list, and 3D ones), Python often runs its SIGINT handler inside llvmlite's ctypes callback,
+    where a KeyboardInterrupt is printed ("Exception ignored on calling ctypes callback", with
+    a traceback) and dropped: the command went on. Here such a one is not printed, and SIGINT
+    is sent again _CTRL_C_AGAIN later, as a user would press Ctrl-C again; a run's own handler
+    (saxum.runner) then stops it after the step, Python's default one raises it where it
+    lands."""
+    previous = sys.unraisablehook
+    timers: list[threading.Timer] = []
+
+    def dropped(unraisable) -> None:
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            previous(unraisable)
+            return
+        again = threading.Timer(_CTRL_C_AGAIN, os.kill, (os.getpid(), signal.SIGINT))
+        again.daemon = True
+        timers.append(again)
+        again.start()
+
+    sys.unraisablehook = dropped
+    try:
+        yield
+    finally:
+        sys.unraisablehook = previous
+        for again in timers:
+            again.cancel()
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         _check_output(args)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _ctrl_c_not_dropped():
             warnings.showwarning = _show_warning
             args.func(args)
     except KeyboardInterrupt:  # Ctrl-C outside a run's own handling (start-up, a picture)

@@ -8,8 +8,11 @@ displacement written instead of a colour scale), and the contact points carrying
 drawn on top as red dots whose area is proportional to the normal force (the scale in the
 legend). Hinges (saxum.mechanism: joints whose loaded points lie on a line while the rest has
 opened) are drawn as thick black lines along the edge they turn about, open contact points as
-orange crosses, a scenario's point loads as green arrows onto their blocks' centres of mass
-and, with a mechanism, its sliding joints as purple diamonds at their centres of pressure.
+orange crosses, the points of cohesive joints (mortar) as squares coloured by their bond
+(intact, damaged, cracked: saxum.mechanism.bond_states; as saxum.plot's strokes) whose area
+is proportional to the share of the joint each stands for, a scenario's point loads as green
+arrows onto their blocks' centres of mass and, with a mechanism, its sliding joints as purple
+diamonds at their centres of pressure.
 Flood water (saxum.flood) is its surface at the frame's time, translucent, drawn over the
 faces under water (their centre below the surface: the ground, the submerged blocks) and
 under those above it, with the flow's direction and speed. An animation keeps the axes,
@@ -32,9 +35,17 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from .errors import InputError
 from .fe.mesh import boundary_facets
 from .geometry3d import relative_quaternions, world_points
-from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
-from .model import BodyKind
+from .mechanism import (
+    BOND_STATES,
+    Mechanism,
+    bond_states,
+    frame_contacts,
+    hinge_lines,
+    joint_states,
+)
+from .model import BodyKind, drawn_polyhedra
 from .plot_common import (
+    BOND_COLOURS,
     LOAD_COLOUR,
     REST,
     length_unit,
@@ -48,6 +59,7 @@ from .plot_common import (
 __all__ = ["frames_3d", "plot_frame_3d", "plot_limit_3d"]
 
 _DOT = 40.0  # area [pt^2] of the dot of the largest normal force
+_BOND = 30.0  # area [pt^2] of the square of the largest bonded point
 
 
 @dataclass(frozen=True)
@@ -70,7 +82,8 @@ class _Look3d:
 
 def _look_3d(results, ks) -> _Look3d:
     m = results.model
-    start, local = m["body_vertex_start"], m["vertex_local"]
+    g = drawn_polyhedra(m)
+    start, local = g["body_vertex_start"], g["vertex_local"]
     q = results.body_q[ks]
     owner = np.repeat(np.arange(q.shape[1]), np.diff(start))
     free = m["body_kind"] == BodyKind.FREE
@@ -103,9 +116,10 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     m = results.model
     q = results.body_q[k]
     free = m["body_kind"] == BodyKind.FREE
-    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
-    fvs, fv = m["face_vertex_start"], m["face_vertex"]
-    owner = np.repeat(np.arange(len(q)), np.diff(m["body_face_start"]))
+    g = drawn_polyhedra(m)
+    points = world_points(q, g["body_vertex_start"], g["vertex_local"])
+    fvs, fv = g["face_vertex_start"], g["face_vertex"]
+    owner = np.repeat(np.arange(len(q)), np.diff(g["body_face_start"]))
     hidden = look.floor | (meshes & (m["body_kind"] == BodyKind.DEFORMABLE))
     keep = np.flatnonzero(~hidden[owner])
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
@@ -121,7 +135,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
         ax.add_collection3d(Poly3DCollection([[(x0, y0, z), (x1, y0, z), (x1, y1, z),
                                                (x0, y1, z)]], facecolors="0.92",
                                              edgecolors="0.6", zorder=0))
-    shown = points[free[np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))]]
+    shown = points[free[np.repeat(np.arange(len(q)), np.diff(g["body_vertex_start"]))]]
     shown = shown if len(shown) else points
     t = float(results.time[k])
     floods = results_floods(results)
@@ -142,8 +156,10 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     if meshes:
         _draw_elements_3d(ax, results, k)
     handles = _draw_point_loads(ax, results_point_loads(results), q, look)
+    contacts = frame_contacts(results, k)
+    handles = _draw_bonds(ax, contacts, m["law_kind"]) + handles
     if forces:
-        handles = _draw_contacts(ax, frame_contacts(results, k), look, mechanism) + handles
+        handles = _draw_contacts(ax, contacts, look, mechanism) + handles
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="upper left",
                   title="normal force" if forces and look.force_full > 0.0 else None,
@@ -216,6 +232,30 @@ def _draw_hinges(ax, lines: list, sliding: list) -> list:
         handles += ax.plot(*cop.T, ls="none", marker="D", markersize=5.5,
                            markerfacecolor="#7b2cbf", markeredgecolor="k", markeredgewidth=0.6,
                            zorder=7, label=f"sliding ({len(cop)})")
+    return handles
+
+
+def _draw_bonds(ax, c: dict, law_kind: np.ndarray) -> list:
+    """The points of cohesive joints as squares coloured by their bond (module doc), if the
+    contacts have a damage field (files from before the joint laws do not); returns their
+    legend handles."""
+    if any(name not in c for name in ("damage", "history", "area")):
+        return []
+    state = bond_states(c["law"], c["damage"], c["history"], law_kind)
+    bonded = state != ""
+    if not bonded.any():
+        return []
+    size = _BOND * c["area"] / c["area"][bonded].max()
+    handles = []
+    for label in BOND_STATES:
+        rows = state == label
+        if not rows.any():
+            continue
+        ax.scatter(*c["point"][rows].T, s=size[rows], marker="s", color=BOND_COLOURS[label],
+                   depthshade=False, zorder=3.5)
+        handles.append(Line2D([], [], ls="none", marker="s", color=BOND_COLOURS[label],
+                              markersize=np.sqrt(0.5 * _BOND),
+                              label=f"{label} bond ({rows.sum()})"))
     return handles
 
 

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import InputError
 from ..fe.blocks import FEBlocks
@@ -153,6 +152,8 @@ class FEKind:
 
     def __init__(self, fe: FEBodies, h: float, theta: float,
                  body_q0: np.ndarray | None = None) -> None:
+        import scipy.sparse as sp  # ~0.3 s: imported by the runs that have FE blocks
+
         self.model = fe
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
         b = self.blocks
@@ -179,6 +180,8 @@ class FEKind:
         """Free node velocities of the step [m/s]."""
         self.v = np.zeros((n, d))
         """Node velocities during and after the contact solve [m/s]."""
+        self.v_begin = np.zeros((n, d))
+        """Node velocities at the start of the step [m/s] (for the joint laws)."""
         self.x_pred = np.zeros((n, d))
         """Node positions of the predicted configuration (for detection) [m]."""
 
@@ -192,6 +195,7 @@ class FEKind:
         self.v_free[:] = b.free_velocity(node_x, node_v, b.weight(acceleration), rotation,
                                          centroid, spin, self.rotation)
         self.v[:] = self.v_free
+        self.v_begin[:] = node_v
 
     def predict(self, node_x: np.ndarray, node_v: np.ndarray) -> None:
         """x_pred = x + (1 - theta) h v (the configuration detection sees)."""
@@ -227,6 +231,15 @@ class FEKind:
         self._rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse, problem.count,
                    problem.active, b.node_block, b.node_start, b.inv_start, b.inv,
                    self.rotation, problem.h_cand, problem.h_ant, problem.delassus, self.v)
+
+    def local_velocities(self, problem, v: np.ndarray, out: np.ndarray, begin: bool) -> None:
+        """ContactProblem.local_velocities for problems with FE sides (2D): U [m/s] from the
+        bodies' v and the nodes' velocities, those at the start of the step with begin, else
+        the solve's."""
+        c = problem.contacts
+        fe_local_velocities(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                            c.side_kind, c.side_node, c.side_weight, problem.count, v,
+                            self.v_begin if begin else self.v, out)
 
     def end_gaps(self, problem, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None,
                  h: float, theta: float) -> tuple[int, float]:
@@ -292,6 +305,19 @@ def side_velocity(rows, a, kind, nodes, weights, body, v, node_v):
             u0 += rows[a, 0, d] * v[body, d]
             u1 += rows[a, 1, d] * v[body, d]
     return u0, u1
+
+
+@nb.njit(cache=True)
+def fe_local_velocities(cand, ant, h_cand, h_ant, side_kind, side_node, side_weight, count, v,
+                        node_v, out):
+    """out[a] = (U_t, U_n) [m/s] of contacts with rigid or FE sides (side_velocity)."""
+    for a in range(count):
+        uc0, uc1 = side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
+                                 cand[a], v, node_v)
+        ua0, ua1 = side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
+                                 ant[a], v, node_v)
+        out[a, 0] = uc0 + ua0
+        out[a, 1] = uc1 + ua1
 
 
 @nb.njit(inline="always")

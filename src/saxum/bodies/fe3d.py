@@ -12,7 +12,6 @@ saxum.bodies.fe are written out for 2 x 2 blocks):
 
 import numba as nb
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from ..fe.blocks import _add_node_velocity, compliance_block
 from ..fe.mesh import Mesh, mesh_polyhedron
@@ -54,6 +53,8 @@ def frame_quaternions(rotation: np.ndarray, axes0: np.ndarray) -> np.ndarray:
     """Unit quaternions (w, x, y, z), w >= 0, of the blocks' body frames R R0 [nb, 4]: the
     co-rotated frame R [nb, 3, 3] turning the principal axes R0 [nb, 3, 3] of the reference
     block (the body row's frame, saxum.model)."""
+    from scipy.spatial.transform import Rotation  # scipy.spatial: ~0.5 s, not at import
+
     xyzw = Rotation.from_matrix(rotation @ axes0).as_quat()
     q = np.concatenate((xyzw[:, 3:], xyzw[:, :3]), axis=1)
     return np.where(q[:, :1] < 0.0, -q, q)

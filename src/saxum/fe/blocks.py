@@ -51,11 +51,8 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
 
 from saxum.errors import InputError, plain
-from saxum.fe.assembly import mass_stiffness
 from saxum.fe.material import Elastic
 from saxum.fe.mesh import Mesh
 
@@ -150,6 +147,10 @@ class FEBlocks:
               theta: float) -> "FEBlocks":
         """Assemble M and K of each block (scikit-fem) and prepare M~^-1 for the step h [s] and
         theta [-]."""
+        import scipy.sparse as sp  # with scikit-fem, ~0.3 s: not for runs without FE blocks
+
+        from saxum.fe.assembly import mass_stiffness
+
         blocks = cls.geometry(meshes, materials)
         masses, stiffnesses = zip(*(mass_stiffness(m, mat)
                                     for m, mat in zip(meshes, materials, strict=True)),
@@ -250,6 +251,8 @@ class FEBlocks:
             mt = (1.0 + ht * self.alpha[b]) * m + (ht * self.beta[b] + ht * ht) * k
             key = (e - a, (np.round(mt / np.abs(mt).max(), 12) + 0.0).tobytes())
             if key not in done:
+                import scipy.linalg
+
                 inv = scipy.linalg.cho_solve(scipy.linalg.cho_factor(mt), np.eye(e - a))
                 done[key] = (0.5 * (inv + inv.T)).ravel()
             self.inv[self.inv_start[b]:self.inv_start[b + 1]] = done[key]
@@ -259,6 +262,8 @@ class FEBlocks:
     @staticmethod
     def _block_matrix(indptr, indices, data, a, e):
         """Dense diagonal block [a:e, a:e] of the block-diagonal CSR matrix."""
+        import scipy.sparse as sp
+
         rows = sp.csr_matrix((data[indptr[a]:indptr[e]], indices[indptr[a]:indptr[e]] - a,
                               indptr[a:e + 1] - indptr[a]), shape=(e - a, e - a))
         return rows.toarray()

@@ -1,7 +1,10 @@
 """Translate an LMGC90 model (saxum.lmgc90.reader.Datbox) into a saxum model or scenario.
 
 Bodies: a body's contactor is its block (one per body): POLYG -> a convex polygon, POLYR ->
-the convex hull of its vertices; JONCx (2D) and PLANx (3D) grounds -> the rectangle
+the convex hull of its vertices, DISKx -> a disc and SPHER -> a sphere of radius `byrd`
+centred at the node (ModelBuilder.add_disc, add_sphere; a shifted one, `coo1=`..., is
+refused: its centre would not be the centre of mass); JONCx (2D) and PLANx (3D) grounds ->
+the rectangle
 2 ax1 x 2 ax2 (box 2 axe1 x 2 axe2 x 2 axe3), listed as approximated (LMGC90's JONCx has
 rounded ends, a PLANx is a contact plane). Positions: node coordinates + DOF.INI's X (2D:
 rotation by X(3); 3D: the frame a, b, g). The group of a block is its contactor's colour.
@@ -48,7 +51,7 @@ LAW_TYPES = {"IQS_CLB": LawKind.SIGNORINI_COULOMB, "IQS_CLB_g0": LawKind.SIGNORI
              "RST_CLB": LawKind.RESTITUTION_COULOMB, "RST_DS_CLB": LawKind.RESTITUTION_COULOMB}
 """LMGC90 contact laws saxum translates, and their saxum kind."""
 
-CONTACTORS = {"RBDY2": ("POLYG", "JONCx"), "RBDY3": ("POLYR", "PLANx")}
+CONTACTORS = {"RBDY2": ("POLYG", "JONCx", "DISKx"), "RBDY3": ("POLYR", "PLANx", "SPHER")}
 """Contactors translated per body type."""
 
 
@@ -65,8 +68,9 @@ class Untranslated:
 
 @dataclass
 class Block:
-    """A translated body: world vertices [m], velocity in world axes (2D: vx, vy, omega;
-    3D: vx, vy, vz, wx, wy, wz [m/s, rad/s]), and for a DRIVEN block its imposed dofs."""
+    """A translated body: world vertices [m] (a disc or sphere: its centre, one row, and
+    its radius [m] > 0), velocity in world axes (2D: vx, vy, omega; 3D: vx, vy, vz, wx, wy,
+    wz [m/s, rad/s]), and for a DRIVEN block its imposed dofs."""
 
     name: str
     group: str
@@ -75,6 +79,7 @@ class Block:
     vertices: np.ndarray
     velocity: np.ndarray
     drives: list[Drive] = field(default_factory=list)
+    radius: float = 0.0
 
     def motion(self, t: float) -> tuple[float, ...]:
         """The imposed velocity at time t [s] (DRIVEN blocks)."""
@@ -102,9 +107,13 @@ class Lmgc90Import:
         exactly), the laws and gravity."""
         b = ModelBuilder(gravity=self.gravity, dim=self.dim)
         for blk in self.blocks:
-            b.add_block(blk.vertices, density=blk.density, group=blk.group,
-                        kind=blk.kind, name=blk.name,
-                        motion=blk.motion if blk.kind == BodyKind.DRIVEN else None)
+            common = dict(density=blk.density, group=blk.group, kind=blk.kind, name=blk.name,
+                          motion=blk.motion if blk.kind == BodyKind.DRIVEN else None)
+            if blk.radius > 0.0:
+                add = b.add_disc if self.dim == 2 else b.add_sphere
+                add(blk.vertices[0], blk.radius, **common)
+            else:
+                b.add_block(blk.vertices, **common)
         for (a, c), law in self.laws.items():
             b.set_law(a, c, law)
         return b
@@ -157,8 +166,11 @@ class Lmgc90Import:
         rows = []
         for blk in self.blocks:
             row = {"name": blk.name, "group": blk.group,
-                   "kind": "free" if blk.kind == BodyKind.FREE else "fixed",
-                   "vertices": blk.vertices.tolist()}
+                   "kind": "free" if blk.kind == BodyKind.FREE else "fixed"}
+            if blk.radius > 0.0:
+                row.update(centre=blk.vertices[0].tolist(), radius=blk.radius)
+            else:
+                row["vertices"] = blk.vertices.tolist()
             if blk.kind == BodyKind.FREE:
                 row["density"] = blk.density
             rows.append(row)
@@ -221,8 +233,10 @@ def _vector(values: Sequence[float]) -> str:
     return "[" + ", ".join(repr(float(x)) for x in values) + "]"
 
 
-def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]) -> np.ndarray:
-    """The contactor's vertices in the body frame [m], or None (a problem is recorded)."""
+def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]
+                 ) -> tuple[np.ndarray, float] | None:
+    """The contactor's vertices in the body frame [m] (a disc or sphere: its centre, the
+    origin) and its radius [m] (0: a polygon), or None (a problem is recorded)."""
     allowed = CONTACTORS[body.type]
     if len(body.contactors) != 1:
         what = "no contactor" if not body.contactors else (
@@ -243,17 +257,28 @@ def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]) -> 
             problems.append(f"{tact.where}: {tact.kind} of {body.type} {body.number}: expected "
                             f"{int(v.get('nb_vertex', 0))} vertices of {dim} coordinates")
             return None
-        return pts
+        return pts, 0.0
+    if tact.kind in ("DISKx", "SPHER"):
+        dim = 2 if tact.kind == "DISKx" else 3
+        r = v.get("byrd", 0.0)
+        shift = [k for k in ("coo1", "coo2", "coo3") if v.get(k, 0.0) != 0.0]
+        if not (math.isfinite(r) and r > 0.0) or shift:
+            what = (f"a shift {', '.join(shift)} from the node (saxum's discs and spheres are "
+                    "centred at their centre of mass)" if shift else
+                    f"byrd = {r:g}, not a radius > 0 [m]")
+            problems.append(f"{tact.where}: {tact.kind} of {body.type} {body.number} has {what}")
+            return None
+        return np.zeros((1, dim)), r
     if tact.kind == "JONCx":
         a, b = v.get("ax1", 0.0), v.get("ax2", 0.0)
         notes.append(Untranslated(f"JONCx of {body.type} {body.number}: taken as the rectangle "
                                   f"{2 * a:g} x {2 * b:g} m (LMGC90's has rounded ends)",
                                   tact.where))
-        return np.array([(-a, -b), (a, -b), (a, b), (-a, b)])
+        return np.array([(-a, -b), (a, -b), (a, b), (-a, b)]), 0.0
     a, b, c = (v.get(f"axe{k}", 0.0) for k in (1, 2, 3))
     notes.append(Untranslated(f"PLANx of {body.type} {body.number}: taken as the box "
                               f"{2 * a:g} x {2 * b:g} x {2 * c:g} m", tact.where))
-    return np.array([(x, y, z) for x in (-a, a) for y in (-b, b) for z in (-c, c)])
+    return np.array([(x, y, z) for x in (-a, a) for y in (-b, b) for z in (-c, c)]), 0.0
 
 
 def _place(body: Body, local: np.ndarray) -> np.ndarray:
@@ -359,9 +384,10 @@ def translate(box: Datbox) -> Lmgc90Import:
     n = 3 * (dim - 1)
     blocks: list[Block] = []
     for body in box.bodies:
-        local = _local_shape(body, problems, notes)
-        if local is None:
+        shape = _local_shape(body, problems, notes)
+        if shape is None:
             continue
+        local, radius = shape
         kind, drives = _drives(body, box.drives.get(body.key, []), n, notes)
         density = 0.0
         if kind == BodyKind.FREE:
@@ -379,7 +405,7 @@ def translate(box: Datbox) -> Lmgc90Import:
         colour = body.contactors[0].colour
         blocks.append(Block(body.name or f"{body.type} {body.number}",
                             box.groups.get(colour, colour), kind, density,
-                            _place(body, local), velocity, drives))
+                            _place(body, local), velocity, drives, radius))
     laws, no_contact = _laws(box, blocks, notes, problems)
     if problems:
         raise InputError(_listing(box, problems))

@@ -1,15 +1,17 @@
 """Write a saxum model as an LMGC90 DATBOX folder (BODIES.DAT, BULK_BEHAV.DAT,
 TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT) in the layout pylmgc90 writes.
 
-Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles),
-the node at the centre of mass, the vertices in the body frame (saxum's: world axes in 2D,
+Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles), a
+disc RBDY2 with one DISKx (a sphere RBDY3 with one SPHER) of radius `byrd=`, the node at the
+centre of mass, the vertices in the body frame (saxum's: world axes in 2D,
 the principal frame in 3D, whose rotation DOF.INI gives as the frame a, b, g). Fixed blocks
 have all their dofs imposed at 0 in DRV_DOF.DAT, driven ones at their velocity at t = 0
 (written as constant). Groups become colours (5 characters), densities RIGID bulk laws.
 Laws: SIGNORINI_COULOMB -> IQS_CLB, GAP_SIGNORINI_COULOMB -> GAP_SGR_CLB,
 RESTITUTION_COULOMB -> RST_CLB (rstt = 0), one see-table per pair of groups with a law (its
-alert, or `alert`); NO_CONTACT pairs get none. Joint laws (elastic, viscous, cohesive) are
-refused: LMGC90's joint laws are written in other terms.
+alert, or `alert`) and pair of contactor types the groups have (a disc or sphere the
+candidate, as in LMGC90's DKPLx); NO_CONTACT pairs get none. Joint laws (elastic, viscous,
+cohesive) are refused: LMGC90's joint laws are written in other terms.
 
 precision "lmgc90" writes LMGC90's fixed columns (7 significant digits, what its Fortran
 reader takes); "full" writes 17 significant digits (exact round trip through
@@ -89,8 +91,7 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
 
 
 def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt) -> None:
-    body, node, tact = ("RBDY2", "NO3xx", "POLYG") if model.dim == 2 else (
-        "RBDY3", "NO6xx", "POLYR")
+    body, node = ("RBDY2", "NO3xx") if model.dim == 2 else ("RBDY3", "NO6xx")
     out = ["! File BODIES (saxum export_lmgc90)"]
     out += [f"! saxum group: {c} = {g}" for c, g in zip(colours, model.group_names, strict=True)]
     for b in range(model.body_count):
@@ -99,7 +100,13 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
         kind = BodyKind(int(model.body_kind[b]))
         law = behav[float(model.body_density[b])] if kind == BodyKind.FREE else "FIXED"
         colour = colours[model.body_group[b]]
-        if model.dim == 2:
+        r = float(model.body_round_radius[b])
+        if r > 0.0:  # a disc (sphere): both formulas below give r
+            avrd = gyrd = r
+            moment = 0.4 * (4.0 / 3.0 * math.pi * r**3) * r * r
+            inertia = [] if model.dim == 2 else [
+                f"{_PAD}I1  ={fmt(moment)}  I2  ={fmt(moment)}  I3  ={fmt(moment)}"]
+        elif model.dim == 2:
             props = polygon_properties(local)
             area, polar = props.area, props.polar_moment
             avrd, gyrd = math.sqrt(area / math.pi), math.sqrt(2.0 * polar / area)
@@ -116,18 +123,27 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
         out += [f"! saxum name: {model.body_name[b]}", "$bdyty", f" {body}{b + 1:7d}",
                 "$blmty", f" PLAIN      1  behav  {law}  avrd={fmt(avrd)}  gyrd={fmt(gyrd)}",
                 *inertia, "$nodty", f" {node}      1{' ' * 16}{coo}", "$tacty"]
-        if model.dim == 2:
-            out.append(f" {tact}      1  color  {colour}  nb_vertex={len(local):5d}")
+        if r > 0.0:
+            out.append(f" {_contactor(model, b)}      1  color  {colour}  byrd={fmt(r)}")
+        elif model.dim == 2:
+            out.append(f" POLYG      1  color  {colour}  nb_vertex={len(local):5d}")
             out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}" for x, y in local]
         else:
             triangles = _triangles(model, b) - start + 1
-            out.append(f" {tact}      1  color  {colour}  nb_vertex={len(local):5d}"
+            out.append(f" POLYR      1  color  {colour}  nb_vertex={len(local):5d}"
                        f"      nb_face={len(triangles):5d}")
             out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}  coo3={fmt(z)}" for x, y, z in local]
             out += [f"{_PAD}ver1= {i:<13d} ver2= {j:<13d} ver3= {k:<13d}".rstrip()
                     for i, j, k in triangles]
         out.append("$$$$$$")
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
+
+
+def _contactor(model: Model, b: int) -> str:
+    """LMGC90's contactor type of body b: DISKx, SPHER, POLYG or POLYR."""
+    if model.body_round_radius[b] > 0.0:
+        return "DISKx" if model.dim == 2 else "SPHER"
+    return "POLYG" if model.dim == 2 else "POLYR"
 
 
 def _triangles(model: Model, b: int) -> np.ndarray:
@@ -188,7 +204,12 @@ def _write_drives(path: Path, model: Model, fmt) -> None:
 
 
 def _write_tact(path: Path, model: Model, colours: list[str], alert: float, fmt) -> None:
-    body, tact = ("RBDY2", "POLYG") if model.dim == 2 else ("RBDY3", "POLYR")
+    body = "RBDY2" if model.dim == 2 else "RBDY3"
+    # LMGC90 detects a pair of contactor types only where a see-table names it: one per
+    # pair of types the two groups have, the disc (sphere) the candidate
+    order = ("DISKx", "SPHER", "POLYG", "POLYR")
+    tacts = [sorted({_contactor(model, b) for b in np.flatnonzero(model.body_group == g)},
+                    key=order.index) for g in range(len(model.group_names))]
     out = ["! File TACT_BEHAV (saxum export_lmgc90)"]
     names = [f"law{k + 1:02d}" for k in range(len(model.laws))]
     for name, law in zip(names, model.laws, strict=True):
@@ -203,7 +224,14 @@ def _write_tact(path: Path, model: Model, colours: list[str], alert: float, fmt)
             if k < 0:
                 continue
             a = model.laws[k].alert if model.laws[k].alert is not None else alert
-            out += ["$seety", " cdbdy  cdtac  cdcol  behav  anbdy  antac  ancol       alert",
-                    f" {body}  {tact}  {colours[i]}  {names[k]}  {body}  {tact}  "
-                    f"{colours[j]}     {fmt(a)}"]
+            out += ["$seety", " cdbdy  cdtac  cdcol  behav  anbdy  antac  ancol       alert"]
+            seen = set()
+            for ti in tacts[i]:
+                for tj in tacts[j]:
+                    (ci, cti), (cj, ctj) = sorted(((i, ti), (j, tj)),
+                                                  key=lambda x: order.index(x[1]))
+                    if (ci, cti, cj, ctj) not in seen:
+                        seen.add((ci, cti, cj, ctj))
+                        out.append(f" {body}  {cti}  {colours[ci]}  {names[k]}  {body}  {ctj}  "
+                                   f"{colours[cj]}     {fmt(a)}")
     path.write_text("\n".join(out) + "\n", encoding="latin-1")

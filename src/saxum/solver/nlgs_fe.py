@@ -8,7 +8,9 @@ its kind (design-deformable-and-joints.md section 3):
 
 G = M~^-1 in the block's frame (saxum.fe.FEBlocks.inv). Models without deformable blocks never
 come here, so their sweeps are nlgs_2d's, bit for bit. The convergence criterion is nlgs_2d's
-with the nodes' lumped masses in the norm.
+with the nodes' lumped masses in the norm. A contact of a joint law (law_map flag != 0,
+saxum.solver.laws_local) is solved by law_solve_2d on its W', in the same sweep as the dry
+ones.
 """
 
 
@@ -16,6 +18,7 @@ import numba as nb
 import numpy as np
 
 from ..bodies.fe import side_push, side_velocity
+from .laws_local import law_solve_2d
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .velocity_change import change_ratio, change_sums
 
@@ -35,17 +38,22 @@ def _relative_change(v, v_prev, v_free, mass, node_v, node_prev, node_free, node
 def nlgs_fe_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass,
                mass, v_free, v, v_prev, impulse, side_kind, side_node, side_weight, node_block,
                node_start,
-               inv_start, inverse, rotation, node_mass, node_free, node_v, node_prev, tolerance,
-               max_iterations, relaxation):
+               inv_start, inverse, rotation, node_mass, node_free, node_v, node_prev, law_map,
+               tolerance, max_iterations, relaxation):
     """NLGS sweeps (module doc); returns (sweeps done, final error). Updates v, node_v and
-    impulse in place; v_prev and node_prev are work memory."""
+    impulse in place; v_prev and node_prev are work memory; law_map [count, width] the joint
+    laws' rows (all flags 0 without them)."""
     factors = np.empty((count, 5))
     nactive = 0
     for a in range(count):
         if active[a]:
             nactive += 1
-            f = factorize_contact_2d(delassus[a, 0, 0], delassus[a, 0, 1], delassus[a, 1, 1],
-                                     friction[a])
+            m = law_map[a]
+            if m[0] != 0.0:  # a joint: the factors of its W'
+                f = factorize_contact_2d(m[1], m[2], m[4], friction[a])
+            else:
+                f = factorize_contact_2d(delassus[a, 0, 0], delassus[a, 0, 1],
+                                         delassus[a, 1, 1], friction[a])
             for i in range(5):
                 factors[a, i] = f[i]
     if nactive == 0:
@@ -74,9 +82,14 @@ def nlgs_fe_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count
             rn0 = impulse[a, 1]
             ut = u0 - (wtt * rt0 + wtn * rn0)
             un = u1 + (bias[a] - (wtn * rt0 + wnn * rn0))
-            rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, factors[a, 0], factors[a, 1],
-                                               factors[a, 2], factors[a, 3], factors[a, 4],
-                                               ut, un, friction[a])
+            if law_map[a, 0] != 0.0:
+                rt, rn = law_solve_2d(law_map[a], ut, un, bias[a], factors[a, 0],
+                                      factors[a, 1], factors[a, 2], factors[a, 3],
+                                      factors[a, 4], friction[a])
+            else:
+                rt, rn = solve_factored_contact_2d(wtt, wtn, wnn, factors[a, 0], factors[a, 1],
+                                                   factors[a, 2], factors[a, 3], factors[a, 4],
+                                                   ut, un, friction[a])
             if relaxation != 1.0:
                 rt = relaxation * rt + (1.0 - relaxation) * rt0
                 rn = relaxation * rn + (1.0 - relaxation) * rn0

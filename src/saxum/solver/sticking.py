@@ -26,8 +26,6 @@ pair of contacts on a block (it is that system's Schur complement).
 
 import numba as nb
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg
 
 from ..bodies.fe import side_velocity
 from ..model import BodyKind
@@ -104,9 +102,11 @@ def _rows(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, bias, v_f
     return e
 
 
-def _world_iteration_matrix(kind) -> sp.csr_matrix:
+def _world_iteration_matrix(kind):
     """A of the deformable blocks: R_s M~ R_s^T node by node [kg], world axes, for the
     step's frames (FEKind.rotation)."""
+    import scipy.sparse as sp
+
     b = kind.blocks
     n = b.n_nodes
     rot = kind.rotation[b.node_block]  # [N, 2, 2]
@@ -121,6 +121,9 @@ def _solve_status(a_matrix, h, rhs, status, mu, diagonal):
     """(x = (dv, -R) [m/s, N s], R [m, 2] [N s]) of the equations with each contact's rows by
     its status: sticking U + b = 0 (with _REGULARIZATION), sliding U_n + b_n = 0 and R_t =
     +-mu R_n, open R = 0."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg
+
     n = a_matrix.shape[0]
     m = len(status)
     open_ = status == _OPEN
@@ -149,6 +152,8 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
     (the rigid bodies) and problem.fe.v (the nodes), and return True, when at most
     _CHANGING of its contacts still change status after the last of up to _PASSES solves;
     otherwise leave them untouched and return False."""
+    import scipy.sparse as sp  # ~0.3 s with its linalg: imported by the runs with FE blocks
+
     kind = problem.fe
     c = problem.contacts
     model = problem.model
