@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from ..fe.blocks import FEBlocks, _add_node_velocity, compliance_block
+from ..fe.blocks import FEBlocks, _add_node_velocity, compliance_block, congruence
 from ..fe.material import Elastic
 from ..fe.mesh import Mesh, mesh_polygon
 from ..geometry3d import Polyhedron
@@ -347,13 +347,10 @@ def fe_contact_rows(side_kind, side_node, side_weight, frame, impulse, count, ac
                     for k in range(d):
                         for m in range(d):
                             g[k, m] += wi * wj * block[k, m]
+            congruence(frame, a, g, block)
             for r in range(d):
                 for c in range(d):
-                    s = 0.0
-                    for k in range(d):
-                        for m in range(d):
-                            s += frame[a, r, k] * g[k, m] * frame[a, c, m]
-                    delassus[a, r, c] += s
+                    delassus[a, r, c] += block[r, c]
             if active[a]:
                 _push_side_nodes(rows, a, side_node[a, side], side_weight[a, side],
                                  impulse[a], node_block, node_start, inv_start, inverse,
