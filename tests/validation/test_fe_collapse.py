@@ -35,17 +35,18 @@ B, H = 0.5, 1.0  # block width and height [m]: b/h = 0.5
 G = 9.81
 
 
-def _box(x0, x1, z0, z1, dim):
-    """The rectangle [x0, x1] x [z0, z1] (2D) or the box of it 0.5 m deep (3D) [m]."""
+def _box(x0, x1, z0, z1, dim, depth=0.5):
+    """The rectangle [x0, x1] x [z0, z1] (2D) or the box of it `depth` deep, centred on y = 0
+    (3D) [m]."""
     if dim == 2:
         return [(x0, z0), (x1, z0), (x1, z1), (x0, z1)]
-    return [(x, y, z) for x in (x0, x1) for y in (0.0, 0.5) for z in (z0, z1)]
+    return [(x, y, z) for x in (x0, x1) for y in (-0.5 * depth, 0.5 * depth) for z in (z0, z1)]
 
 
 def _block(mu: float, modulus: float, dim: int = 2):
     def make(factor):
         b = sx.ModelBuilder(gravity=(0.0,) * (dim - 1) + (-G,), dim=dim)
-        b.add_block(_box(-2.0, 2.0, -0.2, 0.0, dim), kind=sx.BodyKind.FIXED, group="ground",
+        b.add_block(_box(-2.0, 2.0, -0.2, 0.0, dim, depth=4.0), kind=sx.BodyKind.FIXED, group="ground",
                     name="ground")
         b.add_block(_box(0.0, B, 0.0, H, dim), name="block",
                     material=Elastic(modulus, 0.2, 2000.0, damping=(0.0, 1e-3)),
