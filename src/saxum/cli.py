@@ -100,13 +100,20 @@ def _collapse(args) -> None:
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     uncertified = [t.value for t in result.trials if not t.certified]
     if uncertified:
+        sim = result.trials[0].simulation
+        if sim.fe is not None or sim.problem.joint_laws:  # (collapse._certifier's None)
+            why = ("no equilibrium certificate for a model with "
+                   + ("deformable blocks" if sim.fe is not None else "joint laws")
+                   + ": at rest by the force ratio alone, or, neither at rest nor moved away "
+                   "within --duration, judged by its energy")
+        else:
+            why = ("a trial that neither came to rest nor moved away within "
+                   f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
+                   "energy")
         warnings.warn(f"{len(uncertified)} of the {len(result.trials)} verdicts are not "
-                      "certified (no equilibrium certificate for this model, or a trial "
-                      "that neither came to rest nor moved away within "
-                      f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
-                      f"energy): {', '.join(f'{v:.6g}' for v in uncertified)}; the bracket "
-                      "may then miss the critical value (docs/collapse.md)", SolverWarning,
-                      stacklevel=1)
+                      f"certified ({why}): {', '.join(f'{v:.6g}' for v in uncertified)}; the "
+                      "bracket may then miss the critical value (docs/collapse.md)",
+                      SolverWarning, stacklevel=1)
     if args.check_limit:
         _check_limit(args, result)
     trial = result.collapse()
