@@ -27,10 +27,13 @@ from ..fe.blocks import FEBlocks, _add_node_velocity, compliance_block, congruen
 from ..fe.material import Elastic
 from ..fe.mesh import Mesh, mesh_polygon
 from ..geometry3d import Polyhedron
+from ..laws import LawKind
 from .fe3d import frame_quaternions, mesh_polyhedra, principal_axes
 
 __all__ = ["FEBodies", "FEKind", "build_fe_bodies", "fe_contact_rows", "fe_end_gaps",
-           "side_push", "side_velocity", "stored_blocks"]
+           "fe_restitution", "side_push", "side_velocity", "stored_blocks"]
+
+_RESTITUTION = int(LawKind.RESTITUTION_COULOMB)
 
 
 @dataclass(frozen=True)
@@ -173,6 +176,9 @@ class FEKind:
         """Free node velocities of the step [m/s]."""
         self.v = np.zeros((n, d))
         """Node velocities during and after the contact solve [m/s]."""
+        self.v_begin = np.zeros((n, d))
+        """Node velocities at the start of the step [m/s] (free_velocity's: the state's, which
+        restitution reads before the step's end updates them)."""
         self.x_pred = np.zeros((n, d))
         """Node positions of the predicted configuration (for detection) [m]."""
 
@@ -186,6 +192,7 @@ class FEKind:
         self.v_free[:] = b.free_velocity(node_x, node_v, b.weight(acceleration), rotation,
                                          centroid, spin, self.rotation)
         self.v[:] = self.v_free
+        self.v_begin = node_v
 
     def predict(self, node_x: np.ndarray, node_v: np.ndarray) -> None:
         """x_pred = x + (1 - theta) h v (the configuration detection sees)."""
@@ -221,6 +228,11 @@ class FEKind:
         fe_contact_rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse, problem.count,
                    problem.active, b.node_block, b.node_start, b.inv_start, b.inv,
                    self.rotation, problem.h_cand, problem.h_ant, problem.delassus, self.v)
+        m = problem.model
+        if (m.law_kind == _RESTITUTION).any():
+            fe_restitution(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
+                           c.law, problem.h_cand, problem.h_ant, problem.count, m.law_kind,
+                           m.law_restitution, problem.v_begin, self.v_begin, problem.bias)
 
     def end_gaps(self, problem, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None,
                  h: float, theta: float) -> tuple[int, float]:
@@ -355,6 +367,25 @@ def fe_contact_rows(side_kind, side_node, side_weight, frame, impulse, count, ac
                 _push_side_nodes(rows, a, side_node[a, side], side_weight[a, side],
                                  impulse[a], node_block, node_start, inv_start, inverse,
                                  rotation, node_v, f, pl, dv)
+
+
+@nb.njit(cache=True)
+def fe_restitution(side_kind, side_node, side_weight, cand, ant, law, h_cand, h_ant, count,
+                   law_kind, law_restitution, v_begin, node_v_begin, bias):
+    """Newton's impact law on the contacts with an FE side under a restitution law: b_n = e_n
+    min(U_n-, 0), U_n- = H* v at the start of the step with each side by its kind (the rigid
+    assembly read an FE side's velocity from its body row, which holds only its frame), so
+    that U_n+ = -e_n U_n- node by node (saxum.solver.problem._law)."""
+    u = np.empty(h_cand.shape[1])
+    for a in range(count):
+        if law_kind[law[a]] != _RESTITUTION or (side_kind[a, 0] != 1 and side_kind[a, 1] != 1):
+            continue
+        u[:] = 0.0
+        side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0], cand[a],
+                      v_begin, node_v_begin, u)
+        side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1], ant[a],
+                      v_begin, node_v_begin, u)
+        bias[a] = law_restitution[law[a]] * min(u[1], 0.0)
 
 
 @nb.njit(cache=True)
