@@ -9,9 +9,10 @@ e_n = 0.
 A 0.4 x 0.2 (3D: x 0.2) m block, E = 1 GPa, without gravity, at -1 m/s a hair above the
 ground: in the one step of the impact every loaded node contact must satisfy the law within
 1e-6 m/s of 0.5 m/s (the solver's tolerance is 1e-10 on the relative change per sweep;
-what it leaves in the velocities was measured at 4e-11 m/s in 2D, 1.2e-9 m/s in 3D), and the block's centre of mass must leave
-upwards, slower than e_n times the impact speed (part of its momentum change goes into
-vibration of the elastic block: 0.375 m/s in 2D, 0.373 m/s in 3D, measured).
+what it leaves in the velocities was measured at 4e-11 m/s in 2D, 1.2e-9 m/s in 3D), and
+the block's centre of mass must leave upwards, slower than e_n times the impact speed
+(part of its momentum change goes into vibration of the elastic block: 0.375 m/s in 2D,
+0.373 m/s in 3D, measured).
 """
 
 import numpy as np

@@ -47,7 +47,7 @@ from .laws_local import law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
-from .nlgs_fe import nlgs_fe
+from .nlgs_fe import nlgs_fe_2d, nlgs_fe_3d
 from .problem import ContactProblem
 from .sticking import sticking_solution
 from .velocity_change import change_ratio, change_sums
@@ -156,6 +156,7 @@ class NLGS(ContactSolver):
             joint = np.flatnonzero(active[: problem.count] & flagged).astype(np.int64)
             active = active[: problem.count] & ~flagged
         sweep = nlgs_3d if dim == 3 else nlgs_2d
+        sweep = nlgs_fe_2d if problem.model.dim == 2 else nlgs_fe_3d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
@@ -254,6 +255,7 @@ class NLGS(ContactSolver):
         c = problem.contacts
         kind = problem.fe
         b = kind.blocks
+        sweep = nlgs_fe_2d if problem.model.dim == 2 else nlgs_fe_3d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, problem.active, problem.count, self._inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
@@ -264,7 +266,7 @@ class NLGS(ContactSolver):
         sticking = problem.model.dim == 2 and self.rest_after > 0
         first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
                  else self.max_iterations)
-        iterations, error = nlgs_fe(*args, first, self.relaxation)
+        iterations, error = sweep(*args, first, self.relaxation)
         # a step after one whose sticking start was not taken does not try (its statuses
         # are likely changing still: under a pulse, most steps)
         if error > self.tolerance and iterations < self.max_iterations:
@@ -275,7 +277,7 @@ class NLGS(ContactSolver):
                 found = sticking_solution(problem, impulse, v_free, v)
                 self.rest_solutions += found
                 self._sticking_failed = not found
-            more, error = nlgs_fe(*args, self.max_iterations - iterations, self.relaxation)
+            more, error = sweep(*args, self.max_iterations - iterations, self.relaxation)
             iterations += more
         else:
             self._sticking_failed = False
