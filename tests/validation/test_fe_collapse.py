@@ -21,7 +21,11 @@ for deformable blocks (no equilibrium certificate: saxum.collapse module doc) an
 In 3D the same block, 0.5 m deep, with the load along its width: the statics are the same
 (the depth changes neither ratio), and the test brackets the factor within 1 % (it stands at
 0.99 times the closed form and collapses at 1.01 times it) rather than bisecting, to keep it
-short."""
+short. The ground is as deep as the block, its sides flush with the block's: the nodes on
+those sides lie on the ground's top edges, where its top and side faces are equally near,
+and a node whose contact took the side face (round-off's choice, before the tie went to the
+face opposed to the node's outward direction) pushed the block sideways: it crept over at
+0.99 b/h (0.5 mm per 0.05 s, measured)."""
 
 import numpy as np
 import pytest
@@ -46,7 +50,7 @@ def _box(x0, x1, z0, z1, dim, depth=0.5):
 def _block(mu: float, modulus: float, dim: int = 2):
     def make(factor):
         b = sx.ModelBuilder(gravity=(0.0,) * (dim - 1) + (-G,), dim=dim)
-        b.add_block(_box(-2.0, 2.0, -0.2, 0.0, dim, depth=4.0), kind=sx.BodyKind.FIXED,
+        b.add_block(_box(-2.0, 2.0, -0.2, 0.0, dim), kind=sx.BodyKind.FIXED,
                     group="ground", name="ground")
         b.add_block(_box(0.0, B, 0.0, H, dim), name="block",
                     material=Elastic(modulus, 0.2, 2000.0, damping=(0.0, 1e-3)),

@@ -36,18 +36,25 @@ __all__ = ["node_contacts_3d"]
 
 
 @nb.njit(inline="always")
-def _nearest_face(x, y, z, f0, f1, wv, wn, fvs, fv, tie):
+def _nearest_face(x, y, z, mx, my, mz, f0, f1, wv, wn, fvs, fv, tie):
     """(largest signed distance g [m], its face, or -1 where x projects outside it) of point
     (x, y, z) over the faces f0..f1 of a rigid polyhedron (world vertices wv, outward unit
-    normals wn, face rings fvs/fv counter-clockwise seen from outside)."""
+    normals wn, face rings fvs/fv counter-clockwise seen from outside); between faces at equal
+    distances (within tie: a node on the polyhedron's edge, as where a block stands flush
+    with the side of its support), the one whose normal is most opposed to the node's outward
+    direction (mx, my, mz), as fe_nodes._nearest_edge does in 2D: else round-off picks the
+    side face, and the node's contact pushes it sideways."""
     best = -1
     g = -1e300
+    facing = 0.0
     for f in range(f0, f1):
         a = fv[fvs[f]]
         d = wn[f, 0] * (x - wv[a, 0]) + wn[f, 1] * (y - wv[a, 1]) + wn[f, 2] * (z - wv[a, 2])
-        if d > g:
+        dot = wn[f, 0] * mx + wn[f, 1] * my + wn[f, 2] * mz
+        if d > g + tie or (d >= g - tie and dot < facing - 1e-3):
             g = d
             best = f
+            facing = dot
     nx, ny, nz = wn[best, 0], wn[best, 1], wn[best, 2]
     ring0 = fvs[best]
     ring1 = fvs[best + 1]
@@ -216,9 +223,10 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             x = node_x[p, 0]
             y = node_x[p, 1]
             z = node_x[p, 2]
+            mx, my, mz = _node_side_sum(node_side, p, r, 0.0, 0.0, 0.0)[1:]
             if rigid:
-                g, e = _nearest_face(x, y, z, face_start[ob], face_start[ob + 1], wv, wn, fvs,
-                                     fv, tie)
+                g, e = _nearest_face(x, y, z, mx, my, mz, face_start[ob], face_start[ob + 1],
+                                     wv, wn, fvs, fv, tie)
                 if e < 0 or g > pair_alert:
                     continue
                 nx, ny, nz = wn[e, 0], wn[e, 1], wn[e, 2]
@@ -230,7 +238,6 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 rigid_side(count, 1, side_kind, side_node, side_weight)
                 face_key = e
             else:
-                mx, my, mz = _node_side_sum(node_side, p, r, 0.0, 0.0, 0.0)[1:]
                 outside, g, e, = _nearest_facet(x, y, z, mx, my, mz, facet_start[o],
                                                 facet_start[o + 1], node_x, facet_node, tie,
                                                 weight)
