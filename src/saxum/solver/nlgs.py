@@ -156,7 +156,6 @@ class NLGS(ContactSolver):
             joint = np.flatnonzero(active[: problem.count] & flagged).astype(np.int64)
             active = active[: problem.count] & ~flagged
         sweep = nlgs_3d if dim == 3 else nlgs_2d
-        sweep = nlgs_fe_2d if problem.model.dim == 2 else nlgs_fe_3d
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
