@@ -539,7 +539,8 @@ def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent 
     limit, and some free block moved faster than CREEP times the smallest block's size per
     second: the start of a slow slide or of the last swing of a rocking structure.
     None when no block is that far at the end. Deformable blocks count with the free ones
-    (their body rows: the centre of mass of their nodes, its velocity the nodes' mean)."""
+    (their body rows: the centre of mass of their nodes, its velocity their mass-weighted
+    mean)."""
     free = _moving_kind(results.model["body_kind"])
     if not free.any() or results.frame_count == 0:
         return None
