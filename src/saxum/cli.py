@@ -109,13 +109,20 @@ def _collapse(args) -> None:
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     uncertified = [t.value for t in result.trials if not t.certified]
     if uncertified:
+        sim = result.trials[0].simulation
+        if sim.fe is not None or sim.problem.joint_laws:  # (collapse._certifier's None)
+            why = ("no equilibrium certificate for a model with "
+                   + ("deformable blocks" if sim.fe is not None else "joint laws")
+                   + ": at rest by the force ratio alone, or, neither at rest nor moved away "
+                   "within --duration, judged by its energy")
+        else:
+            why = ("a trial that neither came to rest nor moved away within "
+                   f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
+                   "energy")
         warnings.warn(f"{len(uncertified)} of the {len(result.trials)} verdicts are not "
-                      "certified (no equilibrium certificate for this model, or a trial "
-                      "that neither came to rest nor moved away within "
-                      f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
-                      f"energy): {', '.join(f'{v:.6g}' for v in uncertified)}; the bracket "
-                      "may then miss the critical value (docs/collapse.md)", SolverWarning,
-                      stacklevel=1)
+                      f"certified ({why}): {', '.join(f'{v:.6g}' for v in uncertified)}; the "
+                      "bracket may then miss the critical value (docs/collapse.md)",
+                      SolverWarning, stacklevel=1)
     if args.check_limit:
         _check_limit(args, result)
     trial = result.collapse()
@@ -350,6 +357,9 @@ def _info(args) -> None:
 
 def info_text(r) -> str:
     """What the run was and what the solver did, for `saxum info`."""
+    from .collapse import _moving_kind
+    from .model import BodyKind
+
     s = r.steps
     status = r.message if r.message.startswith(r.status) else (
         r.status + (f" - {r.message}" if r.message else ""))
@@ -367,8 +377,11 @@ def info_text(r) -> str:
         lines.append(f"duration {sc.output.duration:g} s, output every {sc.output.interval:g} s,"
                      f" checkpoints every {sc.output.checkpoint_interval:g} s")
     n_bodies = len(r.body_name)
-    free = int(np.sum(r.model["body_kind"] == 0))
-    lines.append(f"model: {n_bodies} bodies ({free} free), dt = {r.dt:g} s, theta = {r.theta:g}")
+    free = int(np.sum(r.model["body_kind"] == BodyKind.FREE))
+    deformable = int(np.sum(r.model["body_kind"] == BodyKind.DEFORMABLE))
+    lines.append(f"model: {n_bodies} bodies ({free} free"
+                 + (f", {deformable} deformable" if deformable else "")
+                 + f"), dt = {r.dt:g} s, theta = {r.theta:g}")
     last = r.time[-1] if r.frame_count else float("nan")
     lines.append(f"frames: {r.frame_count} (t = 0 .. {last:g} s); checkpoints at steps "
                  f"{', '.join(str(x) for x in r.checkpoint_steps[-5:])}"
@@ -400,7 +413,7 @@ def info_text(r) -> str:
             lines.append("cohesive joints: " + (
                 bonds_note(s["step"], lost)[2:] + " over the run" if lost.any()
                 else "no bond cracked") + f"; {damaged[-1]} point(s) partly damaged at the end")
-        free = r.model["body_kind"] == 0
+        free = _moving_kind(r.model["body_kind"])
         size = float(r.body_size[free].min()) if free.any() else math.nan
         worst = float(s["max_interpenetration"].max())
         lines.append(
@@ -421,10 +434,10 @@ moving (a structure at rest: round-off)."""
 def _collapse_lines(r, ground) -> list[str]:
     """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
     harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
-    from .collapse import DYNAMIC_FRACTION, ONSET, find_collapse
+    from .collapse import DYNAMIC_FRACTION, ONSET, _moving_kind, find_collapse
     from .mechanism import frame_mechanism
 
-    free = r.model["body_kind"] == 0
+    free = _moving_kind(r.model["body_kind"])
     if r.frame_count == 0 or not free.any():
         return []
     d = r.dim

@@ -953,6 +953,8 @@ class Results:
         """Deformable blocks' node positions [m] per frame [frames, nodes, dim] (or None)."""
         self.node_v = fr["node_v"][: self.frame_count] if "node_v" in fr else None
         """... and velocities [m/s]."""
+        if self.node_v is not None and self.frame_count:
+            self._deformable_body_velocities()
         counts = fr["contact_count"][: self.frame_count]
         self._contact_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         st = self.file["steps"]
@@ -1093,6 +1095,20 @@ class Results:
         from .view import View, view_html
 
         return View(view_html(self, every=every, blocks=blocks))
+
+    def _deformable_body_velocities(self) -> None:
+        """body_v's rows of the deformable blocks, which the run leaves empty (their body rows
+        hold only their frames), set to their nodes' nearest rigid motion [m/s, rad/s]
+        (FEBlocks.rigid_velocities, as saxum.mechanism does for a run's state): collapse
+        detection and the mechanism read the blocks' speeds there."""
+        from .bodies.fe import stored_blocks
+
+        self._fe_blocks = stored_blocks(self.model)
+        body, d = self.model["fe_body"], self.dim
+        for k in range(self.frame_count):
+            velocity, spin = self._fe_blocks.rigid_velocities(self.node_x[k], self.node_v[k])
+            self.body_v[k, body, :d] = velocity
+            self.body_v[k, body, d:] = spin
 
     def stresses(self, frame: int) -> dict[str, np.ndarray]:
         """Cell stresses of the deformable blocks at output frame `frame` [Pa], world axes,

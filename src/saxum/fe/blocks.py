@@ -63,6 +63,7 @@ __all__ = [
     "apply_nodal_impulses",
     "boundary_compliance",
     "compliance_block",
+    "congruence",
     "element_stresses",
     "frames",
     "free_velocity",
@@ -778,6 +779,19 @@ def update_positions(x, v, v_next, h, theta):
             x[i, k] += h * ((1.0 - theta) * v[i, k] + theta * v_next[i, k])
 
 
+@nb.njit(inline="always")
+def congruence(r, b, s, out):
+    """out = r[b] s r[b]^T [d, d]: a tensor s turned by the rotation (or frame) r[b]."""
+    d = s.shape[0]
+    for k in range(d):
+        for m in range(d):
+            t = 0.0
+            for a in range(d):
+                for c in range(d):
+                    t += r[b, k, a] * s[a, c] * r[b, m, c]
+            out[k, m] = t
+
+
 @nb.njit(cache=True)
 def element_stresses(x0, c0, cell_node, cell_block, cell_grad, cell_lame, x, rotation,
                      centroid, stress, principal):
@@ -810,13 +824,7 @@ def element_stresses(x0, c0, cell_node, cell_block, cell_grad, cell_lame, x, rot
             for m in range(d):
                 sl[k, m] = 2.0 * cell_lame[e, 1] * eps[k, m]
             sl[k, k] += cell_lame[e, 0] * trace
-        for k in range(d):
-            for m in range(d):
-                s = 0.0
-                for a in range(d):
-                    for c in range(d):
-                        s += rotation[b, k, a] * sl[a, c] * rotation[b, m, c]
-                sw[k, m] = s
+        congruence(rotation, b, sl, sw)
         if d == 2:
             stress[e, 0] = sw[0, 0]
             stress[e, 1] = sw[1, 1]

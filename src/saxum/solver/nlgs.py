@@ -47,8 +47,7 @@ from .laws_local import law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
-from .nlgs_fe import nlgs_fe_2d
-from .nlgs_fe3d import nlgs_fe_3d
+from .nlgs_fe import nlgs_fe_2d, nlgs_fe_3d
 from .problem import ContactProblem
 from .sticking import sticking_solution
 from .velocity_change import change_ratio, change_sums

@@ -69,6 +69,7 @@ def _rows(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, bias, v_f
     body's columns (body_column, -1 for bodies without unknowns); rhs = -(H v_free + b).
     Returns the number of triplets."""
     e = 0
+    u = np.empty(2)
     for k in range(take.shape[0]):
         a = take[k]
         for side in range(2):
@@ -93,12 +94,13 @@ def _rows(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, bias, v_f
                         cols[e] = node_columns + body_column[body] + d
                         vals[e] = rws[a, r, d]
                         e += 1
-        ut, un = side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
-                               cand[a], v_free, node_free)
-        vt, vn = side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
-                               ant[a], v_free, node_free)
-        rhs[2 * k] = -(ut + vt)
-        rhs[2 * k + 1] = -(un + vn + bias[a])
+        u[:] = 0.0
+        side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0], cand[a],
+                      v_free, node_free, u)
+        side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1], ant[a],
+                      v_free, node_free, u)
+        rhs[2 * k] = -u[0]
+        rhs[2 * k + 1] = -(u[1] + bias[a])
     return e
 
 
