@@ -34,7 +34,8 @@ rate of convergence of the Levenberg-Marquardt method", Computing Suppl. 15, 200
 convergence under a local error bound, without isolated solutions, which W of rigid blocks
 does not have: more contact unknowns than degrees of freedom), and takes the longest step t
 in 1, 1/2, ... with psi(r + t d) <= psi(r) + 1e-4 t g . d (Armijo); m is multiplied by 10
-when 30 halvings find no such step and divided by 10 after a full step. The linear algebra is
+when 30 halvings find no such step or the step is shorter than 0.1, and divided by 10 after
+a full step. The linear algebra is
 sparse: per-contact 3x3 blocks of d phi / dr and d phi / du times W (scipy.sparse), solved by
 SuperLU. The iterate of least natural-map error is returned.
 """
@@ -60,6 +61,13 @@ _HALVINGS = 30
 """Step halvings before the Levenberg-Marquardt multiplier is raised."""
 _MULTIPLIER = (1e-8, 1e-2, 1e10)
 """Levenberg-Marquardt multiplier m of lambda = m ||phi||: least, first, largest."""
+_SHORT = 0.1
+"""A step shorter than this raises the multiplier tenfold too: where phi's Jacobian changes
+fast (contacts near the cone's apex or edge) the Gauss-Newton direction is taken in steps of
+1e-2 to 1e-3 for tens of iterations (the shaken L wall's steps), a shorter, more gradient-like
+direction is taken whole."""
+_LEAST = 1e-14
+"""Least Levenberg-Marquardt lambda relative to J^T J's largest diagonal entry."""
 _FLOOR = 1e-14
 """Least eigenvalue of x∘x + y∘y relative to the largest, in the Jacobian only: on the cone's
 boundary f'(lambda_1) is infinite while S L_x stays bounded (Chen, Chen, Tseng 2004)."""
@@ -179,10 +187,12 @@ def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
         jacobian = (_block_diagonal(a_blocks) + _block_diagonal(b_blocks) @ w).tocsr()
         gradient = jacobian.T @ phi
         normal = (jacobian.T @ jacobian).tocsc()
+        # lambda > 0 where phi has vanished to round-off: J^T J is singular (rank-deficient W)
+        least = _LEAST * max(float(normal.diagonal().max()), 1e-300)
         step = None
         while step is None and multiplier <= _MULTIPLIER[2]:
             solves += 1
-            lam = multiplier * np.sqrt(2.0 * merit)
+            lam = max(multiplier * np.sqrt(2.0 * merit), least)
             direction = spla.spsolve((normal + lam * identity).tocsc(), -gradient)
             slope = float(gradient @ direction)
             t = 1.0
@@ -201,6 +211,8 @@ def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
             break
         if step == 1.0:
             multiplier = max(multiplier / 10.0, _MULTIPLIER[0])
+        elif step < _SHORT:
+            multiplier *= 10.0
         r, phi, a_blocks, b_blocks, merit = trial, phi_trial, a_trial, b_trial, merit_trial
         error = natural_map_error(w, q, mu, r, 3)
         if error < best:
