@@ -102,7 +102,7 @@ def test_jacobian_against_finite_differences():
     assert np.abs(jacobian - numeric).max() <= 1e-6
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), contacts=st.integers(1, 6), dofs=st.integers(2, 12),
        friction=st.floats(0.1, 1.0))
 def test_returned_solution_satisfies_its_reported_criterion(seed, contacts, dofs, friction):
@@ -114,7 +114,7 @@ def test_returned_solution_satisfies_its_reported_criterion(seed, contacts, dofs
     w = sp.csr_matrix(h @ h.T)
     q = rng.normal(size=3 * contacts)
     mu = np.full(contacts, friction)
-    result = fischer_burmeister_newton(w, q, mu, tolerance=1e-10, max_iterations=200)
+    result = fischer_burmeister_newton(w, q, mu, tolerance=1e-10, max_iterations=50)
     assert result.error == pytest.approx(natural_map_error(w, q, mu, result.r, 3),
                                          rel=1e-12, abs=0.0)
     if result.error <= 1e-10:
