@@ -4,6 +4,7 @@ solvers tried on them (docs/method.md, "The shaken 3D L wall").
     python benchmarks/capped_steps.py                          # wall3d-shaken, 0.3 s (long)
     python benchmarks/capped_steps.py --case wall3d-shaken --solve 1
     python benchmarks/capped_steps.py --small --solve 1        # the 29-brick L wall, 0.02 s
+    python benchmarks/capped_steps.py --save /tmp/capped.npz   # keep them (benchmarks/fischer.py)
 
 Runs the case (benchmarks/convergence.py's CASES; --small: the 4-course L wall of walls 1.0
 and 0.75 m under 0.7 g, tests/test_hybrid.py's) with NLGS alone and keeps the assembled
