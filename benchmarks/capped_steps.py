@@ -4,6 +4,7 @@ solvers tried on them (docs/method.md, "The shaken 3D L wall").
     python benchmarks/capped_steps.py                          # wall3d-shaken, 0.3 s (long)
     python benchmarks/capped_steps.py --case wall3d-shaken --solve 1
     python benchmarks/capped_steps.py --small --solve 1        # the 29-brick L wall, 0.02 s
+    python benchmarks/capped_steps.py --save /tmp/capped.npz   # keep them (benchmarks/fischer.py)
 
 Runs the case (benchmarks/convergence.py's CASES; --small: the 4-course L wall of walls 1.0
 and 0.75 m under 0.7 g, tests/test_hybrid.py's) with NLGS alone and keeps the assembled
@@ -78,6 +79,31 @@ def _proximal(w, q, mu, r, outer: int, newton: int):
     return out
 
 
+def _save(path: Path, kept: list[dict]) -> None:
+    """The kept problems in one .npz (W as CSR arrays), read back by load_kept."""
+    arrays = {}
+    for i, k in enumerate(kept):
+        w = sp.csr_matrix(k["w"])
+        arrays.update({f"{i}_data": w.data, f"{i}_indices": w.indices, f"{i}_indptr": w.indptr,
+                       f"{i}_q": k["q"], f"{i}_mu": k["mu"], f"{i}_r": k["r"],
+                       f"{i}_meta": np.array([k["step"], k["error"]])})
+    np.savez_compressed(path, count=len(kept), **arrays)
+
+
+def load_kept(path: Path) -> list[dict]:
+    """The problems _save wrote: dicts with step, w, q, mu, r, error."""
+    data = np.load(path)
+    kept = []
+    for i in range(int(data["count"])):
+        q = data[f"{i}_q"]
+        w = sp.csr_matrix((data[f"{i}_data"], data[f"{i}_indices"], data[f"{i}_indptr"]),
+                          shape=(q.size, q.size))
+        step, error = data[f"{i}_meta"]
+        kept.append({"step": int(step), "w": w, "q": q, "mu": data[f"{i}_mu"],
+                     "r": data[f"{i}_r"], "error": float(error)})
+    return kept
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--case", default="wall3d-shaken", choices=sorted(CASES))
@@ -90,6 +116,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--newton", type=int, default=100, help="Newton iterations at most")
     parser.add_argument("--outer", type=int, default=15,
                         help="proximal outer iterations per sigma")
+    parser.add_argument("--save", type=Path, default=None,
+                        help="write the kept problems (W, q, mu, NLGS's iterate) to this .npz")
     args = parser.parse_args(argv)
     if args.small:
         model, duration = _small(), 0.02
@@ -101,6 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sx.SolverWarning)
         sim.run(sim.initial_state(), duration)
+    if args.save is not None:
+        _save(args.save, keeping.kept)
     natural = np.array([natural_map_error(k["w"], k["q"], k["mu"], k["r"], 3)
                         for k in keeping.kept])
     criterion = np.array([k["error"] for k in keeping.kept])
