@@ -66,6 +66,17 @@ its sweeps have done that much work, so that where sweeps are cheap (a few dozen
 NLGS alone goes on."""
 
 
+_REST_BACKOFF = 64
+"""Most slow steps that skip the rest solution after attempts in a row that did not pay:
+after the k-th, the next min(2^(k-1), _REST_BACKOFF) slow steps sweep on without it. An
+attempt does not pay when it finds none (an assembly in motion, a wall sliding on a moving
+ground, has none), or when the rest solution it found served no later step: the next step
+converged from its plain warm start without the first sweep confirming it, which drops the
+anchor (saxum.solver.load_following), so that each rest solution buys one step. A skipping
+step that ends at the sweep cap ends the back-off (the rest solution may be what it needed).
+0: no back-off, every slow step tries (saxum before issue 18; benchmarks/rest_cost.py)."""
+
+
 _CHUNK = 64
 """Contacts per chunk of the coloured sweep (colour_contacts_2d): a fixed number, so that the
 order does not depend on the threads."""
@@ -134,15 +145,24 @@ class NLGS(ContactSolver):
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
+        self._rest_wait = 0
+        """Slow steps that still skip the rest solution, and ..."""
+        self._rest_backoff = 0
+        """... how many the last attempt that did not pay made skip (_REST_BACKOFF)."""
+        self._rest_found = False
+        """Whether the last step found a rest solution (_REST_BACKOFF)."""
         self._coloured = None
         """(the arrays it was computed for, colour_contacts_2d's result): _colouring."""
 
     def forget(self) -> None:
         self._following.clear()
         self._sticking_failed = False
+        self._rest_wait = self._rest_backoff = 0
+        self._rest_found = False
 
     def carries_state(self) -> bool:
-        return self._following.holds() or self._sticking_failed
+        return (self._following.holds() or self._sticking_failed or self._rest_wait != 0
+                or self._rest_backoff != 0 or self._rest_found)
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -207,11 +227,21 @@ class NLGS(ContactSolver):
             trend = _NO_TREND
         confirmed = iterations == 1 and error <= self.tolerance
         followed = followed and not confirmed
-        found = False
-        if (error > self.tolerance or followed) and iterations < self.max_iterations:
+        found = attempted = False
+        slow = error > self.tolerance and iterations < self.max_iterations
+        if slow and not followed and self._rest_wait > 0:
+            # backing off (_REST_BACKOFF); a start that follows the loads comes from a rest
+            # solution that paid, and tries
+            self._rest_wait -= 1
+            more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
+            iterations += more
+            if error > self.tolerance:
+                self._rest_wait = self._rest_backoff = 0
+        elif slow or (followed and iterations < self.max_iterations):
             # slow (module doc), or a start that follows the loads which the first sweep did
             # not confirm: sweep on from the rest solution if there is one
             self.rest_attempts += 1
+            attempted = True
             if follow:
                 found = rest_solution(problem, impulse, v_free, v, self._following.response,
                                       *((START_MARGIN,) if followed else ()))
@@ -219,14 +249,27 @@ class NLGS(ContactSolver):
                 found = rest_solution(problem, impulse, v_free, v)
             if found:
                 self.rest_solutions += 1
+            else:
+                self._back_off()
             more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
             iterations += more
         converged = error <= self.tolerance
         if follow:
             self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
+        if self._rest_found and not attempted and not (confirmed and converged):
+            self._back_off()  # the last step's rest solution served nothing (_REST_BACKOFF)
+        elif found or confirmed:
+            self._rest_backoff = 0
+        self._rest_found = found and converged and rest_after > 0
         rate, stalled = trend
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
+
+    def _back_off(self) -> None:
+        """An attempt at the rest solution that did not pay: the next slow steps skip it
+        (_REST_BACKOFF)."""
+        self._rest_wait = self._rest_backoff = min(max(1, 2 * self._rest_backoff),
+                                                   _REST_BACKOFF)
 
     def _colouring(self, cand, ant, active, count, inv_mass) -> tuple:
         """colour_contacts_2d's, reused while the active contacts' pairs and the masses have
