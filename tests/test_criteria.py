@@ -41,8 +41,6 @@ def test_lmgc90_criteria_converge_and_are_tighter_than_delassus_at_1e_4():
 def test_criterion_inputs():
     with pytest.raises(InputError, match="criterion"):
         sx.NLGS(criterion="Quad ")
-    with pytest.raises(InputError, match="serial"):
-        sx.NLGS(criterion="quad", threads=1)
 
 
 def test_scenario_criterion_picks_nlgs():

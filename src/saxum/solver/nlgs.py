@@ -103,8 +103,8 @@ class NLGS(ContactSolver):
     order, so not bit for bit the serial result (None stays the default until the coloured
     sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it.
     criterion: the error compared with the tolerance, "delassus" (saxum's, module doc) or
-    LMGC90's "quad", "maxm", "qm/16" (_check_error, docs/criteria.md; rigid blocks, serial
-    sweeps)."""
+    LMGC90's "quad", "maxm", "qm/16" (_check_error, docs/criteria.md; rigid blocks, swept
+    in the serial order whatever threads says)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -126,9 +126,6 @@ class NLGS(ContactSolver):
         if self.criterion not in CRITERIA:
             raise InputError(f"solver.criterion must be one of {', '.join(CRITERIA)}, got "
                              f"{self.criterion!r}")
-        if self.criterion != "delassus" and self.threads is not None:
-            raise InputError(f"solver.criterion {self.criterion!r} is computed by the serial "
-                             "sweep only: leave solver.threads unset, or use 'delassus'")
         self._sums = None if self.criterion == "delassus" else np.zeros(8)
         if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
@@ -198,7 +195,7 @@ class NLGS(ContactSolver):
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
-        if dim == 2 and self.threads is not None:
+        if dim == 2 and self.threads is not None and self._sums is None:
             nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
             sweep = nlgs_2d_coloured
             args += self._colouring(c.candidate, c.antagonist, active, problem.count,
