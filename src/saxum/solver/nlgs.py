@@ -67,13 +67,14 @@ NLGS alone goes on."""
 
 
 _REST_BACKOFF = 64
-"""Most slow steps that skip the rest solution after attempts in a row that did not pay:
-after the k-th, the next min(2^(k-1), _REST_BACKOFF) slow steps sweep on without it. An
+"""Most slow steps that put off the rest solution after attempts in a row that did not pay:
+after the k-th, the next min(2^(k-1), _REST_BACKOFF) slow steps sweep as many sweeps again
+before trying it (a step that converges in them has saved the attempt; one that does not tries
+after all and ends the putting off: an assembly that comes to rest pays those sweeps once). An
 attempt does not pay when it finds none (an assembly in motion, a wall sliding on a moving
 ground, has none), or when the rest solution it found served no later step: the next step
 converged from its plain warm start without the first sweep confirming it, which drops the
-anchor (saxum.solver.load_following), so that each rest solution buys one step. A skipping
-step that ends at the sweep cap ends the back-off (the rest solution may be what it needed).
+anchor (saxum.solver.load_following), so that each rest solution buys one step.
 0: no back-off, every slow step tries (saxum before issue 18; benchmarks/rest_cost.py)."""
 
 
@@ -227,14 +228,17 @@ class NLGS(ContactSolver):
         found = attempted = False
         slow = error > self.tolerance and iterations < self.max_iterations
         if slow and not followed and self._rest_wait > 0:
-            # backing off (_REST_BACKOFF); a start that follows the loads comes from a rest
-            # solution that paid, and tries
+            # backing off (_REST_BACKOFF): as many sweeps again; a step still slow then tries
+            # after all, and ends the back-off (a start that follows the loads comes from a
+            # rest solution that paid, and tries at once)
             self._rest_wait -= 1
-            more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
+            more, error = sweep(*args, min(first, self.max_iterations - iterations),
+                                self.relaxation)
             iterations += more
-            if error > self.tolerance:
-                self._rest_wait = self._rest_backoff = 0
-        elif slow or (followed and iterations < self.max_iterations):
+            slow = error > self.tolerance and iterations < self.max_iterations
+            if slow:
+                self._rest_wait = 0
+        if slow or (followed and iterations < self.max_iterations):
             # slow (module doc), or a start that follows the loads which the first sweep did
             # not confirm: sweep on from the rest solution if there is one
             self.rest_attempts += 1
