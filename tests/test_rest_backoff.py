@@ -30,17 +30,17 @@ def _run(monkeypatch, backoff: int, acceleration: float, duration: float):
 @pytest.mark.filterwarnings("ignore::saxum.SolverWarning")
 def test_sliding_wall_stops_trying_and_steps_the_same(monkeypatch):
     every, log_every, state_every = _run(monkeypatch, 0, 0.7, 0.05)
-    backs, log_backs, state_backs = _run(monkeypatch, 64, 0.7, 0.05)
+    backs, log_backs, state_backs = _run(monkeypatch, 8, 0.7, 0.05)
     # every slow step tried (one of two steps or more), none found: the case of the issue
     assert every.rest_solutions == 0 and every.rest_attempts >= 20
-    assert backs.rest_solutions == 0 and backs.rest_attempts <= every.rest_attempts // 3
+    assert backs.rest_solutions == 0 and backs.rest_attempts <= every.rest_attempts // 2
     assert np.array_equal(state_every.body_q, state_backs.body_q)
     assert np.array_equal(log_every.iterations, log_backs.iterations)
 
 
 def test_wall_at_rest_still_finds_the_rest_solution(monkeypatch):
     every, log_every, state_every = _run(monkeypatch, 0, 0.0, 0.05)
-    backs, log_backs, state_backs = _run(monkeypatch, 64, 0.0, 0.05)
+    backs, log_backs, state_backs = _run(monkeypatch, 8, 0.0, 0.05)
     assert backs.rest_solutions >= 1
     assert (backs.rest_attempts, backs.rest_solutions) == (every.rest_attempts,
                                                           every.rest_solutions)

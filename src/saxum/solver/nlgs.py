@@ -66,16 +66,17 @@ its sweeps have done that much work, so that where sweeps are cheap (a few dozen
 NLGS alone goes on."""
 
 
-_REST_BACKOFF = 64
-"""Most slow steps that put off the rest solution after attempts in a row that did not pay:
-after the k-th, the next min(2^(k-1), _REST_BACKOFF) slow steps sweep as many sweeps again
-before trying it (a step that converges in them has saved the attempt; one that does not tries
-after all and ends the putting off: an assembly that comes to rest pays those sweeps once). An
-attempt does not pay when it finds none (an assembly in motion, a wall sliding on a moving
-ground, has none), or when the rest solution it found served no later step: the next step
-converged from its plain warm start without the first sweep confirming it, which drops the
-anchor (saxum.solver.load_following), so that each rest solution buys one step.
-0: no back-off, every slow step tries (saxum before issue 18; benchmarks/rest_cost.py)."""
+_REST_BACKOFF = 8
+"""Most times rest_after (or _REST_WORK's least) sweeps by which a slow step puts off the
+rest solution after attempts in a row that did not pay: after the k-th, a slow step sweeps
+min(2^(k-1), _REST_BACKOFF) times as many again before it tries; a step that converges in
+them has saved the attempt, one that does not tries after all. An attempt does not pay when
+it finds none (an assembly in motion, a wall sliding on a moving ground, has none), or when
+the rest solution it found served no later step: the next step converged from its plain warm
+start without the first sweep confirming it, which drops the anchor
+(saxum.solver.load_following), so that each rest solution bought one step. An attempt that
+pays ends the putting off. 0: every slow step tries at once (saxum before issue 18;
+benchmarks/rest_cost.py)."""
 
 
 _CHUNK = 64
@@ -143,10 +144,9 @@ class NLGS(ContactSolver):
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
-        self._rest_wait = 0
-        """Slow steps that still skip the rest solution, and ..."""
         self._rest_backoff = 0
-        """... how many the last attempt that did not pay made skip (_REST_BACKOFF)."""
+        """How many times its first sweeps a slow step sweeps before the rest solution
+        (_REST_BACKOFF)."""
         self._rest_found = False
         """Whether the last step found a rest solution (_REST_BACKOFF)."""
         self._coloured = None
@@ -155,12 +155,12 @@ class NLGS(ContactSolver):
     def forget(self) -> None:
         self._following.clear()
         self._sticking_failed = False
-        self._rest_wait = self._rest_backoff = 0
+        self._rest_backoff = 0
         self._rest_found = False
 
     def carries_state(self) -> bool:
-        return (self._following.holds() or self._sticking_failed or self._rest_wait != 0
-                or self._rest_backoff != 0 or self._rest_found)
+        return (self._following.holds() or self._sticking_failed or self._rest_backoff != 0
+                or self._rest_found)
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -227,17 +227,13 @@ class NLGS(ContactSolver):
         followed = followed and not confirmed
         found = attempted = False
         slow = error > self.tolerance and iterations < self.max_iterations
-        if slow and not followed and self._rest_wait > 0:
-            # backing off (_REST_BACKOFF): as many sweeps again; a step still slow then tries
-            # after all, and ends the back-off (a start that follows the loads comes from a
-            # rest solution that paid, and tries at once)
-            self._rest_wait -= 1
-            more, error = sweep(*args, min(first, self.max_iterations - iterations),
-                                self.relaxation)
+        if slow and not followed and self._rest_backoff > 0:
+            # putting off (_REST_BACKOFF); a start that follows the loads comes from a rest
+            # solution that paid, and tries at once
+            more, error = sweep(*args, min(first * self._rest_backoff,
+                                           self.max_iterations - iterations), self.relaxation)
             iterations += more
             slow = error > self.tolerance and iterations < self.max_iterations
-            if slow:
-                self._rest_wait = 0
         if slow or (followed and iterations < self.max_iterations):
             # slow (module doc), or a start that follows the loads which the first sweep did
             # not confirm: sweep on from the rest solution if there is one
@@ -267,10 +263,9 @@ class NLGS(ContactSolver):
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
 
     def _back_off(self) -> None:
-        """An attempt at the rest solution that did not pay: the next slow steps skip it
+        """An attempt at the rest solution that did not pay: slow steps put it off longer
         (_REST_BACKOFF)."""
-        self._rest_wait = self._rest_backoff = min(max(1, 2 * self._rest_backoff),
-                                                   _REST_BACKOFF)
+        self._rest_backoff = min(max(1, 2 * self._rest_backoff), _REST_BACKOFF)
 
     def _colouring(self, cand, ant, active, count, inv_mass) -> tuple:
         """colour_contacts_2d's, reused while the active contacts' pairs and the masses have
