@@ -258,7 +258,8 @@ class NLGS(ContactSolver):
             self._back_off()  # the last step's rest solution served nothing (_REST_BACKOFF)
         elif found or confirmed:
             self._rest_backoff = 0
-        self._rest_found = found and converged and rest_after > 0
+        # a rest solution serves later steps as an anchor: only where the loads are followed
+        self._rest_found = follow and found and converged
         rate, stalled = trend
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
 
