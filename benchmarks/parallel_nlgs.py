@@ -7,12 +7,15 @@ wall (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its base). Per 
 solver (serial, coloured on 1 thread, coloured on 2), interleaved --repeats times: wall and
 CPU time (time.process_time: all threads) of the contact solve per step, and sweeps per step,
 after the first steps of that simulation (the kernels compiled before, on a separate one). The
-colouring (colour_contacts_2d, every solve) is inside the solve's time. On a shared machine
-only ratios from one run mean anything; CPU time changes less with load than wall time.
+colouring (colour_contacts_2d, when the active contacts change) is inside the solve's time. On
+a shared machine only ratios from one run mean anything; CPU time changes less with load than
+wall time, but omp's threads spin while they wait (CPU time that is not work): compare the
+layers with NUMBA_THREADING_LAYER.
 
     python benchmarks/parallel_nlgs.py                    # both cases
     python benchmarks/parallel_nlgs.py --steps 10 --repeats 1
     NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
+    NUMBA_THREADING_LAYER=omp python benchmarks/parallel_nlgs.py
 """
 
 import argparse

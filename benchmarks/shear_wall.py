@@ -36,6 +36,12 @@ on the ground slide, then 22.8 kN = tan phi x the vertical load (144 s); the tes
 stair-case crack does not form. So this is not yet a validation: the measured peak loads
 are to be checked in the thesis (we could not read them: branch shearwall's report), and
 the model lacks the cap and cracks through the bricks. BENCHMARKS.md has the table.
+
+What saxum can claim here, without the measured peaks, is the joints' Mohr-Coulomb bound: every
+bed joint spans the wall's width b, so H <= c b t + tan phi V (56.9 kN at p = 0.30 MPa:
+0.35 MPa x 990 mm x 100 mm + 0.75 x 29.7 kN), and once a bed joint has broken the wall slides
+at tan phi V. tests/validation/test_shear_wall_bounds.py checks both on a small wall under
+the --constant boundary conditions (gravity off, so that V is the same on every joint).
 """
 
 import argparse

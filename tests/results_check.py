@@ -31,7 +31,8 @@ def wait_for_frames(path, count: int, proc: subprocess.Popen, timeout: float = 1
     `timeout` [s] passes)."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        assert proc.poll() is None, f"the run ended before it could be stopped: {proc.stderr}"
+        if proc.poll() is not None:
+            raise AssertionError(f"the run ended before it could be stopped: {proc.stderr.read()}")
         if path.exists():
             try:
                 with Results(path) as r:

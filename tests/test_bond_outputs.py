@@ -108,3 +108,39 @@ def test_paraview_contacts_carry_the_damage(cracked, tmp_path):
     assert np.array_equal(mesh.point_data["damage"], c["damage"])
     assert np.array_equal(mesh.point_data["area"], c["area"])
     assert c["damage"].max() >= 1.0  # the crack is there (damage is clipped to [0, 1])
+
+
+def _box(x0, x1, z0, z1) -> list[tuple[float, float, float]]:
+    return [(x, y, z) for x in (x0, x1) for y in (0.0, 0.5) for z in (z0, z1)]
+
+
+def test_3d_plot_colours_each_bond_point_with_a_legend(tmp_path):
+    """3D: the column of _column as 0.5 m cubes, until its base joint cracks at a point."""
+    law = sx.ContactLaw(friction=0.6, kind=LawKind.COHESIVE, k_n=1e10, k_t=4e9, f_t=1e5,
+                        cohesion=5e5, g_i=10.0, g_ii=100.0)
+    b = sx.ModelBuilder(dim=3)
+    b.add_block(_box(-1.0, 1.0, -0.5, 0.0), kind=sx.BodyKind.FIXED, group="base")
+    for k in range(2):
+        b.add_block(_box(0.0, 0.5, 0.5 * k, 0.5 * (k + 1)), density=2000.0)
+    b.set_law("block", "block", law)
+    b.set_law("block", "base", law)
+    b.add_force([2], lambda t: (2e6 * t, 0.0, 0.0, 0.0, 0.0, 0.0))
+    model = b.finalize()
+    sim = sx.Simulation(model, dt=DT)
+    state = sim.initial_state()
+    path = tmp_path / "column3d.h5"
+    with ResultsWriter(path, model, dt=DT, theta=0.5) as w:
+        while not (state.contacts.damage[: state.contacts.count] >= 1.0).any():
+            sim.step(state)
+            assert state.time < 0.05, "the base joint did not crack"
+        w.write_frame(state)
+    c = state.contacts
+    states = bond_states(c.law[: c.count], c.damage[: c.count], c.history[: c.count],
+                         model.law_kind)
+    with Results(path) as r:
+        fig = plot_frame(r, -1)
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    for name in ("intact", "damaged", "cracked"):
+        n = int((states == name).sum())
+        assert (f"{name} bond ({n})" in labels) == (n > 0), labels
+    assert (states == "cracked").any() and (states == "intact").any()

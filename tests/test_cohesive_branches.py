@@ -28,10 +28,8 @@ def _solve(w, q, gap, slip, damage, theta):
     params[0, Parameter.G_I], params[0, Parameter.G_II] = 1.0, 1.0
     bias = np.zeros(1)
     law_map = np.zeros((1, law_map_width(2)))
-    zero = np.zeros((1, 2, 3))
-    law_terms(np.zeros(1, np.int32), np.ones(1, np.int32), np.zeros(1, np.int32),
-              np.array([gap]), np.array([AREA]), np.array([[slip]]), np.array([damage]),
-              np.array([0.5]), 1, zero, zero, np.zeros((2, 3)),
+    law_terms(np.zeros(1, np.int32), np.array([gap]), np.array([AREA]), np.array([[slip]]),
+              np.array([damage]), np.array([0.5]), 1, np.zeros((1, 2)),
               np.array([int(LawKind.COHESIVE)], np.int8), params, H, theta, w[None], bias,
               law_map)
     m = law_map[0]

@@ -211,6 +211,29 @@ def test_results_and_restart_are_bit_identical(tmp_path, text):
             assert np.array_equal(getattr(c, name)[: c.count], value), name
 
 
+def test_info_finds_the_collapse_of_a_deformable_block(tmp_path, capsys):
+    """`saxum info` of a run in which a deformable block (0.4 x 0.2 m, mu = 0.5) slides under a
+    horizontal acceleration of 1 g: it counts the block as deformable, finds the collapse
+    (saxum.collapse.find_collapse: the block slides on, 0.5 g net, ~0.2 m in 0.3 s) and
+    names the sliding base as the mechanism, from the nodes' velocities in the file."""
+    from saxum.cli import main
+
+    text = (PIER.replace("width = 0.3", "width = 0.4").replace("height = 0.6", "height = 0.2")
+            .replace("courses = 2", "courses = 1").replace("friction = 0.6", "friction = 0.5")
+            .replace("E = 1.0e7", "E = 1.0e9").replace("mesh_size = 0.075", "mesh_size = 0.1")
+            .replace("[solver]", "[loads]\nhorizontal_acceleration = 9.81\n\n[solver]")
+            .replace("duration = 0.06", "duration = 0.3"))
+    scenario = tmp_path / "slide.toml"
+    scenario.write_text(text)
+    assert main(["run", str(scenario), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["info", str(tmp_path / "slide.h5")]) == 0
+    out = capsys.readouterr().out
+    assert "(0 free, 1 deformable)" in out
+    assert "collapse at t = " in out and "'pier c1' moved by more than" in out
+    assert "sliding joint between ground and pier c1" in out
+
+
 @pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
 def test_stresses_in_results_and_paraview_export(tmp_path, text):
     """Results.stresses gives the cell stresses of the stored nodes (the same as the run's

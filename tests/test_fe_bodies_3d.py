@@ -139,17 +139,15 @@ def test_plot_draws_the_meshes_by_compression(tmp_path):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_contact_rows_are_the_dense_delassus_and_warm_start(dim):
-    """fe_contact_rows_nd against numpy on the dense matrices: a contact whose candidate is a
+    """fe_contact_rows against numpy on the dense matrices: a contact whose candidate is a
     node of one block and whose antagonist a facet (weights w) of another, each block turned
     by its own R, gets W = H G H^T with G = R M~^-1 R^T (R node by node, M~^-1 in the block
     axes) and H = F B (B: +1 on the node, -w on the facet's nodes), and the warm start
-    v = G H^T r; in 2D the same as the kernel written out for it (round-off: 1e-12 of the
-    largest entry)."""
+    v = G H^T r (round-off: 1e-12 of the largest entry)."""
     from scipy.linalg import block_diag
     from scipy.spatial.transform import Rotation
 
     from saxum.bodies.fe import build_fe_bodies, fe_contact_rows
-    from saxum.bodies.fe3d import fe_contact_rows_nd
     from saxum.fe.blocks import FEBlocks
     from saxum.geometry3d import convex_polyhedron
 
@@ -183,7 +181,7 @@ def test_contact_rows_are_the_dense_delassus_and_warm_start(dim):
                blocks.inv, rotation, h_cand, h_ant, w, v)
         return w[0], v
 
-    w, v = call(fe_contact_rows_nd)
+    w, v = call(fe_contact_rows)
     g = []
     for k in range(2):
         size = dim * (blocks.node_start[k + 1] - blocks.node_start[k])
@@ -198,7 +196,3 @@ def test_contact_rows_are_the_dense_delassus_and_warm_start(dim):
     h = frame[0] @ b
     assert np.abs(w - h @ g @ h.T).max() < 1e-12 * np.abs(w).max()
     assert np.abs(v.ravel() - g @ h.T @ impulse[0]).max() < 1e-12 * np.abs(v).max()
-    if dim == 2:
-        w2, v2 = call(fe_contact_rows)
-        assert np.abs(w2 - w).max() < 1e-12 * np.abs(w).max()
-        assert np.abs(v2 - v).max() < 1e-12 * np.abs(v).max()

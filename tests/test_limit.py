@@ -149,3 +149,103 @@ def test_static_critical_thickness():
                                     friction=0.8))
     assert not stands(semicircular_arch(radius=1.0, thickness=t * 0.999, voussoirs=9,
                                         friction=0.8))
+
+
+SPREADING = """\
+[structure]
+type = "arch"
+shape = "semicircular"
+span = 1.85
+thickness = 0.15
+voussoirs = 30
+
+[[laws]]
+groups = ["*", "*"]
+friction = 1.0
+
+[[loads.settlements]]
+block = "right pier c1"
+magnitude = 0.01
+direction = [1.0, 0.0]
+
+[output]
+duration = 1.0
+"""
+
+
+def test_cli_limit_settlement_finds_the_least_thrust_and_its_three_hinges(tmp_path, capsys):
+    """--live settlement: the right abutment of a semicircular arch (R = 1 m, t = 0.15 m)
+    moves outward at 0.01 m/s; the power on it is the minimum thrust times 0.01 m/s (the
+    thrust checked against the ring's equilibrium in
+    tests/validation/test_limit_loads.py), with three hinges."""
+    path = tmp_path / "spreading.toml"
+    path.write_text(SPREADING)
+    assert main(["limit", str(path), "--live", "settlement", "-o",
+                 str(tmp_path / "m.png")]) == 0
+    out = capsys.readouterr().out
+    assert "settled supports: the structure's forces on them do" in out
+    assert out.count("hinge between") == 3
+    assert main(["limit", str(path), "--live", "water"]) == 2
+    assert "analyse the settlements with --live settlement" in capsys.readouterr().err
+
+
+def test_settlement_input_is_checked():
+    model = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=9, friction=0.8)
+    with pytest.raises(InputError, match="give both or neither"):
+        limit_analysis(model, live="settlement")
+    with pytest.raises(InputError, match="no block called 'pier'"):
+        limit_analysis(model, live="settlement", settlement={"pier": (1.0, 0.0, 0.0)})
+    with pytest.raises(InputError, match="'voussoir 1' is a free block"):
+        limit_analysis(model, live="settlement", settlement={"voussoir 1": (1.0, 0.0, 0.0)})
+    with pytest.raises(InputError, match="must be 3 finite numbers"):
+        limit_analysis(model, live="settlement", settlement={"support": (1.0, 0.0)})
+    with pytest.raises(InputError, match="has none on its free blocks"):
+        limit_analysis(model, live="water")
+
+
+def test_a_settlement_that_nothing_bounds_is_said_so():
+    """A rigid block between two walls that close on it: its forces on them can be as large
+    as any (rigid, no crushing), so the least power is unbounded."""
+    builder = sx.ModelBuilder()
+    for name, (x0, x1, y0, y1) in (("ground", (-1.0, 2.0, -0.2, 0.0)),
+                                   ("left", (-0.5, 0.0, 0.0, 1.0)),
+                                   ("right", (0.4, 0.9, 0.0, 1.0))):
+        builder.add_block([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], kind=BodyKind.FIXED,
+                          group="support", name=name)
+    builder.add_block([(0.0, 0.0), (0.4, 0.0), (0.4, 0.5), (0.0, 0.5)], density=2000.0,
+                      group="block", name="block")
+    builder.set_law("support", "block", sx.ContactLaw(friction=0.6))
+    builder.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    model = builder.finalize()
+    with pytest.raises(InputError, match=r"supports' motion \(right\) finds no bound"):
+        limit_analysis(model, live="settlement", settlement={"right": (-1.0, 0.0, 0.0)})
+    opening = limit_analysis(model, live="settlement", settlement={"right": (1.0, 0.0, 0.0)})
+    # it leaves the block: no force, to the programme's tolerance, 1e-9 of the weight 3924 N/m
+    assert opening.support_power == pytest.approx(0.0, abs=4e-6)
+
+
+def test_the_3d_mechanism_is_drawn(tmp_path):
+    """plot_limit_3d: the extruded arch's four hinge lines, the blocks moved by their
+    virtual velocities; a 2D result is refused with the function to use."""
+    from saxum.plot3d import plot_limit_3d
+    from saxum.structures.solid import extruded
+
+    flat = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=9, friction=0.8)
+    result = limit_analysis(extruded(flat, 0.5))
+    fig = plot_limit_3d(result, tmp_path / "m.png", title="arch")
+    (ax,) = [a for a in fig.axes if a.name == "3d"]
+    assert len([line for line in ax.lines if line.get_linewidth() == 3.0]) == 4
+    assert "limit load factor" in ax.get_title()
+    assert (tmp_path / "m.png").stat().st_size > 0
+    with pytest.raises(InputError, match="plot.plot_limit draws 2D"):
+        plot_limit_3d(limit_analysis(flat))
+
+
+def test_cli_limit_draws_a_3d_mechanism(tmp_path, capsys):
+    path = tmp_path / "barrel.toml"
+    path.write_text('[structure]\ntype = "semicircular_arch_3d"\nradius = 1.0\n'
+                    'thickness = 0.15\nvoussoirs = 9\ndepth = 0.5\n\n[[laws]]\n'
+                    'groups = ["*", "*"]\nfriction = 0.8\n\n[output]\nduration = 1.0\n')
+    assert main(["limit", str(path), "-o", str(tmp_path / "m.png")]) == 0
+    assert "limit load factor lambda = 0.1473" in capsys.readouterr().out  # the 2D 0.147381
+    assert (tmp_path / "m.png").stat().st_size > 0

@@ -1,9 +1,20 @@
-"""Joint resultants and the thrust line, on hand-made contacts with known answers."""
+"""Joint resultants and the thrust line, on hand-made contacts with known answers; discs are
+no hinges."""
+
+import math
 
 import numpy as np
 import pytest
 
-from saxum.mechanism import joint_resultants, thrust_line
+import saxum as sx
+from saxum.mechanism import (
+    joint_opening,
+    joint_resultants,
+    joint_states,
+    mechanism,
+    round_pairs,
+    thrust_line,
+)
 
 
 def _contacts(pairs, points, rn, rt=None, gap=None):
@@ -231,3 +242,42 @@ def test_an_edge_on_a_face_at_rest_is_no_hinge():
              "point": c.point[:k], "frame": c.frame[:k], "gap": c.gap[:k],
              "force": c.impulse[:k]}
     assert (joint_states(plain, 1e-6)[edge] == "hinge").all()
+
+
+def test_round_bodies_roll_stick_and_are_no_hinges():
+    """A disc rolling down a 0.3 rad incline (mu = 0.5 > tan(0.3) / 3: it rolls without
+    slipping, tests/validation/test_rolling.py) turns about its one contact point, which the
+    face-joint rule would call a hinge; a disc resting on the flat ground sticks."""
+    slope = 0.3
+    normal = np.array([math.sin(slope), math.cos(slope)])
+    b = sx.ModelBuilder()
+    b.add_plane((0.0, 0.0), normal, 3.0, group="plane", name="incline")
+    b.add_plane((0.0, -2.0), (0.0, 1.0), 3.0, group="plane", name="floor")
+    b.add_disc(0.1 * normal, 0.1, density=2000.0, name="rolling")
+    b.add_disc((0.0, -1.9), 0.1, density=2000.0, name="resting")
+    law = sx.ContactLaw(friction=0.5)
+    b.set_law("block", "plane", law)
+    b.set_law("block", "block", law)
+    model = b.finalize()
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    for _ in range(100):
+        sim.step(state)
+    mech = mechanism(model, state, 1e-3)
+    joints = {j.bodies: j for j in mech.joints}
+    rolls = next(j for names, j in joints.items() if "rolling" in names)
+    rests = next(j for names, j in joints.items() if "resting" in names)
+    assert not mech.hinges
+    assert rolls.rolling and not rolls.sliding
+    assert not rests.rolling and not rests.sliding and not rests.hinge
+    assert "rolling contacts (discs, spheres): " in mech.text()
+    # without the round flag the rolling disc's point is labelled a hinge
+    c = state.contacts
+    k = c.count
+    contacts = {"candidate": c.candidate[:k], "antagonist": c.antagonist[:k],
+                "gap": c.gap[:k], "force": c.impulse[:k] / 1e-3, "point": c.point[:k],
+                "opening": joint_opening(state.body_q, model.body_q0, model.body_size,
+                                         c.candidate[:k], c.antagonist[:k])}
+    assert "hinge" in joint_states(contacts, 1e-6)
+    contacts["round"] = round_pairs(model.body_shape, c.candidate[:k], c.antagonist[:k])
+    assert set(joint_states(contacts, 1e-6)) == {"closed"}

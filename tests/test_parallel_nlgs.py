@@ -10,7 +10,7 @@ import pytest
 import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
-from saxum.solver.nlgs import colour_contacts_2d
+from saxum.solver.nlgs import body_strips, colour_contacts_2d
 from saxum.structures import running_bond_wall
 
 
@@ -26,20 +26,11 @@ def _shaken_wall(threads):
     return sim, state
 
 
-def test_colouring_separates_free_bodies():
-    sim, state = _shaken_wall(None)
-    c = state.contacts
-    count = c.count
-    active = np.ones(count, dtype=np.bool_)
-    active[::7] = False  # inactive contacts take no colour
-    inv_mass = sim.model.body_inv_mass
-    order, chunks, colours, free = colour_contacts_2d(c.candidate, c.antagonist, active,
-                                                      count, inv_mass)
-    assert np.array_equal(np.sort(order), np.flatnonzero(active))  # each active one, once
-    assert np.array_equal(free, (inv_mass > 0.0).any(axis=1))
-    assert chunks[-1] == len(order) and colours[-1] == len(chunks) - 1
-    assert np.all(np.diff(chunks) > 0) and np.all(np.diff(colours) > 0)
-    assert not free.all()  # the ground is fixed, and in chunks of one colour
+def _check_colouring(c, active, free, order, chunks, colours):
+    """Each active contact once, and no free body in two chunks of one colour."""
+    assert np.array_equal(np.sort(order), np.flatnonzero(active[:c.count]))
+    assert chunks[0] == 0 and chunks[-1] == len(order) and np.all(np.diff(chunks) > 0)
+    assert colours[0] == 0 and colours[-1] == len(chunks) - 1 and np.all(np.diff(colours) >= 0)
     for k in range(len(colours) - 1):
         seen = np.zeros(len(free), dtype=np.int64)
         for u in range(colours[k], colours[k + 1]):
@@ -47,6 +38,28 @@ def test_colouring_separates_free_bodies():
             bodies = np.unique(np.concatenate([c.candidate[mine], c.antagonist[mine]]))
             seen[bodies[free[bodies]]] += 1
         assert seen.max() <= 1, f"chunks of colour {k} share a free body"
+
+
+def test_colouring_separates_free_bodies():
+    sim, state = _shaken_wall(None)
+    c = state.contacts
+    active = np.ones(c.count, dtype=np.bool_)
+    active[::7] = False  # inactive contacts take no colour
+    free = (sim.model.body_inv_mass > 0.0).any(axis=1)
+    strip, nstrips = body_strips(free)
+    assert nstrips == 4 and np.all(strip[~free] == -1)  # 85 bricks and halves: 4 strips
+    assert np.ptp(np.bincount(strip[free])) <= 1  # of as many as can be
+    order, chunks, colours = colour_contacts_2d(c.candidate, c.antagonist, active, c.count,
+                                                strip, nstrips)
+    assert len(chunks) == 5 and len(colours) == 3  # the strips are wider than a brick
+    _check_colouring(c, active, free, order, chunks, colours)
+    # strips of one brick each: a brick has contacts in strips of one colour (those of the
+    # bricks two further along its course), so they are merged until none has
+    strip[free] = np.arange(free.sum())
+    order, chunks, colours = colour_contacts_2d(c.candidate, c.antagonist, active, c.count,
+                                                strip, free.sum())
+    assert 1 < len(chunks) - 1 < free.sum()
+    _check_colouring(c, active, free, order, chunks, colours)
 
 
 def test_same_bits_with_one_and_two_threads():

@@ -82,16 +82,21 @@ def _children(pid: int) -> list[int]:
     return kids
 
 
-@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
-def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
-    """Before: the second process went on compiling after the command had said interrupted."""
+def _first_demo(tmp_path) -> subprocess.Popen:
+    """`saxum demo arch` (this saxum) started with an empty numba cache, as from a terminal."""
     src = str(Path(saxum.precompile.__file__).parents[1])
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
-    proc = subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
+    return subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
                              str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True,
                             preexec_fn=sigint_as_from_a_terminal)
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_ctrl_c_on_a_first_demo_stops_the_second_process_too(tmp_path):
+    """Before: the second process went on compiling after the command had said interrupted."""
+    proc = _first_demo(tmp_path)
     try:
         deadline = time.monotonic() + 240
         while not (kids := _children(proc.pid)) and time.monotonic() < deadline:
@@ -151,3 +156,53 @@ def test_ctrl_c_while_llvm_compiles_stops_the_first_demo(tmp_path):
     assert done.returncode == 130, done.stderr
     assert done.stderr == "saxum: interrupted\n"
     assert not (tmp_path / "demo.png").exists()
+
+
+# A 3D arch (that Ctrl-C stops during its first compile)
+_ARCH3D = textwrap.dedent("""\
+    structure.type = "semicircular_arch_3d"
+    structure.radius = 1.0
+    structure.thickness = 0.2
+    structure.voussoirs = 9
+    structure.depth = 0.4
+    laws = [{groups = ["voussoir", "voussoir"], friction = 0.6},
+            {groups = ["voussoir", "support"], friction = 0.6}]
+    output.duration = 0.1
+""")
+
+
+def test_ctrl_c_while_llvm_compiles_a_kernel_outside_precompile_stops_the_run(tmp_path):
+    """A 3D run's kernels compile on their first call (saxum.precompile lists 2D ones only),
+    the first while the initial contacts are found, before the run's own handler. Before: the
+    KeyboardInterrupt was printed with a traceback and dropped, and the run went on to the end
+    and exited 0; now the Ctrl-C is sent again (saxum.cli) and the command stops, 130."""
+    src = str(Path(saxum.precompile.__file__).parents[1])
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    (tmp_path / "arch3d.toml").write_text(_ARCH3D)
+    done = subprocess.run([sys.executable, "-c", _CTRL_C_WHILE_LLVM_COMPILES, "run",
+                           str(tmp_path / "arch3d.toml"), "--quiet"], env=env,
+                          capture_output=True, text=True, timeout=600,
+                          preexec_fn=sigint_as_from_a_terminal)
+    assert done.returncode == 130, done.stderr
+    assert done.stderr == "saxum: interrupted\n"
+    assert not (tmp_path / "arch3d.h5").exists()
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+@pytest.mark.parametrize("delay", [0.0, 0.7, 2.0])
+def test_one_ctrl_c_at_any_moment_of_a_first_demo_stops_it(tmp_path, delay):
+    """A single Ctrl-C, `delay` seconds [s] after the second process started (numba's cache
+    empty: imports, compiles in both processes, or the first steps), stops the demo: 130, one
+    line, no traceback. Before: one that Python dropped during a compile let the demo go on."""
+    proc = _first_demo(tmp_path)
+    try:
+        deadline = time.monotonic() + 240
+        while not _children(proc.pid) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        time.sleep(delay)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=240)
+    finally:
+        proc.kill()
+    assert (proc.returncode, err) == (130, "saxum: interrupted\n")

@@ -50,9 +50,13 @@ def reference(tmp_path_factory):
     return path
 
 
-def test_a_second_writer_is_refused_and_the_first_file_stays_intact(tmp_path, reference):
-    (tmp_path / "arch.toml").write_text(SCENARIO)
+def test_a_second_writer_is_refused_and_the_first_file_stays_intact(tmp_path):
+    # 2000 steps, so that on a loaded machine the first run is surely still going when stopped
+    scenario = SCENARIO.replace("duration = 0.5", "duration = 2.0")
+    (tmp_path / "arch.toml").write_text(scenario)
     out = tmp_path / "arch.h5"
+    reference = tmp_path / "reference.h5"
+    assert run_scenario(parse_scenario(scenario), reference, quiet=True).status == "finished"
     first = start_saxum(["run", "arch.toml", "-q"], tmp_path)
     wait_for_frames(out, 3, first)
     first.send_signal(signal.SIGSTOP)  # so that it is surely still writing meanwhile

@@ -18,6 +18,7 @@ from saxum.scenario import (
     Bridge3dStructure,
     ButtressedWallStructure,
     DetectionSpec,
+    EnsembleSpec,
     FemaP695Spec,
     FloodSpec,
     GroundMotionSpec,
@@ -117,6 +118,7 @@ FULL = textwrap.dedent("""\
     interpenetration = 1e-6
     refresh_every = 5
     per_pair = true
+    initial_overlap = 2e-6
 
     [output]
     duration = 0.1
@@ -145,7 +147,7 @@ PYTHON = Scenario(
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
                       rest_after=20, kind="nlgs", threads=1, criterion="quad"),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5,
-                            per_pair=True),
+                            per_pair=True, initial_overlap=2e-6),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
                       histories=["brick c1b1", 2]),
 )
@@ -186,6 +188,7 @@ def test_scenario_builds_the_model_and_simulation_it_describes():
         1e-7, 300, 0.9, 20, 1, "quad")
     assert (sim.detector.alert, sim.detector.margin, sim.detector.interpenetration,
             sim.detector.refresh_every) == (0.002, 0.003, 1e-6, 5)
+    assert sim.detector.initial_overlap == pytest.approx(2e-6, rel=1e-15)
     ramp, ground = m.accelerations
     assert ramp(2.0) == pytest.approx((0.5 + 0.01 * 9.8 * 2.0, 0.0))
     motion = sc.loads.ground_motion.motion()  # the pulse, trimmed, scaled, corrected
@@ -368,7 +371,7 @@ def test_docs_describe_every_key():
                   Bridge3dStructure, MeshStructure, LawSpec, MaterialSpec, Loads, PointLoad,
                   Settlement,
                   GroundMotionSpec, FemaP695Spec, FloodSpec, SolverSpec, DetectionSpec,
-                  OutputSpec):
+                  OutputSpec, EnsembleSpec):
         for key in model.model_fields:
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"

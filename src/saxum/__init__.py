@@ -21,7 +21,10 @@ _EXPORTS = {
     "Contacts": "contacts",
     "DetectionSettings": "detection",
     "Elastic": "fe",
+    "Ensemble": "ensemble",
+    "EnsembleSpec": "scenario",
     "FloodLoad": "flood",
+    "Fragility": "fragility",
     "Hybrid": "solver",
     "InputError": "errors",
     "LawKind": "laws",
@@ -33,6 +36,7 @@ _EXPORTS = {
     "OverlapError": "errors",
     "Results": "results",
     "Scenario": "scenario",
+    "Shape": "model",
     "Simulation": "simulation",
     "SimulationError": "errors",
     "SolverWarning": "errors",
@@ -40,8 +44,14 @@ _EXPORTS = {
     "STEP_OUTCOMES": "steplog",
     "StepLog": "steplog",
     "StepReport": "steplog",
+    "export_lmgc90": "lmgc90",
+    "fit_capacities": "fragility",
+    "fit_stripes": "fragility",
+    "import_lmgc90": "lmgc90",
     "limit_analysis": "limit",
     "load_scenario": "scenario",
+    "read_ensemble": "ensemble",
+    "run_ensemble": "ensemble",
     "run_scenario": "runner",
     "view_html": "view",
     "write_view": "view",
@@ -51,16 +61,29 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
+def _lazy_names(package: str, exports: dict[str, str], namespace: dict):
+    """(__getattr__, __dir__) of a package whose public names `exports` ({name: module})
+    are imported from their modules on first use, then kept in `namespace`."""
+
+    def getattr_(name: str):
+        if name in exports:
+            value = getattr(importlib.import_module(f".{exports[name]}", package), name)
+            namespace[name] = value
+            return value
+        raise AttributeError(f"module {package!r} has no attribute {name!r}")
+
+    def dir_() -> list[str]:
+        return sorted({*namespace, *exports})
+
+    return getattr_, dir_
+
+
+_export, __dir__ = _lazy_names(__name__, _EXPORTS, globals())
+
+
 def __getattr__(name: str):
     """A public name, or a subpackage (saxum.structures...), imported on first use."""
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    if not name.startswith("_") and importlib.util.find_spec(f"{__name__}.{name}") is not None:
+    if (name not in _EXPORTS and not name.startswith("_")
+            and importlib.util.find_spec(f"{__name__}.{name}") is not None):
         return importlib.import_module(f".{name}", __name__)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_EXPORTS})
+    return _export(name)

@@ -9,22 +9,31 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum collapse SCENARIO --vary KEY --stands A --collapses B [--set KEY=VALUE ...]
                    [--unset KEY ...]
     saxum collapse-curve SCENARIO --periods T1,T2,... --stands A --collapses B [-o PNG]
+    saxum ensemble SCENARIO [--records SET|FOLDER] [--scales A:B:STEP] [--ida]
+                   [--scheduler tcp://HOST:8786 | --workers N] [-o ENSEMBLE.h5]
     saxum fclib solve FILE...
-    saxum info RESULTS
+    saxum info RESULTS | ENSEMBLE.h5
     saxum plot RESULTS [--frame K | --collapse | --histories [--body NAME]] [--thrust-line]
+    saxum plot ENSEMBLE.h5 [--edp NAME] [--threshold X]
     saxum animate RESULTS [-o GIF|MP4] [--fps N]
     saxum export-vtk RESULTS [-o FOLDER]
     saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
+    saxum import-lmgc90 DATBOX -o SCENARIO [--duration T] [--dt H] [--overlap-tolerance D]
+    saxum export-lmgc90 SCENARIO -o DATBOX [--precision lmgc90|full]
 
 `saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
 source repository.
 """
 
 import argparse
+import contextlib
 import math
 import os
+import signal
 import sys
+import threading
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -100,13 +109,20 @@ def _collapse(args) -> None:
               f"(bracket {result.stands / g:.4g} .. {result.collapses / g:.4g})")
     uncertified = [t.value for t in result.trials if not t.certified]
     if uncertified:
+        sim = result.trials[0].simulation
+        if sim.fe is not None or sim.problem.joint_laws:  # (collapse._certifier's None)
+            why = ("no equilibrium certificate for a model with "
+                   + ("deformable blocks" if sim.fe is not None else "joint laws")
+                   + ": at rest by the force ratio alone, or, neither at rest nor moved away "
+                   "within --duration, judged by its energy")
+        else:
+            why = ("a trial that neither came to rest nor moved away within "
+                   f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
+                   "energy")
         warnings.warn(f"{len(uncertified)} of the {len(result.trials)} verdicts are not "
-                      "certified (no equilibrium certificate for this model, or a trial "
-                      "that neither came to rest nor moved away within "
-                      f"{1.0 + CollapseCriterion.run_on:g} x --duration and was judged by its "
-                      f"energy): {', '.join(f'{v:.6g}' for v in uncertified)}; the bracket "
-                      "may then miss the critical value (docs/collapse.md)", SolverWarning,
-                      stacklevel=1)
+                      f"certified ({why}): {', '.join(f'{v:.6g}' for v in uncertified)}; the "
+                      "bracket may then miss the critical value (docs/collapse.md)",
+                      SolverWarning, stacklevel=1)
     if args.check_limit:
         _check_limit(args, result)
     trial = result.collapse()
@@ -161,17 +177,18 @@ def _check_limit(args, result) -> None:
 def _limit(args) -> None:
     from .limit import scenario_limit_analysis
     from .plot import plot_limit
+    from .plot3d import plot_limit_3d
     from .scenario import load_scenario
 
     result = scenario_limit_analysis(args.scenario, overrides=tuple(args.set), live=args.live,
                                      friction=args.friction)
     print(result.text())
-    if result.model.dim == 2:
-        picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
-                                                               + "-limit.png")
-        scenario = load_scenario(args.scenario, args.set)
-        plot_limit(result, picture, title=scenario.title or Path(args.scenario).stem)
-        print(f"picture: {picture.resolve()}")
+    picture = args.output or Path(args.scenario).with_name(Path(args.scenario).stem
+                                                           + "-limit.png")
+    scenario = load_scenario(args.scenario, args.set)
+    draw = plot_limit if result.model.dim == 2 else plot_limit_3d
+    draw(result, picture, title=scenario.title or Path(args.scenario).stem)
+    print(f"picture: {picture.resolve()}")
 
 
 def _warn_failures(failures, trials: int, solver, where: str = "") -> None:
@@ -235,6 +252,60 @@ def _collapse_curve(args) -> None:
     print(f"\npicture: {picture.resolve()}\ntable: {table.resolve()}")
 
 
+def _ensemble(args) -> None:
+    import json
+
+    from .ensemble import describe, run_ensemble
+    from .records import SETS
+    from .scenario import load_scenario
+
+    extra = []
+    if args.records is not None:
+        folder = args.records if args.records in SETS else str(Path(args.records).resolve())
+        extra.append(f"ensemble.records={json.dumps(folder)}")
+    if args.scales is not None:
+        extra.append(f"ensemble.scales={json.dumps(args.scales)}")
+    for key in ("ida", "tolerance", "measure", "after"):
+        value = getattr(args, key)
+        if value is not None:
+            extra.append(f"ensemble.{key}={json.dumps(value)}")
+    if args.blocks is not None:
+        extra.append(f"ensemble.blocks={json.dumps(args.blocks.split(','))}")
+    scenario = load_scenario(args.scenario, [*args.set, *extra])
+    if scenario.ensemble is None:
+        raise InputError(f"{args.scenario}: no [ensemble] table; give --records and --scales "
+                         "(docs/ensemble.md)")
+    output = args.output or Path(args.scenario).with_suffix(".ensemble.h5")
+    summary = run_ensemble(scenario, output, scheduler=args.scheduler, workers=args.workers,
+                           quiet=args.quiet, overwrite=args.overwrite,
+                           scenario_text=Path(args.scenario).read_text(encoding="utf-8"))
+    print(describe(summary))
+    if summary.interrupted:
+        raise KeyboardInterrupt  # (exit code 130; the file holds the runs made)
+    _fragility_lines(summary.path)
+    if summary.bad_records:
+        raise InputError(f"{len(summary.bad_records)} record(s) left out, the others ran: "
+                         + "; ".join(why for _, why in summary.bad_records))
+
+
+def _fragility_lines(path) -> None:
+    """The collapse fragility of an ensemble file, or why there is none."""
+    from .ensemble import read_ensemble
+
+    ensemble = read_ensemble(path)
+    try:
+        fit = ensemble.fragility()
+    except InputError as err:
+        print(f"collapse fragility: none ({err})")
+        return
+    band = fit.interval()
+    print(f"collapse fragility (lognormal, Baker 2015): median {fit.theta:.4g} "
+          f"(95 % {band['theta'][0]:.4g} .. {band['theta'][1]:.4g}), beta {fit.beta:.3g} "
+          f"({band['beta'][0]:.3g} .. {band['beta'][1]:.3g}) from {fit.observations} "
+          f"{'records' if fit.method == 'capacities' else 'runs'}\n"
+          f"picture: saxum plot {path}")
+
+
 def _fclib_solve(args) -> None:
     from .fclib import format_table, solve_fclib_files
 
@@ -262,6 +333,21 @@ def _info(args) -> None:
     from .errors import ResultsDamageWarning
     from .results import Results
 
+    if _is_ensemble(args.results):
+        from .ensemble import read_ensemble
+
+        e = read_ensemble(args.results)
+        col = e.runs["collapsed"]
+        bad = [f"{n}: {why}" for n, why in zip(e.record_names, e.record_errors, strict=True)
+               if why]
+        print(f"ensemble: {args.results} ({'IDA' if e.spec.ida else 'multiple stripes'}, "
+              f"records {e.spec.records}, scales {', '.join(f'{s:g}' for s in e.spec.scales)})"
+              f"\nrecords: {len(e.record_names)}" + (f", left out: {'; '.join(bad)}" if bad
+                                                      else "")
+              + f"\nruns: {col.size} ({int((col == 1).sum())} collapsed, "
+              f"{int((col == 0).sum())} stood, {int((col < 0).sum())} failed)")
+        _fragility_lines(args.results)
+        return
     with warnings.catch_warnings():  # info_text says what is damaged
         warnings.simplefilter("ignore", ResultsDamageWarning)
         r = Results(args.results)
@@ -271,6 +357,9 @@ def _info(args) -> None:
 
 def info_text(r) -> str:
     """What the run was and what the solver did, for `saxum info`."""
+    from .collapse import _moving_kind
+    from .model import BodyKind
+
     s = r.steps
     status = r.message if r.message.startswith(r.status) else (
         r.status + (f" - {r.message}" if r.message else ""))
@@ -288,8 +377,11 @@ def info_text(r) -> str:
         lines.append(f"duration {sc.output.duration:g} s, output every {sc.output.interval:g} s,"
                      f" checkpoints every {sc.output.checkpoint_interval:g} s")
     n_bodies = len(r.body_name)
-    free = int(np.sum(r.model["body_kind"] == 0))
-    lines.append(f"model: {n_bodies} bodies ({free} free), dt = {r.dt:g} s, theta = {r.theta:g}")
+    free = int(np.sum(r.model["body_kind"] == BodyKind.FREE))
+    deformable = int(np.sum(r.model["body_kind"] == BodyKind.DEFORMABLE))
+    lines.append(f"model: {n_bodies} bodies ({free} free"
+                 + (f", {deformable} deformable" if deformable else "")
+                 + f"), dt = {r.dt:g} s, theta = {r.theta:g}")
     last = r.time[-1] if r.frame_count else float("nan")
     lines.append(f"frames: {r.frame_count} (t = 0 .. {last:g} s); checkpoints at steps "
                  f"{', '.join(str(x) for x in r.checkpoint_steps[-5:])}"
@@ -321,7 +413,7 @@ def info_text(r) -> str:
             lines.append("cohesive joints: " + (
                 bonds_note(s["step"], lost)[2:] + " over the run" if lost.any()
                 else "no bond cracked") + f"; {damaged[-1]} point(s) partly damaged at the end")
-        free = r.model["body_kind"] == 0
+        free = _moving_kind(r.model["body_kind"])
         size = float(r.body_size[free].min()) if free.any() else math.nan
         worst = float(s["max_interpenetration"].max())
         lines.append(
@@ -342,10 +434,10 @@ moving (a structure at rest: round-off)."""
 def _collapse_lines(r, ground) -> list[str]:
     """When the run collapsed (saxum.collapse.find_collapse) and the mechanism then; under a
     harmonic motion with a ramp, its amplitude then (GroundMotionSpec `ground`)."""
-    from .collapse import DYNAMIC_FRACTION, ONSET, find_collapse
+    from .collapse import DYNAMIC_FRACTION, ONSET, _moving_kind, find_collapse
     from .mechanism import frame_mechanism
 
-    free = r.model["body_kind"] == 0
+    free = _moving_kind(r.model["body_kind"])
     if r.frame_count == 0 or not free.any():
         return []
     d = r.dim
@@ -399,6 +491,15 @@ def _plot(args) -> None:
     from .plot import plot_frame, plot_histories
     from .results import Results
 
+    if _is_ensemble(args.results):
+        from .ensemble import read_ensemble
+        from .plot_ensemble import plot_ensemble
+
+        out = args.output or Path(args.results).with_suffix(".png")
+        plot_ensemble(read_ensemble(args.results), out, edp=args.edp,
+                      threshold=args.threshold, title=Path(args.results).stem)
+        print(f"picture: {Path(out).resolve()}")
+        return
     with Results(args.results) as r:
         if args.thrust_line and r.dim != 2:
             raise InputError(f"{args.results}: --thrust-line is drawn for 2D results (an arch "
@@ -423,6 +524,19 @@ def _plot(args) -> None:
             out = args.output or Path(args.results).with_suffix(".png")
             plot_frame(r, args.frame, out, thrust_line=args.thrust_line)
     print(f"picture: {Path(out).resolve()}")
+
+
+def _is_ensemble(path: Path) -> bool:
+    """Whether `path` is an ensemble file (saxum.ensemble) rather than a run's results."""
+    import h5py
+
+    from .ensemble import KIND
+
+    try:
+        with h5py.File(path, "r") as f:
+            return f.attrs.get("kind") == KIND
+    except OSError:
+        return False  # (Results says what is wrong with it)
 
 
 def _animate(args) -> None:
@@ -472,6 +586,48 @@ def _view(args) -> None:
     print(f"viewer: {out.resolve()} ({size / 2**20:.1f} MB){opened}")
 
 
+def _import_lmgc90(args) -> None:
+    from .lmgc90 import OVERLAP_TOLERANCE, import_lmgc90
+
+    tolerance = args.overlap_tolerance if args.overlap_tolerance is not None else (
+        OVERLAP_TOLERANCE)
+    blocks = args.output.with_name(args.output.stem + ".blocks.json")
+    taken = [p for p in (args.output, blocks) if p.exists()]
+    if taken and not args.overwrite:
+        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and {blocks.name})")
+    imported = import_lmgc90(args.datbox)
+    model = imported.model()
+    depth = imported.check_overlaps(model, tolerance)
+    extra = imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
+                                    overlap_tolerance=tolerance)
+    kinds = np.bincount(model.body_kind, minlength=3)
+    print(f"{args.output}: {model.body_count} blocks ({kinds[0]} free, {kinds[1]} fixed, "
+          f"{kinds[2]} driven) in {len(model.group_names)} groups, {len(model.laws)} laws, "
+          f"{len(imported.no_contact)} pairs of groups without a see-table (no contact); "
+          f"deepest interpenetration {depth:.3g} m (accepted up to {tolerance:g} m: "
+          "detection.initial_overlap)")
+    items = [*imported.untranslated, *extra]
+    if items:
+        print(f"not translated or approximated ({len(items)}; all are listed at the top of "
+              f"{args.output}):")
+        for item in items[:20]:
+            print(f"  {item}")
+        if len(items) > 20:
+            print(f"  ... and {len(items) - 20} more")
+
+
+def _export_lmgc90(args) -> None:
+    from .lmgc90 import export_lmgc90
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    sim = scenario.build_simulation()
+    folder = export_lmgc90(sim.model, args.output, precision=args.precision,
+                           alert=sim.detector.alert)
+    print(f"{folder}: {sim.model.body_count} bodies, {len(sim.model.laws)} laws "
+          "(BODIES.DAT, BULK_BEHAV.DAT, TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT)")
+
+
 def _periods(text: str) -> list[float]:
     """--periods T1,T2,...: pulse periods [s], each > 0."""
     try:
@@ -519,11 +675,13 @@ def _check_output(args) -> None:
     out = getattr(args, "output", None)
     if out is None:
         return
-    if args.command == "export-vtk":
+    if args.command in ("export-vtk", "export-lmgc90"):
         if out.exists() and not out.is_dir():
-            raise InputError(f"-o {out}: is a file; export-vtk writes into a folder")
+            raise InputError(f"-o {out}: is a file; {args.command} writes into a folder")
     elif out.is_dir():
-        example = {"run": "results.h5", "view": "run.html"}.get(args.command, "out.png")
+        example = {"run": "results.h5", "view": "run.html",
+                   "import-lmgc90": "model.toml",
+                   "ensemble": "ensemble.h5"}.get(args.command, "out.png")
         raise InputError(f"-o {out}: is a folder; give a file name in it, e.g. {out / example}")
     elif not out.parent.is_dir():
         raise InputError(f"-o {out}: there is no folder {out.parent}; create it first")
@@ -592,18 +750,22 @@ def _parser() -> argparse.ArgumentParser:
                                      "joints can carry (a linear or conic programme) and the "
                                      "collapse mechanism")
     p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
-    p.add_argument("--live", choices=("horizontal", "forces"), default="horizontal",
+    p.add_argument("--live", choices=("horizontal", "forces", "water", "settlement"),
+                   default="horizontal",
                    help="the load multiplied by lambda: horizontal (an acceleration lambda g "
                         "on every free block, along the sign of loads.horizontal_acceleration, "
-                        "which is taken out of the dead load; the default) or forces (the "
-                        "point loads)")
+                        "which is taken out of the dead load; the default), forces (the "
+                        "point loads) or water (the flood's pressures); or settlement (no "
+                        "factor: the supports of loads.settlements move, and the state of "
+                        "least power on them is found, e.g. the minimum thrust of an arch "
+                        "on spreading supports)")
     p.add_argument("--friction", choices=("associative", "non-associative"),
                    default="associative",
                    help="associative (one programme; an upper estimate where joints slide) "
                         "or non-associative (Gilbert, Casapulla & Ahmed 2006: friction limits "
                         "fixed from the previous normal forces until they repeat)")
     _scenario_options(p, "override a scenario key (repeatable)",
-                      "picture of the mechanism (2D; default: SCENARIO-limit.png)")
+                      "picture of the mechanism (default: SCENARIO-limit.png)")
     p.set_defaults(func=_limit)
 
     p = sub.add_parser("collapse", help="critical value of a scenario key (a load, a "
@@ -667,6 +829,44 @@ def _parser() -> argparse.ArgumentParser:
                         "the table goes next to it as .csv")
     p.set_defaults(func=_collapse_curve)
 
+    p = sub.add_parser("ensemble", help="a scenario through ground-motion records at many "
+                                        "scales (IDA or multiple stripes) on a Dask cluster, "
+                                        "and the fragility curve")
+    p.add_argument("scenario", type=Path, help="scenario file; its [ensemble] table, if any, "
+                                               "gives the defaults (docs/ensemble.md)")
+    p.add_argument("--records", help="far-field or near-field (FEMA P695, needs saxum[records])"
+                                     ", or a folder of .AT2/.csv records")
+    p.add_argument("--scales", help="START:STOP:STEP (e.g. 0.1:2.0:0.1) or A,B,C: the scale "
+                                    "factors (with --measure pga: PGAs [g])")
+    p.add_argument("--ida", action="store_const", const=True, default=None,
+                   help="incremental dynamic analysis: per record, scales up to the first "
+                        "collapse, then bisection (default: every record at every scale)")
+    p.add_argument("--tolerance", type=float, default=None,
+                   help="IDA: relative width of the final bracket (default 0.01)")
+    p.add_argument("--measure", choices=("scale", "pga"), default=None,
+                   help="scale: a factor on each record (default); pga: each record scaled "
+                        "to that peak ground acceleration [g]")
+    p.add_argument("--after", type=float, default=None,
+                   help="each run lasts its record plus this [s] (default 2)")
+    p.add_argument("--blocks", metavar="NAME,...",
+                   help="the blocks whose displacement, drift and rotation are the demand "
+                        "(default: every free block)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="a running Dask scheduler, e.g. tcp://host:8786 (default: a local "
+                        "cluster)")
+    p.add_argument("--workers", default=None,
+                   type=_count(_MAX_PROCESSES, "more worker processes than CPUs only share "
+                                               "them"),
+                   help=f"worker processes of the local cluster (default: one per CPU; at "
+                        f"most {_MAX_PROCESSES})")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing ensemble file of another ensemble (the same "
+                        "ensemble's file is resumed)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    _scenario_options(p, "override a scenario key (repeatable)",
+                      "ensemble file (HDF5; default: SCENARIO.ensemble.h5)")
+    p.set_defaults(func=_ensemble)
+
     p = sub.add_parser("fclib", help="FCLIB frictional-contact problems")
     fc = p.add_subparsers(dest="fclib_command", required=True, metavar="ACTION")
     q = fc.add_parser("solve", help="solve FCLIB problems (NLGS, switching to the conic fixed "
@@ -705,6 +905,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="draw the thrust line of an arch (joints' centres of pressure)")
     p.add_argument("--body", help="block for --histories (name or index; default: the one "
                                   "that moved most)")
+    p.add_argument("--edp", default="peak_drift",
+                   help="an ensemble's demand on its IDA curves: peak_drift (default), "
+                        "peak_displacement, peak_horizontal, peak_rotation, "
+                        "residual_displacement")
+    p.add_argument("--threshold", type=float, default=None,
+                   help="an ensemble's fragility of --edp above this (default: of collapse)")
     p.add_argument("-o", "--output", type=Path, help="PNG file (default: next to RESULTS)")
     p.set_defaults(func=_plot)
 
@@ -733,6 +939,29 @@ def _parser() -> argparse.ArgumentParser:
                    help="only the blocks whose name or group matches this glob (e.g. "
                         "'parapet*'), and the supports: for a large model")
     p.set_defaults(func=_view)
+
+    p = sub.add_parser("import-lmgc90", help="translate an LMGC90 DATBOX folder into a "
+                                             "scenario (docs/lmgc90.md)")
+    p.add_argument("datbox", type=Path, help="the DATBOX folder (BODIES.DAT, TACT_BEHAV.DAT...)")
+    p.add_argument("-o", "--output", type=Path, required=True,
+                   help="scenario file to write (TOML; its blocks go to STEM.blocks.json)")
+    p.add_argument("--duration", type=float, default=1.0,
+                   help="output.duration [s] (default 1; also the time of the drives)")
+    p.add_argument("--dt", type=float, default=1e-3, help="solver.dt [s] (default 1e-3)")
+    p.add_argument("--overlap-tolerance", type=float, default=None, metavar="D",
+                   help="deepest interpenetration accepted in the imported state [m] "
+                        "(default 1e-5: LMGC90 states carry micrometre ones)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing scenario and its blocks file")
+    p.set_defaults(func=_import_lmgc90)
+
+    p = sub.add_parser("export-lmgc90", help="write a scenario's model as an LMGC90 DATBOX")
+    p.add_argument("scenario", type=Path, help="scenario file (see docs/scenario.md)")
+    p.add_argument("-o", "--output", type=Path, required=True, help="DATBOX folder to write")
+    p.add_argument("--precision", choices=("lmgc90", "full"), default="lmgc90",
+                   help="lmgc90: LMGC90's fixed columns, 7 digits (default); full: 17 digits, "
+                        "exact for saxum import-lmgc90")
+    p.set_defaults(func=_export_lmgc90)
     return parser
 
 
@@ -742,11 +971,47 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     print(f"saxum: warning: {message}", file=sys.stderr)
 
 
+_CTRL_C_AGAIN = 0.05
+"""[s] after a dropped Ctrl-C (_ctrl_c_not_dropped) at which it is sent again."""
+
+
+@contextlib.contextmanager
+def _ctrl_c_not_dropped() -> Iterator[None]:
+    """A Ctrl-C whose KeyboardInterrupt Python drops is sent again until one is not dropped.
+
+    While numba compiles (a kernel on its first call: those that saxum.precompile does not
+    list, and 3D ones), Python often runs its SIGINT handler inside llvmlite's ctypes callback,
+    where a KeyboardInterrupt is printed ("Exception ignored on calling ctypes callback", with
+    a traceback) and dropped: the command went on. Here such a one is not printed, and SIGINT
+    is sent again _CTRL_C_AGAIN later, as a user would press Ctrl-C again; a run's own handler
+    (saxum.runner) then stops it after the step, Python's default one raises it where it
+    lands."""
+    previous = sys.unraisablehook
+    timers: list[threading.Timer] = []
+
+    def dropped(unraisable) -> None:
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            previous(unraisable)
+            return
+        again = threading.Timer(_CTRL_C_AGAIN, os.kill, (os.getpid(), signal.SIGINT))
+        again.daemon = True
+        timers.append(again)
+        again.start()
+
+    sys.unraisablehook = dropped
+    try:
+        yield
+    finally:
+        sys.unraisablehook = previous
+        for again in timers:
+            again.cancel()
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         _check_output(args)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _ctrl_c_not_dropped():
             warnings.showwarning = _show_warning
             args.func(args)
     except KeyboardInterrupt:  # Ctrl-C outside a run's own handling (start-up, a picture)

@@ -214,7 +214,12 @@ def unbalanced_force_ratio(sim: Simulation, state: State, v_before: np.ndarray, 
 
 def _moving(model) -> np.ndarray:
     """The blocks a trial watches: FREE (rigid) and DEFORMABLE, [body_count] bool."""
-    return np.isin(model.body_kind, (BodyKind.FREE, BodyKind.DEFORMABLE))
+    return _moving_kind(model.body_kind)
+
+
+def _moving_kind(body_kind: np.ndarray) -> np.ndarray:
+    """FREE (rigid) or DEFORMABLE, of body kinds [body_count]: bool."""
+    return np.isin(body_kind, (BodyKind.FREE, BodyKind.DEFORMABLE))
 
 
 def _fe_masses(fe) -> np.ndarray:
@@ -533,8 +538,10 @@ def find_collapse(results, fraction: float = DYNAMIC_FRACTION) -> CollapseEvent 
     displacement of a free block grew frame after frame, up to where it last passed ONSET *
     limit, and some free block moved faster than CREEP times the smallest block's size per
     second: the start of a slow slide or of the last swing of a rocking structure.
-    None when no block is that far at the end."""
-    free = results.model["body_kind"] == BodyKind.FREE
+    None when no block is that far at the end. Deformable blocks count with the free ones
+    (their body rows: the centre of mass of their nodes, its velocity their mass-weighted
+    mean)."""
+    free = _moving_kind(results.model["body_kind"])
     if not free.any() or results.frame_count == 0:
         return None
     limit = fraction * float(results.body_size[free].min())

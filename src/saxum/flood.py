@@ -386,6 +386,9 @@ class FloodLoad:
         if model.dim == 2 and self.azimuth != 0.0:
             raise InputError(f"{self.name}.azimuth is for 3D models; in 2D the river flows "
                              "along x (give a negative velocity for -x)")
+        if model.has_round:  # its pressures integrate over polygon faces
+            raise InputError(f"{self.name} acts on polygons (polyhedra); this model has discs "
+                             "(spheres), which a flood does not load yet")
         up = self._up(model)
         self.along(model)
         free = np.flatnonzero(model.body_kind == BodyKind.FREE)

@@ -145,6 +145,10 @@ class ContactLaw:
     alert [m]: the alert distance of the contacts of this law (LMGC90's per see-table):
     pairs of blocks closer than this become contacts; None: the detector's
     (DetectionSettings.alert).
+
+    bond_at [s] (COHESIVE only): when the joints bond. 0 (default): the joints closed at the
+    start; t > 0: those closed at time t (after a settling phase, during which the law's
+    contacts are Coulomb contacts of the gap law), saxum.simulation.Simulation.step.
     """
 
     friction: float
@@ -162,6 +166,7 @@ class ContactLaw:
     """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
     points: int = 2
     alert: float | None = None
+    bond_at: float = 0.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.friction) and self.friction >= 0.0):
@@ -184,6 +189,12 @@ class ContactLaw:
             raise InputError(f"{self.name or 'a contact law'}: alert must be a finite length "
                              f"> 0 [m], got {self.alert}; leave it out for the detector's")
         object.__setattr__(self, "kind", LawKind(self.kind))
+        if not (math.isfinite(self.bond_at) and self.bond_at >= 0.0):
+            raise InputError(f"{self.name or 'a contact law'}: bond_at must be a finite time "
+                             f">= 0 [s], got {self.bond_at}")
+        if self.bond_at > 0.0 and self.kind != LawKind.COHESIVE:
+            raise InputError(f"{self.name or 'a contact law'}: bond_at={self.bond_at} is for "
+                             f"COHESIVE laws (joints that bond), not {self.kind.name}; drop it")
         self._check_parameters()
 
     @property

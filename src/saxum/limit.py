@@ -32,11 +32,21 @@ price of a convex problem. For purely rotational mechanisms (hinges, no sliding)
 associative and the true (non-associative) factors coincide; where sliding takes part the
 associative factor is only an upper estimate (Radenkovic's theorems: the true collapse
 factor lies between the frictionless one and the associative one).
+Settlements (live="settlement"): no live load (lambda = 0); supports move at given velocities
+U_s, and the programme minimises the power of the contact forces on them, sum R . c with c
+the contacts' relative velocities due to the supports' motion alone: among the admissible
+states, the one that the imposed motion selects (the maximum work of the reactions on it,
+Drucker's principle; an arch on spreading supports takes its minimum thrust). The dual's
+multipliers are then velocities u of the free blocks with U = E^T u + c in the dilatancy
+cones, and the dead load's power D . u equals the power on the supports. Water
+(live="water"): the model's field loads (a flood's pressures at the initial configuration)
+times lambda.
 `friction="non-associative"` follows the iterative scheme of Gilbert, Casapulla & Ahmed
 (2006) in a simplified form: from the associative solution on, each programme fixes the
 friction limit of every contact at mu R_n of the previous solution, |R_T| <= mu R_n^(k-1)
 (a limit independent of the current normal force, whose flow rule has no dilatancy), until
-the factor repeats while the previous forces satisfy Coulomb with their own normal forces:
+the factor (with settlements: the power on the supports) repeats while the previous forces
+satisfy Coulomb with their own normal forces:
 those forces are then optimal for the last programme, and with its multipliers they make a
 state that is in equilibrium, within the Coulomb cones and has a non-dilatant mechanism
 sliding where the friction is spent: a collapse state of the non-associative model, its
@@ -47,7 +57,9 @@ iteration whose factor keeps changing is reported, not hidden.
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -89,7 +101,11 @@ class LimitAnalysis:
     velocities (velocity, (bodies, dof) [m/s, rad/s], world frame, normalised so that the
     fastest block point moves at 1 m/s; 0 for supports), the relative velocity of each
     contact in its local frame (relative, (contacts, dim)), the mechanism, how friction was
-    treated ("associative" or "non-associative") and the number of programmes solved."""
+    treated ("associative" or "non-associative") and the number of programmes solved.
+    Settlement (live "settlement"): no load factor (factor nan); support_power [W/m; 3D: W]
+    the power of the structure's forces on the moving supports at their given velocities
+    (one support moving at 1 m/s: the force on it along its motion, N/m), the least over
+    the admissible states (the thrust of an arch on spreading supports, module doc)."""
 
     factor: float
     model: Model = field(repr=False)
@@ -101,6 +117,7 @@ class LimitAnalysis:
     friction: str = "associative"
     iterations: int = 1
     live: str = "horizontal"
+    support_power: float | None = None
 
     def contact_dict(self) -> dict:
         """The contacts with their forces at collapse, as saxum.mechanism's functions read
@@ -118,15 +135,28 @@ class LimitAnalysis:
 
         return thrust_line(self.contact_dict(), math.inf, centre)
 
+    def heading(self) -> str:
+        """The result in a few words, for a picture's title."""
+        if self.live == "settlement":
+            unit = "W/m" if self.model.dim == 2 else "W"
+            return f"settled supports, least power on them {self.support_power:.5g} {unit}"
+        return f"limit load factor {self.factor:.5g}"
+
     def text(self) -> str:
         """The factor and the mechanism in words."""
         what = {"horizontal": "horizontal acceleration lambda g",
-                "forces": "point loads x lambda"}.get(self.live, "live load x lambda")
+                "forces": "point loads x lambda",
+                "water": "water pressure x lambda"}.get(self.live, "live load x lambda")
         moving = self.mechanism.moving
         iterations = (f", {self.iterations} programmes" if self.friction == "non-associative"
                       else "")
-        return (f"limit load factor lambda = {self.factor:.6g} ({what}; {self.friction} "
-                f"friction{iterations}; {self.contacts.count} contact points)\n"
+        how = f"{self.friction} friction{iterations}; {self.contacts.count} contact points"
+        unit = "W/m" if self.model.dim == 2 else "W"
+        head = (f"settled supports: the structure's forces on them do {self.support_power:.6g}"
+                f" {unit} at their velocities, the least of the admissible states ({how})"
+                if self.live == "settlement" else
+                f"limit load factor lambda = {self.factor:.6g} ({what}; {how})")
+        return (head + "\n"
                 "mechanism (virtual velocities, the fastest block point at 1 m/s):\n"
                 + "\n".join([f"moving blocks ({len(moving)}): " + ", ".join(moving),
                              *self.mechanism.text().splitlines()[1:]]))
@@ -135,21 +165,31 @@ class LimitAnalysis:
 def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
                    direction: float | tuple[float, ...] = 1.0,
                    friction: str = "associative",
-                   detection: DetectionSettings | None = None) -> LimitAnalysis:
+                   detection: DetectionSettings | None = None,
+                   settlement: Mapping[str, Sequence[float]] | None = None) -> LimitAnalysis:
     """The limit load factor of `model` (rigid blocks, 2D or 3D; module doc).
 
     live: "horizontal" (an acceleration lambda g along `direction` on every free block: a
     sign along x, or in 3D a horizontal vector), "forces"
-    (the model's point loads times lambda, the rest dead), or an array (bodies, dof) [N/m,
-    N m/m; 3D: N, N m] of generalized forces in the world frame. Dead load: gravity and the
-    model's constant loads at t = 0 (uniform accelerations, point loads unless live,
-    field loads such as water at the initial configuration). friction: "associative" or
-    "non-associative" (module doc). Raises InputError for a model it cannot analyse (a free
-    block that touches nothing, a dead load that no forces balance, a live load that cannot
-    cause collapse)."""
+    (the model's point loads times lambda, the rest dead), "water" (the model's field
+    loads, the water of a flood, times lambda: a factor on the water's unit weight rho_w g),
+    "settlement" (no live load: supports moving at the generalized velocities
+    `settlement`, {fixed block name: (v_x, v_y, omega) [m/s, rad/s]; 3D: (v_x, v_y, v_z,
+    omega_x, omega_y, omega_z)}; the state of least power on them, module doc) or an array
+    (bodies, dof) [N/m, N m/m; 3D: N, N m] of generalized forces in the world frame. Dead
+    load: gravity and the model's constant loads at t = 0 (uniform accelerations, point
+    loads unless live, field loads such as water at the initial configuration unless live).
+    friction: "associative" or "non-associative" (module doc). Raises InputError for a
+    model it cannot analyse (a free block that touches nothing, a dead load that no forces
+    balance, a live load that cannot cause collapse)."""
     if friction not in ("associative", "non-associative"):
         raise InputError(f"friction must be \"associative\" or \"non-associative\", got "
                          f"{friction!r}")
+    settling = isinstance(live, str) and live == "settlement"
+    if settling != (settlement is not None) or settlement == {}:
+        raise InputError("a settlement analysis takes live=\"settlement\" and the supports' "
+                         "velocities, settlement={fixed block name: generalized velocity}; "
+                         "give both or neither")
     if model.fe is not None or (model.body_kind == BodyKind.DEFORMABLE).any():
         raise InputError("limit analysis is for rigid blocks: this model has deformable "
                          "blocks; give them no material to make them rigid")
@@ -161,19 +201,28 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
     _check_touching(model, contacts, free)
     k, dim = contacts.count, model.dim
     mu = model.law_friction[contacts.law[:k]]
-    solve = _solve_2d if dim == 2 else _solve_3d
+    moved, support = _supports(model, settlement)
+    power = [e.T @ support[moved].ravel() for e in _unit_forces(model, contacts, moved)]
+    solve = functools.partial(_solve_2d if dim == 2 else _solve_3d,
+                              power=power if settlement is not None else None)
     unit, rhs, lhs, row, f0 = _scaled(model, _unit_forces(model, contacts, free),
-                                      -dead[free].ravel(), load[free].ravel())
+                                      -dead[free].ravel(),
+                                      None if settlement is not None else load[free].ravel())
     try:
         force, u, lam = solve(unit, mu, rhs, lhs, None)
     except _Infeasible:
         raise _dead_load_error(model, free, unit, mu, rhs, solve) from None
     except _Unbounded:
+        if settlement is not None:
+            raise InputError(f"the supports' motion ({_names(model, moved)}) finds no bound: "
+                             "the blocks can press on them with forces as large as any (an "
+                             "unbounded thrust, e.g. a wedge between closing supports); give "
+                             "them a motion that the structure resists finitely") from None
         loaded = free[np.abs(load[free]).max(axis=1) > 0.0]
         raise InputError(f"the live load ({label}) cannot cause collapse: the joints carry it "
                          f"at any factor (an unbounded factor); it acts on "
                          f"{_names(model, loaded)}") from None
-    if lam < 0.0:
+    if lam < 0.0 and settlement is None:
         raise InputError(f"the structure cannot stand under its dead load alone: it needs "
                          f"the live load ({label}) reversed, lambda = {lam:.6g} < 0, to "
                          "stand; reverse the live load's direction or check the model")
@@ -195,16 +244,20 @@ def limit_analysis(model: Model, *, live: str | np.ndarray = "horizontal",
                              f"programmes (the factor still changes, the last "
                              f"{lam:.6g}): use friction=\"associative\" for an upper estimate")
     force *= f0
-    velocity = np.zeros((model.body_count, model.dof))
+    velocity = support.copy()
     velocity[free] = (row * u).reshape(free.size, model.dof)
     speed = np.linalg.norm(velocity[:, :dim], axis=1) + np.linalg.norm(
         velocity[:, dim:], axis=1) * model.body_radius
     velocity /= speed.max()
-    relative = np.stack([e.T @ velocity[free].ravel()
-                         for e in _unit_forces(model, contacts, free)], axis=1)
+    both = np.concatenate((free, moved))
+    relative = np.stack([e.T @ velocity[both].ravel()
+                         for e in _unit_forces(model, contacts, both)], axis=1)
     mech = _mechanism(model, contacts, force, relative, velocity, mu)
-    return LimitAnalysis(lam, model, contacts, force, velocity, relative, mech, friction,
-                         iterations, label)
+    if settlement is None:
+        return LimitAnalysis(lam, model, contacts, force, velocity, relative, mech, friction,
+                             iterations, label)
+    return LimitAnalysis(math.nan, model, contacts, force, velocity, relative, mech, friction,
+                         iterations, "settlement", lam * f0)
 
 
 def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
@@ -213,14 +266,33 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
     """limit_analysis of the scenario file at `path` (keys overridden by `overrides`,
     "key=value"). live "horizontal": the horizontal acceleration lambda g along the sign of
     loads.horizontal_acceleration (+x if 0; 3D: at loads.horizontal_azimuth), which is taken
-    out of the dead load; "forces": the point loads ([[loads.point_loads]]) times lambda."""
-    from .scenario import load_scenario
+    out of the dead load; "forces": the point loads ([[loads.point_loads]]) times lambda;
+    "water": the flood's pressures ([loads.flood]) times lambda; "settlement": the supports
+    of [[loads.settlements]] moving at their mean velocities (magnitude / time along
+    direction, rotation / time), the state of least power on them."""
+    from .scenario import _unit, load_scenario
 
     scenario = load_scenario(path, list(overrides))
     loads = scenario.loads
-    if loads.ground_motion is not None or loads.settlements:
+    if loads.ground_motion is not None or (loads.settlements and live != "settlement"):
         raise InputError(f"{path}: limit analysis takes constant loads; this scenario has "
-                         "a ground motion or settlements: leave them out (--unset)")
+                         "a ground motion or settlements: leave them out (--unset), or "
+                         "analyse the settlements with --live settlement")
+    if live == "settlement" and not loads.settlements:
+        raise InputError(f"{path}: --live settlement moves the supports of "
+                         "[[loads.settlements]], and this scenario has none")
+    if live == "water" and loads.flood is None:
+        raise InputError(f"{path}: --live water multiplies the water of [loads.flood], and "
+                         "this scenario has none")
+    model = scenario.build_model()  # checks the settlements' keys
+    dim, settlement = model.dim, None
+    if live == "settlement":
+        down = -np.eye(dim)[-1]
+        turning = np.zeros(model.dof - dim)
+        settlement = {s.block: np.r_[s.magnitude / s.time * _unit(
+            s.direction or down, f"settlements[{k}].direction", dim),
+            (turning + np.asarray(s.rotation, dtype=np.float64)) / s.time]
+            for k, s in enumerate(loads.settlements)}
     if loads.load_factor_rate != 0.0:
         raise InputError(f"{path}: loads.load_factor_rate is a dynamic ramp; limit analysis "
                          "finds the factor directly: set it to 0")
@@ -237,8 +309,10 @@ def scenario_limit_analysis(path, *, overrides: tuple[str, ...] = (),
         raise InputError(f"{path}: --live forces multiplies the point loads, and this "
                          "scenario has none ([[loads.point_loads]])")
     d = scenario.detection
-    return limit_analysis(scenario.build_model(), live=live, direction=direction,
-                          friction=friction,
+    if live == "horizontal":
+        model = scenario.build_model()
+    return limit_analysis(model, live=live, direction=direction,
+                          friction=friction, settlement=settlement,
                           detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                                       per_pair=d.per_pair))
 
@@ -378,6 +452,30 @@ def _check_touching(model: Model, contacts: Contacts, free: np.ndarray) -> None:
                          "for its weight to be carried: move it into contact or make it fixed")
 
 
+def _supports(model: Model, settlement: Mapping[str, Sequence[float]] | None
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The moving supports' body indices and the generalized velocities (bodies, dof) [m/s,
+    rad/s] of all bodies that `settlement` ({fixed block name: velocity}) gives them (0
+    elsewhere)."""
+    velocity = np.zeros((model.body_count, model.dof))
+    moved = []
+    for name, v in (settlement or {}).items():
+        if name not in model.body_name:
+            raise InputError(f"settlement: no block called {name!r}; give a fixed block "
+                             "(a support) by its name")
+        b = model.body_name.index(name)
+        if model.body_kind[b] == BodyKind.FREE:
+            raise InputError(f"settlement: {name!r} is a free block; only a fixed block (a "
+                             "support) has an imposed motion")
+        v = np.asarray(v, dtype=np.float64)
+        if v.shape != (model.dof,) or not np.all(np.isfinite(v)):
+            raise InputError(f"settlement: the velocity of {name!r} must be {model.dof} finite "
+                             f"numbers (translation [m/s], then rotation [rad/s]), got {v}")
+        velocity[b] = v
+        moved.append(b)
+    return np.array(moved, dtype=np.int64), velocity
+
+
 def _loads(model: Model, live, direction) -> tuple[np.ndarray, np.ndarray, str]:
     """(dead, live) generalized forces (bodies, dof) [N/m, N m/m; 3D: N, N m] in the world
     frame (moments about the centres of mass), and the live load's label."""
@@ -391,8 +489,17 @@ def _loads(model: Model, live, direction) -> tuple[np.ndarray, np.ndarray, str]:
     forces = np.zeros((n, dof))
     for bodies, force in model.forces:
         np.add.at(forces, bodies, np.asarray(force(0.0), dtype=np.float64))
+    water = np.zeros((n, dof))
     for load in model.field_loads:
-        load.add(model, model.body_q0, 0.0, dead)
+        load.add(model, model.body_q0, 0.0, water)
+    if isinstance(live, str) and live == "water":
+        if not np.any(water[free]):
+            raise InputError("live=\"water\" multiplies the model's water loads (a flood), "
+                             "and it has none on its free blocks")
+        return dead + forces, water, "water"
+    dead += water
+    if isinstance(live, str) and live == "settlement":
+        return dead + forces, np.zeros((n, dof)), "settlement"
     if isinstance(live, str) and live == "horizontal":
         h = np.zeros(d)
         if np.ndim(direction) == 0:
@@ -413,8 +520,8 @@ def _loads(model: Model, live, direction) -> tuple[np.ndarray, np.ndarray, str]:
                              "blocks, and it has none")
         return dead, forces, "forces"
     if isinstance(live, str):
-        raise InputError(f"live must be \"horizontal\", \"forces\" or an array (bodies, dof), "
-                         f"got {live!r}")
+        raise InputError(f"live must be \"horizontal\", \"forces\", \"water\", "
+                         f"\"settlement\" or an array (bodies, dof), got {live!r}")
     load = np.asarray(live, dtype=np.float64)
     if load.shape != (n, dof) or not np.all(np.isfinite(load)):
         raise InputError(f"a live load array must be finite, of shape ({n}, {dof}) (bodies, "
@@ -423,10 +530,11 @@ def _loads(model: Model, live, direction) -> tuple[np.ndarray, np.ndarray, str]:
 
 
 def _unit_forces(model: Model, contacts: Contacts, free: np.ndarray) -> list[sp.csc_matrix]:
-    """For each local direction r (t, n; 3D t, n, s): the sparse matrix (free blocks x dof,
-    contacts) of the generalized forces [N, N m] on the free blocks of a unit force along the
-    contact's r-th frame row: +f at the point on the candidate, -f on the antagonist at the
-    antagonist's point (point - gap n), moments about the centres of mass."""
+    """For each local direction r (t, n; 3D t, n, s): the sparse matrix (blocks `free` x
+    dof, contacts) of the generalized forces [N, N m] on those blocks of a unit force along
+    the contact's r-th frame row: +f at the point on the candidate, -f on the antagonist at
+    the antagonist's point (point - gap n), moments about the centres of mass. Its transpose
+    takes the blocks' velocities to the contacts' relative velocities."""
     k, d, dof = contacts.count, model.dim, model.dof
     slot = np.full(model.body_count, -1)
     slot[free] = np.arange(free.size)
@@ -455,29 +563,38 @@ def _unit_forces(model: Model, contacts: Contacts, free: np.ndarray) -> list[sp.
     return out
 
 
-def _solve_2d(unit, mu, rhs, load, limit):
+def _solve_2d(unit, mu, rhs, load, limit, power=None):
     """The 2D programme (module doc) with HiGHS: associative (limit None: the two rays of
     each cone) or with fixed friction limits |R_t| <= limit [N/m]. Returns the contact forces
-    (k, 2) (t, n), the free blocks' virtual velocities (L . u = 1) and lambda."""
+    (k, 2) (t, n), the free blocks' virtual velocities (L . u = 1) and lambda. With `power`
+    (the relative velocities (t, n) [m/s] that the moving supports give the contacts, each
+    (k,)), lambda = 0 and the forces minimise the power on the supports, sum R . power,
+    which is returned instead of lambda; the velocities then make U = E^T u + power
+    admissible."""
     from scipy.optimize import linprog
 
     e_t, e_n = unit
     k = e_t.shape[1]
     fixed = load is None  # a feasibility problem: lambda = 0
     load = np.zeros(e_t.shape[0]) if fixed else load
+    cost = np.zeros(2 * k + 1)
     if limit is None:
         a_eq = sp.hstack((e_n - e_t @ sp.diags(mu), e_n + e_t @ sp.diags(mu),
                           sp.csc_matrix(load[:, None])), format="csc")
         bounds = np.zeros((2 * k + 1, 2))
         bounds[:k, 1] = np.inf
+        if power is not None:  # R = a_1 (n - mu t) + a_2 (n + mu t)
+            cost[:2 * k] = np.r_[power[1] - mu * power[0], power[1] + mu * power[0]]
     else:
         a_eq = sp.hstack((e_t, e_n, sp.csc_matrix(load[:, None])), format="csc")
         bounds = np.zeros((2 * k + 1, 2))
         bounds[:k, 0], bounds[:k, 1] = -limit, limit
+        if power is not None:
+            cost[:2 * k] = np.r_[power[0], power[1]]
     bounds[k:2 * k, 1] = np.inf
     bounds[-1] = (0.0, 0.0) if fixed else (-np.inf, np.inf)
-    cost = np.zeros(2 * k + 1)
-    cost[-1] = -1.0
+    if power is None:
+        cost[-1] = -1.0
     if k > _LARGE and limit is None and not fixed:
         x, u = _solve_rays_conic(a_eq, rhs, cost)
     else:
@@ -490,7 +607,7 @@ def _solve_2d(unit, mu, rhs, load, limit):
         force = np.column_stack((mu * (x[k:2 * k] - x[:k]), x[:k] + x[k:2 * k]))
     else:
         force = np.column_stack((x[:k], x[k:2 * k]))
-    return force, u, float(x[-1])
+    return force, u, float(x[-1] if power is None else cost @ x)
 
 
 def _solve_rays_conic(a_eq, rhs, cost):
@@ -519,9 +636,10 @@ def _solve_rays_conic(a_eq, rhs, cost):
     return np.asarray(sol.x), np.asarray(sol.z)[:m]
 
 
-def _solve_3d(unit, mu, rhs, load, limit):
+def _solve_3d(unit, mu, rhs, load, limit, power=None):
     """The 3D programme with Clarabel: (mu R_n, R_t, R_s) in a second-order cone per contact
-    (associative; limit None), or R_n >= 0 and |(R_t, R_s)| <= limit. Returns as _solve_2d."""
+    (associative; limit None), or R_n >= 0 and |(R_t, R_s)| <= limit. Returns as _solve_2d
+    (power: as there, (t, n, s))."""
     import clarabel
 
     e_t, e_n, e_s = unit
@@ -559,7 +677,10 @@ def _solve_3d(unit, mu, rhs, load, limit):
     a = sp.vstack((a_eq, cone_a), format="csc")
     b = np.concatenate((rhs, cone_b))
     q = np.zeros(3 * k + 1)
-    q[-1] = -1.0
+    if power is None:
+        q[-1] = -1.0
+    else:
+        q[:-1] = np.column_stack(power).ravel()
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-10
@@ -570,7 +691,7 @@ def _solve_3d(unit, mu, rhs, load, limit):
     _check_conic(str(sol.status))
     x = np.asarray(sol.x)
     force = x[:-1].reshape(k, 3)
-    return force, np.asarray(sol.z)[:m - fixed], float(x[-1])
+    return force, np.asarray(sol.z)[:m - fixed], float(x[-1] if power is None else q @ x)
 
 
 def _check_status(status: int, message: str) -> None:

@@ -22,6 +22,12 @@ opened or all of its touching points lie on that line (an edge on a face) and th
 turned as above; a single loaded point is a pivot (a corner the joint turns about). Hinges are
 then reported as lines (Joint.hinge_line), centres of pressure and forces as 3D vectors.
 
+A disc or sphere touches a body at one point, and turning about it is what a grain does, not
+a hinge: contacts of round bodies are never hinges. Their joint rolls when its bodies turn
+relative to each other (relative spin times the round body's radius above the slide
+threshold) while the point does not slip, slides when it slips (as any joint), and sticks
+otherwise (Joint.rolling; Mechanism.rolling).
+
 In a wall, blocks named "<name> c<course>b<block>" (saxum.structures: walls, buttressed walls,
 a bridge's spandrels and fill) locate a joint by course: a head joint in course k (between two
 blocks of the course), a bed joint between courses k and k + 1, or course k against another
@@ -48,12 +54,13 @@ import numpy as np
 from .contacts import Contacts
 from .geometry3d import relative_quaternions, rotation_matrix, rotation_vectors
 from .laws import LawKind
-from .model import BodyKind, Model, body_vertices
+from .model import BodyKind, Model, Shape, body_vertices
 from .state import State
 
 __all__ = ["BOND_STATES", "CREEP", "Joint", "Mechanism", "bond_states", "course_of",
            "frame_contacts", "frame_mechanism", "hinge_lines", "joint_index", "joint_opening",
-           "joint_resultants", "joint_states", "mechanism", "thrust_line", "wall_frame"]
+           "joint_resultants", "joint_states", "mechanism", "round_pairs", "thrust_line",
+           "wall_frame"]
 
 CREEP = 1e-3
 """[1/s]: a slip (or a block) slower than this times the smallest block's size per second is
@@ -88,7 +95,8 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
     contacts: arrays candidate, antagonist [-], gap [m] and force [N/m] ((t, n) components;
     3D: point [m] and force [N], (t, n, s)), as from Results.contacts, and optionally
     opening [m] (joint_opening; without it every joint that touches at one point or along
-    one line only counts as turned). Every touching contact that is not a hinge is "closed",
+    one line only counts as turned), and optionally round (True where a body is a disc or
+    sphere: round_pairs; never a hinge). Every touching contact that is not a hinge is "closed",
     loaded or not (which points of a closed joint carry the load is not unique for rigid
     blocks, so an unloaded point is no sign of a mechanism)."""
     joint = joint_index(contacts["candidate"], contacts["antagonist"])
@@ -97,6 +105,8 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
     points = np.bincount(joint)[joint] if joint.size else joint
     opening = contacts.get("opening")
     rotated = np.ones(joint.size, dtype=bool) if opening is None else opening > gap_tolerance
+    if contacts.get("round") is not None:  # a grain turning about its point is no hinge
+        loaded &= ~contacts["round"]
     if contacts["force"].shape[1] == 2:
         turned = (np.bincount(joint, is_open)[joint] > 0) | ((points == 1) & rotated)
         return np.where(is_open, "open", np.where(loaded & turned, "hinge", "closed"))
@@ -110,6 +120,16 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
                      and (opened or (bool(rotated[rows].any())
                                      and _line_of(point[touching], gap_tolerance) is not None)))
     return np.where(is_open, "open", np.where(loaded & hinged[joint], "hinge", "closed"))
+
+
+def round_pairs(body_shape: np.ndarray | None, candidate: np.ndarray,
+                antagonist: np.ndarray) -> np.ndarray | None:
+    """Per contact, whether one of its bodies is a disc or sphere (Model.body_shape ROUND);
+    None without body_shape (a model or file without round bodies)."""
+    if body_shape is None:
+        return None
+    shape = np.asarray(body_shape)
+    return (shape[candidate] == Shape.ROUND) | (shape[antagonist] == Shape.ROUND)
 
 
 def joint_opening(body_q: np.ndarray, body_q0: np.ndarray, body_size: np.ndarray,
@@ -133,6 +153,7 @@ def frame_contacts(results, frame: int) -> dict:
     c = dict(results.contacts(frame))
     c["opening"] = joint_opening(results.body_q[frame], results.model["body_q0"],
                                  results.body_size, c["candidate"], c["antagonist"])
+    c["round"] = round_pairs(results.model.get("body_shape"), c["candidate"], c["antagonist"])
     return c
 
 
@@ -230,7 +251,8 @@ class Joint:
     bodies (one or two) and, in 2D, its position along the course [m] (the hinge point's,
     else the centre of pressure's); None elsewhere. 3D: hinge_line, the ends [m] of the line
     the joint turns about (the same point twice for a pivot). bond: the state of a cohesive
-    joint's bond (BOND_STATES: its most damaged point's), None for other laws."""
+    joint's bond (BOND_STATES: its most damaged point's), None for other laws. rolling: a
+    joint of a disc or sphere that rolls (module doc)."""
 
     bodies: tuple[str, str]
     hinge: bool
@@ -244,6 +266,7 @@ class Joint:
     along: float | None = None
     hinge_line: tuple[tuple[float, ...], tuple[float, ...]] | None = None
     bond: str | None = None
+    rolling: bool = False
 
     @property
     def location(self) -> str | None:
@@ -276,6 +299,10 @@ class Mechanism:
     def sliding(self) -> list[Joint]:
         return [j for j in self.joints if j.sliding]
 
+    @property
+    def rolling(self) -> list[Joint]:
+        return [j for j in self.joints if j.rolling]
+
     def hinge_angles(self, centre: tuple[float, float] = (0.0, 0.0)) -> list[float]:
         """Angles of the hinge points from the crown [deg] (from the vertical through
         `centre` [m], the arch's centre), sorted; in 3D in the arch's plane (x, z)."""
@@ -300,6 +327,9 @@ class Mechanism:
             where = f": {j.location}" if j.location else ""
             lines.append(f"sliding joint between {j.bodies[0]} and {j.bodies[1]} "
                          f"(slip {j.slip:.3g} m/s){where}")
+        if self.rolling:
+            lines.append("rolling contacts (discs, spheres): " + "; ".join(
+                f"{j.bodies[0]} | {j.bodies[1]}" for j in self.rolling))
         opened = [j for j in self.joints if j.open]
         if opened:
             lines.append("open joints: " + "; ".join(f"{a} | {b}" for a, b in
@@ -353,7 +383,8 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     contacts = {"candidate": cand, "antagonist": ant, "point": point, "frame": frame,
                 "gap": gap, "force": force,
                 "opening": joint_opening(state.body_q, model.body_q0, model.body_size, cand,
-                                         ant)}
+                                         ant),
+                "round": round_pairs(getattr(model, "body_shape", None), cand, ant)}
     labels = joint_states(contacts, gap_tol)
     law_kind = getattr(model, "law_kind", None)
     bonds = (bond_states(c.law[:k], c.damage[:k], c.history[:k], law_kind)
@@ -368,7 +399,15 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
     speed = float(np.abs(v[:, :d]).max(initial=0.0) + (spin * model.body_radius).max(
         initial=0.0))
     touching = (labels != "open") & (force[:, 1] > 0.0)
-    slides = touching & (slip > max(slip_fraction * speed, CREEP * size))
+    slide_speed = max(slip_fraction * speed, CREEP * size)
+    slides = touching & (slip > slide_speed)
+    rolls = np.zeros(k, dtype=bool)
+    if contacts["round"] is not None:  # relative spin times the round body's radius
+        radius = np.maximum(model.body_round_radius[cand], model.body_round_radius[ant])
+        w = v[:, d:] if d == 2 else np.einsum("bij,bj->bi", rotation_matrix(q[:, 3:]),
+                                               v[:, d:])
+        turning = np.linalg.norm(w[cand] - w[ant], axis=1) * radius
+        rolls = touching & contacts["round"] & ~slides & (turning > slide_speed)
     pairs, cop, resultant = joint_resultants(contacts, gap_tol)
     joint = joint_index(cand, ant)
     names = model.body_name
@@ -400,6 +439,7 @@ def mechanism(model: Model, state: State, dt: float, *, gap_tolerance: float | N
                    if coursed and d == 2 else None),
             hinge_line=line,
             bond=next((s for s in reversed(BOND_STATES) if (bonds[rows] == s).any()), None),
+            rolling=bool(rolls[rows].any()),
         ))
     moving = [names[i] for i in np.flatnonzero(free & (moved > moved_by))]
     return Mechanism(joints, moving, moved_by)
@@ -433,6 +473,8 @@ class _Bodies(NamedTuple):
     body_vertex_start: np.ndarray
     vertex_local: np.ndarray
     law_kind: np.ndarray
+    body_shape: np.ndarray | None
+    body_round_radius: np.ndarray | None
 
     def vertices(self, b: int) -> np.ndarray:
         """Initial world vertices [m] of body b, as Model.vertices."""
@@ -449,7 +491,7 @@ def frame_mechanism(results, frame: int, *, contacts: dict | None = None,
     m = results.model
     bodies = _Bodies(m["body_kind"], m["body_q0"], results.body_size, results.body_radius,
                      results.body_name, results.dim, m["body_vertex_start"], m["vertex_local"],
-                     m["law_kind"])
+                     m["law_kind"], m.get("body_shape"), m.get("body_round_radius"))
     stored = results.contacts(k) if contacts is None else contacts
     contacts = Contacts(results.dim, max(1, stored["gap"].size))
     contacts.count = stored["gap"].size

@@ -29,6 +29,7 @@ from .fe.material import Elastic
 from .geometry2d import normalize_polygon, polygon_properties
 from .geometry3d import (
     Polyhedron,
+    PolyhedronProperties,
     convex_polyhedron,
     polyhedron_properties,
     quaternion_from_matrix,
@@ -36,7 +37,7 @@ from .geometry3d import (
 )
 from .laws import ContactLaw, NoContact, Parameter
 
-__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder"]
+__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder", "Shape"]
 
 DENSITY_RANGE = (1.0, 1.0e5)
 """Densities a free block may have [kg/m^3]: masonry is 1000-3000 and the densest metal
@@ -74,6 +75,16 @@ class BodyKind(IntEnum):
     FIXED = 1
     DRIVEN = 2
     DEFORMABLE = 3
+
+
+class Shape(IntEnum):
+    """What the narrow phase takes a body's geometry to be: POLYGON (a convex polygon, in 3D a
+    convex polyhedron: its vertices, edges and faces) or ROUND (a disc, in 3D a sphere, of
+    radius Model.body_round_radius about its centre of mass; its vertices are the corners of
+    its bounding square (cube), which only the broad phase and plots of polygons read)."""
+
+    POLYGON = 0
+    ROUND = 1
 
 
 @dataclass(frozen=True)
@@ -161,10 +172,21 @@ class Model:
     from outside), indices into the face arrays, shape [edge_count, 2], int32."""
     fe: "FEBodies | None" = None
     """The deformable blocks' meshes and matrices (saxum.bodies.fe), None if there are none."""
+    body_shape: np.ndarray | None = None
+    """Shape per body (POLYGON or ROUND), shape [body_count], int8 (default: all POLYGON)."""
+    body_round_radius: np.ndarray | None = None
+    """Radius of a ROUND body [m] (0 for polygons), shape [body_count], float64."""
     max_vertices: int = field(init=False)
+    has_round: bool = field(init=False)
+    """Some body is a disc (sphere): detection runs the round pairs' kernels."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "max_vertices", int(np.diff(self.body_vertex_start).max()))
+        if self.body_shape is None:
+            object.__setattr__(self, "body_shape", np.zeros(self.body_count, dtype=np.int8))
+        if self.body_round_radius is None:
+            object.__setattr__(self, "body_round_radius", np.zeros(self.body_count))
+        object.__setattr__(self, "has_round", bool((self.body_shape == Shape.ROUND).any()))
 
     def body(self, name: str) -> int:
         """Index of the body called `name`."""
@@ -191,6 +213,71 @@ def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
                             y + s * local[:, 0] + c * local[:, 1]))
 
 
+def drawn_outlines(vertex_start: np.ndarray, vertex_local: np.ndarray,
+                   round_radius: np.ndarray | None, sides: int = 48
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(vertex_start, vertex_local [m]) of the polygons that draw 2D bodies (plots, VTK): a
+    disc's (round_radius > 0, as Model.body_round_radius; None: no discs) bounding square is
+    replaced by the regular polygon of `sides` sides inscribed in its circle."""
+    if round_radius is None or not (round_radius > 0.0).any():
+        return vertex_start, vertex_local
+    turn = 2.0 * np.pi * np.arange(sides) / sides
+    circle = np.column_stack((np.cos(turn), np.sin(turn)))
+    rings = [circle * r if r > 0.0 else vertex_local[vertex_start[b]:vertex_start[b + 1]]
+             for b, r in enumerate(round_radius)]
+    start = np.zeros(len(rings) + 1, dtype=vertex_start.dtype)
+    start[1:] = np.cumsum([len(ring) for ring in rings])
+    return start, np.concatenate(rings)
+
+
+def drawn_polyhedra(m) -> dict[str, np.ndarray]:
+    """The 3D geometry that draws bodies (plots, VTK, viewer) from a mapping m of the Model's
+    arrays (a results file's /model): body_vertex_start, vertex_local [m], body_face_start,
+    face_vertex_start, face_vertex, each sphere's (m["body_round_radius"] > 0) bounding cube
+    replaced by a polyhedron inscribed in it (8 rings of 16 vertices and the poles)."""
+    keys = ("body_vertex_start", "vertex_local", "body_face_start", "face_vertex_start",
+            "face_vertex")
+    radius = m.get("body_round_radius")
+    if radius is None or not (radius > 0.0).any():
+        return {k: m[k] for k in keys}
+    rings, around = 8, 16
+    polar = np.pi * np.arange(1, rings + 1) / (rings + 1)
+    turn = 2.0 * np.pi * np.arange(around) / around
+    sin = np.sin(polar)
+    unit = np.concatenate([[[0.0, 0.0, 1.0]], np.column_stack((
+        np.outer(sin, np.cos(turn)).ravel(), np.outer(sin, np.sin(turn)).ravel(),
+        np.repeat(np.cos(polar), around))), [[0.0, 0.0, -1.0]]])
+
+    def ring(r: int, k: int) -> int:
+        """Index in unit of vertex k of ring r (from the north pole, 0)."""
+        return 1 + r * around + k % around
+
+    south = len(unit) - 1
+    # faces counter-clockwise seen from outside: caps of triangles, bands of quads
+    unit_faces = ([[0, ring(0, k), ring(0, k + 1)] for k in range(around)]
+                  + [[ring(r, k), ring(r + 1, k), ring(r + 1, k + 1), ring(r, k + 1)]
+                     for r in range(rings - 1) for k in range(around)]
+                  + [[south, ring(rings - 1, k + 1), ring(rings - 1, k)] for k in range(around)])
+    vs, fs, fvs = m["body_vertex_start"], m["body_face_start"], m["face_vertex_start"]
+    local, rings_of = [], []
+    for b, r in enumerate(radius):
+        if r > 0.0:
+            local.append(unit * r)
+            rings_of.append([np.array(f) for f in unit_faces])
+        else:
+            local.append(m["vertex_local"][vs[b]:vs[b + 1]])
+            rings_of.append([m["face_vertex"][fvs[f]:fvs[f + 1]] - vs[b]
+                             for f in range(fs[b], fs[b + 1])])
+    vertex_start = np.concatenate([[0], np.cumsum([len(v) for v in local])]).astype(np.int32)
+    faces = [f + vertex_start[b] for b, body in enumerate(rings_of) for f in body]
+    return {"body_vertex_start": vertex_start, "vertex_local": np.concatenate(local),
+            "body_face_start": np.concatenate([[0], np.cumsum([len(f) for f in rings_of])]
+                                              ).astype(np.int32),
+            "face_vertex_start": np.concatenate([[0], np.cumsum([len(f) for f in faces])]
+                                                ).astype(np.int32),
+            "face_vertex": np.concatenate(faces).astype(np.int32)}
+
+
 @dataclass
 class _Block:
     name: str
@@ -201,6 +288,8 @@ class _Block:
     motion: Motion | None
     material: Elastic | None = None
     mesh_size: float | None = None
+    round_radius: float = 0.0
+    """> 0: a disc (sphere) of this radius [m] whose vertices are its bounding square (cube)."""
 
 
 class ModelBuilder:
@@ -310,6 +399,89 @@ class ModelBuilder:
                                    mesh_size))
         return index
 
+    def add_disc(self, centre: Sequence[float], radius: float, *, density: float = 0.0,
+                 group: str = "block", kind: BodyKind = BodyKind.FREE,
+                 motion: Motion | None = None, name: str | None = None) -> int:
+        """Add a disc (2D) of `radius` [m] centred at (x, y) [m]; returns its body index.
+        Mass rho pi r^2 [kg per metre of depth], polar moment m r^2 / 2 [kg m^2]; density,
+        group, kind, motion, name as in add_block. Discs touch polygons and discs with the
+        laws of their groups, one contact point per pair (saxum.detection.round)."""
+        return self._add_round(centre, radius, 2, "add_disc", density=density, group=group,
+                               kind=kind, motion=motion, name=name)
+
+    def add_sphere(self, centre: Sequence[float], radius: float, *, density: float = 0.0,
+                   group: str = "block", kind: BodyKind = BodyKind.FREE,
+                   motion: Motion | None = None, name: str | None = None) -> int:
+        """Add a sphere (3D) of `radius` [m] centred at (x, y, z) [m]; returns its body index.
+        Mass rho 4/3 pi r^3 [kg], principal moments 2/5 m r^2 [kg m^2]; the other arguments as
+        in add_block (add_disc)."""
+        return self._add_round(centre, radius, 3, "add_sphere", density=density, group=group,
+                               kind=kind, motion=motion, name=name)
+
+    def add_plane(self, point: Sequence[float], normal: Sequence[float],
+                  half_size: float | Sequence[float], *, thickness: float | None = None,
+                  group: str = "ground", kind: BodyKind = BodyKind.FIXED,
+                  motion: Motion | None = None, name: str | None = None) -> int:
+        """Add a ground plane (LMGC90's JONCx in 2D, PLANx in 3D) as a slab: a FIXED (or
+        DRIVEN) block whose face through `point` [m] has the outward `normal` (any length),
+        half_size [m] its half length along the face (3D: (a, b), its half sizes along t1 =
+        the world axis least along n made normal to n, and t2 = n x t1), `thickness` [m]
+        behind the face (default: the smaller half size / 10). Returns its body index; it
+        meets blocks, discs and spheres as any block does."""
+        name = name if name is not None else f"block {len(self._blocks)}"
+        kind = BodyKind(kind)
+        if kind == BodyKind.FREE or kind == BodyKind.DEFORMABLE:
+            raise InputError(f"{name}: a plane is a support, FIXED or DRIVEN, not {kind.name}")
+        n = np.asarray(normal, dtype=np.float64)
+        half = np.atleast_1d(np.asarray(half_size, dtype=np.float64))
+        p = np.asarray(point, dtype=np.float64)
+        length = float(np.linalg.norm(n)) if n.shape == (self.dim,) else 0.0
+        if not (math.isfinite(length) and length > 0.0) or p.shape != (self.dim,) \
+                or not np.all(np.isfinite(p)):
+            raise InputError(f"{name}: a plane needs a point and a non-zero normal of "
+                             f"{self.dim} finite coordinates each, got point {plain(point)}, "
+                             f"normal {plain(normal)}")
+        if half.shape != (self.dim - 1,) or not np.all(np.isfinite(half) & (half > 0.0)):
+            raise InputError(f"{name}: half_size must be {self.dim - 1} length(s) > 0 [m] "
+                             f"along the plane, got {plain(half_size)}")
+        t = 0.1 * float(half.min()) if thickness is None else float(thickness)
+        if not (math.isfinite(t) and t > 0.0):
+            raise InputError(f"{name}: thickness must be a length > 0 [m], got {thickness}")
+        n = n / length
+        axis = np.eye(self.dim)[int(np.argmin(np.abs(n)))]
+        t1 = axis - (axis @ n) * n
+        t1 /= np.linalg.norm(t1)
+        if self.dim == 2:
+            corners = [p + s * half[0] * t1 - d * n for s, d in ((-1, 0), (1, 0), (1, t),
+                                                                 (-1, t))]
+        else:
+            t2 = np.cross(n, t1)
+            corners = [p + a * half[0] * t1 + b * half[1] * t2 - d * n
+                       for a in (-1, 1) for b in (-1, 1) for d in (0.0, t)]
+        return self.add_block(corners, group=group, kind=kind, motion=motion, name=name)
+
+    def _add_round(self, centre, radius, dim: int, call: str, **block) -> int:
+        """A disc (dim 2) or sphere (dim 3) as a block whose vertices are its bounding square
+        (cube) and whose round_radius is `radius`."""
+        name = block["name"] if block["name"] is not None else f"block {len(self._blocks)}"
+        if self.dim != dim:
+            other = "add_sphere" if dim == 2 else "add_disc"
+            raise InputError(f"{name}: {call} is for {dim}D models; this one is {self.dim}D "
+                             f"(use {other})")
+        c = np.asarray(centre, dtype=np.float64)
+        if c.shape != (dim,) or not np.all(np.isfinite(c)):
+            raise InputError(f"{name}: the centre must be {dim} finite coordinates [m], got "
+                             f"{plain(centre)}")
+        r = float(radius)
+        if not (math.isfinite(r) and r > 0.0):
+            raise InputError(f"{name}: the radius must be a finite length > 0 [m], got "
+                             f"{plain(radius)}")
+        square = [(-r, -r), (r, -r), (r, r), (-r, r)]
+        corners = np.array(square if dim == 2 else [(x, y, z) for x, y in square for z in (-r, r)])
+        index = self.add_block(c + corners, **{**block, "name": name})
+        self._blocks[index].round_radius = r
+        return index
+
     def set_material(self, group: str, material: Elastic, mesh_size: float | None = None) -> int:
         """Make every free block of `group` deformable: a finite-element mesh of elements of
         about mesh_size [m] (default as in add_block) of `material` (saxum.fe.Elastic), whose
@@ -323,6 +495,10 @@ class ModelBuilder:
         changed = 0
         for block in self._blocks:
             if block.group == group and block.kind in (BodyKind.FREE, BodyKind.DEFORMABLE):
+                if block.round_radius > 0.0:
+                    raise InputError(f"materials: group {group!r} has the disc (sphere) "
+                                     f"{block.name!r}, which cannot be deformable; put it in "
+                                     "another group")
                 block.kind, block.density = BodyKind.DEFORMABLE, material.density
                 block.material, block.mesh_size = material, mesh_size
                 changed += 1
@@ -441,6 +617,9 @@ class ModelBuilder:
             dim=self.dim,
             dof=dof,
             fe=self._deformable(),
+            body_shape=np.array([Shape.ROUND if blk.round_radius > 0.0 else Shape.POLYGON
+                                 for blk in self._blocks], dtype=np.int8),
+            body_round_radius=np.array([blk.round_radius for blk in self._blocks]),
             **geometry,
         )
         for load in model.field_loads:
@@ -475,6 +654,11 @@ class ModelBuilder:
             local.append(rel)
             radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
             size[b] = math.sqrt(props.area)
+            if blk.round_radius > 0.0:  # a disc inside its bounding square rel
+                r = blk.round_radius
+                mass[b] = blk.density * math.pi * r * r
+                inertia[b] = 0.5 * mass[b] * r * r
+                size[b] = math.sqrt(math.pi) * r
             starts[b + 1] = starts[b] + len(rel)
         vertex_local = np.ascontiguousarray(np.concatenate(local))
         following = np.concatenate([np.roll(rel, -1, axis=0) for rel in local]) - vertex_local
@@ -496,6 +680,11 @@ class ModelBuilder:
         for b, blk in enumerate(self._blocks):
             poly = blk.vertices
             props = polyhedron_properties(poly)
+            if blk.round_radius > 0.0:  # a sphere inside its bounding cube, axes the world's
+                r = blk.round_radius
+                volume = 4.0 / 3.0 * math.pi * r**3
+                props = PolyhedronProperties(volume, props.centroid,
+                                             np.full(3, 0.4 * volume * r * r), np.eye(3))
             mass[b] = blk.density * props.volume
             inertia[b] = blk.density * props.moments
             q0[b, :3] = props.centroid

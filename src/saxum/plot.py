@@ -46,9 +46,10 @@ from .mechanism import (
     joint_states,
     thrust_line,
 )
-from .model import BodyKind, Model
+from .model import BodyKind, Model, drawn_outlines
 from .plot3d import frames_3d, plot_frame_3d
 from .plot_common import (
+    BOND_COLOURS,
     LOAD_COLOUR,
     REST,
     length_unit,
@@ -72,7 +73,6 @@ _MARKS = {  # joint_states label: marker style (white circle: the usual symbol o
 _SLIDE = dict(marker="D", markersize=5.5, markerfacecolor="#7b2cbf", markeredgecolor="k",
               markeredgewidth=0.6)
 _COLOUR_BY = ("displacement", "rotation", None)
-_BOND_COLOURS = dict(zip(BOND_STATES, ("#1a9850", "#e6ab02", "#000000"), strict=True))
 
 
 # -- geometry -------------------------------------------------------------------------------
@@ -109,11 +109,13 @@ class _Blocks(NamedTuple):
 
 def _results_blocks(results) -> _Blocks:
     m = results.model
-    return _Blocks(m["body_vertex_start"], m["vertex_local"], m["body_kind"], m["body_q0"])
+    return _Blocks(*drawn_outlines(m["body_vertex_start"], m["vertex_local"],
+                                   m.get("body_round_radius")), m["body_kind"], m["body_q0"])
 
 
 def _model_blocks(model: Model) -> _Blocks:
-    return _Blocks(model.body_vertex_start, model.vertex_local, model.body_kind, model.body_q0)
+    return _Blocks(*drawn_outlines(model.body_vertex_start, model.vertex_local,
+                                   model.body_round_radius), model.body_kind, model.body_q0)
 
 
 # -- units ----------------------------------------------------------------------------------
@@ -320,9 +322,9 @@ def _draw_bonds(ax, contacts: dict, law_kind: np.ndarray) -> list:
             continue
         p = contacts["point"][rows]
         ends = np.stack((p + a[rows, None] * t[rows], p + b[rows, None] * t[rows]), axis=1)
-        ax.add_collection(LineCollection(ends, linewidths=3, colors=_BOND_COLOURS[label],
+        ax.add_collection(LineCollection(ends, linewidths=3, colors=BOND_COLOURS[label],
                                          capstyle="butt", zorder=3.5))
-        handles.append(Line2D([], [], color=_BOND_COLOURS[label], lw=3, solid_capstyle="butt",
+        handles.append(Line2D([], [], color=BOND_COLOURS[label], lw=3, solid_capstyle="butt",
                               label=f"{label} bond ({rows.sum()})"))
     return handles
 
@@ -812,8 +814,8 @@ def plot_limit(result, path: str | PathLike | None = None, *, title: str = "",
                            zorder=6, label="thrust line at collapse")
     _draw_courses(ax, model.body_name, blocks)
     _legend(ax, handles, False)
-    _finish_axes(ax, look, f"{title + ': ' if title else ''}limit load factor "
-                           f"{result.factor:.5g}, mechanism (virtual displacement, scaled)")
+    _finish_axes(ax, look, f"{title + ': ' if title else ''}{result.heading()}, mechanism "
+                           "(virtual displacement, scaled)")
     if path is not None:
         ax.figure.savefig(path, dpi=dpi)
     return ax.figure

@@ -8,8 +8,11 @@ displacement written instead of a colour scale), and the contact points carrying
 drawn on top as red dots whose area is proportional to the normal force (the scale in the
 legend). Hinges (saxum.mechanism: joints whose loaded points lie on a line while the rest has
 opened) are drawn as thick black lines along the edge they turn about, open contact points as
-orange crosses, a scenario's point loads as green arrows onto their blocks' centres of mass
-and, with a mechanism, its sliding joints as purple diamonds at their centres of pressure.
+orange crosses, the points of cohesive joints (mortar) as squares coloured by their bond
+(intact, damaged, cracked: saxum.mechanism.bond_states; as saxum.plot's strokes) whose area
+is proportional to the share of the joint each stands for, a scenario's point loads as green
+arrows onto their blocks' centres of mass and, with a mechanism, its sliding joints as purple
+diamonds at their centres of pressure.
 Flood water (saxum.flood) is its surface at the frame's time, translucent, drawn over the
 faces under water (their centre below the surface: the ground, the submerged blocks) and
 under those above it, with the flow's direction and speed. An animation keeps the axes,
@@ -29,11 +32,20 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from .errors import InputError
 from .fe.mesh import boundary_facets
-from .geometry3d import world_points
-from .mechanism import Mechanism, frame_contacts, hinge_lines, joint_states
-from .model import BodyKind
+from .geometry3d import relative_quaternions, world_points
+from .mechanism import (
+    BOND_STATES,
+    Mechanism,
+    bond_states,
+    frame_contacts,
+    hinge_lines,
+    joint_states,
+)
+from .model import BodyKind, drawn_polyhedra
 from .plot_common import (
+    BOND_COLOURS,
     LOAD_COLOUR,
     REST,
     length_unit,
@@ -44,9 +56,10 @@ from .plot_common import (
     results_point_loads,
 )
 
-__all__ = ["frames_3d", "plot_frame_3d"]
+__all__ = ["frames_3d", "plot_frame_3d", "plot_limit_3d"]
 
 _DOT = 40.0  # area [pt^2] of the dot of the largest normal force
+_BOND = 30.0  # area [pt^2] of the square of the largest bonded point
 
 
 @dataclass(frozen=True)
@@ -69,7 +82,8 @@ class _Look3d:
 
 def _look_3d(results, ks) -> _Look3d:
     m = results.model
-    start, local = m["body_vertex_start"], m["vertex_local"]
+    g = drawn_polyhedra(m)
+    start, local = g["body_vertex_start"], g["vertex_local"]
     q = results.body_q[ks]
     owner = np.repeat(np.arange(q.shape[1]), np.diff(start))
     free = m["body_kind"] == BodyKind.FREE
@@ -102,9 +116,10 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     m = results.model
     q = results.body_q[k]
     free = m["body_kind"] == BodyKind.FREE
-    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
-    fvs, fv = m["face_vertex_start"], m["face_vertex"]
-    owner = np.repeat(np.arange(len(q)), np.diff(m["body_face_start"]))
+    g = drawn_polyhedra(m)
+    points = world_points(q, g["body_vertex_start"], g["vertex_local"])
+    fvs, fv = g["face_vertex_start"], g["face_vertex"]
+    owner = np.repeat(np.arange(len(q)), np.diff(g["body_face_start"]))
     hidden = look.floor | (meshes & (m["body_kind"] == BodyKind.DEFORMABLE))
     keep = np.flatnonzero(~hidden[owner])
     faces = [points[fv[fvs[f]:fvs[f + 1]]] for f in keep]
@@ -120,7 +135,7 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
         ax.add_collection3d(Poly3DCollection([[(x0, y0, z), (x1, y0, z), (x1, y1, z),
                                                (x0, y1, z)]], facecolors="0.92",
                                              edgecolors="0.6", zorder=0))
-    shown = points[free[np.repeat(np.arange(len(q)), np.diff(m["body_vertex_start"]))]]
+    shown = points[free[np.repeat(np.arange(len(q)), np.diff(g["body_vertex_start"]))]]
     shown = shown if len(shown) else points
     t = float(results.time[k])
     floods = results_floods(results)
@@ -141,20 +156,27 @@ def _draw_frame_3d(ax, results, k: int, look: _Look3d, forces: bool, title: str,
     if meshes:
         _draw_elements_3d(ax, results, k)
     handles = _draw_point_loads(ax, results_point_loads(results), q, look)
+    contacts = frame_contacts(results, k)
+    handles = _draw_bonds(ax, contacts, m["law_kind"]) + handles
     if forces:
-        handles = _draw_contacts(ax, frame_contacts(results, k), look, mechanism) + handles
+        handles = _draw_contacts(ax, contacts, look, mechanism) + handles
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="upper left",
                   title="normal force" if forces and look.force_full > 0.0 else None,
                   title_fontsize=8)
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), c0, strict=True):
+    _cube(ax, c0, half)
+    ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
+                 fontsize=10, wrap=True)
+
+
+def _cube(ax, centre: np.ndarray, half: float) -> None:
+    """Axes limits: the cube of side 2 half [m] about centre [m], equal scales, labels."""
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
         setter(c - half, c + half)
     ax.set_box_aspect((1.0, 1.0, 1.0))
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
-    ax.set_title(f"{title}: t = {results.time[k]:.3f} s (step {results.step[k]})",
-                 fontsize=10, wrap=True)
 
 
 def _draw_elements_3d(ax, results, k: int) -> None:
@@ -191,17 +213,49 @@ def _draw_contacts(ax, c: dict, look: _Look3d, mechanism: Mechanism | None) -> l
     if len(opened):
         handles += ax.plot(*opened.T, ls="none", marker="x", markersize=4, color="#e07b00",
                            zorder=5, label=f"open ({len(opened)})")
-    lines = hinge_lines(c, look.gap_tolerance)
+    return handles + _draw_hinges(ax, hinge_lines(c, look.gap_tolerance),
+                                  [] if mechanism is None else mechanism.sliding)
+
+
+def _draw_hinges(ax, lines: list, sliding: list) -> list:
+    """Hinge lines ((end, end) pairs [m]; a point where the ends coincide) thick black, and
+    the sliding joints (saxum.mechanism.Joint) as purple diamonds at their centres of
+    pressure; returns the legend handles."""
+    handles = []
     for i, (a, b) in enumerate(lines):
         drawn = ax.plot(*np.array([a, b]).T, color="k", lw=3.0, solid_capstyle="round",
                         zorder=6, marker="o" if np.array_equal(a, b) else None, markersize=5,
                         label=f"hinges ({len(lines)})")
         handles += drawn if i == 0 else []
-    if mechanism is not None and mechanism.sliding:
-        cop = np.array([j.centre_of_pressure for j in mechanism.sliding])
+    if sliding:
+        cop = np.array([j.centre_of_pressure for j in sliding])
         handles += ax.plot(*cop.T, ls="none", marker="D", markersize=5.5,
                            markerfacecolor="#7b2cbf", markeredgecolor="k", markeredgewidth=0.6,
                            zorder=7, label=f"sliding ({len(cop)})")
+    return handles
+
+
+def _draw_bonds(ax, c: dict, law_kind: np.ndarray) -> list:
+    """The points of cohesive joints as squares coloured by their bond (module doc), if the
+    contacts have a damage field (files from before the joint laws do not); returns their
+    legend handles."""
+    if any(name not in c for name in ("damage", "history", "area")):
+        return []
+    state = bond_states(c["law"], c["damage"], c["history"], law_kind)
+    bonded = state != ""
+    if not bonded.any():
+        return []
+    size = _BOND * c["area"] / c["area"][bonded].max()
+    handles = []
+    for label in BOND_STATES:
+        rows = state == label
+        if not rows.any():
+            continue
+        ax.scatter(*c["point"][rows].T, s=size[rows], marker="s", color=BOND_COLOURS[label],
+                   depthshade=False, zorder=3.5)
+        handles.append(Line2D([], [], ls="none", marker="s", color=BOND_COLOURS[label],
+                              markersize=np.sqrt(0.5 * _BOND),
+                              label=f"{label} bond ({rows.sum()})"))
     return handles
 
 
@@ -284,3 +338,67 @@ def frames_3d(results, ks, *, forces: bool = True,
         ax.clear()
         _draw_frame_3d(ax, results, k, look, forces, heading)
     return fig, draw
+
+
+def plot_limit_3d(result, path: str | PathLike | None = None, *, title: str = "",
+                  dpi: int = 150, figsize: tuple[float, float] | None = None) -> Figure:
+    """The mechanism of a 3D limit analysis (saxum.limit.LimitAnalysis), as plot.plot_limit
+    draws a 2D one: every block moved rigidly by its virtual velocity (translation and the
+    rotation vector omega, world frame) times a scale that moves the fastest block point by
+    5 % of the structure's extent, the moving blocks filled by their speed (centre of mass
+    [m/s], the fastest block point at 1 m/s), the still ones sandstone, supports grey (a
+    support much larger than the structure left out), the hinge lines thick black, the
+    sliding joints purple diamonds at their centres of pressure. Saved to `path` at dpi
+    when given."""
+    model = result.model
+    if model.dim != 3:
+        raise InputError("plot_limit_3d draws 3D mechanisms; plot.plot_limit draws 2D ones")
+    start, local = model.body_vertex_start, model.vertex_local
+    owner = np.repeat(np.arange(model.body_count), np.diff(start))
+    free = model.body_kind == BodyKind.FREE
+    initial = world_points(model.body_q0, start, local)
+    span = np.ptp(initial[free[owner]], axis=0)
+    scale = 0.05 * float(span.max())
+    turn = scale * result.velocity[:, 3:]
+    angle = np.linalg.norm(turn, axis=1, keepdims=True)
+    axis = np.divide(turn, angle, out=np.zeros_like(turn), where=angle > 0.0)
+    dq = np.hstack((np.cos(0.5 * angle), np.sin(0.5 * angle) * axis))
+    q = model.body_q0.copy()
+    q[:, :3] += scale * result.velocity[:, :3]
+    q0_inverse = model.body_q0[:, 3:] * np.array([1.0, -1.0, -1.0, -1.0])
+    q[:, 3:] = relative_quaternions(dq, q0_inverse)  # dq q0: turned by dq in the world
+    points = world_points(q, start, local)
+    extent = np.array([np.ptp(initial[owner == b], axis=0).max()
+                       for b in range(model.body_count)])
+    shown = free | (extent <= 2.0 * float(span.max()))
+    fvs, fv = model.face_vertex_start, model.face_vertex
+    face_owner = np.repeat(np.arange(model.body_count), np.diff(model.body_face_start))
+    keep = np.flatnonzero(shown[face_owner])
+    speed = np.linalg.norm(result.velocity[:, :3], axis=1)
+    mappable = ScalarMappable(Normalize(0.0, max(float(speed.max()), 1e-12)), "viridis")
+    moving = np.isin(np.array(model.body_name), result.mechanism.moving)
+    colours = np.where((free & moving)[face_owner[keep], None],
+                       mappable.to_rgba(speed[face_owner[keep]]),
+                       np.where(free[face_owner[keep], None], (0.89, 0.835, 0.72, 1.0),
+                                (0.85, 0.85, 0.85, 1.0)))
+    fig = Figure(figsize=figsize or (9.0, 7.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    ax.computed_zorder = False  # hinges and sliding joints stay on top of the faces
+    ax.add_collection3d(Poly3DCollection([points[fv[fvs[f]:fvs[f + 1]]] for f in keep],
+                                         facecolors=colours, edgecolors="0.25",
+                                         linewidths=0.3, zorder=1))
+    fig.colorbar(mappable, ax=ax, shrink=0.6, label="virtual speed [m/s]")
+    # the hinges of the initial configuration: the mechanism's first instant
+    mech = result.mechanism
+    handles = _draw_hinges(ax, [j.hinge_line or (j.hinge_point,) * 2 for j in mech.hinges],
+                           mech.sliding)
+    if handles:
+        ax.legend(handles=handles, fontsize=8, loc="upper left")
+    every = np.concatenate((points[shown[owner]], initial[free[owner]]))
+    lo, hi = every.min(axis=0), every.max(axis=0)
+    _cube(ax, 0.5 * (lo + hi), 0.55 * float((hi - lo).max()))
+    ax.set_title(f"{title + ': ' if title else ''}{result.heading()}, mechanism (virtual "
+                 "displacement, scaled)", fontsize=10, wrap=True)
+    if path is not None:
+        fig.savefig(path, dpi=dpi)
+    return fig

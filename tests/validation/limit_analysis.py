@@ -151,10 +151,11 @@ def semicircular_four_hinge(radius: float, thickness: float, voussoirs: int):
 
 
 def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3) -> sx.Simulation:
-    """A simulation of `model` with a constant horizontal inertial load factor * g on every
-    free block."""
-    g = float(np.hypot(*model.gravity))
-    loaded = dataclasses.replace(model, accelerations=((lambda t: (factor * g, 0.0)),))
+    """A simulation of `model` (2D or 3D) with a constant horizontal inertial load
+    factor * g along x on every free block."""
+    g = float(np.linalg.norm(model.gravity))
+    along = (factor * g, *(0.0,) * (model.dim - 1))
+    loaded = dataclasses.replace(model, accelerations=((lambda t: along),))
     return sx.Simulation(loaded, dt=dt)
 
 

@@ -7,34 +7,32 @@ stresses, energies) are saxum.fe's (FEBlocks). What is specific to the contact d
 here: the model's side (FEBodies: meshes, candidates, contact areas), the step's stages for
 the loop (FEKind), and the contact rows of an FE side:
 
-    U = F v_node - ...   (rows of H* on the node: the contact frame F),
-    W_aa += F R G_pp R^T F^T,   v_q += R G_qp R^T F^T dR   (G = M~^-1 in the frame, q in the
-    block), [Jean99, sec. 5; design section 3].
+    U = F sum_p w_p v_p               (rows of H* on the side's nodes: the contact frame F),
+    W_aa += F (sum_pq w_p w_q R G_pq R^T) F^T,   v_q += R G_qp R^T (w_p F^T dR)
+    (G = M~^-1 in the block's frame, q every node of the block) [M. Jean, CMAME 177 (1999)
+    235-257, sec. 5; design-deformable-and-joints.md section 3].
 Candidates are boundary nodes (saxum.detection.fe_nodes, .fe_nodes3d), antagonists rigid
-blocks' edges (3D: faces) and other deformable blocks' boundary facets. The 2D kernels here
-are written out for 2 x 2 blocks; saxum.bodies.fe3d has them for any dimension (used in 3D).
+blocks' edges (3D: faces) and other deformable blocks' boundary facets. The kernels of the
+contact rows are one for both dimensions (d from the arrays' shapes).
 """
 
 from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import InputError
-from ..fe.blocks import FEBlocks
+from ..fe.blocks import FEBlocks, _add_node_velocity, compliance_block, congruence
 from ..fe.material import Elastic
 from ..fe.mesh import Mesh, mesh_polygon
 from ..geometry3d import Polyhedron
-from .fe3d import (
-    fe_contact_rows_nd,
-    fe_end_gaps_nd,
-    frame_quaternions,
-    mesh_polyhedra,
-    principal_axes,
-)
+from ..laws import LawKind
+from .fe3d import frame_quaternions, mesh_polyhedra, principal_axes
 
-__all__ = ["FEBodies", "FEKind", "build_fe_bodies", "stored_blocks"]
+__all__ = ["FEBodies", "FEKind", "build_fe_bodies", "fe_contact_rows", "fe_end_gaps",
+           "fe_restitution", "side_push", "side_velocity", "stored_blocks"]
+
+_RESTITUTION = int(LawKind.RESTITUTION_COULOMB)
 
 
 @dataclass(frozen=True)
@@ -153,6 +151,8 @@ class FEKind:
 
     def __init__(self, fe: FEBodies, h: float, theta: float,
                  body_q0: np.ndarray | None = None) -> None:
+        import scipy.sparse as sp  # ~0.3 s: imported by the runs that have FE blocks
+
         self.model = fe
         self.blocks = FEBlocks.build(list(fe.meshes), list(fe.materials), h, theta)
         b = self.blocks
@@ -173,12 +173,13 @@ class FEKind:
         self.axes0 = None if d == 2 else principal_axes(body_q0[fe.body])
         """3D: the principal axes of each block's body row at the start [n_fe, 3, 3] (the
         body frame that the co-rotated frame turns: saxum.bodies.fe3d.frame_quaternions)."""
-        self._rows = fe_contact_rows if d == 2 else fe_contact_rows_nd
-        self._end_gaps = fe_end_gaps if d == 2 else fe_end_gaps_nd
         self.v_free = np.zeros((n, d))
         """Free node velocities of the step [m/s]."""
         self.v = np.zeros((n, d))
         """Node velocities during and after the contact solve [m/s]."""
+        self.v_begin = np.zeros((n, d))
+        """Node velocities at the start of the step [m/s] (free_velocity's: the state's, which
+        restitution and the joint laws read before the step's end updates them)."""
         self.x_pred = np.zeros((n, d))
         """Node positions of the predicted configuration (for detection) [m]."""
 
@@ -192,6 +193,7 @@ class FEKind:
         self.v_free[:] = b.free_velocity(node_x, node_v, b.weight(acceleration), rotation,
                                          centroid, spin, self.rotation)
         self.v[:] = self.v_free
+        self.v_begin[:] = node_v
 
     def predict(self, node_x: np.ndarray, node_v: np.ndarray) -> None:
         """x_pred = x + (1 - theta) h v (the configuration detection sees)."""
@@ -224,119 +226,149 @@ class FEKind:
         frame, Delassus block += F G_pp F^T, and the warm start v_node += M~^-1 H R."""
         c = problem.contacts
         b = self.blocks
-        self._rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse, problem.count,
+        fe_contact_rows(c.side_kind, c.side_node, c.side_weight, c.frame, c.impulse, problem.count,
                    problem.active, b.node_block, b.node_start, b.inv_start, b.inv,
                    self.rotation, problem.h_cand, problem.h_ant, problem.delassus, self.v)
+        m = problem.model
+        if (m.law_kind == _RESTITUTION).any():
+            fe_restitution(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
+                           c.law, problem.h_cand, problem.h_ant, problem.count, m.law_kind,
+                           m.law_restitution, problem.v_begin, self.v_begin, problem.bias)
+
+    def local_velocities(self, problem, v: np.ndarray, out: np.ndarray, begin: bool) -> None:
+        """ContactProblem.local_velocities for problems with FE sides (2D): U [m/s] from the
+        bodies' v and the nodes' velocities, those at the start of the step with begin, else
+        the solve's."""
+        c = problem.contacts
+        fe_local_velocities(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                            c.side_kind, c.side_node, c.side_weight, problem.count, v,
+                            self.v_begin if begin else self.v, out)
 
     def end_gaps(self, problem, impulse: np.ndarray, v: np.ndarray, w: np.ndarray | None,
                  h: float, theta: float) -> tuple[int, float]:
         """ContactProblem.end_gaps for problems with FE sides (no projection: w is None)."""
         c = problem.contacts
-        return self._end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate,
+        return fe_end_gaps(c.side_kind, c.side_node, c.side_weight, c.candidate,
                               c.antagonist, problem.h_cand, problem.h_ant, c.gap, problem.count,
                               impulse, v, self.v, h, theta, problem.gap_end)
 
 
 @nb.njit(inline="always")
-def _compliance(inverse, base, n2, q, p, c, s):
-    """World 2 x 2 block R G[q, p] R^T of M~^-1 (frame G), nodes q, p local to the block."""
-    r0 = base + 2 * q * n2 + 2 * p
-    r1 = r0 + n2
-    g00 = inverse[r0]
-    g01 = inverse[r0 + 1]
-    g10 = inverse[r1]
-    g11 = inverse[r1 + 1]
-    # R G
-    a00 = c * g00 - s * g10
-    a01 = c * g01 - s * g11
-    a10 = s * g00 + c * g10
-    a11 = s * g01 + c * g11
-    # (R G) R^T
-    return (a00 * c - a01 * s, a00 * s + a01 * c, a10 * c - a11 * s, a10 * s + a11 * c)
-
-
-@nb.njit(inline="always")
-def push_node_impulse(inverse, inv_start, node_start, block, p, c, s, fx, fy, v):
-    """v_q += R G[q, p] R^T (fx, fy) for every node q of the block of node p: the change of
-    the block's velocities from an impulse (fx, fy) [N s] on node p (global numbers)."""
-    n0 = node_start[block]
-    n2 = 2 * (node_start[block + 1] - n0)
-    base = inv_start[block]
-    lx = c * fx + s * fy
-    ly = -s * fx + c * fy
-    pl = p - n0
-    for q in range(n2 // 2):
-        r0 = base + 2 * q * n2 + 2 * pl
-        r1 = r0 + n2
-        gx = inverse[r0] * lx + inverse[r0 + 1] * ly
-        gy = inverse[r1] * lx + inverse[r1 + 1] * ly
-        v[n0 + q, 0] += c * gx - s * gy
-        v[n0 + q, 1] += s * gx + c * gy
-
-
-@nb.njit(inline="always")
-def side_velocity(rows, a, kind, nodes, weights, body, v, node_v):
-    """(U_t, U_n) [m/s] of one side of contact a: rows . v_body for a rigid side (kind 0), sum
-    w_i rows . v_node_i for an FE side (rows [t; n] on the node, signed by side)."""
-    u0 = 0.0
-    u1 = 0.0
+def side_velocity(rows, a, kind, nodes, weights, body, v, node_v, u):
+    """u += the side's part of U = H* v [m/s] for contact a: rows . v_body for a rigid side
+    (kind 0), sum w_i rows[:, :d] . v_node_i for an FE side (rows signed by side)."""
+    d = u.shape[0]
     if kind == 1:
         for i in range(nodes.shape[0]):
             w = weights[i]
             if w != 0.0:
                 p = nodes[i]
-                u0 += w * (rows[a, 0, 0] * node_v[p, 0] + rows[a, 0, 1] * node_v[p, 1])
-                u1 += w * (rows[a, 1, 0] * node_v[p, 0] + rows[a, 1, 1] * node_v[p, 1])
+                for r in range(d):
+                    s = 0.0
+                    for k in range(d):
+                        s += rows[a, r, k] * node_v[p, k]
+                    u[r] += w * s
     else:
-        for d in range(v.shape[1]):
-            u0 += rows[a, 0, d] * v[body, d]
-            u1 += rows[a, 1, d] * v[body, d]
-    return u0, u1
+        for r in range(d):
+            s = 0.0
+            for k in range(v.shape[1]):
+                s += rows[a, r, k] * v[body, k]
+            u[r] += s
+
+
+@nb.njit(cache=True)
+def fe_local_velocities(cand, ant, h_cand, h_ant, side_kind, side_node, side_weight, count, v,
+                        node_v, out):
+    """out[a] = (U_t, U_n) [m/s] of contacts with rigid or FE sides (side_velocity)."""
+    for a in range(count):
+        uc0, uc1 = side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
+                                 cand[a], v, node_v)
+        ua0, ua1 = side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
+                                 ant[a], v, node_v)
+        out[a, 0] = uc0 + ua0
+        out[a, 1] = uc1 + ua1
 
 
 @nb.njit(inline="always")
-def side_push(rows, a, kind, nodes, weights, body, dt, dn, inv_mass, v, node_block,
-              node_start, inv_start, inverse, rotation, node_v):
-    """v += M^-1 H_side (dt, dn) on one side: the body's diagonal M^-1 for a rigid side, R M~^-1
-    R^T of the nodes' block for an FE side (each node w_i of the impulse)."""
+def _push_node(inverse, inv_start, node_start, rotation, block, p, f, node_v, pl, dv):
+    """node_v[q] += R G[q, p] R^T f for every node q of `block` [m/s]: the response of the
+    block to an impulse f [N s] (world axes, [d]) on its node p (global number); pl, dv: work
+    memory [d]."""
+    d = f.shape[0]
+    first = node_start[block]
+    n = d * (node_start[block + 1] - first)
+    for k in range(d):
+        s = 0.0
+        for m in range(d):
+            s += rotation[block, m, k] * f[m]
+        pl[k] = s
+    row = inv_start[block] + d * (p - first)
+    for q in range(first, node_start[block + 1]):
+        _add_node_velocity(inverse, row + d * (q - first) * n, n, pl, rotation, block, dv,
+                           node_v, q)
+
+
+@nb.njit(inline="always")
+def _push_side_nodes(rows, a, nodes, weights, dr, node_block, node_start, inv_start, inverse,
+                     rotation, node_v, f, pl, dv):
+    """node_v += R M~^-1 R^T H_side dR on an FE side of contact a (node i gets w_i of the
+    impulse rows^T dR [N s]); f, pl, dv: work memory [d]."""
+    d = dr.shape[0]
+    for i in range(nodes.shape[0]):
+        w = weights[i]
+        if w != 0.0:
+            for k in range(d):
+                s = 0.0
+                for r in range(d):
+                    s += rows[a, r, k] * dr[r]
+                f[k] = w * s
+            p = nodes[i]
+            _push_node(inverse, inv_start, node_start, rotation, node_block[p], p, f, node_v,
+                       pl, dv)
+
+
+@nb.njit(inline="always")
+def side_push(rows, a, kind, nodes, weights, body, dr, inv_mass, v, node_block, node_start,
+                 inv_start, inverse, rotation, node_v, f, pl, dv):
+    """v += M^-1 H_side dR on one side of contact a, dR [d] [N s]: the body's diagonal M^-1
+    for a rigid side (kind 0), R M~^-1 R^T of the nodes' block for an FE side; f, pl, dv:
+    work memory [d]."""
     if kind == 1:
-        fx = rows[a, 0, 0] * dt + rows[a, 1, 0] * dn
-        fy = rows[a, 0, 1] * dt + rows[a, 1, 1] * dn
-        for i in range(nodes.shape[0]):
-            w = weights[i]
-            if w != 0.0:
-                p = nodes[i]
-                f = node_block[p]
-                push_node_impulse(inverse, inv_start, node_start, f, p, rotation[f, 0, 0],
-                                  rotation[f, 1, 0], w * fx, w * fy, node_v)
+        _push_side_nodes(rows, a, nodes, weights, dr, node_block, node_start, inv_start,
+                         inverse, rotation, node_v, f, pl, dv)
     else:
-        for d in range(v.shape[1]):
-            v[body, d] += inv_mass[body, d] * (rows[a, 0, d] * dt + rows[a, 1, d] * dn)
+        for k in range(v.shape[1]):
+            s = 0.0
+            for r in range(dr.shape[0]):
+                s += rows[a, r, k] * dr[r]
+            v[body, k] += inv_mass[body, k] * s
 
 
 @nb.njit(cache=True)
 def fe_contact_rows(side_kind, side_node, side_weight, frame, impulse, count, active,
-                    node_block, node_start, inv_start, inverse, rotation, h_cand, h_ant,
-                    delassus, node_v):
-    """For the FE sides of the contacts (side_kind 1): rows of H* = +-[F, 0] on the nodes
-    (candidate +, antagonist -), W += F (sum_pq w_p w_q R G[p, q] R^T) F^T, and the warm start
-    node_v += M~^-1 H R on their nodes (inactive contacts: R = 0, set by assembly)."""
+                       node_block, node_start, inv_start, inverse, rotation, h_cand, h_ant,
+                       delassus, node_v):
+    """For the FE sides of the contacts (side_kind 1), d = 2 or 3: rows of H* = +-[F, 0] on
+    the nodes (candidate +, antagonist -), W += F (sum_pq w_p w_q R G[p, q] R^T) F^T, and the
+    warm start node_v += M~^-1 H R on their nodes for active contacts (inactive: R = 0, set by
+    assembly)."""
+    d = frame.shape[1]
+    g = np.empty((d, d))
+    block = np.empty((d, d))
+    f = np.empty(d)
+    pl = np.empty(d)
+    dv = np.empty(d)
     for a in range(count):
         for side in range(2):
             if side_kind[a, side] != 1:
                 continue
             rows = h_cand if side == 0 else h_ant
             sign = 1.0 if side == 0 else -1.0
-            for r in range(2):
-                rows[a, r, 0] = sign * frame[a, r, 0]
-                rows[a, r, 1] = sign * frame[a, r, 1]
-                rows[a, r, 2] = 0.0
-            f = node_block[side_node[a, side, 0]]
-            c = rotation[f, 0, 0]
-            s = rotation[f, 1, 0]
-            n0 = node_start[f]
-            n2 = 2 * (node_start[f + 1] - n0)
-            g00 = g01 = g10 = g11 = 0.0
+            for r in range(d):
+                for k in range(rows.shape[2]):
+                    rows[a, r, k] = sign * frame[a, r, k] if k < d else 0.0
+            b = node_block[side_node[a, side, 0]]
+            g[:] = 0.0
             for i in range(side_node.shape[2]):
                 wi = side_weight[a, side, i]
                 if wi == 0.0:
@@ -345,42 +377,55 @@ def fe_contact_rows(side_kind, side_node, side_weight, frame, impulse, count, ac
                     wj = side_weight[a, side, j]
                     if wj == 0.0:
                         continue
-                    h00, h01, h10, h11 = _compliance(inverse, inv_start[f], n2,
-                                                     side_node[a, side, i] - n0,
-                                                     side_node[a, side, j] - n0, c, s)
-                    g00 += wi * wj * h00
-                    g01 += wi * wj * h01
-                    g10 += wi * wj * h10
-                    g11 += wi * wj * h11
-            for r in range(2):
-                gx = g00 * frame[a, r, 0] + g01 * frame[a, r, 1]
-                gy = g10 * frame[a, r, 0] + g11 * frame[a, r, 1]
-                for q in range(2):
-                    delassus[a, q, r] += frame[a, q, 0] * gx + frame[a, q, 1] * gy
-            if not active[a]:
-                continue
-            fx = rows[a, 0, 0] * impulse[a, 0] + rows[a, 1, 0] * impulse[a, 1]
-            fy = rows[a, 0, 1] * impulse[a, 0] + rows[a, 1, 1] * impulse[a, 1]
-            for i in range(side_node.shape[2]):
-                w = side_weight[a, side, i]
-                if w != 0.0:
-                    push_node_impulse(inverse, inv_start, node_start, f,
-                                      side_node[a, side, i], c, s, w * fx, w * fy, node_v)
+                    compliance_block(node_start, inv_start, inverse, rotation, b,
+                                     side_node[a, side, i], side_node[a, side, j], block)
+                    for k in range(d):
+                        for m in range(d):
+                            g[k, m] += wi * wj * block[k, m]
+            congruence(frame, a, g, block)
+            for r in range(d):
+                for c in range(d):
+                    delassus[a, r, c] += block[r, c]
+            if active[a]:
+                _push_side_nodes(rows, a, side_node[a, side], side_weight[a, side],
+                                 impulse[a], node_block, node_start, inv_start, inverse,
+                                 rotation, node_v, f, pl, dv)
+
+
+@nb.njit(cache=True)
+def fe_restitution(side_kind, side_node, side_weight, cand, ant, law, h_cand, h_ant, count,
+                   law_kind, law_restitution, v_begin, node_v_begin, bias):
+    """Newton's impact law on the contacts with an FE side under a restitution law: b_n = e_n
+    min(U_n-, 0), U_n- = H* v at the start of the step with each side by its kind (the rigid
+    assembly read an FE side's velocity from its body row, which holds only its frame), so
+    that U_n+ = -e_n U_n- node by node (saxum.solver.problem._law)."""
+    u = np.empty(h_cand.shape[1])
+    for a in range(count):
+        if law_kind[law[a]] != _RESTITUTION or (side_kind[a, 0] != 1 and side_kind[a, 1] != 1):
+            continue
+        u[:] = 0.0
+        side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0], cand[a],
+                      v_begin, node_v_begin, u)
+        side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1], ant[a],
+                      v_begin, node_v_begin, u)
+        bias[a] = law_restitution[law[a]] * min(u[1], 0.0)
 
 
 @nb.njit(cache=True)
 def fe_end_gaps(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, gap, count,
-                impulse, v, node_v, h, theta, gap_end):
-    """gap_end = g + theta h U_n with each side's velocity by its kind; returns (contacts with
-    R_n > 0, largest interpenetration [m])."""
+                   impulse, v, node_v, h, theta, gap_end):
+    """gap_end = g + theta h U_n with each side's velocity by its kind; returns (contacts
+    with R_n > 0, largest interpenetration [m])."""
+    u = np.empty(h_cand.shape[1])
     loaded = 0
     worst = 0.0
     for a in range(count):
-        un = (side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
-                            cand[a], v, node_v)[1]
-              + side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
-                              ant[a], v, node_v)[1])
-        g = gap[a] + theta * h * un
+        u[:] = 0.0
+        side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
+                         cand[a], v, node_v, u)
+        side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
+                         ant[a], v, node_v, u)
+        g = gap[a] + theta * h * u[1]
         gap_end[a] = g
         loaded += impulse[a, 1] > 0.0
         worst = max(worst, -g)

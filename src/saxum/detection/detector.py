@@ -17,6 +17,7 @@ from .fe_nodes import node_contacts
 from .fe_nodes3d import node_contacts_3d
 from .polygons import polygon_contacts
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
+from .round import round_contacts
 
 __all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]
 
@@ -32,16 +33,20 @@ class DetectionSettings:
     per_pair: the laws without their own alert (ContactLaw.alert) take, instead of alert, 2 %
     of the size of the smaller block of each pair (as LMGC90's users set an alert per
     see-table from the blocks it names); alert then still sets the margin, the closed gap and
-    the interpenetration."""
+    the interpenetration.
+    initial_overlap [m]: the deepest interpenetration accepted at the start (default: 1e-6
+    of the largest block's size, round-off of generated geometry); e.g. the micrometre
+    interpenetrations of a state imported from LMGC90 (saxum.lmgc90)."""
 
     alert: float | None = None
     margin: float | None = None
     refresh_every: int = 10
     interpenetration: float | None = None
     per_pair: bool = False
+    initial_overlap: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("alert", "margin", "interpenetration"):
+        for name in ("alert", "margin", "interpenetration", "initial_overlap"):
             value = getattr(self, name)
             if value is not None and not (np.isfinite(value) and value > 0.0):
                 raise InputError(f"detection.{name} must be a finite length > 0 [m], got {value}")
@@ -84,6 +89,7 @@ class Detector:
         """The largest alert distance of any law [m], which the broad phase pads for."""
         self.margin = settings.margin if settings.margin is not None else self.alert
         self.refresh_every = settings.refresh_every
+        self.initial_overlap = settings.initial_overlap
         self.reference_bias = 0.1 * self.alert
         self.closed_gap = 1e-6 * self.alert
         """Gaps below this [m] count as closed: the round-off of geometry built touching."""
@@ -118,6 +124,12 @@ class Detector:
         self._fe_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a deformable block (saxum.detection.fe_nodes), split off the broad
         phase's list, which keeps the rigid pairs."""
+        self._round_pairs = np.empty((0, 2), dtype=np.int32)
+        """Pairs with a disc or sphere (saxum.detection.round), split off likewise."""
+        if model.has_round and model.fe is not None:
+            raise InputError("discs (spheres) and deformable blocks in one model are not "
+                             "supported yet; make the deformable blocks rigid or leave out "
+                             "the discs")
         mobile_groups = np.zeros(len(model.group_names), dtype=bool)
         mobile_groups[model.body_group[free]] = True
         self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
@@ -150,7 +162,7 @@ class Detector:
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         """Contacts of the broad phase's pairs; refresh: the broad phase has just run."""
         m = self.model
-        contacts.reserve(self.slots * self.pair_count)
+        contacts.reserve(self.slots * self.pair_count + len(self._round_pairs))
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
@@ -161,6 +173,8 @@ class Detector:
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
+        if m.has_round:
+            self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0
         if m.fe is not None:
             self._node_contacts(q, contacts)
@@ -180,13 +194,34 @@ class Detector:
             array[first:count] = array[order]
         contacts.count = count
 
+    def _round_contacts(self, q: np.ndarray, contacts: Contacts) -> None:
+        """Append the contacts of the pairs with a disc or sphere (saxum.detection.round),
+        keyed above the polygons' (polyhedra's) and in increasing key order."""
+        m = self.model
+        # the features a round body can touch on the other body of a pair
+        faces, edges = (self._max_faces, self._max_edges) if m.dim == 3 else (m.max_vertices, 0)
+        contacts.count = round_contacts(
+            self._round_pairs, len(self._round_pairs), q, self._wv, self._wn, m.edge_length,
+            m.body_vertex_start, m.body_face_start, m.face_vertex_start, m.face_vertex,
+            m.body_edge_start, m.edge_vertex, m.body_shape, m.body_round_radius, m.body_group,
+            m.group_law, self.alert, self.law_alert, self._body_alert, faces, edges,
+            self._round_key_base(), faces + edges + m.max_vertices, contacts.count,
+            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+            contacts.point, contacts.frame, contacts.gap, contacts.area)
+
+    def _round_key_base(self) -> int:
+        """The first key above those of polygon (polyhedron) pairs, where the keys of
+        deformable (round) pairs start."""
+        m = self.model
+        return 2 * self.slots * m.body_count ** 2 * m.max_vertices ** 2
+
     def _node_kernel(self, q: np.ndarray, node_x: np.ndarray, first: int,
                      contacts: Contacts) -> int:
         """Write the node contacts of the deformable pairs from row `first` on
         (saxum.detection.fe_nodes); returns the new count."""
         m = self.model
         fe = m.fe
-        key_base = 2 * self.slots * m.body_count ** 2 * m.max_vertices ** 2  # above polygon keys
+        key_base = self._round_key_base()
         return node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
             fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
@@ -212,8 +247,7 @@ class Detector:
         sort_pairs(self._pairs, count, m.body_count)
         if self._no_contact:
             count = self._drop_no_contact(count)
-        if m.fe is not None:
-            count = self._split_deformable(count)
+        count = self._split_off(count)
         self.pair_count = count
         self._q_ref[:] = q
         self._since_refresh = 0
@@ -227,20 +261,31 @@ class Detector:
         self._pairs[: len(kept)] = kept
         return len(kept)
 
-    def _split_deformable(self, count: int) -> int:
-        """Move the pairs with a deformable block out of the first `count` pairs into
-        _fe_pairs, keeping the order of both; returns how many are left."""
-        deformable = (self.model.fe.fe_index[self._pairs[:count]] >= 0).any(axis=1)
-        self._fe_pairs = self._pairs[:count][deformable].copy()
-        kept = self._pairs[:count][~deformable]
-        self._pairs[: len(kept)] = kept
-        return len(kept)
+    def _split_off(self, count: int) -> int:
+        """Move the pairs with a deformable block into _fe_pairs and those with a round body
+        into _round_pairs, out of the first `count` pairs, keeping the order of each list;
+        returns how many are left (polygon pairs)."""
+        m = self.model
+        if m.fe is not None:
+            deformable = (m.fe.fe_index[self._pairs[:count]] >= 0).any(axis=1)
+            self._fe_pairs = self._pairs[:count][deformable].copy()
+            kept = self._pairs[:count][~deformable]
+            self._pairs[: len(kept)] = kept
+            count = len(kept)
+        if m.has_round:
+            rounded = (m.body_shape[self._pairs[:count]] != 0).any(axis=1)
+            self._round_pairs = self._pairs[:count][rounded].copy()
+            kept = self._pairs[:count][~rounded]
+            self._pairs[: len(kept)] = kept
+            count = len(kept)
+        return count
 
     def checkpoint(self) -> dict:
         """The detector's own state, which a bit-identical restart needs: the broad phase's
         pair list (with the pairs of deformable blocks after the others), the configuration it
         was built on and the steps since."""
-        pairs = np.concatenate((self._pairs[: self.pair_count], self._fe_pairs))
+        pairs = np.concatenate((self._pairs[: self.pair_count], self._fe_pairs,
+                                self._round_pairs))
         return {"pairs": pairs, "pair_count": len(pairs),
                 "q_ref": self._q_ref.copy(), "since_refresh": self._since_refresh,
                 "refresh_count": self.refresh_count}
@@ -251,8 +296,7 @@ class Detector:
         if len(self._pairs) < count:
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
         self._pairs[:count] = saved["pairs"]
-        if self.model.fe is not None:
-            count = self._split_deformable(count)
+        count = self._split_off(count)
         if len(self._faces) < len(self._pairs):
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
@@ -262,20 +306,23 @@ class Detector:
         self._since_refresh = int(saved["since_refresh"])
         self.refresh_count = int(saved["refresh_count"])
 
-    def contacts_at(self, q: np.ndarray) -> Contacts:
-        """The contacts at configuration q [m, rad], found with a fresh broad phase."""
+    def contacts_at(self, q: np.ndarray, node_x: np.ndarray | None = None) -> Contacts:
+        """The contacts at configuration q [m, rad] (and deformable blocks' node positions
+        node_x [m], default the reference ones), found with a fresh broad phase."""
         probe = Contacts(self.model.dim)
         self._since_refresh = self.refresh_every
-        self.detect(q, probe)
+        self.detect(q, probe, node_x)
         return probe
 
     def check_overlaps(self, q: np.ndarray, *, tolerance: float | None = None) -> None:
         """Raise OverlapError naming the deepest interpenetrating pair at configuration q.
 
-        tolerance [m]: overlaps up to this depth are accepted (default 1e-6 of the largest
-        block size, i.e. round-off of generated geometry).
+        tolerance [m]: overlaps up to this depth are accepted (default: the settings'
+        initial_overlap, else 1e-6 of the largest block size, i.e. round-off of generated
+        geometry).
         """
-        tol = tolerance if tolerance is not None else 1e-6 * float(self.model.body_size.max())
+        tol = next((t for t in (tolerance, self.initial_overlap) if t is not None),
+                   1e-6 * float(self.model.body_size.max()))
         probe = self.contacts_at(q)
         gaps = probe.gap[: probe.count]
         bad = np.flatnonzero(gaps < -tol)
@@ -338,10 +385,15 @@ class PolyhedronDetector(Detector):
     def _motion_since_refresh(self, q: np.ndarray) -> float:
         return _largest_motion_3d(q, self._q_ref, self.model.body_radius)
 
+    def _round_key_base(self) -> int:
+        m = self.model
+        features = self._max_faces + self._max_edges
+        return 2 * self.slots * m.body_count ** 2 * features ** 2  # above polyhedron keys
+
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         m = self.model
         points = MAX_POINTS if self.slots == SLOTS else 2 * MAX_POINTS + 1
-        contacts.reserve(points * self.pair_count)
+        contacts.reserve(points * self.pair_count + len(self._round_pairs))
         contacts.count = polyhedron_contacts(
             self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
             m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
@@ -351,6 +403,8 @@ class PolyhedronDetector(Detector):
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area,
         )
+        if m.has_round:
+            self._round_contacts(q, contacts)
         if m.fe is not None:
             contacts.side_kind[: contacts.count] = 0
             self._node_contacts(q, contacts)
@@ -363,8 +417,7 @@ class PolyhedronDetector(Detector):
         fe = m.fe
         if self._axes0 is None:
             self._axes0 = principal_axes(m.body_q0[fe.body])
-        features = self._max_faces + self._max_edges
-        key_base = 2 * self.slots * m.body_count ** 2 * features ** 2  # above polyhedron keys
+        key_base = self._round_key_base()
         if float(key_base) + float(len(node_x) + m.vertex_local.shape[0]) * float(
                 len(self._wn) + len(fe.facet_node)) >= 2.0 ** 62:
             raise InputError(f"{m.body_count} blocks with {len(node_x)} mesh nodes are too many "

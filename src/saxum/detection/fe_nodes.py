@@ -27,11 +27,13 @@ against a face in saxum.detection.polygons stands for a small area only.
 import math
 
 import numba as nb
+import numpy as np
 
 from .polygons import _write as _polygon_row
 from .polygons import alert_of_pair
 
-__all__ = ["candidate_node", "node_contacts", "pair_sides"]
+__all__ = ["candidate_node", "facet_side", "key_layout", "node_contacts", "pair_sides",
+           "rigid_side"]
 
 
 @nb.njit(inline="always")
@@ -130,16 +132,48 @@ def candidate_node(count, p, side_kind, side_node, side_weight):
 
 
 @nb.njit(inline="always")
-def pair_sides(pairs, pr, fe_index, body_group, group_law):
-    """(fb, ob, law) of pair pr: the block whose boundary nodes are the candidates (of two
-    deformable blocks, the one of lower index), the other body, and the pair's law index (-1
-    when the pair has no deformable block or no law: no contacts)."""
+def rigid_side(count, side, side_kind, side_node, side_weight):
+    """Row count's side `side` (0 candidate, 1 antagonist) is a rigid body's: no nodes."""
+    side_kind[count, side] = 0
+    for k in range(side_node.shape[2]):
+        side_node[count, side, k] = 0
+        side_weight[count, side, k] = 0.0
+
+
+@nb.njit(inline="always")
+def facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight):
+    """Row count's antagonist side is facet e's nodes (2D two, 3D three) with the weights
+    [-], the shape functions at the point's projection on it."""
+    side_kind[count, 1] = 1
+    for k in range(facet_node.shape[1]):
+        side_node[count, 1, k] = facet_node[e, k]
+        side_weight[count, 1, k] = weight[k]
+
+
+@nb.njit(inline="always")
+def key_layout(alert, rigid_features, node_count, facets, key_base):
+    """(tie [m], features E, first key of the rigid corners) of node_contacts' keys (its doc)
+    over rigid_features edges (3D: faces) and `facets` boundary facets; tie = 1e-3 alert,
+    since nodes built coincident drift apart by round-off and strain."""
+    features = rigid_features + facets
+    return 1e-3 * alert, features, key_base + node_count * features
+
+
+@nb.njit(inline="always")
+def pair_sides(pairs, pr, fe_index, body_group, group_law, law_alert, body_alert, alert):
+    """(fb, ob, f, o, law, alert [m]) of pair pr: the block whose boundary nodes are the
+    candidates (of two deformable blocks, the one of lower index), the other body, their
+    deformable block indices (o = -1: ob is rigid), the pair's law index (-1 when the pair
+    has no deformable block or no law: no contacts) and its alert (alert_of_pair)."""
     i = pairs[pr, 0]
     j = pairs[pr, 1]
     fb, ob = (i, j) if fe_index[i] >= 0 else (j, i)
-    if fe_index[fb] < 0:
-        return fb, ob, -1
-    return fb, ob, group_law[body_group[fb], body_group[ob]]
+    f = fe_index[fb]
+    o = fe_index[ob]
+    law = group_law[body_group[fb], body_group[ob]] if f >= 0 else -1
+    if law < 0:
+        return fb, ob, f, o, -1, alert
+    return fb, ob, f, o, law, alert_of_pair(law_alert, body_alert, law, fb, ob, alert)
 
 
 @nb.njit(cache=True)
@@ -156,20 +190,18 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
     facets). The arrays must have room for every boundary node and vertex of every pair.
     alert [m]: the detector's; law_alert, body_alert [m]: per law and body (Detector), which
     a pair uses (alert_of_pair)."""
-    tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
     vertices = wv.shape[0]
     facets = facet_node.shape[0]
-    edges = vertices + facets
-    vertex_base = key_base + node_x.shape[0] * edges
+    tie, edges, vertex_base = key_layout(alert, vertices, node_x.shape[0], facets, key_base)
+    weight = np.empty(2)
     for pr in range(pair_count):
-        fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
+        fb, ob, f, o, law_index, pair_alert = pair_sides(pairs, pr, fe_index, body_group,
+                                                         group_law, law_alert, body_alert, alert)
         if law_index < 0:
             continue
-        pair_alert = alert_of_pair(law_alert, body_alert, law_index, fb, ob, alert)
-        f = fe_index[fb]
         cf = math.cos(q[fb, 2])
         sf = math.sin(q[fb, 2])
-        rigid = fe_index[ob] < 0
+        rigid = o < 0
         for m in range(boundary_start[f], boundary_start[f + 1]):
             p = boundary_node[m]
             x = node_x[p, 0]
@@ -189,21 +221,18 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
                     continue
                 edge_key = e
             else:
-                o = fe_index[ob]
                 outside, g, e, xi = _nearest_facet(x, y, cf * mx - sf * my, sf * mx + cf * my,
                                                    facet_start[o], facet_start[o + 1], node_x,
                                                    facet_node, tie)
                 if e < 0 or outside > pair_alert:
                     continue
                 nx, ny = _facet(node_x, facet_node, e)[2:4]
-                side_kind[count, 1] = 1
-                side_node[count, 1, 0] = facet_node[e, 0]
-                side_node[count, 1, 1] = facet_node[e, 1]
-                side_weight[count, 1, 0] = 1.0 - xi
-                side_weight[count, 1, 1] = xi
+                weight[0] = 1.0 - xi
+                weight[1] = xi
+                facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
                 edge_key = vertices + e
             if rigid:
-                side_kind[count, 1] = 0
+                rigid_side(count, 1, side_kind, side_node, side_weight)
             candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * edges + edge_key, law_index, x, y, nx, ny, g,
                    _node_area(node_side, p, cf, sf, nx, ny), candidate, antagonist, key, law,
@@ -222,12 +251,10 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
             nx, ny, length = _facet(node_x, facet_node, e)[2:5]
             if min(xi, 1.0 - xi) * length <= tie:
                 continue  # on a node: the node's own contact on the polygon's edge holds it
-            side_kind[count, 0] = 0
-            side_kind[count, 1] = 1
-            side_node[count, 1, 0] = facet_node[e, 0]
-            side_node[count, 1, 1] = facet_node[e, 1]
-            side_weight[count, 1, 0] = 1.0 - xi
-            side_weight[count, 1, 1] = xi
+            rigid_side(count, 0, side_kind, side_node, side_weight)
+            weight[0] = 1.0 - xi
+            weight[1] = xi
+            facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
             _write(count, ob, fb, vertex_base + k * facets + e, law_index, x, y, nx, ny, g,
                    0.0, candidate, antagonist, key, law, point, frame, gap, area)
             count += 1

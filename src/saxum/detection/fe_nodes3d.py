@@ -29,26 +29,32 @@ import math
 import numba as nb
 import numpy as np
 
-from .fe_nodes import candidate_node, pair_sides
-from .polygons import alert_of_pair
+from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, rigid_side
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
 
 
 @nb.njit(inline="always")
-def _nearest_face(x, y, z, f0, f1, wv, wn, fvs, fv, tie):
+def _nearest_face(x, y, z, mx, my, mz, f0, f1, wv, wn, fvs, fv, tie):
     """(largest signed distance g [m], its face, or -1 where x projects outside it) of point
     (x, y, z) over the faces f0..f1 of a rigid polyhedron (world vertices wv, outward unit
-    normals wn, face rings fvs/fv counter-clockwise seen from outside)."""
+    normals wn, face rings fvs/fv counter-clockwise seen from outside); between faces at equal
+    distances (within tie: a node on the polyhedron's edge, as where a block stands flush
+    with the side of its support), the one whose normal is most opposed to the node's outward
+    direction (mx, my, mz), as fe_nodes._nearest_edge does in 2D: else round-off picks the
+    side face, and the node's contact pushes it sideways."""
     best = -1
     g = -1e300
+    facing = 0.0
     for f in range(f0, f1):
         a = fv[fvs[f]]
         d = wn[f, 0] * (x - wv[a, 0]) + wn[f, 1] * (y - wv[a, 1]) + wn[f, 2] * (z - wv[a, 2])
-        if d > g:
+        dot = wn[f, 0] * mx + wn[f, 1] * my + wn[f, 2] * mz
+        if d > g + tie or (d >= g - tie and dot < facing - 1e-3):
             g = d
             best = f
+            facing = dot
     nx, ny, nz = wn[best, 0], wn[best, 1], wn[best, 2]
     ring0 = fvs[best]
     ring1 = fvs[best + 1]
@@ -184,15 +190,6 @@ def _write(count, cand, ant, key_value, law_index, x, y, z, tx, ty, tz, nx, ny, 
     area[count] = area_value
 
 
-@nb.njit(inline="always")
-def _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight):
-    """The antagonist side of row count: triangle e's nodes with the weights [3]."""
-    side_kind[count, 1] = 1
-    for k in range(3):
-        side_node[count, 1, k] = facet_node[e, k]
-        side_weight[count, 1, k] = weight[k]
-
-
 @nb.njit(cache=True)
 def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
                      boundary_node, node_side, facet_start, facet_node, wv, wn, face_start, fvs,
@@ -209,29 +206,27 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     have room for every boundary node and vertex of every pair. alert [m]: the detector's;
     law_alert, body_alert [m]: per law and body (Detector), which a pair uses
     (alert_of_pair)."""
-    tie = 1e-3 * alert  # nodes built coincident drift apart by round-off and strain
     faces = wn.shape[0]
     facets = facet_node.shape[0]
-    features = faces + facets
-    vertex_base = key_base + node_x.shape[0] * features
+    tie, features, vertex_base = key_layout(alert, faces, node_x.shape[0], facets, key_base)
     r = np.empty((3, 3))
     weight = np.empty(3)
     for pr in range(pair_count):
-        fb, ob, law_index = pair_sides(pairs, pr, fe_index, body_group, group_law)
+        fb, ob, f, o, law_index, pair_alert = pair_sides(pairs, pr, fe_index, body_group,
+                                                         group_law, law_alert, body_alert, alert)
         if law_index < 0:
             continue
-        pair_alert = alert_of_pair(law_alert, body_alert, law_index, fb, ob, alert)
-        f = fe_index[fb]
         _block_rotation(q, axes0, fb, f, r)
-        rigid = fe_index[ob] < 0
+        rigid = o < 0
         for m in range(boundary_start[f], boundary_start[f + 1]):
             p = boundary_node[m]
             x = node_x[p, 0]
             y = node_x[p, 1]
             z = node_x[p, 2]
+            mx, my, mz = _node_side_sum(node_side, p, r, 0.0, 0.0, 0.0)[1:]
             if rigid:
-                g, e = _nearest_face(x, y, z, face_start[ob], face_start[ob + 1], wv, wn, fvs,
-                                     fv, tie)
+                g, e = _nearest_face(x, y, z, mx, my, mz, face_start[ob], face_start[ob + 1],
+                                     wv, wn, fvs, fv, tie)
                 if e < 0 or g > pair_alert:
                     continue
                 nx, ny, nz = wn[e, 0], wn[e, 1], wn[e, 2]
@@ -240,14 +235,9 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 tx = wv[a1, 0] - wv[a0, 0]
                 ty = wv[a1, 1] - wv[a0, 1]
                 tz = wv[a1, 2] - wv[a0, 2]
-                side_kind[count, 1] = 0
-                for k in range(3):
-                    side_node[count, 1, k] = 0
-                    side_weight[count, 1, k] = 0.0
+                rigid_side(count, 1, side_kind, side_node, side_weight)
                 face_key = e
             else:
-                o = fe_index[ob]
-                mx, my, mz = _node_side_sum(node_side, p, r, 0.0, 0.0, 0.0)[1:]
                 outside, g, e, = _nearest_facet(x, y, z, mx, my, mz, facet_start[o],
                                                 facet_start[o + 1], node_x, facet_node, tie,
                                                 weight)
@@ -257,7 +247,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 tx = node_x[facet_node[e, 1], 0] - node_x[facet_node[e, 0], 0]
                 ty = node_x[facet_node[e, 1], 1] - node_x[facet_node[e, 0], 1]
                 tz = node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2]
-                _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
+                facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
                 face_key = faces + e
             candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * features + face_key, law_index, x, y, z, tx,
@@ -266,7 +256,9 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             count += 1
         if not rigid:
             continue
-        # the rigid polyhedron's corners against the deformable block's triangles
+        # the rigid polyhedron's corners against the deformable block's triangles (the 2D
+        # loop in fe_nodes has the same steps with an edge's two shape functions for the
+        # triangle's barycentric weights: the searches differ, the row writing is shared)
         for k in range(body_vertex_start[ob], body_vertex_start[ob + 1]):
             x = wv[k, 0]
             y = wv[k, 1]
@@ -278,11 +270,8 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             if weight[0] == 1.0 or weight[1] == 1.0 or weight[2] == 1.0:
                 continue  # on a node: the node's own contact on the polyhedron's face holds it
             nx, ny, nz = _triangle(node_x, facet_node, e)[:3]
-            side_kind[count, 0] = 0
-            for c in range(3):
-                side_node[count, 0, c] = 0
-                side_weight[count, 0, c] = 0.0
-            _facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
+            rigid_side(count, 0, side_kind, side_node, side_weight)
+            facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
             _write(count, ob, fb, vertex_base + k * facets + e, law_index, x, y, z,
                    node_x[facet_node[e, 1], 0] - node_x[facet_node[e, 0], 0],
                    node_x[facet_node[e, 1], 1] - node_x[facet_node[e, 0], 1],

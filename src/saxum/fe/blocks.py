@@ -51,11 +51,8 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
 
 from saxum.errors import InputError, plain
-from saxum.fe.assembly import mass_stiffness
 from saxum.fe.material import Elastic
 from saxum.fe.mesh import Mesh
 
@@ -66,6 +63,7 @@ __all__ = [
     "apply_nodal_impulses",
     "boundary_compliance",
     "compliance_block",
+    "congruence",
     "element_stresses",
     "frames",
     "free_velocity",
@@ -150,6 +148,10 @@ class FEBlocks:
               theta: float) -> "FEBlocks":
         """Assemble M and K of each block (scikit-fem) and prepare M~^-1 for the step h [s] and
         theta [-]."""
+        import scipy.sparse as sp  # with scikit-fem, ~0.3 s: not for runs without FE blocks
+
+        from saxum.fe.assembly import mass_stiffness
+
         blocks = cls.geometry(meshes, materials)
         masses, stiffnesses = zip(*(mass_stiffness(m, mat)
                                     for m, mat in zip(meshes, materials, strict=True)),
@@ -250,6 +252,8 @@ class FEBlocks:
             mt = (1.0 + ht * self.alpha[b]) * m + (ht * self.beta[b] + ht * ht) * k
             key = (e - a, (np.round(mt / np.abs(mt).max(), 12) + 0.0).tobytes())
             if key not in done:
+                import scipy.linalg
+
                 inv = scipy.linalg.cho_solve(scipy.linalg.cho_factor(mt), np.eye(e - a))
                 done[key] = (0.5 * (inv + inv.T)).ravel()
             self.inv[self.inv_start[b]:self.inv_start[b + 1]] = done[key]
@@ -259,6 +263,8 @@ class FEBlocks:
     @staticmethod
     def _block_matrix(indptr, indices, data, a, e):
         """Dense diagonal block [a:e, a:e] of the block-diagonal CSR matrix."""
+        import scipy.sparse as sp
+
         rows = sp.csr_matrix((data[indptr[a]:indptr[e]], indices[indptr[a]:indptr[e]] - a,
                               indptr[a:e + 1] - indptr[a]), shape=(e - a, e - a))
         return rows.toarray()
@@ -773,6 +779,19 @@ def update_positions(x, v, v_next, h, theta):
             x[i, k] += h * ((1.0 - theta) * v[i, k] + theta * v_next[i, k])
 
 
+@nb.njit(inline="always")
+def congruence(r, b, s, out):
+    """out = r[b] s r[b]^T [d, d]: a tensor s turned by the rotation (or frame) r[b]."""
+    d = s.shape[0]
+    for k in range(d):
+        for m in range(d):
+            t = 0.0
+            for a in range(d):
+                for c in range(d):
+                    t += r[b, k, a] * s[a, c] * r[b, m, c]
+            out[k, m] = t
+
+
 @nb.njit(cache=True)
 def element_stresses(x0, c0, cell_node, cell_block, cell_grad, cell_lame, x, rotation,
                      centroid, stress, principal):
@@ -805,13 +824,7 @@ def element_stresses(x0, c0, cell_node, cell_block, cell_grad, cell_lame, x, rot
             for m in range(d):
                 sl[k, m] = 2.0 * cell_lame[e, 1] * eps[k, m]
             sl[k, k] += cell_lame[e, 0] * trace
-        for k in range(d):
-            for m in range(d):
-                s = 0.0
-                for a in range(d):
-                    for c in range(d):
-                        s += rotation[b, k, a] * sl[a, c] * rotation[b, m, c]
-                sw[k, m] = s
+        congruence(rotation, b, sl, sw)
         if d == 2:
             stress[e, 0] = sw[0, 0]
             stress[e, 1] = sw[1, 1]

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 from itertools import combinations, permutations
 
 import numpy as np
-from scipy.spatial import Delaunay
 
 from saxum.errors import InputError, plain
 
@@ -186,6 +185,8 @@ def mesh_polygon(vertices, size: float, max_nodes: int = DEFAULT_MAX_NODES,
         _check_count(name, estimate, max_nodes, size, about="about ")
     nodes = np.concatenate([_edge_points(vertices, size), _lattice_points(vertices, size)])
     _check_count(name, len(nodes), max_nodes, size)
+    from scipy.spatial import Delaunay  # ~0.5 s: imported by the runs that mesh
+
     cells = Delaunay(nodes).simplices
     # Qhull returns flat triangles on three collinear boundary points (a vertical facet of the
     # points lifted onto the paraboloid; in about half the meshes of random polygons) besides

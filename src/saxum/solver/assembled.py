@@ -8,13 +8,18 @@ order [n, t(, s)], M^-1 = diag(model.body_inv_mass):
 and the impulses R give v = v_free + M^-1 H*^T R [m/s, rad/s].
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
 
 from .residual import natural_map_error
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = ["AssembledProblem", "assemble_local", "fclib_order"]
 
@@ -38,6 +43,8 @@ class AssembledProblem:
 
     @cached_property
     def w(self) -> sp.csr_matrix:
+        import scipy.sparse as sp
+
         w = (self.hstar @ sp.diags(self.inv_mass) @ self.hstar.T).tocsr()
         w.sum_duplicates()
         return w
@@ -67,6 +74,8 @@ class AssembledProblem:
 def assemble_local(problem, v_free: np.ndarray) -> AssembledProblem:
     """The module doc's H*, W and q for the active contacts of `problem`; v_free [m/s, rad/s]
     (bodies, dof)."""
+    import scipy.sparse as sp  # ~0.25 s: imported by the runs that assemble W
+
     model = problem.model
     dim, dof = model.dim, model.dof
     contacts = problem.contacts

@@ -31,12 +31,17 @@ An interior point ends at ~1e-7 of complementarity on degenerate problems: the c
 with Gauss-Seidel sweeps from it (saxum.fclib, saxum.solver.hybrid).
 """
 
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import clarabel
 import numpy as np
-import scipy.sparse as sp
+
+if TYPE_CHECKING:
+    import clarabel
+    import scipy.sparse as sp
 
 from .residual import natural_map
 
@@ -68,6 +73,9 @@ def cone_rows(mu: np.ndarray, spacedim: int, dual: bool) -> tuple[sp.csc_matrix,
     the zero cone (x_T = 0 in K for mu = 0), the nonnegative orthant (x_N >= 0 for mu = 0; the
     2D cones' two faces, K: mu x_N -+ x_T, K*: x_N -+ mu x_T), then one second-order cone per
     3D contact (K: (mu x_N, x_T, x_S), K*: (x_N, mu x_T, mu x_S))."""
+    import clarabel  # with scipy.sparse, ~0.3 s: imported by the runs that solve a cone
+    import scipy.sparse as sp
+
     d = spacedim
     frictionless = np.flatnonzero(mu == 0.0)
     rough = np.flatnonzero(mu > 0.0)
@@ -114,7 +122,9 @@ def cone_rows(mu: np.ndarray, spacedim: int, dual: bool) -> tuple[sp.csc_matrix,
     return matrix, cones
 
 
-def _settings() -> "clarabel.DefaultSettings":
+def _settings() -> clarabel.DefaultSettings:
+    import clarabel
+
     s = clarabel.DefaultSettings()
     s.verbose = False
     s.tol_gap_abs = _INNER_TOLERANCE
@@ -169,6 +179,9 @@ def delassus_conic(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim: int,
     s = mu |u_T(r0)| (r0 = 0 if None), until the natural-map error (with W as given) is <=
     tolerance, after max_iterations fixed-point iterations, when s no longer changes (to
     1e-12 of its size), or after _STALE iterations in a row without a smaller error."""
+    import clarabel  # with scipy.sparse, ~0.3 s: imported by the runs that solve a cone
+    import scipy.sparse as sp
+
     w = sp.csr_matrix(w, dtype=np.float64)
     q = np.asarray(q, dtype=np.float64)
     m = q.size
@@ -214,6 +227,9 @@ def body_conic(hstar: sp.csr_matrix, mass: np.ndarray, v_free: np.ndarray, u_shi
     m = u_shift.size
     if m == 0:
         return ConicResult(np.zeros(0), 0, 0, 0.0)
+    import clarabel  # with scipy.sparse, ~0.3 s: imported by the runs that solve a cone
+    import scipy.sparse as sp
+
     hstar = sp.csr_matrix(hstar)
     inv_mass = 1.0 / mass
     q = hstar @ v_free + u_shift

@@ -55,7 +55,8 @@ from ..laws import LawKind, Parameter
 from .local2d import solve_factored_contact_2d
 from .local3d import solve_contact_3d
 
-__all__ = ["law_map_width", "law_solve_2d", "law_solve_3d", "law_terms", "update_joints"]
+__all__ = ["law_map_width", "law_solve_2d", "law_solve_3d", "law_terms", "local_velocities",
+           "update_joints"]
 
 _ELASTIC = int(LawKind.ELASTIC)
 _VISCOUS = int(LawKind.VISCOUS_COULOMB)
@@ -80,16 +81,26 @@ def _local(h_cand, h_ant, a, r, c, b, v):
 
 
 @nb.njit(cache=True)
-def law_terms(cand, ant, law, gap, area, slip, damage, history, count, h_cand, h_ant, v_begin,
-              law_kind, law_parameter, h, theta, delassus, bias, law_map):
+def local_velocities(cand, ant, h_cand, h_ant, count, v, out):
+    """out[a] = U = H*_cand v_cand + H*_ant v_ant [m/s] of the contacts of rigid bodies, in
+    their frames (t, n[, s]); a model with deformable blocks has its own
+    (saxum.bodies.fe.FEKind.local_velocities)."""
+    for a in range(count):
+        for r in range(out.shape[1]):
+            out[a, r] = _local(h_cand, h_ant, a, r, cand[a], ant[a], v)
+
+
+@nb.njit(cache=True)
+def law_terms(law, gap, area, slip, damage, history, count, u_begin, law_kind, law_parameter,
+              h, theta, delassus, bias, law_map):
     """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones and
     bonded COHESIVE ones (damage < 1, or history > 0: bonded once) in bias [m/s]; other rows
-    get flag 0. delassus [1/kg] is W, left as it is."""
+    get flag 0. u_begin [m/s]: the contacts' local velocities U^b at the start of the step
+    (local_velocities); delassus [1/kg] is W, left as it is."""
     dim = delassus.shape[1]
     o_w, o_p = 1, 1 + dim * dim
     o_s, o_d, o_e = 1 + 2 * dim * dim, 1 + 2 * dim * dim + dim, 1 + 2 * dim * dim + 2 * dim
     o_x, o_r = 1 + 2 * dim * dim + 3 * dim, 1 + 3 * dim * dim + 3 * dim
-    ub = np.empty(dim)
     dd = np.empty(dim)
     ee = np.empty(dim)
     bb = np.empty(dim)
@@ -105,10 +116,7 @@ def law_terms(cand, ant, law, gap, area, slip, damage, history, count, h_cand, h
         beta = 1.0 - damage[a]
         if kind == _COHESIVE and beta <= 0.0 and history[a] <= 0.0:
             continue  # never bonded (saxum.contacts): a gap-law Coulomb contact
-        c = cand[a]
-        b = ant[a]
-        for r in range(dim):
-            ub[r] = _local(h_cand, h_ant, a, r, c, b, v_begin)
+        ub = u_begin[a]
         row[0] = 2.0 if kind == _COHESIVE and beta > 0.0 else 1.0
         for r in range(dim * dim):
             row[o_p + r] = 0.0
@@ -234,14 +242,15 @@ def law_solve_3d(m, u, bn, mu, wp, rr):
 
 
 @nb.njit(cache=True)
-def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, history, count,
-                  h_cand, h_ant, v_begin, v, law_kind, law_friction, law_parameter, h, theta):
-    """After the solve, from the end-of-step velocity v [m/s, rad/s]: ELASTIC slip s [m]
+def update_joints(law, gap, area, impulse, active, slip, damage, history, count, u_begin, u,
+                  law_kind, law_friction, law_parameter, h, theta):
+    """After the solve, from the contacts' local velocities at the start and the end of the
+    step, u_begin and u [m/s] (local_velocities): ELASTIC slip s [m]
     (the spring's elongation: the jump while sticking, the slider's limit while sliding, 0
     when the contact is open); COHESIVE slip (the jump since bonding), history kappa and
     damage d (saxum.laws; they never decrease). Returns how many COHESIVE points became fully
     damaged (d reached 1: bonds lost) and how many are partly damaged (0 < d < 1) after it."""
-    dim = h_cand.shape[1]
+    dim = u.shape[1]
     lost = 0
     damaged = 0
     for a in range(count):
@@ -249,8 +258,6 @@ def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, hist
         if kind != _ELASTIC and kind != _COHESIVE:
             continue
         p = law_parameter[law[a]]
-        c = cand[a]
-        b = ant[a]
         area_a = area[a]
         if kind == _ELASTIC:
             rn = impulse[a, 1]
@@ -265,8 +272,7 @@ def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, hist
             for j in range(dim - 1):
                 r = 0 if j == 0 else 2
                 if sticks:
-                    slip[a, j] += h * ((1.0 - theta) * _local(h_cand, h_ant, a, r, c, b, v_begin)
-                                       + theta * _local(h_cand, h_ant, a, r, c, b, v))
+                    slip[a, j] += h * ((1.0 - theta) * u_begin[a, r] + theta * u[a, r])
                 else:
                     slip[a, j] = -impulse[a, r] / (h * area_a * p[_K_T])
             continue
@@ -275,10 +281,9 @@ def update_joints(cand, ant, law, gap, area, impulse, active, slip, damage, hist
         s2 = 0.0
         for j in range(dim - 1):
             r = 0 if j == 0 else 2
-            slip[a, j] += h * ((1.0 - theta) * _local(h_cand, h_ant, a, r, c, b, v_begin)
-                               + theta * _local(h_cand, h_ant, a, r, c, b, v))
+            slip[a, j] += h * ((1.0 - theta) * u_begin[a, r] + theta * u[a, r])
             s2 += slip[a, j] * slip[a, j]
-        opening = max(gap[a] + theta * h * _local(h_cand, h_ant, a, 1, c, b, v), 0.0)
+        opening = max(gap[a] + theta * h * u[a, 1], 0.0)
         _damage(p, opening, math.sqrt(s2), damage, history, a)
         if damage[a] >= 1.0:
             lost += 1

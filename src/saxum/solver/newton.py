@@ -24,12 +24,17 @@ from NLGS's iterate there Newton crawls too (the shaken stack's capped step: nat
 stack-shaken). The iterate of least natural-map error is returned.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .conic import ConicResult
 from .residual import natural_map_error
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = ["alart_curnier", "alart_curnier_newton"]
 
@@ -78,6 +83,8 @@ def alart_curnier(r: np.ndarray, w: sp.csr_matrix, q: np.ndarray, mu: np.ndarray
 
 
 def _block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
+    import scipy.sparse as sp
+
     m, d, _ = blocks.shape
     base = d * np.arange(m)[:, None, None]
     rows = np.broadcast_to(base + np.arange(d)[None, :, None], blocks.shape)
@@ -95,6 +102,9 @@ def alart_curnier_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim
     the shaken stack's step, 15 iterations at 0.11 from zero impulses, then 2.4e-9 after 50).
     Returns the iterate of least natural-map error (ConicResult: interior_iterations counts
     the linear solves)."""
+    import scipy.sparse as sp  # ~0.3 s with its linalg: imported by the runs that use Newton
+    import scipy.sparse.linalg as spla
+
     w = sp.csr_matrix(w, dtype=np.float64)
     q = np.asarray(q, dtype=np.float64)
     mu = np.asarray(mu, dtype=np.float64)

@@ -47,8 +47,7 @@ from .laws_local import law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
-from .nlgs_fe import nlgs_fe_2d
-from .nlgs_fe3d import nlgs_fe_3d
+from .nlgs_fe import nlgs_fe_2d, nlgs_fe_3d
 from .problem import ContactProblem
 from .sticking import sticking_solution
 from .velocity_change import change_ratio, change_sums
@@ -79,8 +78,8 @@ pays ends the putting off. 0: every slow step tries at once (saxum before issue 
 benchmarks/rest_cost.py)."""
 
 
-_CHUNK = 64
-"""Contacts per chunk of the coloured sweep (colour_contacts_2d): a fixed number, so that the
+_STRIP_BODIES = 1024
+"""Free bodies per four strips of the coloured sweep (body_strips): a fixed number, so that the
 order does not depend on the threads."""
 
 
@@ -151,6 +150,8 @@ class NLGS(ContactSolver):
         """Whether the last step found a rest solution (_REST_BACKOFF)."""
         self._coloured = None
         """(the arrays it was computed for, colour_contacts_2d's result): _colouring."""
+        self._strips = None
+        """body_strips' (strip, nstrips) and free [bool] per body, of the model solved."""
 
     def forget(self) -> None:
         self._following.clear()
@@ -170,6 +171,7 @@ class NLGS(ContactSolver):
             self._inv_mass = inv_mass
             self._mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
                                    where=inv_mass > 0.0)
+            self._strips = self._coloured = None
         if getattr(problem, "fe", None) is not None:
             if self._sums is not None:
                 raise InputError(f"solver.criterion {self.criterion!r} is for rigid blocks: "
@@ -199,8 +201,8 @@ class NLGS(ContactSolver):
         if dim == 2 and self.threads is not None and self._sums is None:
             nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
             sweep = nlgs_2d_coloured
-            args += self._colouring(c.candidate, c.antagonist, active, problem.count,
-                                    inv_mass)
+            args += self._colouring(problem.model, c.candidate, c.antagonist, active,
+                                    problem.count)
         else:
             args += (self._sums, CRITERIA.index(self.criterion))
         args += (self.tolerance,)
@@ -268,15 +270,20 @@ class NLGS(ContactSolver):
         (_REST_BACKOFF)."""
         self._rest_backoff = min(max(1, 2 * self._rest_backoff), _REST_BACKOFF)
 
-    def _colouring(self, cand, ant, active, count, inv_mass) -> tuple:
-        """colour_contacts_2d's, reused while the active contacts' pairs and the masses have
-        not changed (comparing them costs ~1/20 of colouring them again)."""
-        key = (cand[:count], ant[:count], active[:count], inv_mass)
+    def _colouring(self, model, cand, ant, active, count) -> tuple:
+        """colour_contacts_2d's (order, chunks, colours) and free, reused while the active
+        contacts' pairs have not changed (comparing them costs less than colouring them)."""
+        if self._strips is None:
+            free = (model.body_inv_mass > 0.0).any(axis=1)
+            self._strips = (*body_strips(free), free)
+        key = (cand[:count], ant[:count], active[:count])
         old = self._coloured
         if old is None or not all(len(x) == len(y) and np.array_equal(x, y)
                                   for x, y in zip(key, old[0], strict=True)):
+            strip, nstrips, free = self._strips
             self._coloured = old = (tuple(x.copy() for x in key),
-                                    colour_contacts_2d(cand, ant, active, count, inv_mass))
+                                    (*colour_contacts_2d(cand, ant, active, count, strip,
+                                                         nstrips), free))
         return old[1]
 
     def _sweeps(self, sweep, args, count: int):
@@ -307,9 +314,9 @@ class NLGS(ContactSolver):
                           v_free: np.ndarray, v: np.ndarray) -> SolverReport:
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
         and no load following (both are for rigid blocks; Simulation logs it): a 2D step not
-        converged after rest_after sweeps sweeps on from the sticking solution
+        converged after min(rest_after, _FE_FIRST) sweeps sweeps on from the sticking solution
         (saxum.solver.sticking), counted in rest_attempts (and in rest_solutions where its
-        statuses settled and it was taken)."""
+        statuses settled, or nearly, and it was taken)."""
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
         c = problem.contacts
@@ -321,12 +328,18 @@ class NLGS(ContactSolver):
                 self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
                 c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
                 np.repeat(b.node_mass[:, None], b.dim, axis=1), kind.v_free, kind.v,
-                np.empty_like(kind.v), self.tolerance)
-        # the sticking start is written for 2D (saxum.solver.sticking): 3D sweeps alone
-        sticking = problem.model.dim == 2 and self.rest_after > 0
-        first = min(self.rest_after, self.max_iterations) if sticking else self.max_iterations
+                np.empty_like(kind.v))
+        if problem.model.dim == 2:
+            args += (problem.law_map,)
+        args += (self.tolerance,)
+        # the sticking start is written for 2D (saxum.solver.sticking) and for dry contacts:
+        # 3D sweeps, and those with joint laws, alone
+        sticking = (problem.model.dim == 2 and self.rest_after > 0
+                    and not getattr(problem, "joint_laws", False))
+        first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
+                 else self.max_iterations)
         iterations, error = sweep(*args, first, self.relaxation)
-        # a step after one whose sticking start did not settle does not try (its statuses
+        # a step after one whose sticking start was not taken does not try (its statuses
         # are likely changing still: under a pulse, most steps)
         if error > self.tolerance and iterations < self.max_iterations:
             if self._sticking_failed:
@@ -342,6 +355,13 @@ class NLGS(ContactSolver):
             self._sticking_failed = False
         return SolverReport(iterations=iterations, error=error,
                             converged=error <= self.tolerance)
+
+
+_FE_FIRST = 5
+"""Sweeps of a 2D step with deformable blocks before its sticking start (at most
+rest_after): a sweep of the 210-brick wall costs about a seventh of one of the start's LU
+(benchmarks/wall_fe.py), and steps that converge in a few sweeps (free flight, light
+contact) need no start."""
 
 
 @nb.njit(cache=True)
@@ -392,120 +412,166 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
                      inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
                      chunks, colours, free, tolerance, max_iterations, relaxation):
     """nlgs_2d with its dry contacts swept colour by colour, the chunks of one colour in
-    parallel (numba threads), each chunk's contacts in order: order, chunks, colours, free from
-    colour_contacts_2d. It is still a Gauss-Seidel sweep, in the colouring's order (not
-    nlgs_2d's): a chunk reads and writes only the velocities of its own contacts' bodies,
-    which no other chunk of its colour writes (a fixed body, inv_mass 0, is read but never
-    written), so the result is the same bit for bit whatever the number of threads. The
-    joints are swept after, in order, as nlgs_2d does; work: at least 2 count x 18."""
-    # the dry contacts' rows in the colours' order (the sweeps read them in sequence), after
-    # the joints' (in nlgs_2d's rows, which those of the dry ones do not overlap)
-    packed = order.shape[0]
-    for i in nb.prange(packed):
-        _pack_2d(work[count + i], h_cand, h_ant, delassus, bias, friction, order[i])
+    parallel (numba threads), each chunk's contacts in order: order, chunks, colours from
+    colour_contacts_2d, free [bool] per body (inv_mass > 0). It is still a Gauss-Seidel
+    sweep, in the colouring's order (not nlgs_2d's): a chunk reads and writes only the
+    velocities of its own contacts' bodies, which no other chunk of its colour writes (a
+    fixed body, inv_mass 0, is read but never written), and the error's sums go by fixed
+    blocks of bodies (_parallel_change), so the result is the same bit for bit whatever the
+    number of threads. The joints are swept after, in order, as nlgs_2d does; work: at least
+    2 count x 18."""
+    # the dry contacts' rows, bodies and impulses in the colours' order (the sweeps read
+    # them in sequence: gathered from a strip's contacts, spread over the whole array, they
+    # cost 3x as much), after the joints' (in nlgs_2d's rows, which those of the dry ones
+    # do not overlap)
+    dry = order.shape[0]
+    packed = dry
+    own_cand = np.empty(dry, dtype=np.int64)
+    own_ant = np.empty(dry, dtype=np.int64)
+    own_impulse = np.empty((dry, 2))
+    for i in nb.prange(dry):
+        a = order[i]
+        _pack_2d(work[count + i], h_cand, h_ant, delassus, bias, friction, a)
+        own_cand[i] = cand[a]
+        own_ant[i] = ant[a]
+        own_impulse[i, 0] = impulse[a, 0]
+        own_impulse[i, 1] = impulse[a, 1]
     if joints is not None:
         packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
                                   law_map)
     if packed == 0:
         return 0, 0.0
+    sums = np.empty((-(-v.shape[0] // _SUM_BODIES), 3))
     error = np.inf
     it = 0
-    _relative_change(v, v_prev, v_free, mass)
+    _parallel_change(v, v_prev, v_free, mass, sums)
     while it < max_iterations:
         it += 1
         for k in range(colours.shape[0] - 1):
+            if colours[k + 1] == colours[k]:
+                continue
             for u in nb.prange(colours[k], colours[k + 1]):
                 for i in range(chunks[u], chunks[u + 1]):
-                    _update_dry_2d(order[i], cand, ant, work[count + i], v, impulse,
+                    _update_dry_2d(i, own_cand, own_ant, work[count + i], v, own_impulse,
                                    inv_mass, relaxation, free, None)
-        error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
-                              law_map, inv_mass, relaxation, None, 0)
+        if joints is not None:
+            _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass,
+                            relaxation, None)
+        error = _parallel_change(v, v_prev, v_free, mass, sums)
         if error <= tolerance:
             break
+    for i in nb.prange(dry):
+        impulse[order[i], 0] = own_impulse[i, 0]
+        impulse[order[i], 1] = own_impulse[i, 1]
     return it, error
 
 
+_SUM_BODIES = 2048
+"""Bodies per block of _parallel_change's sums: a fixed number, so that the sums and the
+error do not depend on the threads."""
+
+
+@nb.njit(parallel=True, cache=True)
+def _parallel_change(v, v_prev, v_free, mass, sums):
+    """_relative_change on threads: change_sums over blocks of _SUM_BODIES bodies in
+    parallel into sums (a row per block), then added in the blocks' order."""
+    for k in nb.prange(sums.shape[0]):
+        lo = k * _SUM_BODIES
+        hi = min(v.shape[0], lo + _SUM_BODIES)
+        sums[k, 0], sums[k, 1], sums[k, 2] = change_sums(
+            v[lo:hi], v_prev[lo:hi], v_free[lo:hi], mass[lo:hi], 0.0, 0.0, 0.0)
+    num = den = size = 0.0
+    for k in range(sums.shape[0]):
+        num += sums[k, 0]
+        den += sums[k, 1]
+        size += sums[k, 2]
+    return change_ratio(num, den, size)
+
+
+def body_strips(free: np.ndarray) -> tuple[np.ndarray, int]:
+    """The strips of colour_contacts_2d: the free bodies, in the model's order, cut into
+    nstrips runs of as many bodies, nstrips = 4 per _STRIP_BODIES of them (at least 4, at
+    most 256: two colours of an even number of strips, balanced on 2 threads). The
+    structures of saxum.structures number their blocks course by course, so a strip is a
+    band of courses whose velocities lie together in memory (strips along the longest side
+    of the structure instead cost 1.2x as much per sweep on a 16 000-brick wall); blocks
+    numbered at random give strips that the colouring merges into one. Returns (strip per
+    body, fixed bodies -1; nstrips): a function of the model only, so not of the threads."""
+    index = np.flatnonzero(free)
+    strip = np.full(len(free), -1, dtype=np.int64)
+    nstrips = min(256, 4 * max(1, len(index) // _STRIP_BODIES))
+    strip[index] = np.arange(len(index)) * nstrips // max(1, len(index))
+    return strip, nstrips
+
+
 @nb.njit(cache=True)
-def colour_contacts_2d(cand, ant, active, count, inv_mass):
-    """Greedy colouring of the active contacts in chunks: the active contacts, in nlgs_2d's
-    order (last first), cut into chunks of _CHUNK; each chunk takes the smallest colour that
-    no earlier chunk on one of its free bodies has (a body is free when one of its inv_mass is
-    > 0; fixed ones, the ground, do not conflict). A chunk keeps nlgs_2d's order inside, and
-    its contacts, neighbours in that order, share bodies: the sweep keeps their velocities in
-    cache, which contacts of one colour one by one would not. The chunks do not depend on the
-    number of threads. Returns (order, chunks, colours, free): chunk u is
+def colour_contacts_2d(cand, ant, active, count, strip, nstrips):
+    """Red-black strips: the active contacts go into the strips (body_strips) of their free
+    bodies (the lower of the two), the even strips are colour 0 and the odd ones colour 1,
+    and each strip keeps nlgs_2d's order (last first) inside: a contiguous piece of the
+    structure swept as the serial sweep would, two barriers per sweep. The colours hold where
+    no free body has contacts in two strips of one colour (strips wider than the bodies);
+    where one has, the strips are merged in pairs until none has (one strip at the end: one
+    thread). Returns (order, chunks, colours): chunk u (a non-empty strip) is
     order[chunks[u]:chunks[u+1]], the chunks of colour k are colours[k] to colours[k+1] - 1;
-    free [bool] per body."""
-    nbody = inv_mass.shape[0]
-    free = np.zeros(nbody, dtype=np.bool_)
-    for b in range(nbody):
-        for d in range(inv_mass.shape[1]):
-            if inv_mass[b, d] > 0.0:
-                free[b] = True
+    a function of the contacts and the strips, not of the threads."""
     visit = np.empty(count, dtype=np.int64)
+    key = np.empty(count, dtype=np.int64)
     n = 0
-    degree = np.zeros(nbody, dtype=np.int64)
     for k in range(count):
         a = count - 1 - k
         if active[a]:
+            sc = strip[cand[a]]
+            sa = strip[ant[a]]  # a fixed body's is -1
             visit[n] = a
+            key[n] = min(sc, sa) if sc >= 0 and sa >= 0 else max(sc, sa, 0)
             n += 1
-            degree[cand[a]] += 1
-            degree[ant[a]] += 1
-    nchunks = -(-n // _CHUNK)
-    # a chunk meets at most as many other chunks as its contacts' bodies have contacts
-    bound = 1
-    for u in range(nchunks):
-        meets = 1
-        for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
-            meets += degree[cand[visit[i]]] + degree[ant[visit[i]]]
-        bound = max(bound, meets)
-    words = bound // 64 + 1
-    used = np.zeros((nbody, words), dtype=np.uint64)
-    colour = np.empty(nchunks, dtype=np.int64)
-    ncolours = 0
-    for u in range(nchunks):
-        for w in range(words):
-            taken = np.uint64(0)
-            for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
-                a = visit[i]
-                if free[cand[a]]:
-                    taken |= used[cand[a], w]
-                if free[ant[a]]:
-                    taken |= used[ant[a], w]
-            if taken != ~np.uint64(0):
-                bit = 0
-                while (taken >> np.uint64(bit)) & np.uint64(1):
-                    bit += 1
-                colour[u] = 64 * w + bit
-                mask = np.uint64(1) << np.uint64(bit)
-                for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
-                    a = visit[i]
-                    used[cand[a], w] |= mask
-                    used[ant[a], w] |= mask
+    seen = np.empty((strip.shape[0], 2), dtype=np.int64)
+    shift = 0
+    while (nstrips - 1) >> shift > 0:  # more than one strip: do the colours hold?
+        seen[:] = -1
+        clash = False
+        for i in range(n):
+            s = key[i] >> shift
+            for body in (cand[visit[i]], ant[visit[i]]):
+                if strip[body] >= 0:
+                    if seen[body, s & 1] < 0:
+                        seen[body, s & 1] = s
+                    elif seen[body, s & 1] != s:
+                        clash = True
+            if clash:
                 break
-        ncolours = max(ncolours, colour[u] + 1)
-    colours = np.zeros(ncolours + 1, dtype=np.int64)
-    for u in range(nchunks):
-        colours[colour[u] + 1] += 1
-    for k in range(ncolours):
-        colours[k + 1] += colours[k]
-    fill = colours[:-1].copy()
-    place = np.empty(nchunks, dtype=np.int64)  # chunk u's rank in colour order
-    for u in range(nchunks):
-        place[u] = fill[colour[u]]
-        fill[colour[u]] += 1
-    chunks = np.zeros(nchunks + 1, dtype=np.int64)
-    for u in range(nchunks):
-        chunks[place[u] + 1] = min(n, (u + 1) * _CHUNK) - u * _CHUNK
-    for r in range(nchunks):
-        chunks[r + 1] += chunks[r]
+        if not clash:
+            break
+        shift += 1
+    merged = ((nstrips - 1) >> shift) + 1
+    even = (merged + 1) // 2
+    # strip s's place: the even ones first, then the odd ones
+    size = np.zeros(merged + 1, dtype=np.int64)
+    for i in range(n):
+        s = key[i] >> shift
+        size[(s & 1) * even + (s >> 1) + 1] += 1
+    start = np.zeros(merged + 1, dtype=np.int64)
+    for r in range(merged):
+        start[r + 1] = start[r] + size[r + 1]
     order = np.empty(n, dtype=np.int64)
-    for u in range(nchunks):
-        start = chunks[place[u]]
-        for i in range(u * _CHUNK, min(n, (u + 1) * _CHUNK)):
-            order[start + i - u * _CHUNK] = visit[i]
-    return order, chunks, colours, free
+    fill = start[:-1].copy()
+    for i in range(n):
+        s = key[i] >> shift
+        r = (s & 1) * even + (s >> 1)
+        order[fill[r]] = visit[i]
+        fill[r] += 1
+    chunks = np.zeros(merged + 1, dtype=np.int64)
+    colours = np.zeros(3, dtype=np.int64)
+    u = 0
+    for r in range(merged):
+        if size[r + 1] > 0:
+            u += 1
+            chunks[u] = start[r + 1]
+        if r + 1 == even:
+            colours[1] = u
+    colours[2] = u
+    return order, chunks[: u + 1], colours
 
 
 @nb.njit(inline="always")

@@ -18,7 +18,7 @@ from ..bodies import rigid2d
 from ..contacts import Contacts
 from ..laws import SMOOTH_KINDS, LawKind
 from ..model import Model
-from .laws_local import law_map_width, law_terms
+from .laws_local import law_map_width, law_terms, local_velocities
 
 __all__ = ["ContactProblem"]
 
@@ -60,6 +60,12 @@ class ContactProblem:
         """Contact enters the solve this step (else R = 0), shape [capacity]."""
         self.gap_end = np.zeros(capacity)
         """Estimated gap at the end of the step [m] (end_gaps), shape [capacity]."""
+        self.u_begin = np.zeros((capacity, d))
+        """The contacts' local velocities U at the start of the step [m/s] (joint laws only),
+        shape [capacity, dim]."""
+        self.u_end = np.zeros((capacity, d))
+        """The contacts' local velocities U at the end of the step [m/s] (joint laws only,
+        local_velocities), shape [capacity, dim]."""
         self.law_map = np.zeros((capacity, law_map_width(d)))
         """The joint laws' modified local problems (saxum.solver.laws_local; column 0 is 0
         for contacts of dry laws), shape [capacity, law_map_width(dim)]."""
@@ -100,9 +106,20 @@ class ContactProblem:
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         if self.joint_laws:
-            law_terms(c.candidate, c.antagonist, c.law, c.gap, c.area, c.slip, c.damage,
-                      c.history, k, self.h_cand, self.h_ant, v_begin, m.law_kind,
-                      m.law_parameter, h, theta, self.delassus, self.bias, self.law_map)
+            self.local_velocities(v_begin, self.u_begin, begin=True)
+            law_terms(c.law, c.gap, c.area, c.slip, c.damage, c.history, k, self.u_begin,
+                      m.law_kind, m.law_parameter, h, theta, self.delassus, self.bias,
+                      self.law_map)
+
+    def local_velocities(self, v: np.ndarray, out: np.ndarray, *, begin: bool = False) -> None:
+        """out[:count] = U = H* v [m/s] in the contacts' frames, from the bodies' velocities v
+        [m/s, rad/s] and, with deformable blocks, their nodes' (at the start of the step with
+        begin, else the solve's)."""
+        c = self.contacts
+        if self.fe is not None:
+            self.fe.local_velocities(self, v, out, begin)
+            return
+        local_velocities(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.count, v, out)
 
     def end_gaps(self, impulse: np.ndarray, v: np.ndarray, h: float, theta: float,
                  w: np.ndarray | None = None) -> tuple[int, float]:

@@ -18,8 +18,14 @@ contact problems with Coulomb friction: formulations and numerical comparisons",
 recomputed from W and q, so that it does not depend on what a solver reports.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = ["natural_map", "natural_map_error", "project_on_cone"]
 

@@ -11,6 +11,8 @@ a finalized Model with one Coulomb law (friction=...) between every pair of its 
 - walls in running or stack bond with openings (Opening): add_wall, wall;
 - piers and buttressed walls: add_pier, pier, add_buttressed_wall, buttressed_wall;
 - multi-span arch bridges: add_arch_bridge, arch_bridge;
+- granular fill: discs or spheres of random radii, seeded, in a box (add_granular_fill) or in
+  a 2D container (add_granular_box);
 - blocks from JSON, CSV or DXF files (JSON and CSV also 3D): read_blocks,
   add_blocks_from_file, blocks_model, write_blocks, block_file_dim;
 - in 3D (saxum.structures.solid): extruded 2D structures (add_extruded, extruded), arches and
@@ -42,6 +44,7 @@ from .blockfile import (
     write_blocks,
 )
 from .bridge import add_arch_bridge, arch_bridge
+from .granular import add_granular_box, add_granular_fill
 from .meshfile import add_blocks_from_mesh, read_mesh_blocks
 from .piers import add_buttressed_wall, add_pier, buttressed_wall, pier
 from .solid import (
@@ -80,6 +83,8 @@ __all__ = [
     "add_bridge3d",
     "add_blocks_from_file",
     "add_buttressed_wall",
+    "add_granular_box",
+    "add_granular_fill",
     "add_extruded",
     "add_ground_slab",
     "add_pier3d",

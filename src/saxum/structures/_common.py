@@ -61,10 +61,23 @@ class Assembly:
                   name: str, density: float = 0.0, kind: BodyKind = BodyKind.FREE) -> int:
         """Add one block to `builder` and record it under `part`."""
         index = builder.add_block(vertices, density=density, group=group, kind=kind, name=name)
+        return self._record(part, group, index, vertices)
+
+    def add_round(self, builder: ModelBuilder, part: str, centre, radius: float, *,
+                  group: str, name: str, density: float = 0.0,
+                  kind: BodyKind = BodyKind.FREE) -> int:
+        """Add a disc (a sphere in a 3D builder) of radius [m] at centre [m] to `builder` and
+        record it under `part`; its outline is two corners of its bounding box, c -+ r."""
+        add = builder.add_disc if builder.dim == 2 else builder.add_sphere
+        index = add(centre, radius, density=density, group=group, kind=kind, name=name)
+        c = np.asarray(centre, dtype=np.float64)
+        return self._record(part, group, index, np.array([c - radius, c + radius]))
+
+    def _record(self, part: str, group: str, index: int, outline) -> int:
         self.parts.setdefault(part, []).append(index)
         if group not in self.groups:
             self.groups.append(group)
-        self.outlines[index] = np.asarray(vertices, dtype=np.float64)
+        self.outlines[index] = np.asarray(outline, dtype=np.float64)
         return index
 
     def merge(self, other: "Assembly") -> None:

@@ -2,7 +2,8 @@
 polylines of a DXF drawing.
 
 JSON: {"blocks": [{"vertices": [[x, y], ...], "density": 2000.0, "group": "stone",
-"kind": "free", "name": "keystone"}, ...]}; only "vertices" is required.
+"kind": "free", "name": "keystone"}, ...]}; only "vertices" is required. A disc (a sphere in
+a 3D file) has "centre": [x, y] and "radius" [m] instead of "vertices" (JSON only).
 
 CSV: a header row naming the columns, then one row per vertex: `block` (the block's name),
 `x`, `y` [m] (required) and `density` [kg/m^3], `group`, `kind` (optional: given on any row
@@ -51,14 +52,15 @@ FORMATS = ("json", "csv", "dxf")
 KINDS = {"free": BodyKind.FREE, "fixed": BodyKind.FIXED}
 CSV_COLUMNS = ("block", "x", "y", "density", "group", "kind")
 CSV_COLUMNS_3D = ("block", "x", "y", "z", "density", "group", "kind")
-JSON_KEYS = ("vertices", "density", "group", "kind", "name")
+JSON_KEYS = ("vertices", "centre", "radius", "density", "group", "kind", "name")
 
 
 @dataclass(frozen=True)
 class BlockSpec:
     """A block read from a file: vertices [m] (n, 2) counter-clockwise (3D: (n, 3), the
     vertices of its convex hull), density [kg/m^3] (0 for fixed blocks), group, kind, name,
-    and where it is in the file (for messages)."""
+    and where it is in the file (for messages); a disc (sphere) has radius > 0 [m] and its
+    centre as its one vertex."""
 
     vertices: np.ndarray
     density: float
@@ -66,6 +68,7 @@ class BlockSpec:
     kind: BodyKind
     name: str
     where: str
+    radius: float = 0.0
 
 
 def _format(path: Path, format: str | None) -> str:
@@ -106,10 +109,16 @@ class _Defaults:
         self.scale = _number(scale, "scale", "read_blocks")
 
     def spec(self, vertices, density, group, kind: BodyKind, name: str,
-             where: str) -> BlockSpec:
+             where: str, radius=None) -> BlockSpec:
         group = self.group if group in (None, "") else str(group)
         points = np.asarray(vertices, dtype=np.float64) * self.scale
-        if points.ndim == 2 and points.shape[1] == 3:
+        if radius is not None:  # a disc (sphere): its centre as its one vertex
+            radius = _number(radius, "radius [m]", where) * self.scale
+            if radius <= 0.0 or points.shape not in ((1, 2), (1, 3)):
+                raise InputError(f"{where}: a disc (sphere) needs a radius > 0 [m] and a "
+                                 f"centre [x, y] (3D [x, y, z]); got radius {radius:g}")
+            verts = points
+        elif points.ndim == 2 and points.shape[1] == 3:
             verts = convex_polyhedron(points, name=where).vertices
         else:
             verts = normalize_polygon(points, name=where)
@@ -125,7 +134,7 @@ class _Defaults:
         density = _number(density, "density [kg/m^3]", where)
         if kind == BodyKind.FREE and density <= 0.0:
             raise InputError(f"{where}: density must be > 0 [kg/m^3], got {density:g}")
-        return BlockSpec(verts, density, group, kind, name, where)
+        return BlockSpec(verts, density, group, kind, name, where, radius or 0.0)
 
 
 def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
@@ -140,8 +149,10 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
     specs = []
     for i, block in enumerate(data["blocks"]):
         where = f"{path}: blocks[{i}]"
-        if not isinstance(block, dict) or "vertices" not in block:
-            raise InputError(f'{where}: expected an object with "vertices": [[x, y], ...]')
+        round_ = isinstance(block, dict) and "vertices" not in block and "centre" in block
+        if not isinstance(block, dict) or not round_ and "vertices" not in block:
+            raise InputError(f'{where}: expected an object with "vertices": [[x, y], ...] or, '
+                             'for a disc, "centre": [x, y] and "radius"')
         if isinstance(block.get("name"), str):
             where += f" ({block['name']!r})"
         unknown = sorted(set(block) - set(JSON_KEYS))
@@ -149,7 +160,8 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
             raise InputError(f"{where}: unknown key {unknown[0]!r}; keys are {JSON_KEYS}")
         kind = _kind(block.get("kind", "free"), where)
         try:
-            vertices = np.array(block["vertices"], dtype=np.float64)
+            vertices = np.array([block["centre"]] if round_ else block["vertices"],
+                                dtype=np.float64)
         except (TypeError, ValueError):
             raise InputError(f"{where}: vertices must be a list of [x, y] (3D: [x, y, z]) "
                              "numbers") from None
@@ -159,7 +171,8 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
                              f"have {specs[0].vertices.shape[1]}; a file holds 2D or 3D "
                              "blocks, not both")
         specs.append(defaults.spec(vertices, block.get("density"), block.get("group"), kind,
-                                   str(block.get("name", f"block {i + 1}")), where))
+                                   str(block.get("name", f"block {i + 1}")), where,
+                                   block.get("radius", 0.0) if round_ else None))
     return specs
 
 
@@ -273,7 +286,8 @@ def block_file_dim(path: str | Path, *, format: str | None = None) -> int:
             return 2  # read_blocks says what is wrong
         return 3 if "z" in (c.strip() for c in header) else 2
     try:
-        first = json.loads(path.read_text(encoding="utf-8"))["blocks"][0]["vertices"][0]
+        block = json.loads(path.read_text(encoding="utf-8"))["blocks"][0]
+        first = block["centre"] if "vertices" not in block else block["vertices"][0]
         return 3 if len(first) == 3 else 2
     except (json.JSONDecodeError, UnicodeDecodeError, KeyError, IndexError, TypeError):
         return 2  # read_blocks says what is wrong
@@ -317,11 +331,17 @@ def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -
         if kind == BodyKind.DRIVEN:
             raise InputError(f"block {model.body_name[b]!r} is DRIVEN; block files hold free "
                              "and fixed blocks only")
-        blocks.append({"name": model.body_name[b],
-                       "group": model.group_names[model.body_group[b]],
-                       "kind": kind.name.lower(),
-                       "density": float(model.body_density[b]),
-                       "vertices": model.vertices(b).tolist()})
+        block = {"name": model.body_name[b], "group": model.group_names[model.body_group[b]],
+                 "kind": kind.name.lower(), "density": float(model.body_density[b])}
+        if model.body_round_radius[b] > 0.0:
+            if fmt == "csv":
+                raise InputError(f"block {model.body_name[b]!r} is a disc (sphere); CSV block "
+                                 "files hold polygons only: write JSON")
+            block.update(centre=model.body_q0[b, : model.dim].tolist(),
+                         radius=float(model.body_round_radius[b]))
+        else:
+            block["vertices"] = model.vertices(b).tolist()
+        blocks.append(block)
     if fmt == "json":
         path.write_text(json.dumps({"blocks": blocks}, indent=1), encoding="utf-8")
         return
@@ -345,8 +365,11 @@ def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> 
         raise InputError(f"{path} holds {d}D blocks and the model is {builder.dim}D: build it "
                          f"with ModelBuilder(dim={d})")
     for spec in specs:
-        asm.add_block(builder, "blocks", spec.vertices, group=spec.group, density=spec.density,
-                      kind=spec.kind, name=spec.name)
+        common = dict(group=spec.group, density=spec.density, kind=spec.kind, name=spec.name)
+        if spec.radius > 0.0:
+            asm.add_round(builder, "blocks", spec.vertices[0], spec.radius, **common)
+        else:
+            asm.add_block(builder, "blocks", spec.vertices, **common)
     return asm
 
 

@@ -1,0 +1,213 @@
+"""Narrow phase of round bodies: discs (2D) and spheres (3D) against each other and against
+convex polygons (polyhedra).
+
+A round body of radius r touches a convex body at one point. Against another round body the
+normal is the line of centres, n = (c_i - c_j) / |c_i - c_j|, and the gap |c_i - c_j| - r_i - r_j.
+Against a polygon (polyhedron) P the disc's centre c is compared with P's closest feature: if c is
+outside P, the closest point p of P's boundary lies inside a face (n = the face's outward
+normal, gap = n . (c - a_f) - r, a_f a point of the face), inside an edge or at a vertex (n =
+(c - p) / |c - p|, gap = |c - p| - r); if c is inside P (a deep interpenetration), the face of
+largest separation gives n and the (negative) gap. The polygon is the antagonist and carries
+the frame; the round body is the candidate and the point c - r n on its surface is the contact
+point. Between two round bodies the first of the pair is the candidate.
+
+A contact's key is key_base + (i n_bodies + j) features + the feature of the polygon (face,
+edge, vertex) it touches, so that pairs sorted by (i, j) write keys in increasing order and a
+contact keeps its impulse while the round body stays on one face.
+
+Area (laws in stresses): the part of the round body's surface within the alert distance a of
+the face, where the gap grows as g + x^2 / (2 R) at a distance x from the point (R the
+radius; two round bodies: R = r_i r_j / (r_i + r_j)): in 2D the chord 2 sqrt(2 R (a - g)) [m],
+in 3D the disc pi 2 R (a - g) [m^2]. A round body against an edge or a vertex gets no area (as
+an edge against an edge of two polyhedra).
+"""
+
+import math
+
+import numba as nb
+
+from .fe_nodes3d import _edge_coordinate
+from .polygons import _write as _write_2d
+from .polygons import alert_of_pair
+from .polyhedra import _write as _write_3d
+
+__all__ = ["round_contacts"]
+
+_ROUND = 1  # saxum.model.Shape.ROUND
+
+
+@nb.njit(inline="always")
+def _pair_of_round(q, round_radius, i, j, dim):
+    """(n, gap [m], curvature radius R [m]) of two round bodies: n from j to i (a tuple of 3,
+    z = 0 in 2D)."""
+    dx = q[i, 0] - q[j, 0]
+    dy = q[i, 1] - q[j, 1]
+    dz = q[i, 2] - q[j, 2] if dim == 3 else 0.0
+    d = math.sqrt(dx * dx + dy * dy + dz * dz)
+    ri = round_radius[i]
+    rj = round_radius[j]
+    if d > 0.0:
+        n = (dx / d, dy / d, dz / d)
+    else:  # concentric: any direction; the gap says how deep
+        n = (0.0, 1.0, 0.0) if dim == 2 else (0.0, 0.0, 1.0)
+    return n, d - ri - rj, ri * rj / (ri + rj)
+
+
+@nb.njit(inline="always")
+def _disc_polygon(c_x, c_y, wv, wn, edge_length, v0, nv):
+    """(n_x, n_y, distance [m] from the disc's centre c to the polygon along n, feature): the
+    polygon's closest feature to c (module doc); feature: edge e, or nv + vertex k."""
+    best_s = -math.inf
+    best_e = 0
+    for e in range(nv):
+        s = wn[v0 + e, 0] * (c_x - wv[v0 + e, 0]) + wn[v0 + e, 1] * (c_y - wv[v0 + e, 1])
+        if s > best_s:
+            best_s = s
+            best_e = e
+    if best_s <= 0.0:  # the centre is inside: the face of largest separation
+        return wn[v0 + best_e, 0], wn[v0 + best_e, 1], best_s, best_e
+    dist = math.inf
+    nx = ny = 0.0
+    feature = 0
+    for e in range(nv):
+        ax = wv[v0 + e, 0]
+        ay = wv[v0 + e, 1]
+        # along the edge: t = (-n_y, n_x) turns from v_e towards v_e+1 (CCW polygon)
+        u = -wn[v0 + e, 1] * (c_x - ax) + wn[v0 + e, 0] * (c_y - ay)
+        s = wn[v0 + e, 0] * (c_x - ax) + wn[v0 + e, 1] * (c_y - ay)
+        if 0.0 < u < edge_length[v0 + e] and s > 0.0:
+            if s < dist:
+                dist, nx, ny, feature = s, wn[v0 + e, 0], wn[v0 + e, 1], e
+        elif u <= 0.0:  # the vertex v_e (each vertex is the start of one edge)
+            d = math.hypot(c_x - ax, c_y - ay)
+            if d < dist:
+                dist, nx, ny, feature = d, (c_x - ax) / d, (c_y - ay) / d, nv + e
+    return nx, ny, dist, feature
+
+
+@nb.njit(inline="always")
+def _inside_face(wv, wn, fvs, fv, f, px, py, pz):
+    """Whether the point p [m] of face f's plane lies inside the face (CCW from outside)."""
+    ring0 = fvs[f]
+    m = fvs[f + 1] - ring0
+    for k in range(m):
+        a = fv[ring0 + k]
+        b = fv[ring0 + (k + 1 if k + 1 < m else 0)]
+        if _edge_coordinate(wv, a, b, px, py, pz, wn[f, 0], wn[f, 1], wn[f, 2], 1.0)[0] < 0.0:
+            return False
+    return True
+
+
+@nb.njit(inline="always")
+def _sphere_polyhedron(cx, cy, cz, wv, wn, vertex_start, face_start, fvs, fv, edge_start,
+                       edge_vertex, b, max_faces, max_edges):
+    """(n, distance [m] from the sphere's centre c to polyhedron b along n, feature): its
+    closest feature (module doc); feature: face f, max_faces + edge e, or max_faces +
+    max_edges + vertex k (all local to b)."""
+    f0 = face_start[b]
+    best_s = -math.inf
+    best_f = f0
+    for f in range(f0, face_start[b + 1]):
+        a = fv[fvs[f]]
+        s = wn[f, 0] * (cx - wv[a, 0]) + wn[f, 1] * (cy - wv[a, 1]) + wn[f, 2] * (cz - wv[a, 2])
+        if s > best_s:
+            best_s = s
+            best_f = f
+    if best_s <= 0.0:  # the centre is inside: the face of largest separation
+        return (wn[best_f, 0], wn[best_f, 1], wn[best_f, 2]), best_s, best_f - f0
+    # the closest point lies inside a face (then P lies beyond that face's plane, which is
+    # the least distance), inside an edge or at a vertex
+    for f in range(f0, face_start[b + 1]):
+        a = fv[fvs[f]]
+        s = wn[f, 0] * (cx - wv[a, 0]) + wn[f, 1] * (cy - wv[a, 1]) + wn[f, 2] * (cz - wv[a, 2])
+        if s > 0.0 and _inside_face(wv, wn, fvs, fv, f, cx - s * wn[f, 0], cy - s * wn[f, 1],
+                                    cz - s * wn[f, 2]):
+            return (wn[f, 0], wn[f, 1], wn[f, 2]), s, f - f0
+    dist = math.inf
+    px = py = pz = 0.0
+    feature = 0
+    for e in range(edge_start[b], edge_start[b + 1]):
+        a = edge_vertex[e, 0]
+        ex = wv[edge_vertex[e, 1], 0] - wv[a, 0]
+        ey = wv[edge_vertex[e, 1], 1] - wv[a, 1]
+        ez = wv[edge_vertex[e, 1], 2] - wv[a, 2]
+        u = (ex * (cx - wv[a, 0]) + ey * (cy - wv[a, 1]) + ez * (cz - wv[a, 2])) / (
+            ex * ex + ey * ey + ez * ez)
+        if 0.0 < u < 1.0:
+            x = wv[a, 0] + u * ex
+            y = wv[a, 1] + u * ey
+            z = wv[a, 2] + u * ez
+            d = math.sqrt((cx - x) ** 2 + (cy - y) ** 2 + (cz - z) ** 2)
+            if d < dist:
+                dist, px, py, pz, feature = d, x, y, z, max_faces + e - edge_start[b]
+    for k in range(vertex_start[b], vertex_start[b + 1]):
+        d = math.sqrt((cx - wv[k, 0]) ** 2 + (cy - wv[k, 1]) ** 2 + (cz - wv[k, 2]) ** 2)
+        if d < dist:
+            dist, px, py, pz = d, wv[k, 0], wv[k, 1], wv[k, 2]
+            feature = max_faces + max_edges + k - vertex_start[b]
+    return ((cx - px) / dist, (cy - py) / dist, (cz - pz) / dist), dist, feature
+
+
+@nb.njit(cache=True)
+def round_contacts(pairs, npairs, q, wv, wn, edge_length, vertex_start, face_start, fvs, fv,
+                   edge_start, edge_vertex, shape, round_radius, body_group, group_law, alert,
+                   law_alert, body_alert, max_faces, max_edges, key_base, features, first,
+                   candidate, antagonist, key, law, point, frame, gap, area):
+    """Contacts of the first npairs pairs (sorted by (i, j)), each with a disc or sphere
+    (module doc), written from row `first` on; returns the new count.
+
+    wv [m], wn: world vertices and outward normals, of the edges starting at them (2D) or of
+    the faces (3D); q: configuration; edge_length [m] (2D), and in 3D the face and edge arrays
+    and their largest counts per body (saxum.model.Model); shape, round_radius [m]: Model's;
+    alert, law_alert, body_alert [m]: as polygon_contacts; features: keys per pair. In 3D the
+    frame's t is the world axis least along n made normal to n (a fixed choice: the same n
+    gives the same frame from step to step)."""
+    dim = wv.shape[1]
+    nbody = q.shape[0]
+    c = first
+    for p in range(npairs):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        law_index = group_law[body_group[i], body_group[j]]
+        pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
+        cand, ant = (i, j) if shape[i] == _ROUND else (j, i)
+        r = round_radius[cand]
+        feature = 0
+        if shape[ant] == _ROUND:
+            n, g, curvature = _pair_of_round(q, round_radius, cand, ant, dim)
+        elif dim == 2:
+            v0 = vertex_start[ant]
+            nx, ny, dist, feature = _disc_polygon(q[cand, 0], q[cand, 1], wv, wn, edge_length,
+                                                  v0, vertex_start[ant + 1] - v0)
+            n, g = (nx, ny, 0.0), dist - r
+            curvature = r if feature < vertex_start[ant + 1] - v0 else 0.0
+        else:
+            n, dist, feature = _sphere_polyhedron(q[cand, 0], q[cand, 1], q[cand, 2], wv, wn,
+                                                  vertex_start, face_start, fvs, fv,
+                                                  edge_start, edge_vertex, ant, max_faces,
+                                                  max_edges)
+            g = dist - r
+            curvature = r if feature < max_faces else 0.0
+        if g > pair_alert:
+            continue
+        nx, ny, nz = n
+        k = key_base + (i * nbody + j) * features + feature
+        if dim == 2:
+            _write_2d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k,
+                      law_index, q[cand, 0] - r * nx, q[cand, 1] - r * ny, nx, ny, g)
+            area[c] = 2.0 * math.sqrt(2.0 * curvature * (pair_alert - g))
+        else:
+            # t: the world axis least along n, less its component along n
+            if abs(nx) <= abs(ny) and abs(nx) <= abs(nz):
+                tx, ty, tz = 1.0 - nx * nx, -nx * ny, -nx * nz
+            elif abs(ny) <= abs(nz):
+                tx, ty, tz = -ny * nx, 1.0 - ny * ny, -ny * nz
+            else:
+                tx, ty, tz = -nz * nx, -nz * ny, 1.0 - nz * nz
+            norm = math.sqrt(tx * tx + ty * ty + tz * tz)
+            _write_3d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k,
+                      law_index, q[cand, 0] - r * nx, q[cand, 1] - r * ny, q[cand, 2] - r * nz,
+                      tx / norm, ty / norm, tz / norm, nx, ny, nz, g)
+            area[c] = math.pi * 2.0 * curvature * (pair_alert - g)
+        c += 1
+    return c

@@ -1,0 +1,10 @@
+"""LMGC90 models: read a DATBOX folder into a saxum model or scenario
+(`import_lmgc90`, `saxum import-lmgc90`), and write a saxum model as a DATBOX
+(`export_lmgc90`, `saxum export-lmgc90`). docs/lmgc90.md is the migration guide."""
+
+from .reader import Datbox, read_datbox
+from .translate import OVERLAP_TOLERANCE, Lmgc90Import, Untranslated, import_lmgc90, translate
+from .writer import export_lmgc90
+
+__all__ = ["OVERLAP_TOLERANCE", "Datbox", "Lmgc90Import", "Untranslated", "export_lmgc90",
+           "import_lmgc90", "read_datbox", "translate"]

@@ -1,0 +1,237 @@
+"""Write a saxum model as an LMGC90 DATBOX folder (BODIES.DAT, BULK_BEHAV.DAT,
+TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT) in the layout pylmgc90 writes.
+
+Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles), a
+disc RBDY2 with one DISKx (a sphere RBDY3 with one SPHER) of radius `byrd=`, the node at the
+centre of mass, the vertices in the body frame (saxum's: world axes in 2D,
+the principal frame in 3D, whose rotation DOF.INI gives as the frame a, b, g). Fixed blocks
+have all their dofs imposed at 0 in DRV_DOF.DAT, driven ones at their velocity at t = 0
+(written as constant). Groups become colours (5 characters), densities RIGID bulk laws.
+Laws: SIGNORINI_COULOMB -> IQS_CLB, GAP_SIGNORINI_COULOMB -> GAP_SGR_CLB,
+RESTITUTION_COULOMB -> RST_CLB (rstt = 0), one see-table per pair of groups with a law (its
+alert, or `alert`) and pair of contactor types the groups have (a disc or sphere the
+candidate, as in LMGC90's DKPLx); NO_CONTACT pairs get none. Joint laws (elastic, viscous,
+cohesive) are refused: LMGC90's joint laws are written in other terms.
+
+precision "lmgc90" writes LMGC90's fixed columns (7 significant digits, what its Fortran
+reader takes); "full" writes 17 significant digits (exact round trip through
+saxum.lmgc90.import_lmgc90, which reads values in free format; LMGC90 itself may not).
+Comments `! saxum name:` and `! saxum group:` keep block and group names for the way back.
+"""
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry2d import polygon_properties
+from ..geometry3d import rotation_matrix
+from ..laws import LawKind
+from ..model import BodyKind, Model
+
+__all__ = ["export_lmgc90"]
+
+_LAW_TYPES = {LawKind.SIGNORINI_COULOMB: "IQS_CLB", LawKind.GAP_SIGNORINI_COULOMB: "GAP_SGR_CLB",
+              LawKind.RESTITUTION_COULOMB: "RST_CLB"}
+_PAD = " " * 29
+"""Continuation lines start in column 30, as LMGC90 reads them."""
+
+
+def _colours(names: tuple[str, ...]) -> list[str]:
+    """A distinct 5-character colour per group: 3 letters of its name and a number."""
+    out = []
+    for k, name in enumerate(names):
+        letters = re.sub(r"[^A-Za-z0-9]", "", name).upper()[:3].ljust(3, "x")
+        out.append(f"{letters}{k + 1:02d}" if k < 99 else f"G{k + 1:04d}")
+    return out
+
+
+def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90",
+                  alert: float | None = None, velocities: np.ndarray | None = None) -> Path:
+    """Write `model` (its initial configuration; `velocities` in model.body_v's layout,
+    default at rest) to the DATBOX `folder` (created); alert [m] for laws without their
+    own (default: saxum's default, 2 % of the smallest free block's size). Returns the
+    folder. Raises InputError for deformable blocks and joint laws (module doc)."""
+    if precision not in ("lmgc90", "full"):
+        raise InputError(f"precision must be 'lmgc90' or 'full', got {precision!r}")
+    if (model.body_kind == BodyKind.DEFORMABLE).any():
+        raise InputError("export_lmgc90 writes rigid blocks; this model has deformable ones")
+    for law in model.laws:
+        if law.kind not in _LAW_TYPES:
+            raise InputError(f"{law.name or 'a law'} is {law.kind.name}: export_lmgc90 writes "
+                             f"{', '.join(k.name for k in _LAW_TYPES)} laws only")
+    fmt = (lambda x: f"{x:14.7E}".replace("E", "D")) if precision == "lmgc90" else (
+        lambda x: f"{x: .16E}".replace("E", "D"))
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    colours = _colours(model.group_names)
+    v = np.zeros((model.body_count, model.dof)) if velocities is None else np.asarray(velocities)
+    free = model.body_kind == BodyKind.FREE
+    if alert is None:
+        alert = 0.02 * float(model.body_size[free].min() if free.any() else model.body_size.min())
+    densities = sorted({float(d) for d in model.body_density[free]})
+    behav = {d: f"ST{k + 1:03d}" for k, d in enumerate(densities)}
+    _write_bodies(folder / "BODIES.DAT", model, colours, behav, fmt)
+    _write_dof(folder / "DOF.INI", model, v, fmt)
+    _write_drives(folder / "DRV_DOF.DAT", model, fmt)
+    g = [*model.gravity, 0.0][:3]
+    bulk = ["! File BULK_BEHAV (saxum export_lmgc90)", "$gravy",
+            f"{' ' * 19}grv1={fmt(g[0])}  grv2={fmt(g[1])}  grv3={fmt(g[2])}"]
+    for d, name in behav.items():
+        bulk += ["$behav  lawty", f" {name}  RIGID{' ' * 27}Umas={fmt(d)}"]
+    bulk += ["! fixed and driven blocks: their dofs are all imposed, their mass is not used",
+             "$behav  lawty", f" FIXED  RIGID{' ' * 27}Umas={fmt(1000.0)}"]
+    (folder / "BULK_BEHAV.DAT").write_text("\n".join(bulk) + "\n", encoding="latin-1")
+    _write_tact(folder / "TACT_BEHAV.DAT", model, colours, alert, fmt)
+    (folder / "MODELS.DAT").write_text("! File MODELS (rigid blocks need none)\n",
+                                       encoding="latin-1")
+    return folder
+
+
+def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt) -> None:
+    body, node = ("RBDY2", "NO3xx") if model.dim == 2 else ("RBDY3", "NO6xx")
+    out = ["! File BODIES (saxum export_lmgc90)"]
+    out += [f"! saxum group: {c} = {g}" for c, g in zip(colours, model.group_names, strict=True)]
+    for b in range(model.body_count):
+        start, end = model.body_vertex_start[b], model.body_vertex_start[b + 1]
+        local = model.vertex_local[start:end]
+        kind = BodyKind(int(model.body_kind[b]))
+        law = behav[float(model.body_density[b])] if kind == BodyKind.FREE else "FIXED"
+        colour = colours[model.body_group[b]]
+        r = float(model.body_round_radius[b])
+        if r > 0.0:  # a disc (sphere): both formulas below give r
+            avrd = gyrd = r
+            moment = 0.4 * (4.0 / 3.0 * math.pi * r**3) * r * r
+            inertia = [] if model.dim == 2 else [
+                f"{_PAD}I1  ={fmt(moment)}  I2  ={fmt(moment)}  I3  ={fmt(moment)}"]
+        elif model.dim == 2:
+            props = polygon_properties(local)
+            area, polar = props.area, props.polar_moment
+            avrd, gyrd = math.sqrt(area / math.pi), math.sqrt(2.0 * polar / area)
+            inertia = []
+        else:
+            volume, moments = _volume_moments(model, b)
+            avrd = (3.0 * volume / (4.0 * math.pi)) ** (1.0 / 3.0)
+            gyrd = math.sqrt(2.5 * float(np.mean(moments)) / volume)
+            inertia = [f"{_PAD}I1  ={fmt(moments[0])}  I2  ={fmt(moments[1])}  "
+                       f"I3  ={fmt(moments[2])}"]
+        centre = model.body_q0[b, :model.dim]
+        coo = "  ".join(f"coo{k + 1}={fmt(x)}" for k, x in enumerate(
+            [*centre, 0.0] if model.dim == 2 else centre))
+        out += [f"! saxum name: {model.body_name[b]}", "$bdyty", f" {body}{b + 1:7d}",
+                "$blmty", f" PLAIN      1  behav  {law}  avrd={fmt(avrd)}  gyrd={fmt(gyrd)}",
+                *inertia, "$nodty", f" {node}      1{' ' * 16}{coo}", "$tacty"]
+        if r > 0.0:
+            out.append(f" {_contactor(model, b)}      1  color  {colour}  byrd={fmt(r)}")
+        elif model.dim == 2:
+            out.append(f" POLYG      1  color  {colour}  nb_vertex={len(local):5d}")
+            out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}" for x, y in local]
+        else:
+            triangles = _triangles(model, b) - start + 1
+            out.append(f" POLYR      1  color  {colour}  nb_vertex={len(local):5d}"
+                       f"      nb_face={len(triangles):5d}")
+            out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}  coo3={fmt(z)}" for x, y, z in local]
+            out += [f"{_PAD}ver1= {i:<13d} ver2= {j:<13d} ver3= {k:<13d}".rstrip()
+                    for i, j, k in triangles]
+        out.append("$$$$$$")
+    path.write_text("\n".join(out) + "\n", encoding="latin-1")
+
+
+def _contactor(model: Model, b: int) -> str:
+    """LMGC90's contactor type of body b: DISKx, SPHER, POLYG or POLYR."""
+    if model.body_round_radius[b] > 0.0:
+        return "DISKx" if model.dim == 2 else "SPHER"
+    return "POLYG" if model.dim == 2 else "POLYR"
+
+
+def _triangles(model: Model, b: int) -> np.ndarray:
+    """The faces of 3D body b split into triangles (fans), vertex indices into vertex_local."""
+    tris = []
+    for f in range(model.body_face_start[b], model.body_face_start[b + 1]):
+        ring = model.face_vertex[model.face_vertex_start[f]:model.face_vertex_start[f + 1]]
+        tris += [(ring[0], ring[k], ring[k + 1]) for k in range(1, len(ring) - 1)]
+    return np.array(tris, dtype=np.int64)
+
+
+def _volume_moments(model: Model, b: int) -> tuple[float, np.ndarray]:
+    """Volume [m^3] and principal second moments of volume [m^5] of 3D body b (its inertia
+    over its density; from the vertices for fixed bodies, whose density is 0)."""
+    from ..geometry3d import convex_polyhedron, polyhedron_properties
+
+    local = model.vertex_local[model.body_vertex_start[b]:model.body_vertex_start[b + 1]]
+    props = polyhedron_properties(convex_polyhedron(local, name=model.body_name[b]))
+    return props.volume, props.moments
+
+
+def _write_dof(path: Path, model: Model, v: np.ndarray, fmt) -> None:
+    out = ["! File DOF (saxum export_lmgc90)", "$steps      0                time= "
+           + fmt(0.0)]
+    for b in range(model.body_count):
+        if model.dim == 2:
+            node = " NO3xx      1" + " " * 16
+            rows = [[0.0] * 3, list(v[b])]
+            labels = ["X", "V"]
+        else:
+            rot = rotation_matrix(model.body_q0[b, 3:])
+            node = " NO6xx      1" + " " * 16
+            rows = [[0.0] * 3, [0.0] * 3, list(v[b, :3]), list(v[b, 3:]), *(list(rot[:, k])
+                                                                              for k in range(3))]
+            labels = ["X", "X", "V", "V", "a", "b", "g"]
+        out += ["$bdyty", f" {'RBDY2' if model.dim == 2 else 'RBDY3'}{b + 1:7d}", "$nodty"]
+        for r, (label, row) in enumerate(zip(labels, rows, strict=True)):
+            first = 4 if (model.dim == 3 and label in "XV" and r in (1, 3)) else 1
+            cells = "  ".join(f"{label}({first + k})={fmt(x)}" for k, x in enumerate(row))
+            out.append((node if r == 0 else _PAD) + cells)
+        out.append("$$$$$$")
+    path.write_text("\n".join(out) + "\n", encoding="latin-1")
+
+
+def _write_drives(path: Path, model: Model, fmt) -> None:
+    out = []
+    for b in np.flatnonzero(model.body_kind != BodyKind.FREE):
+        velocity = ([0.0] * model.dof if model.body_kind[b] == BodyKind.FIXED
+                    else list(model.motions[model.body_motion[b]](0.0)))
+        out += ["$bdyty", f" {'RBDY2' if model.dim == 2 else 'RBDY3'}{b + 1:7d}", "$nodty",
+                f" {'NO3xx' if model.dim == 2 else 'NO6xx'}      1",
+                "$dofty        [CT......+......AMP..*..cos.(..OMEGA.*.time.+.PHI..)]...*..."
+                "[RAMPI.....+.....RAMP.*.time]"]
+        out += [f" vlocy {k + 1:6d} " + "  ".join(fmt(x) for x in (c, 0.0, 0.0, 0.0, 1.0, 0.0))
+                for k, c in enumerate(velocity)]
+        out.append("$$$$$$")
+    path.write_text("\n".join(out) + "\n", encoding="latin-1")
+
+
+def _write_tact(path: Path, model: Model, colours: list[str], alert: float, fmt) -> None:
+    body = "RBDY2" if model.dim == 2 else "RBDY3"
+    # LMGC90 detects a pair of contactor types only where a see-table names it: one per
+    # pair of types the two groups have, the disc (sphere) the candidate
+    order = ("DISKx", "SPHER", "POLYG", "POLYR")
+    tacts = [sorted({_contactor(model, b) for b in np.flatnonzero(model.body_group == g)},
+                    key=order.index) for g in range(len(model.group_names))]
+    out = ["! File TACT_BEHAV (saxum export_lmgc90)"]
+    names = [f"law{k + 1:02d}" for k in range(len(model.laws))]
+    for name, law in zip(names, model.laws, strict=True):
+        params = f"fric={fmt(law.friction)}"
+        if law.kind == LawKind.RESTITUTION_COULOMB:
+            params = f"rstn={fmt(law.restitution)}  rstt={fmt(0.0)}  {params}"
+        out += ["$behav  lawty", f" {name}  {_LAW_TYPES[law.kind]:<30s}  {params}"]
+    n = len(model.group_names)
+    for i in range(n):
+        for j in range(i, n):
+            k = model.group_law[i, j]
+            if k < 0:
+                continue
+            a = model.laws[k].alert if model.laws[k].alert is not None else alert
+            out += ["$seety", " cdbdy  cdtac  cdcol  behav  anbdy  antac  ancol       alert"]
+            seen = set()
+            for ti in tacts[i]:
+                for tj in tacts[j]:
+                    (ci, cti), (cj, ctj) = sorted(((i, ti), (j, tj)),
+                                                  key=lambda x: order.index(x[1]))
+                    if (ci, cti, cj, ctj) not in seen:
+                        seen.add((ci, cti, cj, ctj))
+                        out.append(f" {body}  {cti}  {colours[ci]}  {names[k]}  {body}  {ctj}  "
+                                   f"{colours[cj]}     {fmt(a)}")
+    path.write_text("\n".join(out) + "\n", encoding="latin-1")
