@@ -286,8 +286,8 @@ def _cold_sweeps(model, p, orders, cap=20_000, tolerance=1e-6) -> int:
         r = impulse[order]  # this order's rows
         _, error = nlgs_2d(q["cand"], q["ant"], q["h_cand"], q["h_ant"], q["delassus"],
                            q["bias"], q["friction"], q["active"], n, inv_mass, mass,
-                           p["v_free"], v, v_prev, r, work, joints, law_map, tolerance, 1,
-                           1.0)
+                           p["v_free"], v, v_prev, r, work, joints, law_map, None, 0,
+                           tolerance, 1, 1.0)
         impulse[order] = r
         if error <= tolerance:
             return sweep + 1
@@ -414,7 +414,8 @@ def _replay(model, p: dict, impulse, v, sweeps: int, tolerance: float):
     joints = law_map = None  # dry laws only
     return sweep(p["cand"], p["ant"], p["h_cand"], p["h_ant"], p["delassus"], p["bias"],
                  p["friction"], p["active"], n, inv_mass, mass, p["v_free"], v, np.empty_like(v),
-                 impulse, np.empty((n, width)), joints, law_map, tolerance, sweeps, 1.0)
+                 impulse, np.empty((n, width)), joints, law_map, None, 0, tolerance, sweeps,
+                 1.0)
 
 
 def diagnose(name: str, steps: int, reference_sweeps: int) -> list[dict]:

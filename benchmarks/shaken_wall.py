@@ -26,6 +26,8 @@ solver with each tolerance; saxum's displacements are also sampled every 0.025 s
     python benchmarks/shaken_wall.py --main /work/main/src --amplitudes 0,0.3
     python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --solvers nlgs,hybrid
     python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --tolerance 1e-6,1e-7,1e-8
+    python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --duration 0.5 --skip-pymunk \
+        --solvers nlgs,nlgs:quad --tolerance 1e-6,1e-4
 """
 
 import argparse
@@ -84,7 +86,9 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
     state = warm.initial_state()
     for _ in range(3):
         warm.step(state)
-    solver = {"nlgs": sx.NLGS, "hybrid": sx.Hybrid}[solver_name](tolerance=tolerance)
+    kind, _, criterion = solver_name.partition(":")  # "nlgs:quad": NLGS(criterion="quad")
+    solver = {"nlgs": sx.NLGS, "hybrid": sx.Hybrid}[kind](
+        tolerance=tolerance, **({"criterion": criterion} if criterion else {}))
     sim = sx.Simulation(model, dt=dt, solver=solver)
     state = sim.initial_state()
     q0 = state.body_q.copy()
@@ -202,7 +206,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--main", default=None,
                         help="another saxum source tree to run alongside (PYTHONPATH)")
     parser.add_argument("--solvers", default="nlgs",
-                        help="saxum's solvers, comma-separated: nlgs, hybrid (default nlgs)")
+                        help="saxum's solvers, comma-separated: nlgs, hybrid, nlgs:CRITERION "
+                             "(NLGS with LMGC90's quad, maxm or qm/16; default nlgs)")
     parser.add_argument("--tolerance", default="1e-6",
                         help="saxum's solver tolerances, comma-separated: each solver runs "
                              "with each (engine name @tolerance where more than one; "

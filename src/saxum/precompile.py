@@ -55,7 +55,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
             i32_2, I, f2, f2, f1, i32_1, i32_1, i32_2, N, I, F, f1, f1, F, I, f2, f1, f1, f1, B,
             i32_2, f2, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
         "solver.nlgs.nlgs_2d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
-                                f2, N, N, F, I, F),
+                                f2, N, N, N, I, F, I, F),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),

@@ -990,6 +990,9 @@ class SolverSpec(_Strict):
     rest_after: Annotated[Integer, Field(ge=0)] = 50
     kind: Literal["nlgs", "hybrid"] | None = None
     threads: Annotated[Integer, Field(ge=0)] | None = None
+    criterion: Literal["delassus", "quad", "maxm", "qm/16"] = "delassus"
+    """NLGS's convergence criterion (saxum.solver.NLGS, docs/criteria.md); LMGC90's ("quad",
+    "maxm", "qm/16") make kind "nlgs" (the hybrid judges by "delassus")."""
 
 
 class DetectionSpec(_Strict):
@@ -1240,13 +1243,18 @@ class Scenario(_Strict):
         """A Simulation of this scenario's model with its solver and detection settings."""
         s, d = self.solver, self.detection
         model = model if model is not None else self.build_model()
-        kind = s.kind or ("nlgs" if model.fe is not None
+        kind = s.kind or ("nlgs" if model.fe is not None or s.criterion != "delassus"
                           or np.isin(model.law_kind, SMOOTH_KINDS).any() else "hybrid")
+        if kind == "hybrid" and s.criterion != "delassus":
+            raise InputError(f"solver.criterion = {s.criterion!r} needs solver.kind = 'nlgs' "
+                             "(the hybrid judges its attempts by 'delassus'): set kind, or "
+                             "unset it")
+        options = {} if kind == "hybrid" else {"criterion": s.criterion}
         return Simulation(
             model, dt=s.dt, theta=s.theta,
             solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
-                rest_after=s.rest_after, threads=s.threads),
+                rest_after=s.rest_after, threads=s.threads, **options),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration,

@@ -52,13 +52,30 @@ from .problem import ContactProblem
 from .sticking import sticking_solution
 from .velocity_change import change_ratio, change_sums
 
-__all__ = ["NLGS"]
+__all__ = ["CRITERIA", "NLGS"]
+
+CRITERIA = ("delassus", "quad", "maxm", "qm/16")
+"""NLGS's convergence criteria: saxum's (module doc) and LMGC90's (_check_error), in the
+order of _check_error's codes."""
 
 _REST_WORK = 20_000
 """Single-contact updates that cost about as much as an attempt at the rest solution does at
 least (a few calls into the kernels and scipy's SuperLU, ~0.3 ms): a step tries it only once
 its sweeps have done that much work, so that where sweeps are cheap (a few dozen contacts)
 NLGS alone goes on."""
+
+
+_REST_BACKOFF = 8
+"""Most times rest_after (or _REST_WORK's least) sweeps by which a slow step puts off the
+rest solution after attempts in a row that did not pay: after the k-th, a slow step sweeps
+min(2^(k-1), _REST_BACKOFF) times as many again before it tries; a step that converges in
+them has saved the attempt, one that does not tries after all. An attempt does not pay when
+it finds none (an assembly in motion, a wall sliding on a moving ground, has none), or when
+the rest solution it found served no later step: the next step converged from its plain warm
+start without the first sweep confirming it, which drops the anchor
+(saxum.solver.load_following), so that each rest solution bought one step. An attempt that
+pays ends the putting off. 0: every slow step tries at once (saxum before issue 18;
+benchmarks/rest_cost.py)."""
 
 
 _STRIP_BODIES = 1024
@@ -85,7 +102,10 @@ class NLGS(ContactSolver):
     in nlgs_2d's order on one thread; a number n >= 1 (0: all cores) sweeps them colour by
     colour on n threads (nlgs_2d_coloured), the same bit for bit for every n but not nlgs_2d's
     order, so not bit for bit the serial result (None stays the default until the coloured
-    sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it."""
+    sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it.
+    criterion: the error compared with the tolerance, "delassus" (saxum's, module doc) or
+    LMGC90's "quad", "maxm", "qm/16" (_check_error, docs/criteria.md; rigid blocks, swept
+    in the serial order whatever threads says)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -93,6 +113,7 @@ class NLGS(ContactSolver):
     rest_after: int = 50
     follow_loads: bool = True
     threads: int | None = None
+    criterion: str = "delassus"
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
@@ -103,6 +124,10 @@ class NLGS(ContactSolver):
             raise InputError(f"solver.relaxation must be in (0, 1], got {self.relaxation}")
         if self.rest_after < 0:
             raise InputError(f"solver.rest_after must be >= 0 (0: never), got {self.rest_after}")
+        if self.criterion not in CRITERIA:
+            raise InputError(f"solver.criterion must be one of {', '.join(CRITERIA)}, got "
+                             f"{self.criterion!r}")
+        self._sums = None if self.criterion == "delassus" else np.zeros(8)
         if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
                              f"(0: all cores; the machine's numba threads), got {self.threads}")
@@ -118,6 +143,11 @@ class NLGS(ContactSolver):
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
+        self._rest_backoff = 0
+        """How many times its first sweeps a slow step sweeps before the rest solution
+        (_REST_BACKOFF)."""
+        self._rest_found = False
+        """Whether the last step found a rest solution (_REST_BACKOFF)."""
         self._coloured = None
         """(the arrays it was computed for, colour_contacts_2d's result): _colouring."""
         self._strips = None
@@ -126,9 +156,12 @@ class NLGS(ContactSolver):
     def forget(self) -> None:
         self._following.clear()
         self._sticking_failed = False
+        self._rest_backoff = 0
+        self._rest_found = False
 
     def carries_state(self) -> bool:
-        return self._following.holds() or self._sticking_failed
+        return (self._following.holds() or self._sticking_failed or self._rest_backoff != 0
+                or self._rest_found)
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -140,6 +173,9 @@ class NLGS(ContactSolver):
                                    where=inv_mass > 0.0)
             self._strips = self._coloured = None
         if getattr(problem, "fe", None) is not None:
+            if self._sums is not None:
+                raise InputError(f"solver.criterion {self.criterion!r} is for rigid blocks: "
+                                 "a model with deformable blocks takes 'delassus'")
             return self._solve_deformable(problem, impulse, v_free, v)
         if self._v_prev.shape != v.shape:
             self._v_prev = np.empty_like(v)
@@ -162,11 +198,13 @@ class NLGS(ContactSolver):
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
-        if dim == 2 and self.threads is not None:
+        if dim == 2 and self.threads is not None and self._sums is None:
             nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
             sweep = nlgs_2d_coloured
             args += self._colouring(problem.model, c.candidate, c.antagonist, active,
                                     problem.count)
+        else:
+            args += (self._sums, CRITERIA.index(self.criterion))
         args += (self.tolerance,)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
@@ -189,11 +227,20 @@ class NLGS(ContactSolver):
             trend = _NO_TREND
         confirmed = iterations == 1 and error <= self.tolerance
         followed = followed and not confirmed
-        found = False
-        if (error > self.tolerance or followed) and iterations < self.max_iterations:
+        found = attempted = False
+        slow = error > self.tolerance and iterations < self.max_iterations
+        if slow and not followed and self._rest_backoff > 0:
+            # putting off (_REST_BACKOFF); a start that follows the loads comes from a rest
+            # solution that paid, and tries at once
+            more, error = sweep(*args, min(first * self._rest_backoff,
+                                           self.max_iterations - iterations), self.relaxation)
+            iterations += more
+            slow = error > self.tolerance and iterations < self.max_iterations
+        if slow or (followed and iterations < self.max_iterations):
             # slow (module doc), or a start that follows the loads which the first sweep did
             # not confirm: sweep on from the rest solution if there is one
             self.rest_attempts += 1
+            attempted = True
             if follow:
                 found = rest_solution(problem, impulse, v_free, v, self._following.response,
                                       *((START_MARGIN,) if followed else ()))
@@ -201,14 +248,27 @@ class NLGS(ContactSolver):
                 found = rest_solution(problem, impulse, v_free, v)
             if found:
                 self.rest_solutions += 1
+            else:
+                self._back_off()
             more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
             iterations += more
         converged = error <= self.tolerance
         if follow:
             self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
+        if self._rest_found and not attempted and not (confirmed and converged):
+            self._back_off()  # the last step's rest solution served nothing (_REST_BACKOFF)
+        elif found or confirmed:
+            self._rest_backoff = 0
+        # a rest solution serves later steps as an anchor: only where the loads are followed
+        self._rest_found = follow and found and converged
         rate, stalled = trend
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
+
+    def _back_off(self) -> None:
+        """An attempt at the rest solution that did not pay: slow steps put it off longer
+        (_REST_BACKOFF)."""
+        self._rest_backoff = min(max(1, 2 * self._rest_backoff), _REST_BACKOFF)
 
     def _colouring(self, model, cand, ant, active, count) -> tuple:
         """colour_contacts_2d's (order, chunks, colours) and free, reused while the active
@@ -306,8 +366,8 @@ contact) need no start."""
 
 @nb.njit(cache=True)
 def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, work, joints, law_map, tolerance, max_iterations,
-            relaxation):
+            v_free, v, v_prev, impulse, work, joints, law_map, sums, criterion, tolerance,
+            max_iterations, relaxation):
     """Run NLGS sweeps; returns (sweeps done, final error). Updates v and impulse in place;
     mass [kg, kg m^2] per dof is 1 / inv_mass (0 where inv_mass is 0); v_prev (like v) and
     work (at least count x 18) are work memory. active: the contacts of dry laws in the
@@ -338,9 +398,10 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, None)
+            _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, None,
+                           sums)
         error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
-                              law_map, inv_mass, relaxation)
+                              law_map, inv_mass, relaxation, sums, criterion)
         if error <= tolerance:
             break
     return it, error
@@ -392,10 +453,10 @@ def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
             for u in nb.prange(colours[k], colours[k + 1]):
                 for i in range(chunks[u], chunks[u + 1]):
                     _update_dry_2d(i, own_cand, own_ant, work[count + i], v, own_impulse,
-                                   inv_mass, relaxation, free)
+                                   inv_mass, relaxation, free, None)
         if joints is not None:
             _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass,
-                            relaxation)
+                            relaxation, None)
         error = _parallel_change(v, v_prev, v_free, mass, sums)
         if error <= tolerance:
             break
@@ -541,27 +602,32 @@ def _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints, law_m
 
 
 @nb.njit(inline="always")
-def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, free):
+def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, free, sums):
     """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; free
-    as _push_2d's."""
+    as _push_2d's; sums: None, or LMGC90's check sums to add its change to (_check_sums)."""
     ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
     rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12], row[13],
                                        row[14], row[15], ut, un, row[17])
+    if sums is not None:
+        _check_sums_2d(sums, row, impulse[a, 0], impulse[a, 1], rt, rn)
     _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
 
 
 @nb.njit(inline="always")
 def _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints, law_map,
-                  inv_mass, relaxation):
+                  inv_mass, relaxation, sums, criterion):
     """The end of a sweep of nlgs_2d: the joints (if any, in order), then the error
-    (_relative_change: v_prev = v)."""
+    (_relative_change: v_prev = v; or with sums, LMGC90's criterion: _check_error)."""
     if joints is not None:
-        _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation)
+        _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation,
+                        sums)
+    if sums is not None:
+        return _check_error(sums, criterion)
     return _relative_change(v, v_prev, v_free, mass)
 
 
 @nb.njit(inline="always")
-def _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation):
+def _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation, sums):
     """One sweep over the joints of nlgs_2d, in order."""
     for j in range(joints.shape[0]):
         a = joints[j]
@@ -569,7 +635,75 @@ def _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass, rela
         ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
         rt, rn = law_solve_2d(law_map[a], ut, un, row[16], row[11], row[12], row[13],
                               row[14], row[15], row[17])
+        if sums is not None:
+            _check_sums_2d(sums, row, impulse[a, 0], impulse[a, 1], rt, rn)
         _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
+
+
+@nb.njit(inline="always")
+def _check_sums_2d(sums, row, rt0, rn0, rt, rn):
+    """_check_sums for a 2D contact: W its Delassus block row[8:11], R its impulse before
+    the update (rt0, rn0) and the single-contact solution (rt, rn) [N s], unrelaxed."""
+    wt0 = row[8] * rt0 + row[9] * rn0
+    wn0 = row[9] * rt0 + row[10] * rn0
+    wt1 = row[8] * rt + row[9] * rn
+    wn1 = row[9] * rt + row[10] * rn
+    _check_sums(sums, wt0 - wt1, wn0 - wn1, 0.0, 0.5 * (rt0 + rt), 0.5 * (rn0 + rn), 0.0,
+                0.5 * ((wt0 * rt0 + wn0 * rn0) + (wt1 * rt + wn1 * rn)),
+                0.5 * ((wt0 * wt0 + wn0 * wn0) + (wt1 * wt1 + wn1 * wn1)))
+
+
+@nb.njit(inline="always")
+def _check_sums(sums, dv0, dv1, dv2, r0, r1, r2, wrr, wrwr):
+    """Adds a contact's update to LMGC90's check sums (M. Jean's NLGS, mod_nlgs.f90
+    'after iter check'): dv = W_aa (R - R_new) [m/s] the local velocity change the update
+    makes, r = (R + R_new) / 2 [N s], wrr = (W R . R + W R_new . R_new) / 2 [J],
+    wrwr = (|W R|^2 + |W R_new|^2) / 2 [m^2/s^2]. sums: [sum |dv|^2, max |dv|^2,
+    sum |dv|^2 |r|^2, max |dv|^2 |r|^2, sum r . dv, sum wrr, sum wrwr, contacts with r != 0]."""
+    dvdv = dv0 * dv0 + dv1 * dv1 + dv2 * dv2
+    rr = r0 * r0 + r1 * r1 + r2 * r2
+    sums[0] += dvdv
+    sums[1] = max(sums[1], dvdv)
+    sums[2] += dvdv * rr
+    sums[3] = max(sums[3], dvdv * rr)
+    sums[4] += r0 * dv0 + r1 * dv1 + r2 * dv2
+    sums[5] += wrr
+    sums[6] += wrwr
+    if rr != 0.0:
+        sums[7] += 1.0
+
+
+_QM16 = 16.666
+"""LMGC90's bound on the max-norm ratios under 'QM/16' (mod_nlgs.f90)."""
+
+
+@nb.njit(cache=True)
+def _check_error(sums, criterion):
+    """LMGC90's convergence measure of a sweep from _check_sums' sums (then zeroed), with n
+    the contacts with r != 0: QuadWR = sqrt(sum wrwr / n), MeanWRR = sum wrr / n,
+    QuadDV = sqrt(sum |dv|^2 / n) / QuadWR, MaxmDV = max |dv| / QuadWR,
+    QuadDVR = sqrt(sum |dv|^2 |r|^2 / n) / MeanWRR, MaxmDVR = max |dv| |r| / MeanWRR,
+    MeanDVoR = sum r . dv / sum wrr. LMGC90 stops when each of its criterion's ratios is below
+    1 after division by the tolerance; returned here is the largest ratio itself (compared
+    with the tolerance): criterion 1 'Quad': |MeanDVoR|, QuadDV, QuadDVR; 2 'Maxm': |MeanDVoR|,
+    MaxmDV, MaxmDVR; 3 'QM/16': Quad's and the Maxm ones / 16.666. 0 where nothing pushes
+    (LMGC90's floor: n = 0 or the sums of W R below 1e-18)."""
+    n = sums[7]
+    error = 0.0
+    if n >= 1.0 and sums[5] > 1e-18 and sums[6] > 1e-18:
+        quad_wr = math.sqrt(sums[6] / n)
+        mean_wrr = sums[5] / n
+        error = abs(sums[4] / sums[5])
+        if criterion == 2:
+            error = max(error, math.sqrt(sums[1]) / quad_wr, math.sqrt(sums[3]) / mean_wrr)
+        else:
+            error = max(error, math.sqrt(sums[0] / n) / quad_wr,
+                        math.sqrt(sums[2] / n) / mean_wrr)
+            if criterion == 3:
+                error = max(error, math.sqrt(sums[1]) / quad_wr / _QM16,
+                            math.sqrt(sums[3]) / mean_wrr / _QM16)
+    sums[:] = 0.0
+    return error
 
 
 @nb.njit(inline="always")
@@ -663,8 +797,8 @@ def _relative_change(v, v_prev, v_free, mass):
 
 @nb.njit(cache=True)
 def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass, mass,
-            v_free, v, v_prev, impulse, work, joints, law_map, tolerance, max_iterations,
-            relaxation):
+            v_free, v, v_prev, impulse, work, joints, law_map, sums, criterion, tolerance,
+            max_iterations, relaxation):
     """nlgs_2d for 3D rigid bodies (6 dof, frame (t, n, s)); the single-contact problem on the
     Coulomb cone is solved exactly by saxum.solver.local3d (its open and stick cases inlined
     here on scalars, solve_contact_3d called for slides); active, joints and law_map as in
@@ -708,6 +842,8 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                 for r in range(3):
                     rr[r] = impulse[a, r]
                 solve_contact_3d(delassus[a], u, row[37], rr)
+            if sums is not None:
+                _check_sums_3d(sums, row, impulse[a], rr)
             _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
         if joints is not None:
             for j in range(joints.shape[0]):
@@ -717,11 +853,37 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
                 for r in range(3):  # the dry part's starting guess
                     rr[r] = impulse[a, r]
                 law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
+                if sums is not None:
+                    _check_sums_3d(sums, row, impulse[a], rr)
                 _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
-        error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
+        if sums is not None:
+            error = _check_error(sums, criterion)
+        else:
+            error = _relative_change(v, v_prev, v_free, mass)  # and v_prev = v
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(inline="always")
+def _check_sums_3d(sums, row, r0, r1):
+    """_check_sums for a 3D contact: W its Delassus block row[27:36], r0 its impulse before
+    the update and r1 the single-contact solution [N s] (3-vectors), unrelaxed."""
+    wt0, wn0, ws0 = _w_times_3d(row, r0[0], r0[1], r0[2])
+    wt1, wn1, ws1 = _w_times_3d(row, r1[0], r1[1], r1[2])
+    _check_sums(sums, wt0 - wt1, wn0 - wn1, ws0 - ws1, 0.5 * (r0[0] + r1[0]),
+                0.5 * (r0[1] + r1[1]), 0.5 * (r0[2] + r1[2]),
+                0.5 * ((wt0 * r0[0] + wn0 * r0[1] + ws0 * r0[2])
+                       + (wt1 * r1[0] + wn1 * r1[1] + ws1 * r1[2])),
+                0.5 * ((wt0 * wt0 + wn0 * wn0 + ws0 * ws0) + (wt1 * wt1 + wn1 * wn1 + ws1 * ws1)))
+
+
+@nb.njit(inline="always")
+def _w_times_3d(row, rt, rn, rs):
+    """W R of a 3D contact, W its Delassus block row[27:36] (nlgs_3d)."""
+    return (row[27] * rt + row[28] * rn + row[29] * rs,
+            row[30] * rt + row[31] * rn + row[32] * rs,
+            row[33] * rt + row[34] * rn + row[35] * rs)
 
 
 @nb.njit(inline="always")
