@@ -11,8 +11,8 @@ import pytest
 import saxum as sx
 from saxum.scenario import (
     Arch3dStructure,
-    ArchOnPiers3dStructure,
     ArchBridgeStructure,
+    ArchOnPiers3dStructure,
     ArchStructure,
     BlocksStructure,
     BondedWallStructure,

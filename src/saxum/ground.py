@@ -91,8 +91,10 @@ class GroundMotion:
 
     def plus(self, other: GroundMotion) -> GroundMotion:
         """The sum of two motions with the same components (two horizontal components of a
-        record, each along its own direction): sampled at the times of both, each linear
-        between its samples and zero outside its record, as acceleration_at reads it."""
+        record, each along its own direction), sampled at the times of both: between two
+        samples of one the sum is linear, so where the other starts later or ends earlier
+        it ramps from or to zero over one sample interval (two components of one record
+        share their times, and their sum is exact)."""
         if other.components != self.components:
             raise InputError(f"ground motions {self.name!r} and {other.name!r} have "
                              f"{self.components} and {other.components} components; add "
