@@ -31,10 +31,10 @@ def test_second_component_is_for_3d_and_applied_as_the_first():
     text = text.replace("depth = 1.2", "").replace("[1.0, 0.0, 0.0]", "[1.0, 0.0]")
     with pytest.raises(sx.InputError, match="second.*3D model"):
         parse_scenario(text.replace("[0.0, 1.0, 0.0]", "[1.0, 0.0]")).build_model()
-    with pytest.raises(sx.InputError, match="second: apply belong"):
+    with pytest.raises(sx.InputError, match="second: apply, supports belong"):
         parse_scenario(EXAMPLE.read_text().replace('record = 22, component = "b"}',
                                                    'record = 22, component = "b"}\n'
-                                                   'apply = "inertial"'))
+                                                   'apply = "driven"\nsupports = ["ground"]'))
 
 
 def test_the_example_loads_and_runs_a_few_steps():
