@@ -113,8 +113,8 @@ def ensemble_records(source: str, *, normalized: bool = False, units: str | None
             t = np.union1d(motions[k].time, motions[k + 1].time)
             acc = [np.interp(t, m.time, m.acceleration[:, 0], left=0.0, right=0.0)
                    for m in motions[k:k + 2]]  # (zero where one of them has ended)
-            name = (f"{a.title.removesuffix(f' ({a.component_name})')} ({a.component_name} + "
-                    f"{b.component_name})")
+            name = (f"FEMA P695 {a.set} {a.id}: {a.earthquake} {a.year}, {a.station} "
+                    f"({a.component_name} + {b.component_name})")
             out.append(EnsembleRecord(name, f"{a.set} {a.id}ab", GroundMotion(
                 t, np.column_stack((*acc, np.zeros_like(t))), name)))
         return out
