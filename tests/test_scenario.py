@@ -12,6 +12,7 @@ import saxum as sx
 from saxum.scenario import (
     Arch3dStructure,
     ArchBridgeStructure,
+    ArchOnPiers3dStructure,
     ArchStructure,
     BlocksStructure,
     BondedWallStructure,
@@ -367,7 +368,8 @@ def test_docs_describe_every_key():
     doc = (Path(__file__).parents[1] / "docs" / "scenario.md").read_text()
     for model in (Scenario, ArchStructure, WallStructure, BlocksStructure, ShapedArchStructure,
                   BondedWallStructure, OpeningSpec, PierStructure, ButtressedWallStructure,
-                  ArchBridgeStructure, Arch3dStructure, Wall3dStructure, Pier3dStructure,
+                  ArchBridgeStructure, Arch3dStructure, ArchOnPiers3dStructure,
+                  Wall3dStructure, Pier3dStructure,
                   Bridge3dStructure, MeshStructure, LawSpec, MaterialSpec, Loads, PointLoad,
                   Settlement,
                   GroundMotionSpec, FemaP695Spec, FloodSpec, SolverSpec, DetectionSpec,
@@ -376,8 +378,8 @@ def test_docs_describe_every_key():
             if key != "type":
                 assert f"| `{key}` |" in doc, f"{model.__name__}.{key} is not documented"
     for tag in ("semicircular_arch", "running_bond_wall", "blocks", "arch", "wall", "pier",
-                "buttressed_wall", "arch_bridge", "semicircular_arch_3d", "wall_3d", "pier_3d",
-                "bridge_3d", "mesh"):
+                "buttressed_wall", "arch_bridge", "semicircular_arch_3d", "arch_3d", "wall_3d",
+                "pier_3d", "bridge_3d", "mesh"):
         assert f'`type = "{tag}"`' in doc
 
 

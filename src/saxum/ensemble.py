@@ -83,26 +83,45 @@ class EnsembleRecord:
 
     @property
     def pga(self) -> float:
-        """Peak horizontal ground acceleration [m/s^2] (nan for an unread record)."""
+        """Peak horizontal ground acceleration [m/s^2], of either component of a pair (nan
+        for an unread record)."""
         if self.motion is None:
             return math.nan
         return float(np.abs(self.motion.acceleration[:, :-1]).max())
 
 
-def ensemble_records(source: str, *, normalized: bool = False,
-                     units: str | None = None) -> list[EnsembleRecord]:
+def ensemble_records(source: str, *, normalized: bool = False, units: str | None = None,
+                     pairs: bool = False) -> list[EnsembleRecord]:
     """The records of `source`: a FEMA P695 set ("far-field", "near-field", ...: every
-    horizontal component; `normalized`: times the set's normalization factor) or a folder
-    whose .AT2 and .csv files are the records (`units` for CSV files that do not state
+    horizontal component; `normalized`: times the set's normalization factor; `pairs`:
+    instead, every record's two components together, a motion of two columns (a, b)) or a
+    folder whose .AT2 and .csv files are the records (`units` for CSV files that do not state
     theirs). A file that cannot be read is a record with its error (file and line), not an
     exception: the others go on."""
     from .records import SETS, fema_p695_records, read_fema_p695
 
     if source in SETS:
-        return [EnsembleRecord(i.title, f"{i.set} {i.id}{i.component}",
-                               read_fema_p695(i.id, set=i.set, component=i.component,
-                                              normalized=normalized))
-                for i in fema_p695_records(source)]
+        infos = fema_p695_records(source)
+        motions = [read_fema_p695(i.id, set=i.set, component=i.component,
+                                  normalized=normalized) for i in infos]
+        if not pairs:
+            return [EnsembleRecord(i.title, f"{i.set} {i.id}{i.component}", m)
+                    for i, m in zip(infos, motions, strict=True)]
+        out = []
+        for k in range(0, len(infos), 2):  # (by ID, then component: a, b)
+            a, b = infos[k], infos[k + 1]
+            t = np.union1d(motions[k].time, motions[k + 1].time)
+            acc = [np.interp(t, m.time, m.acceleration[:, 0], left=0.0, right=0.0)
+                   for m in motions[k:k + 2]]  # (zero where one of them has ended)
+            name = (f"FEMA P695 {a.set} {a.id}: {a.earthquake} {a.year}, {a.station} "
+                    f"({a.component_name} + {b.component_name})")
+            out.append(EnsembleRecord(name, f"{a.set} {a.id}ab", GroundMotion(
+                t, np.column_stack((*acc, np.zeros_like(t))), name)))
+        return out
+    if pairs:
+        raise InputError(f"records {source!r}: a scenario with two horizontal components "
+                         "(loads.ground_motion.second) runs the pairs of a FEMA P695 set "
+                         f"({', '.join(SETS)}); a folder's records are single components")
     folder = Path(source)
     if not folder.is_dir():
         raise InputError(f"records {source!r}: neither a record set ({', '.join(SETS)}) nor "
@@ -189,25 +208,27 @@ def _demand(frames: _Frames, model, blocks: np.ndarray) -> dict:
 
 def _run_one(task: dict) -> dict:
     """One run on a worker: the scenario (JSON) with the record (time [s], horizontal
-    acceleration [m/s^2]) times `factor`; returns its row of COLUMNS (a failed run: its
-    error). The record goes through a CSV file in a temporary folder, as a user's would."""
+    acceleration [m/s^2]: one column, or a pair for a scenario with a second component)
+    times `factor`; returns its row of COLUMNS (a failed run: its error). The record goes
+    through CSV files in a temporary folder, as a user's would."""
     row = {"record": task["record"], "scale": task["scale"], "factor": task["factor"],
            "worker": socket.gethostname()}
     start = time.perf_counter()
     try:
         scenario = Scenario.model_validate_json(task["scenario"])
+        dim = scenario.structure.dim
         with tempfile.TemporaryDirectory(prefix="saxum-ensemble-") as tmp:
-            csv = Path(tmp) / "record.csv"
-            np.savetxt(csv, np.column_stack((task["time"], task["acceleration"])),
-                       delimiter=",", fmt="%.17g", header="units: m/s^2")
-            template = scenario.loads.ground_motion
-            ground = (GroundMotionSpec(file=csv, units="m/s^2") if template is None else
-                      template.model_copy(update={"file": csv, "fema_p695": None,
-                                                  "pulse": None, "units": "m/s^2"}))
-            ground = ground.model_copy(update={"scale": task["factor"]})
+            first = Path(tmp) / "a.csv"
+            template = scenario.loads.ground_motion or GroundMotionSpec(file=first)
+            acc = np.asarray(task["acceleration"]).reshape(len(task["time"]), -1)
+            ground = _component(template, task["time"], acc[:, 0], first, task["factor"], dim)
+            if template.second is not None:
+                ground = ground.model_copy(update={"second": _component(
+                    template.second, task["time"], acc[:, 1], Path(tmp) / "b.csv",
+                    task["factor"] * template.second.scale, dim)})
             scenario = scenario.model_copy(update={
                 "loads": scenario.loads.model_copy(update={"ground_motion": ground})})
-            duration = float(ground.motion(scenario.structure.dim).time[-1]) + task["after"]
+            duration = float(ground.motion(dim).time[-1]) + task["after"]
             model = scenario.build_model()
         sim = scenario.build_simulation(model)
         row.update(_advance(sim, model, duration, scenario.output.interval, task))
@@ -215,6 +236,21 @@ def _run_one(task: dict) -> dict:
         row.update(collapsed=-1, error=f"{type(err).__name__}: {err}")
     row["wall_time"] = time.perf_counter() - start
     return row
+
+
+def _component(template: GroundMotionSpec, time: np.ndarray, acceleration: np.ndarray,
+               csv: Path, factor: float, dim: int) -> GroundMotionSpec:
+    """`template` (a ground motion table) with its source replaced by the record (time [s],
+    acceleration [m/s^2]) written to `csv` and its scale by `factor`; in 3D along the
+    template's `direction` where it gives one (else the CSV's horizontal at its azimuth)."""
+    columns = [acceleration]
+    if dim == 3 and template.direction is not None:
+        d = np.asarray(template.direction, dtype=float)
+        columns = [acceleration * c for c in d / np.linalg.norm(d)]
+    np.savetxt(csv, np.column_stack((time, *columns)), delimiter=",", fmt="%.17g",
+               header="units: m/s^2")
+    return template.model_copy(update={"file": csv, "fema_p695": None, "pulse": None,
+                                       "units": "m/s^2", "scale": factor})
 
 
 def _advance(sim, model, duration: float, interval: float, task: dict) -> dict:
@@ -417,7 +453,10 @@ def run_ensemble(scenario: Scenario, output: str | Path, *,
         raise InputError("the scenario has no [ensemble] table (docs/ensemble.md): give "
                          "records and scales")
     if records is None:
-        records = ensemble_records(spec.records, normalized=spec.normalized, units=spec.units)
+        pairs = (scenario.loads.ground_motion is not None
+                 and scenario.loads.ground_motion.second is not None)
+        records = ensemble_records(spec.records, normalized=spec.normalized, units=spec.units,
+                                   pairs=pairs)
     if not records:
         raise InputError("the ensemble has no records")
     model = scenario.model_copy(update={"ensemble": None}).build_model()
@@ -442,7 +481,7 @@ def run_ensemble(scenario: Scenario, output: str | Path, *,
             factor = (scale * G_STANDARD / records[k].pga if spec.measure == "pga"
                       else scale)
             return {"scenario": bare, "record": k, "scale": scale, "factor": factor,
-                    "time": motion.time, "acceleration": motion.acceleration[:, 0],
+                    "time": motion.time, "acceleration": motion.acceleration[:, :-1],
                     "after": spec.after, "stop": spec.stop, "blocks": blocks}
 
         new, failed, interrupted = _schedule(client, store, spec, good, task, quiet, on_row)

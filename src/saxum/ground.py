@@ -89,6 +89,22 @@ class GroundMotion:
         return GroundMotion(self.time, np.column_stack((math.cos(azimuth) * h,
                                                         math.sin(azimuth) * h, v)), self.name)
 
+    def plus(self, other: GroundMotion) -> GroundMotion:
+        """The sum of two motions with the same components (two horizontal components of a
+        record, each along its own direction), sampled at the times of both: between two
+        samples of one the sum is linear, so where the other starts later or ends earlier
+        it ramps from or to zero over one sample interval (two components of one record
+        share their times, and their sum is exact)."""
+        if other.components != self.components:
+            raise InputError(f"ground motions {self.name!r} and {other.name!r} have "
+                             f"{self.components} and {other.components} components; add "
+                             "motions of one kind (GroundMotion.in_3d turns a 2D record "
+                             "into a 3D one)")
+        t = np.union1d(self.time, other.time)
+        a = sum(np.column_stack([np.interp(t, m.time, c, left=0.0, right=0.0)
+                                 for c in m.acceleration.T]) for m in (self, other))
+        return GroundMotion(t, a, f"{self.name} + {other.name}")
+
     def scaled(self, factor: float) -> GroundMotion:
         """The record times `factor` (both components)."""
         return GroundMotion(self.time, factor * self.acceleration, self.name)

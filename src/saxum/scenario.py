@@ -42,6 +42,7 @@ from .structures import (
     ArchShape,
     Assembly,
     Opening,
+    add_arch3d,
     add_arch_bridge,
     add_blocks_from_file,
     add_blocks_from_mesh,
@@ -61,7 +62,7 @@ from .structures import (
 )
 from .structures._common import course_groups, name_course_joints
 
-__all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchStructure",
+__all__ = ["Arch3dStructure", "ArchBridgeStructure", "ArchOnPiers3dStructure", "ArchStructure",
            "BlocksStructure", "BondedWallStructure", "Bridge3dStructure",
            "ButtressedWallStructure", "DetectionSpec", "EnsembleSpec", "FemaP695Spec",
            "FloodSpec", "GranularBoxStructure", "GroundMotionSpec", "LawSpec", "Loads",
@@ -484,6 +485,26 @@ class Arch3dStructure(_Generated):
             density=self.density).joints
 
 
+class ArchOnPiers3dStructure(ShapedArchStructure):
+    """The arch of "arch" (any shape, on its piers and the ground) given a depth (3D, along
+    y): every block a prism through the depth, the voussoirs cut into `pieces` along it
+    (add_arch3d; groups "ground", "pier", "voussoir")."""
+
+    dim: ClassVar[int] = 3
+    type: Literal["arch_3d"] = "arch_3d"
+    depth: Length = Field(description="depth of the arch and its piers along y [m]")
+    pieces: Count = Field(1, description="pieces of each voussoir along the depth")
+    stagger: bool = Field(False, description="shift every other voussoir's joints by half")
+
+    def _add_jointed(self, builder: ModelBuilder) -> dict[str, list[tuple[str, str]]]:
+        return add_arch3d(
+            builder, self.arch_shape(), voussoirs=self.voussoirs, depth=self.depth,
+            pieces=self.pieces, stagger=self.stagger, joints=self.joints,
+            density=self.density, pier_width=self.pier_width, pier_height=self.pier_height,
+            pier_courses=self.pier_courses, pier_kind=_KIND[self.piers],
+            **self._layers()).joints
+
+
 class Wall3dStructure(_Generated):
     """A 3D wall one brick thick in running bond on a fixed ground slab, with an optional
     return wall at an interlocking L corner (groups "brick" and "ground")."""
@@ -626,7 +647,8 @@ _KIND = {"fixed": BodyKind.FIXED, "free": BodyKind.FREE}
 
 Structure = Annotated[ArchStructure | WallStructure | BlocksStructure | ShapedArchStructure
                       | BondedWallStructure | PierStructure | ButtressedWallStructure
-                      | ArchBridgeStructure | Arch3dStructure | Wall3dStructure
+                      | ArchBridgeStructure | Arch3dStructure | ArchOnPiers3dStructure
+                      | Wall3dStructure
                       | Pier3dStructure | Bridge3dStructure | MeshStructure
                       | GranularBoxStructure,
                       Field(discriminator="type")]
@@ -807,6 +829,9 @@ class GroundMotionSpec(_Strict):
     baseline_correction: bool = False
     apply: Literal["inertial", "driven"] = "inertial"
     supports: list[str] = []
+    second: GroundMotionSpec | None = None
+    """A second horizontal component at the same time (3D models), its own source,
+    direction, scale and trimming, applied as the first is (that table's apply, supports)."""
 
     @model_validator(mode="after")
     def _one_source(self) -> GroundMotionSpec:
@@ -814,6 +839,13 @@ class GroundMotionSpec(_Strict):
             raise ValueError("give one of file (a record), fema_p695 or pulse")
         if self.apply == "driven" and not self.supports:
             raise ValueError('apply = "driven" needs the names of the supports to drive')
+        if self.second is not None:
+            given = [k for k, v in (("apply", self.second.apply != "inertial"),
+                                    ("supports", self.second.supports),
+                                    ("second", self.second.second is not None)) if v]
+            if given:  # (by value: a scenario read back from JSON has every key set)
+                raise ValueError(f"second: {', '.join(given)} belong to the first component "
+                                 "(the second is applied as the first is); remove it")
         return self
 
     def motion(self, dim: int = 2):
@@ -856,7 +888,14 @@ class GroundMotionSpec(_Strict):
         record = record.scaled(self.scale)
         if dim == 3 and record.components == 2:
             record = record.in_3d(math.radians(self.azimuth))
-        return record.baseline_corrected() if self.baseline_correction else record
+        if self.baseline_correction:
+            record = record.baseline_corrected()
+        if self.second is None:
+            return record
+        if dim != 3:
+            raise InputError("loads.ground_motion.second: a second horizontal component needs "
+                             "a 3D model (in 2D the ground moves along x only)")
+        return record.plus(self.second.motion(dim))
 
 
 class FloodSpec(_Strict):
@@ -1447,6 +1486,7 @@ _TAGS = {"semicircular_arch": ArchStructure, "running_bond_wall": WallStructure,
          "blocks": BlocksStructure, "arch": ShapedArchStructure, "wall": BondedWallStructure,
          "pier": PierStructure, "buttressed_wall": ButtressedWallStructure,
          "arch_bridge": ArchBridgeStructure, "semicircular_arch_3d": Arch3dStructure,
+         "arch_3d": ArchOnPiers3dStructure,
          "wall_3d": Wall3dStructure, "pier_3d": Pier3dStructure, "bridge_3d": Bridge3dStructure,
          "mesh": MeshStructure, "granular_box": GranularBoxStructure}
 _TABLES = {"structure": Structure, "laws": LawSpec, "loads": Loads, "solver": SolverSpec,
