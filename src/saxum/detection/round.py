@@ -175,7 +175,7 @@ def _sphere_polyhedron(cx, cy, cz, wv, wn, vertex_start, face_start, fvs, fv, ed
     return ((cx - px) / dist, (cy - py) / dist, (cz - pz) / dist), dist, feature
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c, cand, ant, k,
                   law_index, cx, cy, sx, sy, r, r_other, pair_alert, curvature):
     """Write the contact of the circle of radius r [m] centred at c (on body cand) with the
@@ -194,7 +194,7 @@ def _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c, c
     return c + 1
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _capsule_pair(q, wv, wn, edge_length, vertex_start, shape, round_radius, i, j, pair_alert,
                   k0, law_index, c, candidate, antagonist, key, law, point, frame, gap, area):
     """Write the contacts of a pair with a capsule (module doc) from row c on, keys k0 +
