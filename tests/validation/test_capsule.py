@@ -5,6 +5,8 @@ Mechanics: Dynamics, a block on an incline; Coulomb's law as in NSCD.md).
 - Lying on a horizontal plane, it touches it at its two end circles and holds: zero drift
   (below 1e-12 m, round-off of the positions), and the two contacts' normal impulses over a
   step sum to m g dt within 1e-9 relative (statics, NLGS tolerance 1e-12).
+- A block lying on a fixed capsule's flat side holds on its two bottom corners, the same
+  statics (there the capsule is the candidate: it takes -m g dt).
 - Dropped flat from a height h, it lands at the free-fall time sqrt(2 h / g) within one step
   dt (the time stepping closes a gap at the end of a step), without turning.
 - Lying along a plane of slope a, both ends touching so that it cannot roll: it sticks when
@@ -58,6 +60,26 @@ def test_capsule_lying_on_a_plane_holds_on_its_two_ends():
     mass = DENSITY * (2.0 * RADIUS * LENGTH + math.pi * RADIUS**2)
     assert model.body_mass[body] == pytest.approx(mass, rel=1e-14)
     assert c.impulse[mine, 1].sum() == pytest.approx(mass * G * DT, rel=1e-9)
+
+
+def test_block_on_a_capsule_holds_on_its_two_corners():
+    builder = sx.ModelBuilder()
+    beam = builder.add_capsule((0.0, 0.0), 1.0, RADIUS, kind=sx.BodyKind.FIXED, group="ground")
+    brick = builder.add_block([(-0.2, RADIUS), (0.2, RADIUS), (0.2, RADIUS + 0.1),
+                               (-0.2, RADIUS + 0.1)], density=DENSITY)
+    builder.set_law("block", "ground", sx.ContactLaw(friction=0.5))
+    builder.set_law("block", "block", sx.ContactLaw(friction=0.5))
+    model = builder.finalize()
+    sim = _simulation(model)
+    state = sim.initial_state()
+    sim.run(state, 0.2)
+    c = state.contacts
+    assert np.all(sim.log.converged)
+    assert np.abs(state.body_q - model.body_q0).max() < 1e-12
+    assert c.count == 2 and np.all(c.candidate[:2] == beam)
+    assert sorted(c.point[:2, 0]) == pytest.approx([-0.2, 0.2], abs=1e-12)
+    lift = np.einsum("ck,ckd->cd", c.impulse[:2], c.frame[:2])[:, 1].sum()
+    assert -lift == pytest.approx(model.body_mass[brick] * G * DT, rel=1e-9)
 
 
 def test_capsule_dropped_flat_lands_at_the_free_fall_time():
