@@ -1,5 +1,5 @@
 """Narrow phase of round bodies: discs (2D) and spheres (3D) against each other and against
-convex polygons (polyhedra).
+convex polygons (polyhedra), and 2D capsules (a segment ab with round ends of radius r).
 
 A round body of radius r touches a convex body at one point. Against another round body the
 normal is the line of centres, n = (c_i - c_j) / |c_i - c_j|, and the gap |c_i - c_j| - r_i - r_j.
@@ -14,6 +14,17 @@ point. Between two round bodies the first of the pair is the candidate.
 A contact's key is key_base + (i n_bodies + j) features + the feature of the polygon (face,
 edge, vertex) it touches, so that pairs sorted by (i, j) write keys in increasing order and a
 contact keeps its impulse while the round body stays on one face.
+
+A capsule is the set of points within r of its segment ab, whose ends the kernel reads off
+its bounding rectangle. The closest points of two convex bodies include a vertex of one of
+them (ab's vertices are a and b), so a capsule meets a polygon as its two end circles, each a
+disc (keys: end 0's features, then end 1's, 2 x the polygon's 2 n features), and as the
+polygon's vertices against ab where their closest point is inside ab (keys 4 n + vertex): a
+capsule lying on a face touches it at both end circles, a block's corners under its side at
+those corners. Against a disc or a capsule: the ends of the first body's segment against the
+second's segment, then the second's ends where their closest point is inside the first's
+(keys 0-3; an end against an end is found once). The round body of a contact (the
+candidate) is the capsule, or the body whose end touches.
 
 Area (laws in stresses): the part of the round body's surface within the alert distance a of
 the face, where the gap grows as g + x^2 / (2 R) at a distance x from the point (R the
