@@ -242,9 +242,6 @@ def _capsule_pair(q, wv, wn, edge_length, vertex_start, shape, round_radius, i, 
     first, second = (i, j)
     a = _segment(q, wv, edge_length, vertex_start, shape, round_radius, first)
     b = _segment(q, wv, edge_length, vertex_start, shape, round_radius, second)
-    r1 = round_radius[first]
-    r2 = round_radius[second]
-    curvature = r1 * r2 / (r1 + r2)
     for end in range(4):
         body, ant, own, seg = (first, second, a, b) if end < 2 else (second, first, b, a)
         ex, ey = (own[0], own[1]) if end % 2 == 0 else (own[2], own[3])
@@ -253,9 +250,13 @@ def _capsule_pair(q, wv, wn, edge_length, vertex_start, shape, round_radius, i, 
         sx, sy, u = _closest_on_segment(ex, ey, seg[0], seg[1], seg[2], seg[3])
         if end >= 2 and not (0.0 < u < 1.0):
             continue
+        r = round_radius[body]
+        r_ant = round_radius[ant]
+        # an end on the other's straight side curves as itself, on its end as both together
+        curvature = r if 0.0 < u < 1.0 else r * r_ant / (r + r_ant)
         c = _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c, body,
-                          ant, k0 + end, law_index, ex, ey, sx, sy, round_radius[body],
-                          round_radius[ant], pair_alert, curvature)
+                          ant, k0 + end, law_index, ex, ey, sx, sy, r, r_ant, pair_alert,
+                          curvature)
     return c
 
 
