@@ -44,6 +44,7 @@ _EXPORTS = {
     "STEP_OUTCOMES": "steplog",
     "StepLog": "steplog",
     "StepReport": "steplog",
+    "capsule_properties": "model",
     "export_lmgc90": "lmgc90",
     "fit_capacities": "fragility",
     "fit_stripes": "fragility",

@@ -388,7 +388,7 @@ class FloodLoad:
                              "along x (give a negative velocity for -x)")
         if model.has_round:  # its pressures integrate over polygon faces
             raise InputError(f"{self.name} acts on polygons (polyhedra); this model has discs "
-                             "(spheres), which a flood does not load yet")
+                             "(spheres, capsules), which a flood does not load yet")
         up = self._up(model)
         self.along(model)
         free = np.flatnonzero(model.body_kind == BodyKind.FREE)

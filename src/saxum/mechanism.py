@@ -124,12 +124,13 @@ def joint_states(contacts: dict, gap_tolerance: float) -> np.ndarray:
 
 def round_pairs(body_shape: np.ndarray | None, candidate: np.ndarray,
                 antagonist: np.ndarray) -> np.ndarray | None:
-    """Per contact, whether one of its bodies is a disc or sphere (Model.body_shape ROUND);
-    None without body_shape (a model or file without round bodies)."""
+    """Per contact, whether one of its bodies is a disc, sphere or capsule (Model.body_shape
+    ROUND, CAPSULE: it turns about a round end, never about a fixed hinge); None without
+    body_shape (a model or file without round bodies)."""
     if body_shape is None:
         return None
     shape = np.asarray(body_shape)
-    return (shape[candidate] == Shape.ROUND) | (shape[antagonist] == Shape.ROUND)
+    return (shape[candidate] != Shape.POLYGON) | (shape[antagonist] != Shape.POLYGON)
 
 
 def joint_opening(body_q: np.ndarray, body_q0: np.ndarray, body_size: np.ndarray,

@@ -37,7 +37,8 @@ from .geometry3d import (
 )
 from .laws import ContactLaw, NoContact, Parameter
 
-__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder", "Shape"]
+__all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder", "Shape",
+           "capsule_properties"]
 
 DENSITY_RANGE = (1.0, 1.0e5)
 """Densities a free block may have [kg/m^3]: masonry is 1000-3000 and the densest metal
@@ -81,10 +82,13 @@ class Shape(IntEnum):
     """What the narrow phase takes a body's geometry to be: POLYGON (a convex polygon, in 3D a
     convex polyhedron: its vertices, edges and faces) or ROUND (a disc, in 3D a sphere, of
     radius Model.body_round_radius about its centre of mass; its vertices are the corners of
-    its bounding square (cube), which only the broad phase and plots of polygons read)."""
+    its bounding square (cube), which only the broad phase and plots of polygons read) or
+    CAPSULE (2D: a segment with round ends of radius Model.body_round_radius, the stadium; its
+    vertices are its bounding rectangle, whose first edge runs along the segment)."""
 
     POLYGON = 0
     ROUND = 1
+    CAPSULE = 2
 
 
 @dataclass(frozen=True)
@@ -173,12 +177,14 @@ class Model:
     fe: "FEBodies | None" = None
     """The deformable blocks' meshes and matrices (saxum.bodies.fe), None if there are none."""
     body_shape: np.ndarray | None = None
-    """Shape per body (POLYGON or ROUND), shape [body_count], int8 (default: all POLYGON)."""
+    """Shape per body (POLYGON, ROUND or CAPSULE), shape [body_count], int8 (default: all
+    POLYGON)."""
     body_round_radius: np.ndarray | None = None
-    """Radius of a ROUND body [m] (0 for polygons), shape [body_count], float64."""
+    """Radius of a ROUND body, of a CAPSULE's ends [m] (0 for polygons), shape [body_count],
+    float64."""
     max_vertices: int = field(init=False)
     has_round: bool = field(init=False)
-    """Some body is a disc (sphere): detection runs the round pairs' kernels."""
+    """Some body is a disc (sphere) or a capsule: detection runs the round pairs' kernel."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "max_vertices", int(np.diff(self.body_vertex_start).max()))
@@ -186,7 +192,7 @@ class Model:
             object.__setattr__(self, "body_shape", np.zeros(self.body_count, dtype=np.int8))
         if self.body_round_radius is None:
             object.__setattr__(self, "body_round_radius", np.zeros(self.body_count))
-        object.__setattr__(self, "has_round", bool((self.body_shape == Shape.ROUND).any()))
+        object.__setattr__(self, "has_round", bool((self.body_shape != Shape.POLYGON).any()))
 
     def body(self, name: str) -> int:
         """Index of the body called `name`."""
@@ -214,17 +220,30 @@ def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
 
 
 def drawn_outlines(vertex_start: np.ndarray, vertex_local: np.ndarray,
-                   round_radius: np.ndarray | None, sides: int = 48
-                   ) -> tuple[np.ndarray, np.ndarray]:
+                   round_radius: np.ndarray | None, sides: int = 48,
+                   shape: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(vertex_start, vertex_local [m]) of the polygons that draw 2D bodies (plots, VTK): a
     disc's (round_radius > 0, as Model.body_round_radius; None: no discs) bounding square is
-    replaced by the regular polygon of `sides` sides inscribed in its circle."""
+    replaced by the regular polygon of `sides` sides inscribed in its circle, a capsule's
+    (shape, as Model.body_shape, CAPSULE) bounding rectangle by its stadium, each end a half
+    of that polygon."""
     if round_radius is None or not (round_radius > 0.0).any():
         return vertex_start, vertex_local
     turn = 2.0 * np.pi * np.arange(sides) / sides
     circle = np.column_stack((np.cos(turn), np.sin(turn)))
-    rings = [circle * r if r > 0.0 else vertex_local[vertex_start[b]:vertex_start[b + 1]]
-             for b, r in enumerate(round_radius)]
+    rings = []
+    for b, r in enumerate(round_radius):
+        local = vertex_local[vertex_start[b]:vertex_start[b + 1]]
+        if shape is not None and shape[b] == Shape.CAPSULE:
+            along = local[1] - local[0]  # the bounding rectangle's first edge: the axis
+            length = float(np.hypot(*along))
+            t = along / length
+            half = 0.5 * length - r
+            ends = np.linspace(-0.5 * np.pi, 0.5 * np.pi, sides // 2 + 1)
+            arc = r * (np.outer(np.cos(ends), t) + np.outer(np.sin(ends), (-t[1], t[0])))
+            rings.append(np.concatenate((half * t + arc, -half * t - arc)))
+        else:
+            rings.append(circle * r if r > 0.0 else local)
     start = np.zeros(len(rings) + 1, dtype=vertex_start.dtype)
     start[1:] = np.cumsum([len(ring) for ring in rings])
     return start, np.concatenate(rings)
@@ -278,6 +297,27 @@ def drawn_polyhedra(m) -> dict[str, np.ndarray]:
             "face_vertex": np.concatenate(faces).astype(np.int32)}
 
 
+def capsule_properties(length: float, radius: float) -> tuple[float, float]:
+    """(area [m^2], polar moment of area about the centre [m^4]) of a capsule: a segment of
+    `length` L [m] with round ends of `radius` r [m]: a rectangle L x 2r and two half discs.
+    A = 2 r L + pi r^2; J = rectangle (2 r L) (L^2 + 4 r^2) / 12 + the two half discs moved by
+    the parallel-axis theorem from their centroids, 4 r / (3 pi) beyond the rectangle's ends
+    (Beer and Johnston, Vector Mechanics for Engineers: Statics, table of centroids and
+    moments of inertia): pi r^2 (r^2 / 2 + L^2 / 4 + 4 r L / (3 pi))."""
+    rectangle = 2.0 * radius * length
+    disc = math.pi * radius * radius
+    polar = (rectangle * (length * length + 4.0 * radius * radius) / 12.0
+             + disc * (0.5 * radius * radius + 0.25 * length * length
+                       + 4.0 * radius * length / (3.0 * math.pi)))
+    return rectangle + disc, polar
+
+
+def _shape_of(block: "_Block") -> Shape:
+    if block.length > 0.0:
+        return Shape.CAPSULE
+    return Shape.ROUND if block.round_radius > 0.0 else Shape.POLYGON
+
+
 @dataclass
 class _Block:
     name: str
@@ -289,7 +329,10 @@ class _Block:
     material: Elastic | None = None
     mesh_size: float | None = None
     round_radius: float = 0.0
-    """> 0: a disc (sphere) of this radius [m] whose vertices are its bounding square (cube)."""
+    """> 0: a disc (sphere) of this radius [m] whose vertices are its bounding square (cube), or
+    with `length` > 0 a capsule's."""
+    length: float = 0.0
+    """> 0: a capsule whose segment is this long [m], vertices its bounding rectangle."""
 
 
 class ModelBuilder:
@@ -418,6 +461,41 @@ class ModelBuilder:
         return self._add_round(centre, radius, 3, "add_sphere", density=density, group=group,
                                kind=kind, motion=motion, name=name)
 
+    def add_capsule(self, centre: Sequence[float], length: float, radius: float, *,
+                    angle: float = 0.0, density: float = 0.0, group: str = "block",
+                    kind: BodyKind = BodyKind.FREE, motion: Motion | None = None,
+                    name: str | None = None) -> int:
+        """Add a capsule (2D, LMGC90's JONCx): a segment of `length` L [m] centred at (x, y)
+        [m] and turned by `angle` [rad] from the x axis, with round ends of `radius` r [m] (the
+        stadium, L + 2 r long and 2 r wide); returns its body index. Mass rho (2 r L + pi r^2)
+        [kg per metre of depth], polar moment saxum.model.capsule_properties; the other
+        arguments as in add_block. Capsules touch polygons, discs and capsules with the laws
+        of their groups (saxum.detection.round)."""
+        name = name if name is not None else f"block {len(self._blocks)}"
+        if self.dim != 2:
+            raise InputError(f"{name}: add_capsule is for 2D models; this one is {self.dim}D")
+        c = np.asarray(centre, dtype=np.float64)
+        if c.shape != (2,) or not np.all(np.isfinite(c)):
+            raise InputError(f"{name}: the centre must be 2 finite coordinates [m], got "
+                             f"{plain(centre)}")
+        sizes = {"length": length, "radius": radius, "angle": angle}
+        for what, value in sizes.items():
+            if not math.isfinite(float(value)) or (what != "angle" and not float(value) > 0.0):
+                must = "a finite angle [rad]" if what == "angle" else "a finite length > 0 [m]"
+                raise InputError(f"{name}: the capsule's {what} must be {must}, got "
+                                 f"{plain(value)}" + (" (a disc: add_disc)" if what == "length"
+                                                      else ""))
+        half, r = 0.5 * float(length), float(radius)
+        t = np.array([math.cos(angle), math.sin(angle)])
+        n = np.array([-t[1], t[0]])
+        # CCW, the first edge along the segment (saxum.detection.round reads it so)
+        corners = [c + a * (half + r) * t + b * r * n for a, b in ((-1, -1), (1, -1), (1, 1),
+                                                                   (-1, 1))]
+        index = self.add_block(corners, density=density, group=group, kind=kind,
+                               motion=motion, name=name)
+        self._blocks[index].round_radius, self._blocks[index].length = r, float(length)
+        return index
+
     def add_plane(self, point: Sequence[float], normal: Sequence[float],
                   half_size: float | Sequence[float], *, thickness: float | None = None,
                   group: str = "ground", kind: BodyKind = BodyKind.FIXED,
@@ -496,7 +574,8 @@ class ModelBuilder:
         for block in self._blocks:
             if block.group == group and block.kind in (BodyKind.FREE, BodyKind.DEFORMABLE):
                 if block.round_radius > 0.0:
-                    raise InputError(f"materials: group {group!r} has the disc (sphere) "
+                    raise InputError(f"materials: group {group!r} has the disc (sphere, "
+                                     "capsule) "
                                      f"{block.name!r}, which cannot be deformable; put it in "
                                      "another group")
                 block.kind, block.density = BodyKind.DEFORMABLE, material.density
@@ -617,8 +696,7 @@ class ModelBuilder:
             dim=self.dim,
             dof=dof,
             fe=self._deformable(),
-            body_shape=np.array([Shape.ROUND if blk.round_radius > 0.0 else Shape.POLYGON
-                                 for blk in self._blocks], dtype=np.int8),
+            body_shape=np.array([_shape_of(blk) for blk in self._blocks], dtype=np.int8),
             body_round_radius=np.array([blk.round_radius for blk in self._blocks]),
             **geometry,
         )
@@ -654,7 +732,11 @@ class ModelBuilder:
             local.append(rel)
             radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
             size[b] = math.sqrt(props.area)
-            if blk.round_radius > 0.0:  # a disc inside its bounding square rel
+            if blk.length > 0.0:  # a capsule inside its bounding rectangle rel
+                area, polar = capsule_properties(blk.length, blk.round_radius)
+                mass[b], inertia[b] = blk.density * area, blk.density * polar
+                size[b] = math.sqrt(area)
+            elif blk.round_radius > 0.0:  # a disc inside its bounding square rel
                 r = blk.round_radius
                 mass[b] = blk.density * math.pi * r * r
                 inertia[b] = 0.5 * mass[b] * r * r

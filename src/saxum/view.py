@@ -146,7 +146,8 @@ def _geometry(results, shown: np.ndarray, pack: _Packer) -> None:
     m = results.model
     vs, local = m["body_vertex_start"], m["vertex_local"]
     if results.dim == 2:
-        vs, local = drawn_outlines(vs, local, m.get("body_round_radius"))
+        vs, local = drawn_outlines(vs, local, m.get("body_round_radius"),
+                                   shape=m.get("body_shape"))
     else:
         m = drawn_polyhedra(m)
         vs, local = m["body_vertex_start"], m["vertex_local"]

@@ -94,7 +94,7 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
     needs equal-sized cells in a block) over the world vertices [m] of all blocks."""
     m = res.model
     start, loc = drawn_outlines(m["body_vertex_start"], m["vertex_local"],
-                                m.get("body_round_radius"))
+                                m.get("body_round_radius"), shape=m.get("body_shape"))
     count = np.diff(start)
     q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
     # 2D: each vertex turned by its body's angle theta, then shifted to the centre of mass.

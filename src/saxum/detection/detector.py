@@ -11,7 +11,7 @@ from ..bodies.fe3d import principal_axes
 from ..bodies.rigid2d import world_geometry
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
-from ..model import BodyKind, Model
+from ..model import BodyKind, Model, Shape
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .fe_nodes import node_contacts
 from .fe_nodes3d import node_contacts_3d
@@ -136,6 +136,10 @@ class Detector:
         """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
+        self._round_room = (2 + model.max_vertices if (model.body_shape == Shape.CAPSULE).any()
+                            else 1)
+        """The most contacts of a pair with a round body: a disc's 1, a capsule's two ends
+        and the other body's vertices against its side."""
 
     def detect(self, q: np.ndarray, contacts: Contacts, node_x: np.ndarray | None = None) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q and, for
@@ -162,7 +166,8 @@ class Detector:
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         """Contacts of the broad phase's pairs; refresh: the broad phase has just run."""
         m = self.model
-        contacts.reserve(self.slots * self.pair_count + len(self._round_pairs))
+        contacts.reserve(self.slots * self.pair_count
+                         + self._round_room * len(self._round_pairs))
         contacts.count, self.kept_faces = polygon_contacts(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
@@ -198,8 +203,10 @@ class Detector:
         """Append the contacts of the pairs with a disc or sphere (saxum.detection.round),
         keyed above the polygons' (polyhedra's) and in increasing key order."""
         m = self.model
-        # the features a round body can touch on the other body of a pair
-        faces, edges = (self._max_faces, self._max_edges) if m.dim == 3 else (m.max_vertices, 0)
+        # the features a round body can touch on the other body of a pair; a capsule: its
+        # two ends each a disc's, and the polygon's vertices against its side
+        faces, edges = (self._max_faces, self._max_edges) if m.dim == 3 else (
+            m.max_vertices, 3 * m.max_vertices if self._round_room > 1 else 0)
         contacts.count = round_contacts(
             self._round_pairs, len(self._round_pairs), q, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_face_start, m.face_vertex_start, m.face_vertex,

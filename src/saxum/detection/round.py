@@ -1,5 +1,5 @@
 """Narrow phase of round bodies: discs (2D) and spheres (3D) against each other and against
-convex polygons (polyhedra).
+convex polygons (polyhedra), and 2D capsules (a segment ab with round ends of radius r).
 
 A round body of radius r touches a convex body at one point. Against another round body the
 normal is the line of centres, n = (c_i - c_j) / |c_i - c_j|, and the gap |c_i - c_j| - r_i - r_j.
@@ -14,6 +14,17 @@ point. Between two round bodies the first of the pair is the candidate.
 A contact's key is key_base + (i n_bodies + j) features + the feature of the polygon (face,
 edge, vertex) it touches, so that pairs sorted by (i, j) write keys in increasing order and a
 contact keeps its impulse while the round body stays on one face.
+
+A capsule is the set of points within r of its segment ab, whose ends the kernel reads off
+its bounding rectangle. The closest points of two convex bodies include a vertex of one of
+them (ab's vertices are a and b), so a capsule meets a polygon as its two end circles, each a
+disc (keys: end 0's features, then end 1's, 2 x the polygon's 2 n features), and as the
+polygon's vertices against ab where their closest point is inside ab (keys 4 n + vertex): a
+capsule lying on a face touches it at both end circles, a block's corners under its side at
+those corners. Against a disc or a capsule: the ends of the first body's segment against the
+second's segment, then the second's ends where their closest point is inside the first's
+(keys 0-3; an end against an end is found once). The round body of a contact (the
+candidate) is the capsule, or the body whose end touches.
 
 Area (laws in stresses): the part of the round body's surface within the alert distance a of
 the face, where the gap grows as g + x^2 / (2 R) at a distance x from the point (R the
@@ -34,6 +45,33 @@ from .polyhedra import _write as _write_3d
 __all__ = ["round_contacts"]
 
 _ROUND = 1  # saxum.model.Shape.ROUND
+_POLYGON = 0  # saxum.model.Shape.POLYGON
+_CAPSULE = 2  # saxum.model.Shape.CAPSULE
+
+
+@nb.njit(inline="always")
+def _segment(q, wv, edge_length, vertex_start, shape, round_radius, b):
+    """(a_x, a_y, b_x, b_y) [m]: the ends of capsule b's segment (its bounding rectangle's
+    first edge runs along it), or twice the centre of a disc."""
+    if shape[b] != _CAPSULE:
+        return q[b, 0], q[b, 1], q[b, 0], q[b, 1]
+    v0 = vertex_start[b]
+    length = edge_length[v0]
+    half = 0.5 * length - round_radius[b]
+    tx = (wv[v0 + 1, 0] - wv[v0, 0]) / length
+    ty = (wv[v0 + 1, 1] - wv[v0, 1]) / length
+    return q[b, 0] - half * tx, q[b, 1] - half * ty, q[b, 0] + half * tx, q[b, 1] + half * ty
+
+
+@nb.njit(inline="always")
+def _closest_on_segment(px, py, ax, ay, bx, by):
+    """(x, y, u) [m, m, -]: the point of segment ab closest to p, at the fraction u of ab."""
+    ex = bx - ax
+    ey = by - ay
+    length2 = ex * ex + ey * ey
+    u = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((px - ax) * ex + (py - ay) * ey)
+                                                / length2))
+    return ax + u * ex, ay + u * ey, u
 
 
 @nb.njit(inline="always")
@@ -149,6 +187,80 @@ def _sphere_polyhedron(cx, cy, cz, wv, wn, vertex_start, face_start, fvs, fv, ed
 
 
 @nb.njit(cache=True)
+def _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c, cand, ant, k,
+                  law_index, cx, cy, sx, sy, r, r_other, pair_alert, curvature):
+    """Write the contact of the circle of radius r [m] centred at c (on body cand) with the
+    point s [m] of body ant, which is round of radius r_other [m] about s; returns the next
+    row. Normal from s to c; concentric: along y."""
+    dx = cx - sx
+    dy = cy - sy
+    d = math.hypot(dx, dy)
+    g = d - r - r_other
+    if g > pair_alert:
+        return c
+    nx, ny = (dx / d, dy / d) if d > 0.0 else (0.0, 1.0)
+    _write_2d(candidate, antagonist, key, law, point, frame, gap, c, cand, ant, k, law_index,
+              cx - r * nx, cy - r * ny, nx, ny, g)
+    area[c] = 2.0 * math.sqrt(2.0 * curvature * (pair_alert - g))
+    return c + 1
+
+
+@nb.njit(cache=True)
+def _capsule_pair(q, wv, wn, edge_length, vertex_start, shape, round_radius, i, j, pair_alert,
+                  k0, law_index, c, candidate, antagonist, key, law, point, frame, gap, area):
+    """Write the contacts of a pair with a capsule (module doc) from row c on, keys k0 +
+    feature in increasing order; returns the next row."""
+    cap, other = (i, j) if shape[i] == _CAPSULE else (j, i)
+    r = round_radius[cap]
+    ax, ay, bx, by = _segment(q, wv, edge_length, vertex_start, shape, round_radius, cap)
+    v0 = vertex_start[other]
+    nv = vertex_start[other + 1] - v0
+    if shape[other] == _POLYGON:
+        # the two end circles as discs (features 0 .. 4 nv), then the polygon's vertices
+        # against the segment between them (4 nv + vertex)
+        for end in range(2):
+            ex, ey = (ax, ay) if end == 0 else (bx, by)
+            nx, ny, dist, feature = _disc_polygon(ex, ey, wv, wn, edge_length, v0, nv)
+            g = dist - r
+            if g <= pair_alert:
+                _write_2d(candidate, antagonist, key, law, point, frame, gap, c, cap, other,
+                          k0 + 2 * nv * end + feature, law_index, ex - r * nx, ey - r * ny,
+                          nx, ny, g)
+                curvature = r if feature < nv else 0.0
+                area[c] = 2.0 * math.sqrt(2.0 * curvature * (pair_alert - g))
+                c += 1
+        for v in range(nv):
+            sx, sy, u = _closest_on_segment(wv[v0 + v, 0], wv[v0 + v, 1], ax, ay, bx, by)
+            if 0.0 < u < 1.0:
+                c = _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c,
+                                  cap, other, k0 + 4 * nv + v, law_index, sx, sy,
+                                  wv[v0 + v, 0], wv[v0 + v, 1], r, 0.0, pair_alert, 0.0)
+        return c
+    # a disc or capsule: the ends of the first body's segment against the other's segment,
+    # then the other's ends against the first's segment where it is closest inside it (the
+    # end-to-end pairs are the first loop's)
+    first, second = (i, j)
+    a = _segment(q, wv, edge_length, vertex_start, shape, round_radius, first)
+    b = _segment(q, wv, edge_length, vertex_start, shape, round_radius, second)
+    for end in range(4):
+        body, ant, own, seg = (first, second, a, b) if end < 2 else (second, first, b, a)
+        ex, ey = (own[0], own[1]) if end % 2 == 0 else (own[2], own[3])
+        if end % 2 == 1 and shape[body] != _CAPSULE:
+            continue  # a disc has one centre
+        sx, sy, u = _closest_on_segment(ex, ey, seg[0], seg[1], seg[2], seg[3])
+        if end >= 2 and not (0.0 < u < 1.0):
+            continue
+        r = round_radius[body]
+        r_ant = round_radius[ant]
+        # an end on the other's straight side curves as itself, on its end as both together
+        curvature = r if 0.0 < u < 1.0 else r * r_ant / (r + r_ant)
+        c = _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c, body,
+                          ant, k0 + end, law_index, ex, ey, sx, sy, r, r_ant, pair_alert,
+                          curvature)
+    return c
+
+
+@nb.njit(cache=True)
 def round_contacts(pairs, npairs, q, wv, wn, edge_length, vertex_start, face_start, fvs, fv,
                    edge_start, edge_vertex, shape, round_radius, body_group, group_law, alert,
                    law_alert, body_alert, max_faces, max_edges, key_base, features, first,
@@ -170,6 +282,11 @@ def round_contacts(pairs, npairs, q, wv, wn, edge_length, vertex_start, face_sta
         j = pairs[p, 1]
         law_index = group_law[body_group[i], body_group[j]]
         pair_alert = alert_of_pair(law_alert, body_alert, law_index, i, j, alert)
+        if shape[i] == _CAPSULE or shape[j] == _CAPSULE:
+            c = _capsule_pair(q, wv, wn, edge_length, vertex_start, shape, round_radius, i, j,
+                              pair_alert, key_base + (i * nbody + j) * features, law_index, c,
+                              candidate, antagonist, key, law, point, frame, gap, area)
+            continue
         cand, ant = (i, j) if shape[i] == _ROUND else (j, i)
         r = round_radius[cand]
         feature = 0

@@ -29,7 +29,7 @@ from ..errors import InputError
 from ..geometry2d import polygon_properties
 from ..geometry3d import rotation_matrix
 from ..laws import LawKind
-from ..model import BodyKind, Model
+from ..model import BodyKind, Model, Shape
 
 __all__ = ["export_lmgc90"]
 
@@ -58,6 +58,11 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
         raise InputError(f"precision must be 'lmgc90' or 'full', got {precision!r}")
     if (model.body_kind == BodyKind.DEFORMABLE).any():
         raise InputError("export_lmgc90 writes rigid blocks; this model has deformable ones")
+    capsules = np.flatnonzero(model.body_shape == Shape.CAPSULE)
+    if capsules.size:  # LMGC90's JONCx (mod_JONCx.f90) is this shape, but only an antagonist
+        raise InputError(f"capsule {model.body_name[capsules[0]]!r}: export_lmgc90 does not "
+                         "write capsules yet (LMGC90's JONCx, which meets discs and polygons "
+                         "but no other JONCx); replace it by a polygon to export")
     for law in model.laws:
         if law.kind not in _LAW_TYPES:
             raise InputError(f"{law.name or 'a law'} is {law.kind.name}: export_lmgc90 writes "

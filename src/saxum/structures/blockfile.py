@@ -42,7 +42,7 @@ from ..errors import InputError
 from ..geometry2d import normalize_polygon
 from ..geometry3d import convex_polyhedron
 from ..laws import LawKind
-from ..model import BodyKind, Model, ModelBuilder
+from ..model import BodyKind, Model, ModelBuilder, Shape
 from ._common import Assembly, finalize
 
 __all__ = ["BlockSpec", "add_blocks_from_file", "block_file_dim", "blocks_model", "read_blocks",
@@ -333,6 +333,10 @@ def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -
                              "and fixed blocks only")
         block = {"name": model.body_name[b], "group": model.group_names[model.body_group[b]],
                  "kind": kind.name.lower(), "density": float(model.body_density[b])}
+        if model.body_shape[b] == Shape.CAPSULE:
+            raise InputError(f"block {model.body_name[b]!r} is a capsule; block files hold "
+                             "polygons, discs and spheres: build capsules with "
+                             "ModelBuilder.add_capsule")
         if model.body_round_radius[b] > 0.0:
             if fmt == "csv":
                 raise InputError(f"block {model.body_name[b]!r} is a disc (sphere); CSV block "
