@@ -150,11 +150,13 @@ def semicircular_four_hinge(radius: float, thickness: float, voussoirs: int):
     return lam, sorted((voussoirs - j, side) for j, side in hinges)
 
 
-def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3) -> sx.Simulation:
+def with_load_factor(model: sx.Model, factor: float, dt: float = 1e-3,
+                     direction: tuple[float, ...] | None = None) -> sx.Simulation:
     """A simulation of `model` (2D or 3D) with a constant horizontal inertial load
-    factor * g along x on every free block."""
+    factor * g along the unit vector `direction` (default x) on every free block."""
     g = float(np.linalg.norm(model.gravity))
-    along = (factor * g, *(0.0,) * (model.dim - 1))
+    unit = np.eye(model.dim)[0] if direction is None else np.asarray(direction, float)
+    along = tuple((factor * g * unit).tolist())
     loaded = dataclasses.replace(model, accelerations=((lambda t: along),))
     return sx.Simulation(loaded, dt=dt)
 
