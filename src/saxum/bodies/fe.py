@@ -279,14 +279,14 @@ def side_velocity(rows, a, kind, nodes, weights, body, v, node_v, u):
 @nb.njit(cache=True)
 def fe_local_velocities(cand, ant, h_cand, h_ant, side_kind, side_node, side_weight, count, v,
                         node_v, out):
-    """out[a] = (U_t, U_n) [m/s] of contacts with rigid or FE sides (side_velocity)."""
+    """out[a] = U [m/s] (local axes) of contacts with rigid or FE sides (side_velocity)."""
     for a in range(count):
-        uc0, uc1 = side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0],
-                                 cand[a], v, node_v)
-        ua0, ua1 = side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1],
-                                 ant[a], v, node_v)
-        out[a, 0] = uc0 + ua0
-        out[a, 1] = uc1 + ua1
+        u = out[a]
+        u[:] = 0.0
+        side_velocity(h_cand, a, side_kind[a, 0], side_node[a, 0], side_weight[a, 0], cand[a], v,
+                      node_v, u)
+        side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1], ant[a], v,
+                      node_v, u)
 
 
 @nb.njit(inline="always")
