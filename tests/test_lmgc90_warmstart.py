@@ -35,6 +35,7 @@ def _solver():
 def test_vloc_rloc_read_and_matched():
     imported = import_lmgc90(DATA / "wall2d")
     assert [e.module for e in imported.impulses] == ["PLPLx", "PLJCx", "PLPLx"]
+    assert [e.status for e in imported.impulses] == ["stick"] * 3
     model = imported.model()
     sim = Simulation(model, dt=DT, solver=_solver(),
                      detection=DetectionSettings(initial_overlap=OVERLAP_TOLERANCE))
@@ -97,7 +98,8 @@ def test_round_trip_and_fewer_sweeps(tmp_path):
                           detection=DetectionSettings(initial_overlap=OVERLAP_TOLERANCE))
     warm = warm_sim.initial_state()
     used, notes = imported.warm_start(warm_sim, warm)
-    assert not notes and len(used) == state.contacts.count
+    loaded = int(np.count_nonzero(np.abs(state.contacts.impulse[:state.contacts.count]).sum(1)))
+    assert not notes and len(used) == loaded  # open contacts (R = 0) need no warm start
     # the same impulses within the file's 7 digits: each force rounded to 5e-8 relative, the
     # positions (and so the frames) to 1e-7 of the model's size: 1e-6 of the largest impulse
     a, b = state.contacts, warm.contacts
@@ -122,12 +124,15 @@ def test_cli_writes_warm_start_and_run_uses_it(tmp_path, capsys):
     assert main(["import-lmgc90", str(tmp_path / "DATBOX"), "-o", str(tmp_path / "w.toml"),
                  "--dt", str(DT), "--duration", str(2 * DT)]) == 0
     out = capsys.readouterr().out
-    count = state.contacts.count
-    assert f"{count} of {count} contacts' impulses are the first step's warm start" in out
+    c = state.contacts
+    count = c.count
+    loaded = int(np.count_nonzero(np.abs(c.impulse[:count]).sum(1)))
+    assert (f"{loaded} of {count} contacts' impulses are the first step's warm start "
+            f"(solver.warm_start); {count - loaded} are 0") in out
     scenario = load_scenario(tmp_path / "w.toml")
     assert Path(scenario.solver.warm_start) == tmp_path / "w.impulses.json"
     forces = sx.read_warm_start(scenario.solver.warm_start)
-    assert len(forces) == count
+    assert len(forces) == loaded
     run_scenario(scenario, tmp_path / "w.h5")
     # a force on blocks the model does not have: refused, named
     data = json.loads((tmp_path / "w.impulses.json").read_text())
@@ -135,6 +140,43 @@ def test_cli_writes_warm_start_and_run_uses_it(tmp_path, capsys):
     (tmp_path / "w.impulses.json").write_text(json.dumps(data))
     with pytest.raises(InputError, match="(?s)match no contact.*no block 'nobody'"):
         run_scenario(load_scenario(tmp_path / "w.toml"), tmp_path / "x.h5")
+
+
+DKDK = """
+! Vloc_Rloc
+$steps      500              time= 0.2000000D+00
+$icdan  DKDKx      439
+ cdbdy  numbr  cdtac  numbr  behav  anbdy  numbr  antac  numbr  sttus   iadj
+ RBDY2      1  DISKx      1  iqsc0  RBDY2     11  DISKx      1  slifw     11
+                             rlt/H-0.2500000D+01  rln/H 0.5000000D+01  rls/H 0.0000000D+00
+                             vlt = 0.6650118D-04  vln = 0.0000000D+00  vls = 0.0000000D+00
+                             gapTT-0.8011855D-08
+                             n(1)= 0.6000000D+00  n(2)=-0.8000000D+00  n(3)= 0.0000000D+00
+                             coo1= 0.4673217D-01  coo2=-0.2811716D-02  coo3= 0.0000000D+00
+
+$icdan  DKDKx      440
+ cdbdy  numbr  cdtac  numbr  behav  anbdy  numbr  antac  numbr  sttus   iadj
+ RBDY2      2  DISKx      1  iqsc0  RBDY2      4  DISKx      1  noctc      4
+                             rlt/H 0.0000000D+00  rln/H 0.0000000D+00  rls/H 0.0000000D+00
+                             gapTT 0.1596192D-03
+                             n(1)=-0.9942585D+00  n(2)= 0.1070046D+00  n(3)= 0.0000000D+00
+                             coo1= 0.2687885D-01  coo2=-0.1750811D-02  coo3= 0.0000000D+00
+"""
+
+
+def test_disc_contacts_in_lmgc90_columns(tmp_path):
+    # DKDKx's layout (mod_DKDKx.f90): no vertex or segment on the body line, a negative
+    # value against its label (gapTT-0.80D-08), an open contact (noctc) with zero impulses
+    from saxum.lmgc90.vlocrloc import read_vloc_rloc
+
+    (tmp_path / "Vloc_Rloc.INI").write_text(DKDK)
+    first, second = read_vloc_rloc(tmp_path / "Vloc_Rloc.INI")
+    assert first.candidate == ("RBDY2", 1, "DISKx") and first.antagonist == ("RBDY2", 11, "DISKx")
+    assert first.status == "slifw" and first.values["gapTT"] == pytest.approx(-0.8011855e-8,
+                                                                               rel=1e-15)
+    # t = (n2, -n1) = (-0.8, -0.6): F = -2.5 t + 5 n = (5, -2.5)
+    np.testing.assert_allclose(first.force(2), (5.0, -2.5), rtol=0, atol=1e-14)
+    assert not first.zero and second.zero and second.status == "noctc"
 
 
 def test_bad_vloc_rloc_line_named(tmp_path):
@@ -197,7 +239,8 @@ def test_round_trip_3d_same_forces(tmp_path):
                           detection=DetectionSettings(initial_overlap=OVERLAP_TOLERANCE))
     warm = warm_sim.initial_state()
     used, notes = imported.warm_start(warm_sim, warm)
-    assert not notes and len(used) == state.contacts.count
+    assert not notes and len(used) == np.count_nonzero(
+        np.abs(state.contacts.impulse[:state.contacts.count]).sum(1))
     # the tangents of a face contact are the detector's choice (the re-imported bodies'
     # frames differ), so compare the world forces; 17 digits: 1e-12 of the largest
     a, c = state.contacts, warm.contacts

@@ -606,8 +606,10 @@ def _import_lmgc90(args) -> None:
         sim = Simulation(model, dt=args.dt,
                          detection=DetectionSettings(initial_overlap=tolerance))
         forces, extra = imported.warm_start(sim, sim.initial_state(check_overlaps=False))
+        zero = sum(e.zero for e in imported.impulses)
         print(f"{imported.impulses_file}: {len(forces)} of {len(imported.impulses)} contacts' "
-              "impulses are the first step's warm start (solver.warm_start)")
+              f"impulses are the first step's warm start (solver.warm_start); {zero} are 0 "
+              "(open contacts: nothing to start from)")
     extra += imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
                                      overlap_tolerance=tolerance, warm_start=forces)
     kinds = np.bincount(model.body_kind, minlength=3)

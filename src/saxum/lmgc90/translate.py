@@ -151,11 +151,14 @@ class Lmgc90Import:
         state.body_v[free] = v[free]
 
     def contact_forces(self) -> tuple[list[ContactForce], list[Untranslated]]:
-        """The Vloc_Rloc file's contacts as mean forces [N] on the candidate in world axes
+        """The Vloc_Rloc file's contacts with impulses (not the open ones, all 0: a warm start
+        from 0 is no warm start) as mean forces [N] on the candidate in world axes
         (saxum.warmstart), and those that cannot be: a body the model lacks, no normal or
         frame (n lines; 3D also t, s), no point (coo lines)."""
         forces, notes = [], []
         for e in self.impulses:
+            if e.zero:
+                continue
             a, c = (self.body_names.get(x[:2]) for x in (e.candidate, e.antagonist))
             force, point = e.force(self.dim), e.point(self.dim)
             why = ("a body the model does not have" if a is None or c is None else
@@ -175,7 +178,7 @@ class Lmgc90Import:
         """Give `state` (sim's, before its first step) the Vloc_Rloc file's impulses as the
         first step's warm start (saxum.warmstart.apply_warm_start: R = F dt); returns the
         forces used and what was not: contacts that match none of saxum's (each with why)
-        and those contact_forces cannot read."""
+        and those contact_forces cannot read. Open contacts (impulses 0) are neither."""
         forces, notes = self.contact_forces()
         unmatched = apply_warm_start(sim, state, forces)
         left = {id(f) for f, _ in unmatched}

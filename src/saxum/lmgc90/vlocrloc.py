@@ -51,6 +51,11 @@ class VlocEntry:
     where: Where
     values: dict[str, float]
 
+    @property
+    def zero(self) -> bool:
+        """True if its impulses are all 0 (an open contact, `noctc`: nothing to start from)."""
+        return all(value == 0.0 for label, value in self.values.items() if label.startswith("rl"))
+
     def force(self, dim: int) -> np.ndarray | None:
         """The mean force [N] on the candidate in world axes, or None without the frame
         (n lines; 3D also t and s)."""
@@ -119,7 +124,8 @@ def _bodies(entry: VlocEntry, words: list[str], where: Where) -> None:
         i = 6 if words[4] in ("CDVER", "vertx") else (5 if words[4].isdigit() else 4)
         cd = (words[0], int(words[1]), words[2])
         an = (words[i + 1], int(words[i + 2]), words[i + 3])
-        j = i + 4 + (2 if words[i + 4] in ("ANSEG", "segmt") else 0)
+        j = i + 5  # after the antagonist's contactor number: [ANSEG n] sttus
+        j += 2 if j < len(words) and words[j] in ("ANSEG", "segmt") else 0
         status = words[j] if j < len(words) else ""
     except (IndexError, ValueError):
         cd = an = ("", 0, "")
