@@ -595,9 +595,11 @@ def _import_lmgc90(args) -> None:
     tolerance = args.overlap_tolerance if args.overlap_tolerance is not None else (
         OVERLAP_TOLERANCE)
     blocks = args.output.with_name(args.output.stem + ".blocks.json")
-    taken = [p for p in (args.output, blocks) if p.exists()]
+    impulses = args.output.with_name(args.output.stem + ".impulses.json")
+    taken = [p for p in (args.output, blocks, impulses) if p.exists()]
     if taken and not args.overwrite:
-        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and {blocks.name})")
+        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and "
+                         f"{blocks.name}, {impulses.name})")
     imported = import_lmgc90(args.datbox, args.impulses)
     model = imported.model()
     depth = imported.check_overlaps(model, tolerance)

@@ -494,7 +494,7 @@ def translate(box: Datbox, impulses: Sequence[VlocEntry] = (),
     if impulses_file is not None and impulses_file.suffix.upper() == ".OUT":
         notes.append(Untranslated("the impulses are LMGC90's output (Vloc_Rloc.OUT): DOF.INI "
                                   "must hold the positions of the same step (its DOF.OUT)",
-                                  impulses_file))
+                                  str(impulses_file)))
     notes += [Untranslated("a model of deformable bodies (MODELS.DAT is for MAILx bodies)", w)
               for w in box.models]
     gravity = tuple(box.gravity[:dim])
