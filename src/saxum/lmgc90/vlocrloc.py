@@ -15,10 +15,12 @@ contact:
 
 rlt/H, rln/H (3D also rls/H) are the impulse over the step H: the mean force [N] in the
 contact frame; n is the antagonist's normal (pointing to the candidate), in 2D t = (n2, -n1)
-(mod_PLPLx.f90 sets tuc so), in 3D t(k)= and s(k)= lines give the frame; coo the contact
-point [m]. The body line names the candidate (cdbdy, its number, its contactor type) and the
-antagonist; between them a vertex number (`CDVER 3`, `vertx`) or nothing, after them a
-segment (`ANSEG 2`) or nothing, then the status. Values are read in free format (`label
+(mod_PLPLx.f90 sets tuc so), in 3D t(k)= and s(k)= lines give the frame (s = t x n in its
+Wall_PR example's file, as in saxum's); coo the contact point [m] (3D files give it before
+the frame, and rls/H first: values are read by their labels). The body line names the
+candidate (cdbdy, its number, its contactor type) and the antagonist; between them a vertex
+number (`CDVER 3`; 3D: a bare number) or nothing, after them a segment (`ANSEG 2`) or
+nothing, then the status. Values are read in free format (`label
 value`), so files with more digits than LMGC90's columns are read too.
 """
 
@@ -150,16 +152,21 @@ def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, conta
     readers take (module doc); bodies are numbered from 1 in model order and laws law01, ...
     as export_lmgc90 writes them, at coordinates q [m, rad]; `contactor(b)` gives body b's
     contactor type, `fmt` a number's text. A pair LMGC90 orders the other way (a disc is its
-    candidate, a JONCx its antagonist) is written swapped, n (3D: t, n, s) reversed: the
-    same force, on the other body, with the same components rt, rn (rs)."""
+    candidate, a JONCx its antagonist) is written swapped: the opposite force on the other
+    body, n reversed (2D: t too; 3D: s = t x n, rt reversed)."""
     body = "RBDY2" if model.dim == 2 else "RBDY3"
     out = ["! File Vloc_Rloc (saxum export_lmgc90): rl/H, the impulses over the step, "
            "are mean forces [N]", f"$steps      0                time= {fmt(0.0)}"]
     for k in range(contacts.count):
         cd, an = int(contacts.candidate[k]), int(contacts.antagonist[k])
         frame, point = contacts.frame[k], contacts.point[k]
+        r = [*(contacts.impulse[k] / dt), 0.0][:3]
         if (contactor(cd), contactor(an)) not in _MODULES:
-            cd, an, frame = an, cd, -frame
+            # minus the force on the other body; 2D: t = (n2, -n1) turns with n, so rt and
+            # rn keep their values; 3D: t kept, n and s = t x n reversed, rt changes sign
+            cd, an = an, cd
+            frame = -frame if model.dim == 2 else frame * np.array([[1.0], [-1.0], [-1.0]])
+            r[0] = r[0] if model.dim == 2 else -r[0]
         module = _MODULES[(contactor(cd), contactor(an))]
         head = f" {body}  {cd + 1:5d}  {contactor(cd)}      1"
         tail = f"  nknow  {1:5d}"
@@ -173,7 +180,6 @@ def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, conta
             head += f"  {0:5d}"
         elif module.startswith("SP"):
             head += " " * 7
-        r = [*(contacts.impulse[k] / dt), 0.0][:3]
         out += [f"$icdan  {module}  {k + 1:7d}",
                 " cdbdy  numbr  cdtac  numbr  ...  behav  anbdy  numbr  antac  numbr  ...",
                 f"{head}  law{int(contacts.law[k]) + 1:02d}  {body}  {an + 1:5d}  "
