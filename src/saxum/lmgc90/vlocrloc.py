@@ -148,8 +148,9 @@ _MODULES = {("POLYG", "POLYG"): "PLPLx", ("POLYG", "JONCx"): "PLJCx",
 
 def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, contactor,
                     fmt) -> None:
-    """Write the contacts' mean forces R / dt [N] as a Vloc_Rloc file in the columns LMGC90's
-    readers take (module doc); bodies are numbered from 1 in model order and laws law01, ...
+    """Write the contacts' mean forces R / dt [N] as a Vloc_Rloc file in the columns and line
+    order LMGC90's readers take (module doc; relative velocities written as 0: saxum keeps
+    none per contact); bodies are numbered from 1 in model order and laws law01, ...
     as export_lmgc90 writes them, at coordinates q [m, rad]; `contactor(b)` gives body b's
     contactor type, `fmt` a number's text. A pair LMGC90 orders the other way (a disc is its
     candidate, a JONCx its antagonist) is written swapped: the opposite force on the other
@@ -173,24 +174,28 @@ def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, conta
         if module in ("PLPLx", "PLJCx"):  # the candidate's vertex, the antagonist's side
             head += f"  CDVER  {_nearest_vertex(model, q, cd, point):5d}"
             if module == "PLPLx":
-                tail = f"  ANSEG  {_nearest_side(model, q, an, point):5d}" + tail
+                tail = f"  ANSEG  {_nearest_side(model, q, an, point, frame[1]):5d}" + tail
             else:
                 tail = " " * 16 + f"nknow {1:5d}"
         elif module == "PRPRx":
             head += f"  {0:5d}"
         elif module.startswith("SP"):
             head += " " * 7
+        order = "stn" if module.startswith("SP") else "tns"
         out += [f"$icdan  {module}  {k + 1:7d}",
                 " cdbdy  numbr  cdtac  numbr  ...  behav  anbdy  numbr  antac  numbr  ...",
                 f"{head}  law{int(contacts.law[k]) + 1:02d}  {body}  {an + 1:5d}  "
                 f"{contactor(an)}      1{tail}",
-                _row(("rlt/H", r[0]), ("rln/H", r[1]), ("rls/H", r[2]), fmt=fmt),
+                # LMGC90's readers take these three lines by position: the sphere modules
+                # s, t, n (mod_SPSPx.f90), the others t, n, s; the velocities are not kept
+                _row(*((f"rl{c}/H", r["tns".index(c)]) for c in order), fmt=fmt),
+                _row(*((f"vl{c} =", 0.0) for c in order), fmt=fmt),
                 _row(("gapTT", float(contacts.gap[k])), fmt=fmt)]
-        for label in ("t", "n", "s") if model.dim == 3 else ("n",):
-            row = [*frame[("t", "n", "s").index(label)], 0.0][:3]
-            out.append(_row(*((f"{label}({j + 1})=", x) for j, x in enumerate(row)), fmt=fmt))
-        out += [_row(*((f"coo{j + 1}=", x) for j, x in enumerate([*point, 0.0][:3])), fmt=fmt),
-                ""]
+        coo = _row(*((f"coo{j + 1}=", x) for j, x in enumerate([*point, 0.0][:3])), fmt=fmt)
+        frames = [_row(*((f"{c}({j + 1})=", x) for j, x in enumerate([*frame[i], 0.0][:3])),
+                       fmt=fmt) for i, c in enumerate("tns") if model.dim == 3 or c == "n"]
+        # what the readers look for after gapTT: 2D n(1)= then coo1=, 3D coo1= then the frame
+        out += ([*frames, coo] if model.dim == 2 else [coo, *frames]) + [""]
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
 
 
@@ -199,12 +204,17 @@ def _nearest_vertex(model, q: np.ndarray, b: int, point: np.ndarray) -> int:
     return int(np.argmin(np.linalg.norm(model.vertices(b, q) - point, axis=1))) + 1
 
 
-def _nearest_side(model, q: np.ndarray, b: int, point: np.ndarray) -> int:
-    """The number (from 1) of body b's side (vertex k to k + 1) nearest `point` [m]."""
-    a = model.vertices(b, q)
+def _nearest_side(model, q: np.ndarray, b: int, point: np.ndarray, normal: np.ndarray) -> int:
+    """The number (from 1) of body b's side (vertex k to k + 1) nearest `point` [m]; at a
+    corner, of the two the one whose outward normal is nearest `normal`."""
+    a = model.vertices(b, q)  # counter-clockwise
     e = np.roll(a, -1, axis=0) - a
     s = np.clip(np.einsum("ij,ij->i", point - a, e) / np.einsum("ij,ij->i", e, e), 0.0, 1.0)
-    return int(np.argmin(np.linalg.norm(a + s[:, None] * e - point, axis=1))) + 1
+    d = np.linalg.norm(a + s[:, None] * e - point, axis=1)
+    outward = np.column_stack((e[:, 1], -e[:, 0])) / np.linalg.norm(e, axis=1)[:, None]
+    # distance first; sides as near to round-off (1e-9 of the side) go by the normal
+    near = d <= d.min() + 1e-9 * np.linalg.norm(e, axis=1).max()
+    return int(np.argmax(np.where(near, outward @ normal, -np.inf))) + 1
 
 
 def _row(*cells: tuple[str, float], fmt) -> str:
