@@ -22,29 +22,29 @@ import numpy as np
 from saxum.scenario import parse_scenario
 
 WALL = """
-[structure]
-type = "wall"
-courses = 10
-bricks = 8
-brick_length = 0.2
-brick_height = 0.05
-ground_splits = [0.5]
-[[laws]]
-groups = ["*", "*"]
-friction = 0.6
-kind = "signorini_coulomb"
-{alert}
-[[laws]]
-groups = ["ground", "ground"]
-kind = "none"
-[[loads.settlements]]
-block = "ground 2"
-magnitude = 0.02
-time = 0.2
-[detection]
-per_pair = {per_pair}
 [output]
 duration = 0.3
+[detection]
+per_pair = {per_pair}
+[[loads.settlements]]
+block = "ground 2"
+time = 0.2
+magnitude = 0.02
+[structure]
+ground_splits = [0.5]
+brick_length = 0.2
+type = "wall"
+brick_height = 0.05
+bricks = 8
+courses = 10
+[[laws]]
+kind = "signorini_coulomb"
+groups = ["*", "*"]
+friction = 0.6
+{alert}
+[[laws]]
+kind = "none"
+groups = ["ground", "ground"]
 """
 
 
