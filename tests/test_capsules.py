@@ -125,15 +125,15 @@ def test_capsule_is_drawn_as_its_stadium_and_its_contacts_are_no_hinges():
     assert round_pairs(m.body_shape, np.array([rod]), np.array([0])).all()
 
 
-def test_capsules_are_refused_by_lmgc90_export_and_block_files(tmp_path):
+def test_capsules_that_meet_capsules_are_refused_by_lmgc90_export_and_csv(tmp_path):
     b = sx.ModelBuilder()
     b.add_capsule((0.0, 0.0), 0.4, 0.05, density=2000.0, name="rod")
     m = _finalize(b)
-    with pytest.raises(sx.InputError, match="capsule 'rod': export_lmgc90 does not write"):
+    with pytest.raises(sx.InputError, match="LMGC90 has no JONCx-JONCx contact"):
         sx.export_lmgc90(m, tmp_path / "out")
     from saxum.structures.blockfile import write_blocks
-    with pytest.raises(sx.InputError, match="block 'rod' is a capsule"):
-        write_blocks(tmp_path / "b.json", m)
+    with pytest.raises(sx.InputError, match="block 'rod' is a capsule; CSV"):
+        write_blocks(tmp_path / "b.csv", m)
 
 
 def test_capsule_run_is_deterministic():

@@ -38,7 +38,7 @@ from .geometry3d import (
 from .laws import ContactLaw, NoContact, Parameter
 
 __all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder", "Shape",
-           "capsule_properties"]
+           "capsule_axis", "capsule_properties"]
 
 DENSITY_RANGE = (1.0, 1.0e5)
 """Densities a free block may have [kg/m^3]: masonry is 1000-3000 and the densest metal
@@ -295,6 +295,15 @@ def drawn_polyhedra(m) -> dict[str, np.ndarray]:
             "face_vertex_start": np.concatenate([[0], np.cumsum([len(f) for f in faces])]
                                                 ).astype(np.int32),
             "face_vertex": np.concatenate(faces).astype(np.int32)}
+
+
+def capsule_axis(model: "Model", b: int) -> tuple[float, float]:
+    """A capsule's segment at the start: its direction from the x axis [rad] and its length
+    [m] (its bounding rectangle's first edge runs along it, 2 r longer)."""
+    start = model.body_vertex_start[b]
+    e = model.vertex_local[start + 1] - model.vertex_local[start]
+    return math.atan2(e[1], e[0]), math.hypot(e[0], e[1]) - 2.0 * float(
+        model.body_round_radius[b])
 
 
 def capsule_properties(length: float, radius: float) -> tuple[float, float]:
