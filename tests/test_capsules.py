@@ -53,8 +53,14 @@ def test_bad_capsule_sizes_are_named(length, radius, what):
         sx.ModelBuilder().add_capsule((0.0, 0.0), length, radius, density=2000.0, name="rod")
 
 
-def test_capsule_in_3d_is_refused():
-    with pytest.raises(sx.InputError, match="rod: add_capsule is for 2D models"):
+def test_capsule_orientation_of_the_other_dimension_is_refused():
+    with pytest.raises(sx.InputError, match="rod: angle is for 2D capsules"):
+        sx.ModelBuilder(dim=3).add_capsule((0.0, 0.0, 0.0), 0.3, 0.1, angle=0.5,
+                                           density=2000.0, name="rod")
+    with pytest.raises(sx.InputError, match="rod: axis is for 3D capsules"):
+        sx.ModelBuilder().add_capsule((0.0, 0.0), 0.3, 0.1, axis=(1.0, 0.0, 0.0),
+                                      density=2000.0, name="rod")
+    with pytest.raises(sx.InputError, match="rod: the centre must be 3 finite coordinates"):
         sx.ModelBuilder(dim=3).add_capsule((0.0, 0.0), 0.3, 0.1, density=2000.0, name="rod")
 
 
