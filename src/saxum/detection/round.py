@@ -49,7 +49,7 @@ _POLYGON = 0  # saxum.model.Shape.POLYGON
 _CAPSULE = 2  # saxum.model.Shape.CAPSULE
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _segment(q, wv, edge_length, vertex_start, shape, round_radius, b):
     """(a_x, a_y, a_z, b_x, b_y, b_z) [m]: the ends of capsule b's segment, z = 0 in 2D (its
     bounding rectangle's first edge runs along it; in 3D it runs along the body frame's z axis,
@@ -90,7 +90,7 @@ def _closest_on_segment(px, py, pz, seg):
     return ax + u * ex, ay + u * ey, az + u * ez, u
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _closest_of_segments(first, second):
     """(s, u) [-]: the fractions of the segments first = (a, b) and second = (c, d) [m] at
     their closest points (C. Ericson, Real-time collision detection, 2005, sec. 5.1.9:
@@ -133,7 +133,7 @@ def _pair_of_round(q, round_radius, i, j, dim):
     return n, d - ri - rj, ri * rj / (ri + rj)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _disc_polygon(c_x, c_y, wv, wn, edge_length, v0, nv):
     """(n_x, n_y, distance [m] from the disc's centre c to the polygon along n, feature): the
     polygon's closest feature to c (module doc); feature: edge e, or nv + vertex k."""
@@ -178,7 +178,7 @@ def _inside_face(wv, wn, fvs, fv, f, px, py, pz):
     return True
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _sphere_polyhedron(cx, cy, cz, wv, wn, vertex_start, face_start, fvs, fv, edge_start,
                        edge_vertex, b, max_faces, max_edges):
     """(n, distance [m] from the sphere's centre c to polyhedron b along n, feature): its
@@ -228,7 +228,7 @@ def _sphere_polyhedron(cx, cy, cz, wv, wn, vertex_start, face_start, fvs, fv, ed
     return ((cx - px) / dist, (cy - py) / dist, (cz - pz) / dist), dist, feature
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _write_round(candidate, antagonist, key, law, point, frame, gap, area, c, cand, ant, k,
                  law_index, px, py, pz, nx, ny, nz, g, curvature, pair_alert, dim):
     """Row c of the contact arrays: point p [m] on the round candidate, normal n, gap g [m],
