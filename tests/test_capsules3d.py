@@ -111,6 +111,11 @@ def test_capsule_contacts_with_polyhedra_spheres_and_capsules():
             ("on apex", "apex"): 0.006}
     normals = {("rod", "post"): 1.0, ("rod", "cross"): -1.0, ("cross", "brick"): -1.0,
                ("on apex", "apex"): 1.0}
+    # crossing at right angles: the ellipse g < a of area pi 2 sqrt(r r) (a - g); an edge
+    # against the side: no area (as an edge against an edge of two polyhedra)
+    assert c.area[found[("rod", "cross")]] == pytest.approx(
+        [math.pi * 2.0 * RADIUS * (0.02 - 0.004)], rel=1e-12)
+    assert c.area[found[("rod", "post")]] == pytest.approx([0.0, 0.0], abs=1e-15)
     for pair, points in expected.items():
         rows = found.pop(pair)
         assert c.point[rows] == pytest.approx(np.array(points), abs=1e-12), pair

@@ -1,5 +1,6 @@
 """Narrow phase of round bodies: discs (2D) and spheres (3D) against each other and against
-convex polygons (polyhedra), and 2D capsules (a segment ab with round ends of radius r).
+convex polygons (polyhedra), and capsules (a segment ab with round ends of radius r: the 2D
+stadium, the 3D spherocylinder).
 
 A round body of radius r touches a convex body at one point. Against another round body the
 normal is the line of centres, n = (c_i - c_j) / |c_i - c_j|, and the gap |c_i - c_j| - r_i - r_j.
@@ -25,6 +26,16 @@ those corners. Against a disc or a capsule: the ends of the first body's segment
 second's segment, then the second's ends where their closest point is inside the first's
 (keys 0-3; an end against an end is found once). The round body of a contact (the
 candidate) is the capsule, or the body whose end touches.
+
+A 3D capsule (the spherocylinder) has its segment along its body frame's z axis and a
+bounding box for vertices. Against a polyhedron of m sphere features (faces, edges and
+vertices as above) it is its two end spheres (keys: end 0's features, then end 1's, 2 m),
+then the polyhedron's edges whose closest points to the segment lie inside both (2 m + edge:
+a capsule across a block's top edges rests on them) and its vertices against the segment (2
+m + edges + vertex); the closest points of a segment and a convex polyhedron are among
+these, and a capsule lying on a face touches it at both ends. Two capsules also meet at the
+closest points of their segments where these lie inside both (key 4: capsules crossing),
+with curvature radius sqrt(r_i r_j) (exact for cylinders crossing at right angles).
 
 Area (laws in stresses): the part of the round body's surface within the alert distance a of
 the face, where the gap grows as g + x^2 / (2 R) at a distance x from the point (R the
@@ -377,12 +388,14 @@ def _capsule_pair(q, wv, wn, edge_length, vertex_start, face_start, fvs, fv, edg
         if 0.0 < s < 1.0 and 0.0 < u < 1.0:
             ri = round_radius[first]
             rj = round_radius[second]
-            # two cylinders crossing: the curvature of the narrower
+            # two cylinders crossing at right angles: g grows as x^2 / (2 r_j) + y^2 / (2 r_i),
+            # the ellipse of area pi 2 sqrt(r_i r_j) (a - g)
             c = _write_circle(candidate, antagonist, key, law, point, frame, gap, area, c,
                               first, second, k0 + 4, law_index, a[0] + s * (a[3] - a[0]),
                               a[1] + s * (a[4] - a[1]), a[2] + s * (a[5] - a[2]),
                               b[0] + u * (b[3] - b[0]), b[1] + u * (b[4] - b[1]),
-                              b[2] + u * (b[5] - b[2]), ri, rj, pair_alert, min(ri, rj), dim)
+                              b[2] + u * (b[5] - b[2]), ri, rj, pair_alert, math.sqrt(ri * rj),
+                              dim)
     return c
 
 
