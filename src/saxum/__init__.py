@@ -60,6 +60,7 @@ _EXPORTS = {
     "read_ensemble": "ensemble",
     "run_ensemble": "ensemble",
     "run_scenario": "runner",
+    "spherocylinder_properties": "model",
     "view_html": "view",
     "write_view": "view",
 }

@@ -68,6 +68,9 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
         raise InputError(f"precision must be 'lmgc90' or 'full', got {precision!r}")
     if (model.body_kind == BodyKind.DEFORMABLE).any():
         raise InputError("export_lmgc90 writes rigid blocks; this model has deformable ones")
+    if model.dim == 3 and (model.body_shape == Shape.CAPSULE).any():
+        raise InputError("export_lmgc90 does not write 3D capsules (LMGC90's CYLND) yet; "
+                         "replace them by polyhedra or spheres to export this model")
     if state is not None and dt is None:
         raise InputError("export_lmgc90: a state's impulses need the step dt [s] they were "
                          "taken over (dt=...), to write LMGC90's mean forces R / dt")

@@ -360,6 +360,9 @@ def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -
                                  "files hold polygons only: write JSON")
             block.update(centre=model.body_q0[b, : model.dim].tolist(),
                          radius=float(model.body_round_radius[b]))
+            if capsule and model.dim == 3:
+                raise InputError(f"block {model.body_name[b]!r} is a 3D capsule; block files "
+                                 "hold 2D capsules only (centre, length, angle)")
             if capsule:
                 angle, length = capsule_axis(model, b)
                 block.update(length=length, angle=angle)
