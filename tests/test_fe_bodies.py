@@ -180,6 +180,35 @@ PIER_3D = PIER.replace('type = "pier"', 'type = "pier_3d"\ndepth = 0.3').replace
 """The pier in 3D: two courses of two blocks each, split across x and across y in turn."""
 
 
+def _check_rigid_motions(model, x, v, body_v):
+    """The deformable blocks' rows of a results file's body_v [frames, blocks, dof] are, in
+    every frame, the rigid motion nearest (mass-weighted) to the nodes' x, v [frames, N, d]:
+    the centre of mass's velocity sum m_i v_i / sum m_i and the spin w solving I w = sum m_i
+    r_i x v_i, I = sum m_i (|r_i|^2 1 - r_i r_i^T), written out here with numpy (tolerance:
+    1e-12 of the largest speed, round-off of sums over ~100 nodes)."""
+    from saxum.fe.blocks import FEBlocks
+
+    d = model.dim
+    blocks = FEBlocks.geometry(list(model.fe.meshes), list(model.fe.materials))
+    scale = 1e-12 * max(np.abs(v).max(), 1e-3)
+    for b, (start, end) in enumerate(zip(blocks.node_start[:-1], blocks.node_start[1:],
+                                                    strict=True)):
+        m = blocks.node_mass[start:end]
+        c = np.einsum("i,fid->fd", m, x[:, start:end]) / m.sum()
+        assert np.abs(body_v[:, b, :d] - np.einsum("i,fid->fd", m, v[:, start:end]) / m.sum()
+                      ).max() < scale
+        r = np.zeros((len(x), end - start, 3))
+        u = np.zeros_like(r)
+        r[..., :d] = x[:, start:end] - c[:, None]
+        u[..., :d] = v[:, start:end]
+        moment = np.einsum("i,fik->fk", m, np.cross(r, u))
+        inertia = (np.einsum("i,fi->f", m, (r * r).sum(-1))[:, None, None] * np.eye(3)
+                   - np.einsum("i,fik,fil->fkl", m, r, r))
+        spin = (moment[:, 2] / inertia[:, 2, 2])[:, None] if d == 2 else np.linalg.solve(
+            inertia, moment[..., None])[..., 0]
+        assert np.abs(body_v[:, b, d:] - spin).max() * 0.3 < scale  # 0.3 m: a block's size
+
+
 @pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
 def test_results_and_restart_are_bit_identical(tmp_path, text):
     """A run of two deformable courses on the ground writes the nodes and the contact sides in
@@ -199,6 +228,8 @@ def test_results_and_restart_are_bit_identical(tmp_path, text):
         contacts = r.contacts(r.frame_count - 1)
         assert (contacts["side_kind"][:, 0] == 1).all()  # every contact has a node candidate
         saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 40)[0]))
+        x, v, body_v = r.node_x[:], r.node_v[:], r.body_v[:, model.fe.body]
+    _check_rigid_motions(model, x, v, body_v)
     sim = scenario.build_simulation()
     state = sim.restore(saved)
     for _ in range(20):
