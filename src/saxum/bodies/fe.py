@@ -66,6 +66,13 @@ class FEBodies:
     """Boundary facets (global node numbers), the antagonists: 2D edges, counter-clockwise
     (outward normal = the edge turned by -90 degrees), shape [n_facets, 2]; 3D triangles (a,
     b, c) with outward normal along (b - a) x (c - a), shape [n_facets, 3]; int64."""
+    edge_start: np.ndarray
+    """3D: block f's boundary edges (the sides of its boundary triangles) are
+    edge_node[edge_start[f]:edge_start[f+1]]; 2D: zeros (its facets are its edges), int64."""
+    edge_node: np.ndarray
+    """3D: the two nodes (global numbers) of each boundary edge, shape [n_edges, 2], int64."""
+    edge_facet: np.ndarray
+    """3D: the two boundary triangles that share each edge, shape [n_edges, 2], int64."""
 
     @property
     def count(self) -> int:
@@ -97,6 +104,8 @@ def build_fe_bodies(bodies: list[int], shapes: list, materials: list[Elastic],
     node_start = np.cumsum([0] + [len(m.nodes) for m in meshes])
     fe_index = np.full(body_count, -1, dtype=np.int32)
     fe_index[bodies] = np.arange(len(bodies), dtype=np.int32)
+    facet_node = np.concatenate([m.facets + s for m, s in zip(meshes, node_start, strict=False)
+                                 ]).astype(np.int64)
     return FEBodies(
         body=np.array(bodies, dtype=np.int32), fe_index=fe_index, meshes=tuple(meshes),
         materials=tuple(materials),
@@ -106,9 +115,33 @@ def build_fe_bodies(bodies: list[int], shapes: list, materials: list[Elastic],
         boundary_node=np.concatenate([m.boundary_nodes + s for m, s in
                                       zip(meshes, node_start, strict=False)]).astype(np.int64),
         facet_start=np.cumsum([0] + [len(m.facets) for m in meshes]).astype(np.int64),
-        facet_node=np.concatenate([m.facets + s for m, s in
-                                   zip(meshes, node_start, strict=False)]).astype(np.int64),
+        facet_node=facet_node,
+        **_boundary_edges(facet_node, [len(m.facets) for m in meshes], dim),
     )
+
+
+def _boundary_edges(facet_node: np.ndarray, facets: list[int], dim: int) -> dict:
+    """FEBodies' edge_start, edge_node, edge_facet of the boundary triangles facet_node
+    (`facets` per block, in block order): each side of a triangle once, with the two
+    triangles of the closed surface that share it (none in 2D)."""
+    if dim == 2:
+        return {"edge_start": np.zeros(len(facets) + 1, dtype=np.int64),
+                "edge_node": np.zeros((0, 2), dtype=np.int64),
+                "edge_facet": np.zeros((0, 2), dtype=np.int64)}
+    sides = np.concatenate([facet_node[:, [0, 1]], facet_node[:, [1, 2]],
+                            facet_node[:, [2, 0]]])
+    owner = np.tile(np.arange(len(facet_node)), 3)
+    order = np.lexsort((sides.max(axis=1), sides.min(axis=1)))
+    # on a closed surface each edge is the side of exactly two triangles, adjacent in order
+    first, second = order[0::2], order[1::2]
+    edge_node = sides[first]
+    edge_facet = np.column_stack((owner[first], owner[second]))
+    block = np.searchsorted(np.cumsum(facets), edge_facet[:, 0], side="right")
+    keep = np.argsort(block, kind="stable")
+    return {"edge_start": np.concatenate([[0], np.cumsum(np.bincount(block, minlength=len(
+                facets)))]).astype(np.int64),
+            "edge_node": np.ascontiguousarray(edge_node[keep]),
+            "edge_facet": np.ascontiguousarray(edge_facet[keep])}
 
 
 def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]]:

@@ -15,10 +15,11 @@ plane in 3D, the friction cone's generatrix), a sliding one whose slip goes with
 friction impulse sticks, one whose slip turned (3D: by more than _TURN) slides on along
 -U_t / |U_t| (not counted as a change of status: the directions of a few sliding contacts
 settle over more solves than the statuses, and NLGS's local solves finish them), an open
-one with U_n + b_n < 0 closes; up to _PASSES solves. When no status changes, this is a solution of the
-step's problem (every law holds); when a few still change (at most _CHANGING of the
-contacts), it is a start near one, from which NLGS sweeps on (the caller judges convergence
-by the sweeps, as always); with more, it is not taken.
+one with U_n + b_n < 0 closes; up to _PASSES solves. When no status changes, this is a
+solution of the step's problem (every law holds; in 3D, up to the sliding directions); when
+a few still change (at most _CHANGING of the contacts), it is a start near one, from which
+NLGS sweeps on (the caller judges convergence by the sweeps, as always); with more, it is
+not taken.
 
 Why: a wall of elastic blocks has no rest solution (its nodes vibrate), and Gauss-Seidel
 over node contacts converges as slowly as a Gauss-Seidel on the blocks' stiffness: hundreds
