@@ -344,3 +344,55 @@ def test_a_fixed_block_cannot_be_deformable():
     with pytest.raises(sx.InputError, match="only a free block can be deformable"):
         ModelBuilder().add_block([(0, 0), (1, 0), (1, 1), (0, 1)], material=STONE,
                                  kind=BodyKind.FIXED)
+
+
+BRICK_2D = [(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)]
+BRICK_3D = [(x, y, z) for x in (0, 0.4) for y in (0, 0.2) for z in (0, 0.2)]
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_given_mesh_is_the_blocks_mesh(dim):
+    """add_block(mesh=...) takes a user's mesh of the block: the mesher's own mesh given back
+    makes the same deformable body as its mesh size; a hand-made one (two triangles, six
+    tetrahedra around a diagonal) is taken as it is."""
+    from saxum.fe import Mesh, mesh_polygon, mesh_polyhedron
+
+    vertices = BRICK_2D if dim == 2 else BRICK_3D
+    if dim == 2:
+        made = mesh_polygon(vertices, 0.1)
+        hand = Mesh.from_cells(vertices, [(0, 1, 2), (0, 2, 3)])
+    else:
+        faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2),
+                 (1, 3, 7, 5)]
+        made = mesh_polyhedron(np.array(vertices, dtype=float), faces, 0.1)
+        hand = Mesh.from_cells(vertices, [(0, 1, 3, 7), (0, 1, 5, 7), (0, 2, 3, 7),
+                                          (0, 2, 6, 7), (0, 4, 5, 7), (0, 4, 6, 7)])
+    models = []
+    for kwargs in ({"mesh_size": 0.1}, {"mesh": made}, {"mesh": hand}):
+        b = ModelBuilder(dim=dim)
+        b.add_block(vertices, material=STONE, **kwargs)
+        b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+        models.append(b.finalize())
+    assert np.array_equal(models[0].fe.node_x0, models[1].fe.node_x0)
+    assert np.array_equal(models[0].fe.facet_node, models[1].fe.facet_node)
+    assert np.array_equal(models[2].fe.node_x0, np.array(vertices, dtype=float))
+    assert models[2].body_mass[0] == pytest.approx(models[0].body_mass[0], rel=1e-12)
+
+
+@pytest.mark.parametrize("cells, nodes, match", [
+    ([(0, 1, 2)], BRICK_2D[:3], "does not fill the block"),
+    ([(0, 1, 2), (0, 2, 3)], [(0, 0), (0.5, 0), (0.4, 0.2), (0, 0.2)], "lie outside the block"),
+])
+def test_a_given_mesh_that_is_not_the_blocks_is_refused(cells, nodes, match):
+    from saxum.fe import Mesh
+
+    b = ModelBuilder()
+    b.add_block(BRICK_2D, material=STONE, mesh=Mesh.from_cells(nodes, cells), name="keystone")
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    with pytest.raises(sx.InputError, match=f"keystone: .*{match}"):
+        b.finalize()
+    with pytest.raises(sx.InputError, match="keystone: give mesh_size or mesh, not both"):
+        ModelBuilder().add_block(BRICK_2D, material=STONE, mesh_size=0.1, name="keystone",
+                                 mesh=Mesh.from_cells(nodes, cells))
+    with pytest.raises(sx.InputError, match="mesh_size and mesh are for deformable blocks"):
+        ModelBuilder().add_block(BRICK_2D, density=2000.0, mesh=Mesh.from_cells(nodes, cells))

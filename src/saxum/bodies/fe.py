@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ..fe.blocks import FEBlocks, _add_node_velocity, compliance_block, congruence
 from ..fe.material import Elastic
-from ..fe.mesh import Mesh, mesh_polygon
+from ..fe.mesh import Mesh, fit_mesh, mesh_polygon
 from ..geometry3d import Polyhedron
 from ..laws import LawKind
 from .fe3d import frame_quaternions, mesh_polyhedra, principal_axes
@@ -148,9 +148,13 @@ def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]
     """Triangle meshes of the polygons and their node sides [n, 2, 2] (FEBodies.node_side)."""
     meshes, sides = [], []
     for poly, size, name in zip(polygons, sizes, names, strict=True):
-        if size is None:
-            size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).min())
-        mesh = mesh_polygon(poly, size, name=name)
+        if isinstance(size, Mesh):
+            mesh = _fit_polygon(size, poly, name)
+        else:
+            if size is None:
+                size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly,
+                                                  axis=1).min())
+            mesh = mesh_polygon(poly, size, name=name)
         meshes.append(mesh)
         edge = mesh.nodes[mesh.facets[:, 1]] - mesh.nodes[mesh.facets[:, 0]]
         half = 0.5 * np.column_stack((edge[:, 1], -edge[:, 0]))  # outward: counter-clockwise
@@ -159,6 +163,16 @@ def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]
         side[mesh.facets[:, 1], 1] = half
         sides.append(side)
     return meshes, sides
+
+
+def _fit_polygon(mesh: Mesh, polygon: np.ndarray, name: str) -> Mesh:
+    """A given mesh of the convex polygon [k, 2] [m] (saxum.fe.mesh.fit_mesh)."""
+    edge = np.roll(polygon, -1, axis=0) - polygon
+    area = 0.5 * float(np.sum(polygon[:, 0] * edge[:, 1] - polygon[:, 1] * edge[:, 0]))
+    normals = np.sign(area) * np.column_stack((edge[:, 1], -edge[:, 0]))
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    return fit_mesh(mesh, normals, np.einsum("kd,kd->k", normals, polygon), abs(area),
+                    name=name)
 
 
 def stored_blocks(model: dict) -> FEBlocks:
