@@ -1,6 +1,7 @@
 """Time-step solvers beyond NLGS: the conic fixed point alone (ConicSolver) and the hybrid
-(Hybrid) that runs NLGS and tries the conic fixed point, then semismooth Newton
-(saxum.solver.newton), where NLGS stalls or at its cap.
+(Hybrid) that runs NLGS and, where NLGS stalls or at its cap, accepts NLGS's iterate by the
+natural map or tries Fischer-Burmeister Newton (3D), the conic fixed point and Alart-Curnier
+Newton (2D).
 
 ConicSolver assembles the rows H* of the step's active contacts (saxum.solver.assembled),
 solves the step by De Saxce's fixed point with Clarabel in body space (saxum.solver.conic's
@@ -11,25 +12,33 @@ solved by NLGS alone reports, so that every step is judged alike.
 
 Hybrid: NLGS exactly as saxum.solver.NLGS runs it (the same sweeps, the same rest solution),
 in windows of `window` sweeps, never ending a step worse than NLGS's iterate by NLGS's own
-criterion. After each window it compares NLGS's error with the least at the end of the
-windows before. Only a measured stall (no new least error for _PATIENCE = 10 windows in a
-row: NLGS's error oscillates, and rises for a few windows on steps it then finishes) or the
-sweep cap makes it try the conic fixed point, once per solve, from NLGS's iterate; a rate
-that predicts the cap does not (NLGS finishes such steps, slowly: docs/method.md). One NLGS
-sweep from the fixed point's result judges it: it is kept, and NLGS sweeps on from it with
-the sweeps left, only where that sweep converged or its error (the relative change NLGS
-reports) is below half NLGS's last sweep's; else semismooth Newton runs from zero impulses
-(from NLGS's iterate it crawls as NLGS does at the friction threshold) and is judged the
-same way; where neither is kept NLGS's iterate is put back bit for bit and NLGS goes on as
-if alone (at the cap: the step ends as NLGS alone ends it). Where NLGS's sweeps from a kept
-iterate end above that iterate's error, the step ends at it. After k attempts in a row
-that were rejected or did not end their solve converged, the next 2^k - 1 solves (k at most
-6) are NLGS's alone: on the friction threshold the fixed point crawls too, and each attempt
-costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
+criterion or by the natural map. After each window it compares NLGS's error with the least at
+the end of the windows before. Only a measured stall (no new least error for _PATIENCE = 10
+windows in a row: NLGS's error oscillates, and rises for a few windows on steps it then
+finishes) or the sweep cap makes it look further, once per solve; a rate that predicts the
+cap does not (NLGS finishes such steps, slowly: docs/method.md). There it first measures the
+natural-map error of NLGS's iterate (saxum.solver.residual, on the assembled problem): where
+it is within the tolerance the step ends there, converged, reporting that error (the shaken
+3D L wall: 37 of its 75 steps above NLGS's criterion are such steps). Else it tries other
+solvers from NLGS's iterate: in 3D, Fischer-Burmeister Newton (saxum.solver.fischer), kept
+where the natural-map error of its result is within the tolerance (the step ends converged,
+finished by "newton", reporting that error); then, in 3D and 2D, the conic fixed point, judged
+by one NLGS sweep from its result: it is kept, and NLGS sweeps on from it with the sweeps left,
+only where that sweep converged or its error (the relative change NLGS reports) is below half
+NLGS's last sweep's; in 2D then semismooth Newton on Alart-Curnier's function from zero
+impulses (from NLGS's iterate it crawls as NLGS does at the friction threshold; the
+Fischer-Burmeister one does not help in 2D: docs/method.md), judged the same way. Where none
+is kept NLGS's iterate is put back bit for bit and NLGS goes on as if alone (at the cap: the
+step ends as NLGS alone ends it). Where NLGS's sweeps from a kept conic iterate end above that
+iterate's error, the step ends at it. After k attempts in a row that were rejected or did not
+end their solve converged, the next 2^k - 1 solves (k at most 6) try no other solver (the
+natural-map test still runs): on the friction threshold the fixed point crawls too, and each
+attempt costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
 hybrid is NLGS: the same iterates bit for bit, one more Python call per window. A solve that
 ends above the tolerance reports the natural-map error of the impulses it ends with
-(SolverReport.natural_map; saxum.solver.residual): how far they are from a solution, which
-NLGS's criterion (a sweep's change) does not say.
+(SolverReport.natural_map): how far they are from a solution, which NLGS's criterion (a
+sweep's change) does not say; the step log calls them "no solution reached" (whether the
+step's problem has a solution: benchmarks/capped_steps.py --existence).
 """
 
 import math
@@ -126,9 +135,11 @@ class ConicSolver(ContactSolver):
 
 @dataclass
 class Hybrid(ContactSolver):
-    """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that
-    tries the conic fixed point where NLGS stalls or at its cap, and keeps what it finds only
-    where it is better by NLGS's own criterion (module doc); window: sweeps between two
+    """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that,
+    where NLGS stalls or at its cap, ends the step where NLGS's iterate is within the tolerance
+    by the natural map, else tries Fischer-Burmeister Newton (3D) and the conic fixed point,
+    and keeps what they find only where it is within the tolerance by the natural map or
+    better by NLGS's own criterion (module doc); window: sweeps between two
     measurements of the error, and the sweeps that judge a conic iterate; threads: NLGS's
     (saxum.solver.NLGS)."""
 
@@ -152,12 +163,13 @@ class Hybrid(ContactSolver):
         self.finished = {name: 0 for name in SOLVER_NAMES}
         """Solves (steps and projections) finished by each solver."""
         self.attempts = 0
-        """Solves on which the conic fixed point ran (a stall or the cap)..."""
+        """Solves on which other solvers ran (a stall or the cap, NLGS's iterate not within
+        the tolerance by the natural map)..."""
         self.rejected = 0
-        """... and those on which neither its iterate nor Newton's was better (NLGS went on
-        from its own)."""
+        """... and those on which none of their iterates was kept (NLGS went on from its
+        own)."""
         self.newton_iterations = 0
-        """Semismooth Newton iterations done, in all."""
+        """Semismooth Newton iterations done (Fischer-Burmeister and Alart-Curnier), in all."""
         self._failures = 0
         self._wait = 0
 
