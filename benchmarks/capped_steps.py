@@ -23,7 +23,10 @@ max t subject to u_N - mu (|u_T1| + |u_T2|) >= t ||q|| for every contact, u = W 
 l1 norm bounds the l2 one), and then the Coulomb problem has a solution whatever W's rank (V.
 Acary, F. Cadoux, C. Lemarechal, J. Malick, "A formulation of the linear discrete Coulomb
 friction problem via convex optimization", ZAMM 91(2), 2011, sec. 3: strict feasibility of
-the associated conic problem). --load: the steps of an earlier --save instead of a run.
+the associated conic problem). Also the frictionless problem (mu = 0: a monotone linear
+complementarity problem, W positive semidefinite: one convex problem) by Clarabel
+(saxum.solver.conic, whose fixed point is exact after one iteration there): the natural-map
+error it reaches. --load: the steps of an earlier --save instead of a run.
 """
 
 import argparse
@@ -39,6 +42,7 @@ import scipy.sparse as sp
 
 import saxum as sx
 from saxum.solver.assembled import assemble_local
+from saxum.solver.conic import delassus_conic
 from saxum.solver.newton import alart_curnier_newton
 from saxum.solver.residual import natural_map_error
 from saxum.structures import wall3d
@@ -89,8 +93,9 @@ def _proximal(w, q, mu, r, outer: int, newton: int):
     return out
 
 
-def _existence(w, q, mu) -> tuple[int, int, float]:
-    """(rank of W, its size, the strict feasibility margin t of the module doc)."""
+def _existence(w, q, mu) -> tuple[int, int, float, float]:
+    """(rank of W, its size, the strict feasibility margin t of the module doc, the natural-map
+    error of the frictionless problem's solution by Clarabel)."""
     from scipy.optimize import linprog
 
     singular = np.linalg.svd(w.toarray(), compute_uv=False)
@@ -115,7 +120,9 @@ def _existence(w, q, mu) -> tuple[int, int, float]:
     cost[-1] = -1.0
     bounds = [(None, None)] * q.size + [(0.0, None)] * (2 * m) + [(None, 1.0)]
     result = linprog(cost, A_ub=a, b_ub=b, bounds=bounds, method="highs")
-    return rank, q.size, float(result.x[-1]) if result.success else math.nan
+    margin = float(result.x[-1]) if result.success else math.nan
+    frictionless = delassus_conic(w, q, np.zeros_like(mu), 3, None, 1e-10, 3)
+    return rank, q.size, margin, frictionless.error
 
 
 def _save(path: Path, kept: list[dict]) -> None:
@@ -192,9 +199,10 @@ def main(argv: list[str] | None = None) -> int:
               f"{criterion.min():.2g} / {np.median(criterion):.2g} / {criterion.max():.2g}; "
               f"ratio {np.min(natural / criterion):.2g} to {np.max(natural / criterion):.2g}")
     for k in keeping.kept[: args.existence]:
-        rank, size, margin = _existence(k["w"], k["q"], k["mu"])
+        rank, size, margin, frictionless = _existence(k["w"], k["q"], k["mu"])
         print(f"step {k['step']}: W of rank {rank} of {size}, strict feasibility margin "
-              f"{margin:.3g}" + (" (a solution exists)" if margin > 0.0 else ""), flush=True)
+              f"{margin:.3g}" + (" (a solution exists)" if margin > 0.0 else "")
+              + f"; frictionless problem solved to {frictionless:.2g}", flush=True)
     for k in keeping.kept[: args.solve]:
         w, q, mu = k["w"], k["q"], k["mu"]
         for name, r0 in (("NLGS's iterate", k["r"]), ("zero", None)):
