@@ -1,6 +1,6 @@
 """Time-step solvers beyond NLGS: the conic fixed point alone (ConicSolver) and the hybrid
 (Hybrid) that runs NLGS and, where NLGS stalls or at its cap, accepts NLGS's iterate by the
-natural map or tries Fischer-Burmeister Newton (3D), the conic fixed point and Alart-Curnier
+natural map or tries Fischer-Burmeister Newton (3D), or the conic fixed point and Alart-Curnier
 Newton (2D).
 
 ConicSolver assembles the rows H* of the step's active contacts (saxum.solver.assembled),
@@ -20,20 +20,23 @@ cap does not (NLGS finishes such steps, slowly: docs/method.md). There it first 
 natural-map error of NLGS's iterate (saxum.solver.residual, on the assembled problem): where
 it is within the tolerance the step ends there, converged, reporting that error (the shaken
 3D L wall: 37 of its 75 steps above NLGS's criterion are such steps). Else it tries other
-solvers from NLGS's iterate: in 3D, Fischer-Burmeister Newton (saxum.solver.fischer), kept
+solvers. In 3D, Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's iterate, kept
 where the natural-map error of its result is within the tolerance (the step ends converged,
-finished by "newton", reporting that error); then, in 3D and 2D, the conic fixed point, judged
-by one NLGS sweep from its result: it is kept, and NLGS sweeps on from it with the sweeps left,
-only where that sweep converged or its error (the relative change NLGS reports) is below half
-NLGS's last sweep's; in 2D then semismooth Newton on Alart-Curnier's function from zero
-impulses (from NLGS's iterate it crawls as NLGS does at the friction threshold; the
-Fischer-Burmeister one does not help in 2D: docs/method.md), judged the same way. Where none
-is kept NLGS's iterate is put back bit for bit and NLGS goes on as if alone (at the cap: the
-step ends as NLGS alone ends it). Where NLGS's sweeps from a kept conic iterate end above that
-iterate's error, the step ends at it. After k attempts in a row that were rejected or did not
-end their solve converged, the next 2^k - 1 solves (k at most 6) try no other solver (the
-natural-map test still runs): on the friction threshold the fixed point crawls too, and each
-attempt costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
+finished by "newton", reporting that error); it dominates the others there (docs/method.md:
+the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
+and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries. In
+2D, the conic fixed point from NLGS's iterate, judged by one NLGS sweep from its result: it is
+kept, and NLGS sweeps on from it with the sweeps left, only where that sweep converged or its
+error (the relative change NLGS reports) is below half NLGS's last sweep's; then semismooth
+Newton on Alart-Curnier's function from zero impulses (from NLGS's iterate it crawls as NLGS
+does at the friction threshold; the Fischer-Burmeister one does not help in 2D:
+docs/method.md), judged the same way. Where none is kept NLGS's iterate is put back bit for
+bit and NLGS goes on as if alone (at the cap: the step ends as NLGS alone ends it). Where
+NLGS's sweeps from a kept conic iterate end above that iterate's error, the step ends at it.
+After k attempts in a row that were rejected or did not end their solve converged, the next
+2^k - 1 solves (k at most 6) try no other solver (the natural-map test still runs): on the
+friction threshold the other solvers crawl too, and each attempt costs seconds on a few
+hundred contacts. Where NLGS converges without such a stall the
 hybrid is NLGS: the same iterates bit for bit, one more Python call per window. A solve that
 ends above the tolerance reports the natural-map error of the impulses it ends with
 (SolverReport.natural_map): how far they are from a solution, which NLGS's criterion (a
@@ -71,10 +74,11 @@ window on stalled steps, and a step left at a near-equal iterate changes the run
 _NEWTON_ITERATIONS = 60
 """Newton iterations at most per attempt (the shaken stack's capped step: 40 to 2.4e-9 from
 zero impulses, 1 s on 78 contacts; on 770 contacts of the shaken 3D L wall each costs ~0.2 s)."""
-_FISCHER_ITERATIONS = 20
+_FISCHER_ITERATIONS = 10
 """Fischer-Burmeister Newton iterations at most per attempt (3D): on the shaken 3D L wall's
 steps above the tolerance it brings those it solves under 1e-6 in 1 to 7 (0.8-4.5 s on 685-771
-contacts, a loaded machine); it stops earlier where its merit stalls (saxum.solver.fischer)."""
+contacts, a loaded machine), and the others only halfway in 20 (9-47 s each); it stops earlier
+where its merit stalls (saxum.solver.fischer)."""
 _NEWTON_TOLERANCE = 1e-2
 """Newton's natural-map tolerance relative to the hybrid's: its last iterations are quadratic
 and cheap, and the judging sweep must converge from its result."""
@@ -137,10 +141,10 @@ class ConicSolver(ContactSolver):
 class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that,
     where NLGS stalls or at its cap, ends the step where NLGS's iterate is within the tolerance
-    by the natural map, else tries Fischer-Burmeister Newton (3D) and the conic fixed point,
-    and keeps what they find only where it is within the tolerance by the natural map or
-    better by NLGS's own criterion (module doc); window: sweeps between two
-    measurements of the error, and the sweeps that judge a conic iterate; threads: NLGS's
+    by the natural map, else tries Fischer-Burmeister Newton (3D) or the conic fixed point and
+    Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
+    by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
+    two measurements of the error, and the sweeps that judge a conic iterate; threads: NLGS's
     (saxum.solver.NLGS)."""
 
     tolerance: float = 1e-6
@@ -263,9 +267,9 @@ class Hybrid(ContactSolver):
 
     def _attempt(self, problem, local, impulse, v_free, v, error: float):
         """In 3D, Fischer-Burmeister Newton from NLGS's iterate, kept where the natural-map
-        error of its result is <= the tolerance; then (3D and 2D) the conic fixed point from
-        NLGS's iterate, and in 2D semismooth Newton on Alart-Curnier's function from zero
-        impulses, each judged by one NLGS sweep from its result. `local`: the step's assembled
+        error of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
+        iterate, then semismooth Newton on Alart-Curnier's function from zero impulses, each
+        judged by one NLGS sweep from its result. `local`: the step's assembled
         problem. Returns (report, rejected): Fischer-Burmeister Newton's (its natural-map error
         as the error, converged) or the first judging sweep's report that converged or whose
         error is below _BETTER times NLGS's last sweep's `error` (its solver's name in
@@ -278,9 +282,9 @@ class Hybrid(ContactSolver):
                 return SolverReport(0, natural, True, "newton", natural), 0
             impulse[...] = kept[0]
             v[...] = kept[1]
-        candidates = [("conic", self._conic.conic)]
-        if problem.model.dim == 2:
-            candidates.append(("newton", self._newton))
+            candidates = ()
+        else:
+            candidates = (("conic", self._conic.conic), ("newton", self._newton))
         for name, candidate in candidates:
             if name == "newton":
                 impulse[...] = kept[0]
