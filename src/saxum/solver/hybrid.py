@@ -20,7 +20,8 @@ cap does not (NLGS finishes such steps, slowly: docs/method.md). There it first 
 natural-map error of NLGS's iterate (saxum.solver.residual, on the assembled problem): where
 it is within the tolerance the step ends there, converged, reporting that error (the shaken
 3D L wall: 37 of its 75 steps above NLGS's criterion are such steps). Else it tries other
-solvers. In 3D, Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's iterate, kept
+solvers. In 3D, where that error is within _REACH times the tolerance or NLGS's error was not
+crawling (_CRAWL), Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's iterate, kept
 where the natural-map error of its result is within the tolerance (the step ends converged,
 finished by "newton", reporting that error); it dominates the others there (docs/method.md:
 the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
@@ -79,6 +80,16 @@ _FISCHER_ITERATIONS = 10
 steps above the tolerance it brings those it solves under 1e-6 in 1 to 7 (0.8-4.5 s on 685-771
 contacts, a loaded machine), and the others only halfway in 20 (9-47 s each); it stops earlier
 where its merit stalls (saxum.solver.fischer)."""
+_REACH = 3.0
+"""In 3D, Fischer-Burmeister Newton runs only where NLGS's iterate is within this factor of
+the tolerance by the natural map: on the shaken 3D L wall's 38 steps above it (NLGS's iterate
+at 1.04e-6 to 3.9e-5) it brought under it only steps that started at most 2.33 times above
+(14 of the 18 within 3 times, in 1 to 7 iterations), and none of the 20 above 3 times
+(3.1e-6 to 3.9e-5), whose error it halved in 10 iterations at 10-60 s each (BENCHMARKS.md,
+fb13), all of them where NLGS's error crawled (_CRAWL)."""
+_CRAWL = 1e-3
+"""NLGS's error falling by less than this fraction per sweep crawls (the L wall's capped steps:
+1e-5 per sweep and less; a cold start cut by a small cap: 0.04 to 0.25)."""
 _NEWTON_TOLERANCE = 1e-2
 """Newton's natural-map tolerance relative to the hybrid's: its last iterations are quadratic
 and cheap, and the judging sweep must converge from its result."""
@@ -222,7 +233,7 @@ class Hybrid(ContactSolver):
                     # NLGS's iterate is a solution to the tolerance by the natural map
                     report = SolverReport(report.iterations, natural, True, "nlgs", natural)
                     break
-                if attempt:
+                if attempt and self._hopeful(problem, natural, errors):
                     attempted = True
                     self.attempts += 1
                     judged, wasted = self._attempt(problem, local, impulse, v_free, v,
@@ -264,6 +275,16 @@ class Hybrid(ContactSolver):
             trend = error_trend(errors[-_TREND_WINDOWS:], self.window)
         return SolverReport(done + judging, report.error, report.converged, solver, natural,
                             *trend)  # (natural_map, rate, stalled)
+
+    def _hopeful(self, problem, natural: float, errors: list) -> bool:
+        """Whether to try other solvers on a step whose NLGS iterate has the natural-map error
+        `natural`, NLGS's error at the end of its windows being `errors`: in 2D always; in 3D
+        where `natural` is within _REACH times the tolerance or NLGS's error was not crawling
+        (falling by more than _CRAWL per sweep over its last windows, or too few windows to
+        say: a small cap)."""
+        rate = error_trend(errors[-_TREND_WINDOWS:], self.window)[0]
+        return (problem.model.dim == 2 or natural <= _REACH * self.tolerance
+                or not rate > 1.0 - _CRAWL)
 
     def _attempt(self, problem, local, impulse, v_free, v, error: float):
         """In 3D, Fischer-Burmeister Newton from NLGS's iterate, kept where the natural-map
