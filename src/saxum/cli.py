@@ -898,9 +898,10 @@ def _parser() -> argparse.ArgumentParser:
     q.add_argument("--relaxation", type=float, default=None,
                    help="NLGS relaxation omega in (0, 1] (default: 1, and 0.7 where the "
                         "hybrid finds NLGS stalling)")
-    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic"), default="hybrid",
+    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic", "newton"), default="hybrid",
                    help="hybrid (default: NLGS, the conic fixed point where NLGS stalls or is "
-                        "too slow, then NLGS), nlgs or conic alone")
+                        "too slow, then NLGS), nlgs or conic alone, or newton (Fischer-"
+                        "Burmeister Newton, then NLGS where it stops short)")
     q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
