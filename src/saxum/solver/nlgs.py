@@ -107,13 +107,15 @@ class NLGS(ContactSolver):
     LMGC90's "quad", "maxm", "qm/16" (_check_error, docs/criteria.md; rigid blocks, swept
     in the serial order whatever threads says)."""
 
-    tolerance: float = 1e-6
+    tolerance: float = 1e-7
     max_iterations: int = 5000
     relaxation: float = 1.0
     rest_after: int = 50
     follow_loads: bool = True
     threads: int | None = None
     criterion: str = "delassus"
+    refine: float = 10.0
+    refine_sweeps: int = 1000
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
@@ -253,6 +255,18 @@ class NLGS(ContactSolver):
             more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
             iterations += more
         converged = error <= self.tolerance
+        if (converged and self.refine > 1.0 and error > self.tolerance / self.refine
+                and iterations <= self.refine_sweeps):
+            # a converged step sweeps on towards tolerance / refine while that is cheap (the
+            # errors of a sliding assembly add up from step to step: class doc)
+            more, error = sweep(*args[:-1], self.tolerance / self.refine,
+                                min(self.refine_sweeps, self.max_iterations - iterations),
+                                self.relaxation)
+            iterations += more
+            if error > self.tolerance:  # the refinement's last sweep changed more
+                more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
+                iterations += more
+                converged = error <= self.tolerance
         if follow:
             self._following.record(problem, impulse, v_free, confirmed and converged,
                                    found and converged)
