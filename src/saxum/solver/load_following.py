@@ -43,7 +43,7 @@ from .equilibrium import LoadResponse, rest_hypothesis
 
 __all__ = ["START_MARGIN", "LoadFollowing"]
 
-_DEPTH = 6
+_DEPTH = 3
 """Load changes answered and kept per anchor (a ground motion has up to 3 components)."""
 _ANCHORS = 8
 """Rest solutions kept as anchors."""
@@ -52,7 +52,7 @@ START_MARGIN = 0.01
 that the sweep did not confirm: that start balances the loads and leaves the cones only
 slightly, so the Newton iterations start near it (0.01 r0 instead of 0.1 r0: 1.4 instead of 2
 to 3 factorizations per rest solution on the 0.3 g wall of benchmarks/shaken_wall.py)."""
-_FIT = 5e-2
+_FIT = 1e-2
 """Misfit of the loads, as a fraction of the solver's tolerance (relative to |f|_M^-1), below
 which a combination of the kept answers is used: its impulses then balance the step's loads
 more closely than the convergence criterion can tell."""

@@ -105,9 +105,17 @@ class NLGS(ContactSolver):
     sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it.
     criterion: the error compared with the tolerance, "delassus" (saxum's, module doc) or
     LMGC90's "quad", "maxm", "qm/16" (_check_error, docs/criteria.md; rigid blocks, swept
-    in the serial order whatever threads says)."""
+    in the serial order whatever threads says). refine [-]: a rigid step that converged in at
+    most refine_sweeps sweeps sweeps on towards tolerance / refine, for at most refine_sweeps
+    more (0 or 1: off); it is still converged at the tolerance, and a refinement whose last
+    sweep changed more than the tolerance sweeps on to it. Why: a step stopped at the
+    criterion leaves velocity errors up to tol / (1 - rho) (module doc), which the next steps
+    damp where the assembly is at rest but not where it slides with every joint at mu N
+    (docs/method.md, "A sliding wall"), where they add up from step to step; the cheap steps
+    of a slide reach tolerance / 10 in a few dozen sweeps, while the slow ones (the onset of
+    a slide, thousands of sweeps) are left at the tolerance."""
 
-    tolerance: float = 1e-7
+    tolerance: float = 1e-6
     max_iterations: int = 5000
     relaxation: float = 1.0
     rest_after: int = 50
@@ -129,6 +137,10 @@ class NLGS(ContactSolver):
         if self.criterion not in CRITERIA:
             raise InputError(f"solver.criterion must be one of {', '.join(CRITERIA)}, got "
                              f"{self.criterion!r}")
+        if not (self.refine == 0.0 or self.refine >= 1.0):
+            raise InputError(f"solver.refine must be 0 (off) or >= 1, got {self.refine}")
+        if self.refine_sweeps < 0:
+            raise InputError(f"solver.refine_sweeps must be >= 0, got {self.refine_sweeps}")
         self._sums = None if self.criterion == "delassus" else np.zeros(8)
         if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
@@ -255,12 +267,13 @@ class NLGS(ContactSolver):
             more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
             iterations += more
         converged = error <= self.tolerance
+        budget = min(self.refine_sweeps, self.max_iterations - iterations)
         if (converged and self.refine > 1.0 and error > self.tolerance / self.refine
-                and iterations <= self.refine_sweeps):
-            # a converged step sweeps on towards tolerance / refine while that is cheap (the
-            # errors of a sliding assembly add up from step to step: class doc)
-            more, error = sweep(*args[:-1], self.tolerance / self.refine,
-                                min(self.refine_sweeps, self.max_iterations - iterations),
+                and 0 < iterations <= self.refine_sweeps and budget > 0):
+            # a step that converged in few sweeps sweeps on towards tolerance / refine (class
+            # doc: the errors of a sliding assembly's steps add up, the slow steps stay as
+            # they are)
+            more, error = sweep(*args[:-1], self.tolerance / self.refine, budget,
                                 self.relaxation)
             iterations += more
             if error > self.tolerance:  # the refinement's last sweep changed more
