@@ -33,7 +33,7 @@ NLGS's criterion (a sweep's change) does not say.
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -42,7 +42,7 @@ from .assembled import assemble_local
 from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
 from .newton import alart_curnier_newton
-from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS
+from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, check_refinement, refine_step
 from .problem import ContactProblem
 
 __all__ = ["ConicSolver", "Hybrid"]
@@ -124,8 +124,9 @@ class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that
     tries the conic fixed point where NLGS stalls or at its cap, and keeps what it finds only
     where it is better by NLGS's own criterion (module doc); window: sweeps between two
-    measurements of the error, and the sweeps that judge a conic iterate; threads: NLGS's
-    (saxum.solver.NLGS)."""
+    measurements of the error, and the sweeps that judge a conic iterate; threads, refine,
+    refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement once the step has converged,
+    so that where NLGS converges the hybrid is NLGS bit for bit)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -133,14 +134,18 @@ class Hybrid(ContactSolver):
     rest_after: int = 50
     window: int = 100
     threads: int | None = None
+    refine: float = 10.0
+    refine_sweeps: int = 1000
 
     def __post_init__(self) -> None:
+        check_refinement(self)
         if self.window < 1:
             raise InputError(f"solver.window must be >= 1, got {self.window}")
+        # NLGS's refinement (NLGS.refine) comes once the step has converged (solve)
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
-                           self.rest_after, threads=self.threads)
+                           self.rest_after, threads=self.threads, refine=0.0)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0,
-                          threads=self.threads)
+                          threads=self.threads, refine=0.0)
         self._first._trend = self._more._trend = False  # the windows give it (solve)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self._conic._nlgs.threads = self.threads
@@ -211,6 +216,15 @@ class Hybrid(ContactSolver):
             done += report.iterations
             if report.iterations == self.window:
                 errors.append(report.error)
+        if report.converged:  # NLGS's refinement (NLGS.solve)
+            more, error = refine_step(self, lambda target, count: self._sweep_to(
+                problem, impulse, v_free, v, target, count), done, report.error)
+            done += more
+            report = replace(report, error=error)
+            if error > self.tolerance:  # the refinement's last sweep changed more
+                self._more.max_iterations = self.max_iterations - done
+                report = self._more.solve(problem, impulse, v_free, v)
+                done += report.iterations
         if solver == "conic" and not report.converged and report.error > kept[0].error:
             # NLGS's error rose from the conic iterate's: the step ends at that iterate
             impulse[...] = kept[1]
@@ -235,6 +249,13 @@ class Hybrid(ContactSolver):
             trend = error_trend(errors[-_TREND_WINDOWS:], self.window)
         return SolverReport(done + judging, report.error, report.converged, solver, natural,
                             *trend)  # (natural_map, rate, stalled)
+
+    def _sweep_to(self, problem, impulse, v_free, v, tolerance: float, count: int):
+        """At most `count` NLGS sweeps, stopping at `tolerance`: (sweeps, error)."""
+        self._more.tolerance, self._more.max_iterations = tolerance, count
+        report = self._more.solve(problem, impulse, v_free, v)
+        self._more.tolerance = self.tolerance
+        return report.iterations, report.error
 
     def _attempt(self, problem, impulse, v_free, v, error: float):
         """The conic fixed point from NLGS's iterate, then (where NLGS rejects it)
