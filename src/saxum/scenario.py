@@ -1029,6 +1029,9 @@ class SolverSpec(_Strict):
     rest_after: Annotated[Integer, Field(ge=0)] = 50
     kind: Literal["nlgs", "hybrid"] | None = None
     threads: Annotated[Integer, Field(ge=0)] | None = None
+    refine: Annotated[Real, Field(ge=0.0)] = 0.0
+    """A step that converged in at most 1000 sweeps sweeps on towards tolerance / refine
+    (saxum.solver.NLGS; 0 or 1: off)."""
     criterion: Literal["delassus", "quad", "maxm", "qm/16"] = "delassus"
     """NLGS's convergence criterion (saxum.solver.NLGS, docs/criteria.md); LMGC90's ("quad",
     "maxm", "qm/16") make kind "nlgs" (the hybrid judges by "delassus")."""
@@ -1296,7 +1299,7 @@ class Scenario(_Strict):
             model, dt=s.dt, theta=s.theta,
             solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
-                rest_after=s.rest_after, threads=s.threads, **options),
+                rest_after=s.rest_after, threads=s.threads, refine=s.refine, **options),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration,

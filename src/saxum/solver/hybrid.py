@@ -46,7 +46,7 @@ step's problem has a solution: benchmarks/capped_steps.py --existence).
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -56,7 +56,7 @@ from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
 from .fischer import fischer_burmeister_newton
 from .newton import alart_curnier_newton
-from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS
+from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, check_refinement, refine_step
 from .problem import ContactProblem
 
 __all__ = ["ConicSolver", "Hybrid"]
@@ -155,8 +155,9 @@ class Hybrid(ContactSolver):
     by the natural map, else tries Fischer-Burmeister Newton (3D) or the conic fixed point and
     Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
     by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
-    two measurements of the error, and the sweeps that judge a conic iterate; threads: NLGS's
-    (saxum.solver.NLGS)."""
+    two measurements of the error, and the sweeps that judge a conic iterate; threads, refine,
+    refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has converged by
+    itself, so that where NLGS converges the hybrid is NLGS bit for bit)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -164,14 +165,18 @@ class Hybrid(ContactSolver):
     rest_after: int = 50
     window: int = 100
     threads: int | None = None
+    refine: float = 0.0
+    refine_sweeps: int = 1000
 
     def __post_init__(self) -> None:
+        check_refinement(self)
         if self.window < 1:
             raise InputError(f"solver.window must be >= 1, got {self.window}")
+        # NLGS's refinement (NLGS.refine) comes once the step has converged (solve)
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
-                           self.rest_after, threads=self.threads)
+                           self.rest_after, threads=self.threads, refine=0.0)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0,
-                          threads=self.threads)
+                          threads=self.threads, refine=0.0)
         self._first._trend = self._more._trend = False  # the windows give it (solve)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self._conic._nlgs.threads = self.threads
@@ -251,6 +256,16 @@ class Hybrid(ContactSolver):
             done += report.iterations
             if report.iterations == self.window:
                 errors.append(report.error)
+        if report.converged and solver == "nlgs" and not checked:
+            # NLGS's refinement (NLGS.solve), only where NLGS converged by itself
+            more, error = refine_step(self, lambda target, count: self._sweep_to(
+                problem, impulse, v_free, v, target, count), done, report.error)
+            done += more
+            report = replace(report, error=error)
+            if error > self.tolerance:  # the refinement's last sweep changed more
+                self._more.max_iterations = self.max_iterations - done
+                report = self._more.solve(problem, impulse, v_free, v)
+                done += report.iterations
         if solver == "conic" and not report.converged and report.error > kept[0].error:
             # NLGS's error rose from the conic iterate's: the step ends at that iterate
             impulse[...] = kept[1]
@@ -275,6 +290,13 @@ class Hybrid(ContactSolver):
             trend = error_trend(errors[-_TREND_WINDOWS:], self.window)
         return SolverReport(done + judging, report.error, report.converged, solver, natural,
                             *trend)  # (natural_map, rate, stalled)
+
+    def _sweep_to(self, problem, impulse, v_free, v, tolerance: float, count: int):
+        """At most `count` NLGS sweeps, stopping at `tolerance`: (sweeps, error)."""
+        self._more.tolerance, self._more.max_iterations = tolerance, count
+        report = self._more.solve(problem, impulse, v_free, v)
+        self._more.tolerance = self.tolerance
+        return report.iterations, report.error
 
     def _hopeful(self, problem, natural: float, errors: list) -> bool:
         """Whether to try other solvers on a step whose NLGS iterate has the natural-map error
