@@ -190,7 +190,7 @@ class LoadFollowing:
         if found:
             step_loads = self._loads(problem, v_free)
             keys = problem.contacts.key[:count]
-            if step_loads is None or self.response.lu is None:
+            if step_loads is None or not self.response.ready:
                 self.clear()
                 return
             if (self._keys is None or len(self._keys) != count
