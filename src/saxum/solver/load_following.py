@@ -83,6 +83,8 @@ class _Anchor:
         misfit, size = _combine(loads, self.loads, self.q, self.answers, self.change, self.lam)
         if misfit > _FIT * tolerance * size:  # a new direction of the loads: one solve
             dr = self.response.impulse_change(problem, self.change / weight)
+            if dr is None:  # a system kept unfactorized (a load path) found singular
+                return False
             n = self.answers
             self.q[n] = self.change / misfit
             self.dr[n] = dr / misfit
