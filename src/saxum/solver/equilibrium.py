@@ -366,16 +366,16 @@ def _load_path(cand, ant, h_cand, h_ant, friction, closed, slot, force, impulse)
     down to the supports. A closed contact whose normal impulse pushes one body along u, the
     direction of the sum of the loads (n . u > _LIFT), holds that body up; the other closed
     contacts carry nothing. The bodies are visited from the top down (each after every body
-    that rests on it, a topological order of the "rests on" graph, which is acyclic when
-    every contact that holds a body up pushes it along u); each body's loads, its own f less
+    that rests on it: a topological order of the "rests on" graph, whose cycles, if odd
+    shapes make any, leave their bodies unvisited); each body's loads, its own f less
     the impulses of the bodies resting on it, are carried by the contacts that hold it up
     with the least weighted norm sum R_n^2 + |R_T|^2 / mu^2 (R = W H_b lambda, (H_b^T W H_b)
     lambda = f_b - ..., W = diag(mu^2, 1(, mu^2)): the lever rule, R_T = 0 for mu = 0), so
     that every body's balance G x = f holds to round-off. Returns whether every body was
-    visited, had a nonsingular system, and every contact holding it up carries an impulse
-    strictly inside its Coulomb cone (|R_T| < mu R_n, R_n > 0); otherwise the caller falls
-    back on the Newton method (a mechanism, an arch whose voussoirs lean on each other
-    sideways, a load path outside the cones)."""
+    visited, had a nonsingular system (or nothing to carry), and every contact holding it up
+    carries an impulse strictly inside its Coulomb cone (|R_T| < mu R_n, R_n > 0); otherwise
+    the caller falls back on the Newton method (a mechanism, an arch whose voussoirs lean on
+    each other sideways, a load path outside the cones)."""
     m = closed.shape[0]
     nfree, dof = force.shape
     dim = h_cand.shape[1]
@@ -435,6 +435,11 @@ def _load_path(cand, ant, h_cand, h_ant, friction, closed, slot, force, impulse)
     while head < tail:
         body = queue[head]
         head += 1
+        if held[body] == held[body + 1]:  # nothing holds it up: it must carry nothing
+            for p in range(dof):
+                if carried[body, p] != 0.0:
+                    return False
+            continue
         s_mat[:, :] = 0.0
         for j in range(held[body], held[body + 1]):
             k = holds[j]
