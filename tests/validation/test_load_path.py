@@ -3,16 +3,17 @@ without any sparse factorization, which NLGS tries first on a step it does not f
 an earlier rest solution (issue 16: the cold start of a 125 000-brick wall).
 
 - A column of identical blocks, centred, on a fixed ground (statics of a stack, J. Heyman,
-  "The Stone Skeleton", 1995, ch. 2: each bed joint carries the weight of the blocks above it,
-  through the blocks' common vertical axis): each of a joint's two contact points carries
+  "The Stone Skeleton", Cambridge University Press, 1995: each bed joint carries the weight of
+  the blocks above it, through their common vertical axis): each of a joint's two points carries
   half of it, R_n = k m g dt / 2 for k blocks above, R_t = 0, to 1e-12 relative (round-off of
   k sums and a 3 x 3 Cholesky solve per block: observed 2e-16).
 - The first step of the 25 x 20 running-bond wall of test_wall_rest.py, a cold start: the
   load path is a rest solution by the checks of rest_check.py (impulses in the cones, loads
-  balanced to 1e-10, bricks at rest, one sweep changes nothing) and takes no factorization;
-  with default NLGS the step converges to the solver's tolerance after rest_after sweeps and
-  one more that confirms it, like the Newton method's rest solution (the load path turned
-  off), and both leave the bricks at rest to 1e-9 of the velocity of one step of gravity.
+  balanced to 1e-10, bricks at rest, one sweep changes nothing) and takes no factorization
+  (so does the 3D wall with a corner of test_wall_rest3d.py); with default NLGS the step
+  converges to the solver's tolerance after rest_after sweeps and one more that confirms it,
+  like the Newton method's rest solution (the load path turned off), and both leave the
+  bricks at rest to 1e-9 of the velocity of one step of gravity.
   Their impulses differ (a wall is statically indeterminate: which rest solution is found
   depends on the method), their resultant on every brick does not (1e-10, the solver's
   acceptance of a rest solution, equilibrium._FEASIBLE).
@@ -27,7 +28,7 @@ from rest_check import DT, check, first_step
 
 import saxum as sx
 import saxum.solver.equilibrium as equilibrium
-from saxum.structures import running_bond_wall
+from saxum.structures import running_bond_wall, wall3d
 
 G = 9.81
 
@@ -73,6 +74,11 @@ def wall():
 
 def test_load_path_of_a_wall_is_a_rest_solution(wall, no_factorization):
     check(first_step(wall, load_path=True), wall, True)
+
+
+def test_load_path_of_a_3d_wall_with_a_corner_is_a_rest_solution(no_factorization):
+    model = wall3d(courses=8, length=1.5, return_length=0.75)  # test_wall_rest3d.py's
+    check(first_step(model, load_path=True), model, True)
 
 
 def _first_step(model, monkeypatch, load_path: bool):
