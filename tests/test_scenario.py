@@ -112,6 +112,7 @@ FULL = textwrap.dedent("""\
     kind = "nlgs"
     threads = 1
     criterion = "quad"
+    warm_start = "start.json"
 
     [detection]
     alert = 0.002
@@ -146,7 +147,8 @@ PYTHON = Scenario(
                 flood=FloodSpec(level=0.1, velocity=0.5, tailwater=0.05, water_density=1050.0,
                                 drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
-                      rest_after=20, kind="nlgs", threads=1, criterion="quad"),
+                      rest_after=20, kind="nlgs", threads=1, criterion="quad",
+                      warm_start="start.json"),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5,
                             per_pair=True, initial_overlap=2e-6),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,

@@ -19,6 +19,7 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum export-vtk RESULTS [-o FOLDER]
     saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
     saxum import-lmgc90 DATBOX -o SCENARIO [--duration T] [--dt H] [--overlap-tolerance D]
+                        [--impulses VLOC_RLOC]
     saxum export-lmgc90 SCENARIO -o DATBOX [--precision lmgc90|full]
 
 `saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
@@ -27,6 +28,7 @@ source repository.
 
 import argparse
 import contextlib
+import logging
 import math
 import os
 import signal
@@ -587,19 +589,32 @@ def _view(args) -> None:
 
 
 def _import_lmgc90(args) -> None:
+    from .detection import DetectionSettings
     from .lmgc90 import OVERLAP_TOLERANCE, import_lmgc90
+    from .simulation import Simulation
 
     tolerance = args.overlap_tolerance if args.overlap_tolerance is not None else (
         OVERLAP_TOLERANCE)
     blocks = args.output.with_name(args.output.stem + ".blocks.json")
-    taken = [p for p in (args.output, blocks) if p.exists()]
+    impulses = args.output.with_name(args.output.stem + ".impulses.json")
+    taken = [p for p in (args.output, blocks, impulses) if p.exists()]
     if taken and not args.overwrite:
-        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and {blocks.name})")
-    imported = import_lmgc90(args.datbox)
+        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and "
+                         f"{blocks.name}, {impulses.name})")
+    imported = import_lmgc90(args.datbox, args.impulses)
     model = imported.model()
     depth = imported.check_overlaps(model, tolerance)
-    extra = imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
-                                    overlap_tolerance=tolerance)
+    forces, extra = [], []
+    if imported.impulses:  # matched as the run will: the scenario's detection settings
+        sim = Simulation(model, dt=args.dt,
+                         detection=DetectionSettings(initial_overlap=tolerance))
+        forces, extra = imported.warm_start(sim, sim.initial_state(check_overlaps=False))
+        zero = sum(e.zero for e in imported.impulses)
+        print(f"{imported.impulses_file}: {len(forces)} of {len(imported.impulses)} contacts' "
+              f"impulses are the first step's warm start (solver.warm_start); {zero} are 0 "
+              "(open contacts: nothing to start from)")
+    extra += imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
+                                     overlap_tolerance=tolerance, warm_start=forces)
     kinds = np.bincount(model.body_kind, minlength=3)
     print(f"{args.output}: {model.body_count} blocks ({kinds[0]} free, {kinds[1]} fixed, "
           f"{kinds[2]} driven) in {len(model.group_names)} groups, {len(model.laws)} laws, "
@@ -883,9 +898,10 @@ def _parser() -> argparse.ArgumentParser:
     q.add_argument("--relaxation", type=float, default=None,
                    help="NLGS relaxation omega in (0, 1] (default: 1, and 0.7 where the "
                         "hybrid finds NLGS stalling)")
-    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic"), default="hybrid",
+    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic", "newton"), default="hybrid",
                    help="hybrid (default: NLGS, the conic fixed point where NLGS stalls or is "
-                        "too slow, then NLGS), nlgs or conic alone")
+                        "too slow, then NLGS), nlgs or conic alone, or newton (Fischer-"
+                        "Burmeister Newton, then NLGS where it stops short)")
     q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
@@ -951,6 +967,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--overlap-tolerance", type=float, default=None, metavar="D",
                    help="deepest interpenetration accepted in the imported state [m] "
                         "(default 1e-5: LMGC90 states carry micrometre ones)")
+    p.add_argument("--impulses", type=Path, default=None, metavar="FILE",
+                   help="a Vloc_Rloc file whose impulses start the first step (default: "
+                        "DATBOX/Vloc_Rloc.INI, else OUTBOX/Vloc_Rloc.OUT beside it, if any)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace an existing scenario and its blocks file")
     p.set_defaults(func=_import_lmgc90)
@@ -1007,11 +1026,28 @@ def _ctrl_c_not_dropped() -> Iterator[None]:
             again.cancel()
 
 
+@contextlib.contextmanager
+def _notes_on_stderr():
+    """saxum's own log records (logger "saxum", INFO and up: what a run leaves out and why,
+    as saxum.simulation's for deformable blocks) printed as "saxum: note: ..." lines."""
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("saxum: note: %(message)s"))
+    logger = logging.getLogger("saxum")
+    level = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(level)
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         _check_output(args)
-        with warnings.catch_warnings(), _ctrl_c_not_dropped():
+        with warnings.catch_warnings(), _ctrl_c_not_dropped(), _notes_on_stderr():
             warnings.showwarning = _show_warning
             args.func(args)
     except KeyboardInterrupt:  # Ctrl-C outside a run's own handling (start-up, a picture)

@@ -314,7 +314,7 @@ class NLGS(ContactSolver):
     def _solve_deformable(self, problem: ContactProblem, impulse: np.ndarray,
                           v_free: np.ndarray, v: np.ndarray) -> SolverReport:
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
-        and no load following (both are for rigid blocks; Simulation logs it): a 2D step not
+        and no load following (both are for rigid blocks; Simulation logs it): a step not
         converged after min(rest_after, _FE_FIRST) sweeps sweeps on from the sticking solution
         (saxum.solver.sticking), counted in rest_attempts (and in rest_solutions where its
         statuses settled, or nearly, and it was taken)."""
@@ -333,10 +333,8 @@ class NLGS(ContactSolver):
         if problem.model.dim == 2:
             args += (problem.law_map,)
         args += (self.tolerance,)
-        # the sticking start is written for 2D (saxum.solver.sticking) and for dry contacts:
-        # 3D sweeps, and those with joint laws, alone
-        sticking = (problem.model.dim == 2 and self.rest_after > 0
-                    and not getattr(problem, "joint_laws", False))
+        # the sticking start is written for dry contacts: those with joint laws sweep alone
+        sticking = self.rest_after > 0 and not getattr(problem, "joint_laws", False)
         first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
                  else self.max_iterations)
         iterations, error = sweep(*args, first, self.relaxation)
@@ -359,7 +357,7 @@ class NLGS(ContactSolver):
 
 
 _FE_FIRST = 5
-"""Sweeps of a 2D step with deformable blocks before its sticking start (at most
+"""Sweeps of a step with deformable blocks before its sticking start (at most
 rest_after): a sweep of the 210-brick wall costs about a seventh of one of the start's LU
 (benchmarks/wall_fe.py), and steps that converge in a few sweeps (free flight, light
 contact) need no start."""
