@@ -1,11 +1,12 @@
 """Benchmark: the first step of a running-bond wall at rest (issue 16), a cold start of the
 solver, and where its time goes: the rest solution's sparse factorizations
-(saxum.solver.equilibrium._factorize, SuperLU, one per Newton iteration).
+(saxum.solver.equilibrium._factorize, SuperLU, one per Newton iteration; none where the static
+load path, tried first on a cold start, is the rest solution).
 
 Per wall (dt 1e-3 s, 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a fixed ground, saxum.NLGS
 with its defaults): the first step's wall and CPU time (time.process_time), the CPU time and
 number of the factorizations inside it, the NLGS sweeps, whether it converged, and the peak
-resident memory. The kernels are compiled before, on a 2 x 2 wall. With --orderings, the
+resident memory. The kernels are compiled before, on a 20 x 20 wall. With --orderings, the
 first Newton matrix of the largest wall is factorized again with each of SuperLU's column
 orderings (permc_spec), with the CPU time and the fill (nonzeros of L + U).
 
@@ -13,6 +14,10 @@ On a shared machine only CPU times and ratios from one run mean anything.
 
     python benchmarks/cold_start.py                        # 160 x 100 (16 080 bricks)
     python benchmarks/cold_start.py --sizes 160x100 400x312 --orderings
+
+Main against a branch, in one run (the same script with each tree's sources):
+    for t in /work/main /work/wt-cold16; do PYTHONPATH=$t/src python benchmarks/cold_start.py \
+        --sizes 100x80 200x160 400x312; done
 """
 
 import argparse
@@ -94,7 +99,7 @@ def main() -> None:
                         help="also factorize the largest wall's first Newton matrix with each "
                              "SuperLU ordering")
     args = parser.parse_args()
-    _first_step(2, 2)  # compile
+    _first_step(20, 20)  # compile, the rest solution included (51 sweeps on 410 bricks)
     last = None
     for text in args.sizes:
         courses, bricks = (int(n) for n in text.lower().split("x"))

@@ -16,9 +16,10 @@ References:
   same lambda_c as the static one), checked at 0.999 and 1.001 lambda_c.
 (Observed by bisection: the rest solution stops existing at tan a / mu = 1 - 1.5e-8 and at
 lambda / lambda_c = 1 - 2e-7: the barrier needs room inside the cones.)
-When it exists: every impulse strictly inside its cone, the loads balanced, the blocks at rest
-and one NLGS sweep from it changes nothing; when it does not: the impulses and velocities left
-as they were (rest_check.py, with the tolerances).
+With load_path, the rest solution tries the static load path first (equilibrium._load_path),
+which must give the same verdicts. When it exists: every impulse strictly inside its cone, the
+loads balanced, the blocks at rest and one NLGS sweep from it changes nothing; when it does
+not: the impulses and velocities left as they were (rest_check.py, with the tolerances).
 """
 
 import dataclasses
@@ -57,8 +58,9 @@ def test_block_on_a_slope_rests_exactly_below_the_friction_angle(slope, mu):
     check(first_step(model), model, margin < 0.0)
 
 
+@pytest.mark.parametrize("load_path", [False, True])
 @pytest.mark.parametrize("factor", [0.999, 1.001])
-def test_block_under_horizontal_acceleration_rests_below_g_b_over_h(factor):
+def test_block_under_horizontal_acceleration_rests_below_g_b_over_h(factor, load_path):
     width, height = 0.2, 1.0
     b = sx.ModelBuilder(gravity=(0.0, -G))
     b.add_block([(-2.0, -0.2), (2.0, -0.2), (2.0, 0.0), (-2.0, 0.0)], kind=sx.BodyKind.FIXED,
@@ -69,7 +71,7 @@ def test_block_under_horizontal_acceleration_rests_below_g_b_over_h(factor):
     b.set_law("block", "block", sx.ContactLaw(friction=1.0))
     b.add_acceleration(lambda t: (factor * G * width / height, 0.0))
     model = b.finalize()
-    check(first_step(model), model, factor < 1.0)
+    check(first_step(model, load_path), model, factor < 1.0)
 
 
 class _Hypothesis(sx.ContactSolver):
@@ -84,8 +86,9 @@ class _Hypothesis(sx.ContactSolver):
         return SolverReport(iterations=0, error=0.0, converged=True)
 
 
+@pytest.mark.parametrize("load_path", [False, True])
 @pytest.mark.parametrize("factor", [0.999, 1.001])
-def test_loads_outside_the_grounds_cone_rule_the_rest_solution_out_at_once(factor):
+def test_loads_outside_the_grounds_cone_rule_the_rest_solution_out_at_once(factor, load_path):
     """A running-bond wall (4 courses x 3 bricks, b/h = 2.9: it slides before it tips) on a
     flat ground, mu = 0.6 everywhere, under a horizontal acceleration a = factor mu g: the
     ground's contacts share one Coulomb cone, which the sum of the loads leaves for a > mu g
@@ -98,7 +101,7 @@ def test_loads_outside_the_grounds_cone_rule_the_rest_solution_out_at_once(facto
     sim = sx.Simulation(model, dt=DT, solver=solver)
     sim.step(sim.initial_state())
     assert (solver.hypothesis is None) == (factor > 1.0)
-    check(first_step(model), model, factor < 1.0)
+    check(first_step(model, load_path), model, factor < 1.0)
 
 
 @pytest.fixture(scope="module")
@@ -106,12 +109,14 @@ def lambda_c():
     return semicircular_four_hinge(1.0, 0.15, 15)[0]
 
 
+@pytest.mark.parametrize("load_path", [False, True])
 @pytest.mark.parametrize("factor", [0.999, 1.001])
-def test_arch_under_horizontal_load_rests_below_its_collapse_load_factor(factor, lambda_c):
+def test_arch_under_horizontal_load_rests_below_its_collapse_load_factor(factor, lambda_c,
+                                                                         load_path):
     lam_c = lambda_c
     arch = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=15, friction=1.0)
     model = with_load_factor(arch, factor * lam_c).model
-    check(first_step(model), model, factor < 1.0)
+    check(first_step(model, load_path), model, factor < 1.0)
 
 
 def test_wall_carried_by_a_moving_ground_rests_on_it():

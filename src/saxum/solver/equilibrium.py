@@ -42,6 +42,17 @@ it returns depends on the starting point (the caller's impulses) and r0 [N s], t
 impulse a free body needs; all give the same velocities. When there is none (a mechanism under
 the loads, e.g. an arch thinner than its limit), the steps shrink to nothing within a few
 iterations.
+
+The static load path comes first where the caller asks for it (NLGS does on a step that does
+not follow an earlier rest solution: a cold start). A stack carries its loads down to its
+supports: visiting the bodies from the top down, each passes its loads, its own and those of
+the bodies resting on it, to the contacts that hold it up (_load_path). That takes one pass
+over the contacts and no factorization; where every such impulse lies strictly inside its
+cone and the balance holds to round-off it is a rest solution, taken as it is (the contacts
+that hold nothing up, a wall's head joints, carry R = 0, which U = 0 satisfies too), and
+otherwise (an arch whose voussoirs lean on each other, friction that the path overloads, a
+mechanism) the Newton method goes on as above. On the first step of a 125 000-brick wall it
+replaces 11 factorizations (benchmarks/cold_start.py, BENCHMARKS.md).
 """
 
 import math
@@ -66,6 +77,10 @@ factorization)."""
 _MARGIN = 0.1
 """Added to the caller's impulses moved into the cones, relative to r0 (_start): the default
 of rest_solution's `margin`."""
+_LIFT = 1e-3
+"""Cosine of the angle between a contact's normal and the direction of the loads above which
+the contact holds up the body its normal impulse pushes along them (_load_path): joints more
+nearly parallel to the loads (a wall's head joints) carry nothing on the load path."""
 _STALLED = 1e-3
 """Steps shorter than this, three in a row, mean no rest solution: the residual, which each
 step shrinks by its length, stops shrinking (the barrier holds x off the cones' edges that
@@ -77,7 +92,10 @@ class LoadResponse:
     df [N s] per free body, the impulse change dR = B dx, dx = P^-1 G^T nu, G P^-1 G^T nu = df,
     which balances it exactly (G dx = df) and is the Newton step of the barrier problem
     without its gradient: small on the contacts near their cone's boundary, where the
-    barrier's Hessian P is large (an affine-scaling direction of interior-point methods)."""
+    barrier's Hessian P is large (an affine-scaling direction of interior-point methods).
+    A rest solution found without a factorization (the load path: rest_solution) keeps the
+    system at the point where the Newton iterations would have started, factorized at the
+    first change asked for."""
 
     def __init__(self) -> None:
         self.clear()
@@ -89,14 +107,27 @@ class LoadResponse:
 
     @property
     def ready(self) -> bool:
-        return self.lu is not None
+        return self.closed is not None
 
     def impulse_change(self, problem, change: np.ndarray) -> np.ndarray | None:
         """dR (count, dim) [N s] for the change of loads `change` (free bodies, dof) [N s] on
-        the closed contacts of the kept system; None if there is none kept."""
-        if self.lu is None:
+        the closed contacts of the kept system; None if there is none kept (or it is
+        singular)."""
+        if self.closed is None:
             return None
         c = problem.contacts
+        if self.lu is None:
+            nfree, dof = change.shape
+            indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, self.closed,
+                                                        self.slot, nfree, dof)
+            data = np.zeros(len(indices))
+            _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                           self.closed, self.slot, self.b, self.x, self.scale, where, diagonal,
+                           indptr, np.zeros((nfree, dof)), data)
+            self.lu = _factorize(data, indices, indptr, dof * nfree)
+            if self.lu is None:
+                self.clear()
+                return None
         nu = self.lu.solve(change.reshape(-1)).reshape(change.shape)
         dx = np.empty_like(self.x)
         _newton_step(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, self.closed,
@@ -107,7 +138,8 @@ class LoadResponse:
 
 
 def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray,
-                  response: LoadResponse | None = None, margin: float = _MARGIN) -> bool:
+                  response: LoadResponse | None = None, margin: float = _MARGIN,
+                  load_path: bool = False) -> bool:
     """If the step's problem (saxum.solver.ContactProblem or a view with the same arrays) has a
     rest solution, write its impulses [N s] into `impulse` (R = 0 for the contacts that do not
     carry any) and v = v_free + M^-1 H R [m/s, rad/s] (V for the free bodies, to round-off;
@@ -116,7 +148,10 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     the starting point: among the solutions, it returns one near them. `response`, if
     given, keeps the last Newton system of a rest solution found (cleared otherwise); margin
     [-]: the Newton iterations start from the caller's impulses moved into the cones plus
-    margin x r0 (module doc), less for impulses that already balance the loads."""
+    margin x r0 (module doc), less for impulses that already balance the loads. load_path:
+    first try the static load path (_load_path), a rest solution without any factorization
+    where the assembly is a stack that carries its loads down to its supports (a wall at
+    rest): it does not depend on the caller's impulses."""
     if response is not None:
         response.clear()
     hypothesis = rest_hypothesis(problem, v_free)
@@ -128,6 +163,22 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     nfree = len(force)
     c = problem.contacts
     inv_mass = problem.model.body_inv_mass
+    if load_path:
+        trial = np.zeros((count, problem.model.dim))
+        if _load_path(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                      problem.friction, closed, slot, force, trial):
+            x, b, scale = _start(closed, problem.friction, trial, force, 0.0)
+            rhs = np.empty((nfree, dof))
+            residual = _residual(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                                 closed, slot, b, x, force, inv_mass, rhs)
+            if residual <= _FEASIBLE * _norm_m(force, slot, inv_mass):
+                _apply(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                       problem.active, count, closed, b, x, inv_mass, v_free, impulse, v)
+                if response is not None:  # the system of the Newton method's start
+                    response.closed, response.slot, response.scale = closed, slot, scale
+                    response.x, response.b = _start(closed, problem.friction, trial, force,
+                                                     margin)[:2]
+                return True
     indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, closed, slot, nfree,
                                                 dof)
     x, b, scale = _start(closed, problem.friction, impulse, force, margin)
@@ -306,6 +357,164 @@ def _rest_contacts(cand, ant, h_cand, h_ant, bias, friction, active, count, inv_
                 if force[k, d] != 0.0:
                     return -1, nfree, force
     return m, nfree, force
+
+
+@nb.njit(cache=True)
+def _load_path(cand, ant, h_cand, h_ant, friction, closed, slot, force, impulse):
+    """The static load path of a stack: impulse [N s] (count, dim) on the closed contacts
+    that balances the loads f [N s] of every free body, the loads passed from body to body
+    down to the supports. A closed contact whose normal impulse pushes one body along u, the
+    direction of the sum of the loads (n . u > _LIFT), holds that body up; the other closed
+    contacts carry nothing. The bodies are visited from the top down (each after every body
+    that rests on it: a topological order of the "rests on" graph, whose cycles, if odd
+    shapes make any, leave their bodies unvisited); each body's loads, its own f less
+    the impulses of the bodies resting on it, are carried by the contacts that hold it up
+    with the least weighted norm sum R_n^2 + |R_T|^2 / mu^2 (R = W H_b lambda, (H_b^T W H_b)
+    lambda = f_b - ..., W = diag(mu^2, 1(, mu^2)): the lever rule, R_T = 0 for mu = 0), so
+    that every body's balance G x = f holds to round-off. Returns whether every body was
+    visited, had a nonsingular system (or nothing to carry), and every contact holding it up
+    carries an impulse strictly inside its Coulomb cone (|R_T| < mu R_n, R_n > 0); otherwise
+    the caller falls back on the Newton method (a mechanism, an arch whose voussoirs lean on
+    each other sideways, a load path outside the cones)."""
+    m = closed.shape[0]
+    nfree, dof = force.shape
+    dim = h_cand.shape[1]
+    up = np.zeros(dim)
+    for k in range(nfree):
+        for d in range(dim):
+            up[d] += force[k, d]
+    size = 0.0
+    for d in range(dim):
+        size += up[d] * up[d]
+    if size == 0.0:
+        return False
+    up /= math.sqrt(size)
+    # per closed contact: the side it holds up (0: candidate, 1: antagonist, -1: none); per
+    # free body: the contacts that hold it up (CSR) and how many contacts it holds up with
+    # free bodies on them (those must be visited before it)
+    side = np.full(m, -1, dtype=np.int64)
+    held = np.zeros(nfree + 1, dtype=np.int64)
+    waiting = np.zeros(nfree, dtype=np.int64)
+    for k in range(m):
+        a = closed[k]
+        for s in range(2):
+            body = slot[cand[a]] if s == 0 else slot[ant[a]]
+            if body < 0:
+                continue
+            h = h_cand if s == 0 else h_ant
+            lift = 0.0
+            for d in range(dim):
+                lift += h[a, 1, d] * up[d]
+            if lift > _LIFT:
+                side[k] = s
+                held[body + 1] += 1
+                other = slot[ant[a]] if s == 0 else slot[cand[a]]
+                if other >= 0:
+                    waiting[other] += 1
+    for b in range(nfree):
+        held[b + 1] += held[b]
+    holds = np.empty(held[nfree], dtype=np.int64)
+    fill = held[:nfree].copy()
+    for k in range(m):
+        if side[k] >= 0:
+            a = closed[k]
+            body = slot[cand[a]] if side[k] == 0 else slot[ant[a]]
+            holds[fill[body]] = k
+            fill[body] += 1
+    carried = force.copy()  # f_b less the impulses of the bodies resting on b
+    queue = np.empty(nfree, dtype=np.int64)
+    tail = 0
+    for b in range(nfree):
+        if waiting[b] == 0:
+            queue[tail] = b
+            tail += 1
+    weight = np.empty(dim)
+    s_mat = np.empty((dof, dof))
+    lam = np.empty(dof)
+    head = 0
+    while head < tail:
+        body = queue[head]
+        head += 1
+        if held[body] == held[body + 1]:  # nothing holds it up: it must carry nothing
+            for p in range(dof):
+                if carried[body, p] != 0.0:
+                    return False
+            continue
+        s_mat[:, :] = 0.0
+        for j in range(held[body], held[body + 1]):
+            k = holds[j]
+            a = closed[k]
+            h = h_cand if side[k] == 0 else h_ant
+            mu2 = friction[a] * friction[a]
+            for r in range(dim):
+                w = 1.0 if r == 1 else mu2
+                for p in range(dof):
+                    for q in range(dof):
+                        s_mat[p, q] += w * h[a, r, p] * h[a, r, q]
+        for p in range(dof):
+            lam[p] = carried[body, p]
+        if not _cholesky_solve(s_mat, lam):
+            return False
+        for j in range(held[body], held[body + 1]):
+            k = holds[j]
+            a = closed[k]
+            h = h_cand if side[k] == 0 else h_ant
+            mu = friction[a]
+            for r in range(dim):
+                acc = 0.0
+                for p in range(dof):
+                    acc += h[a, r, p] * lam[p]
+                weight[r] = acc * (1.0 if r == 1 else mu * mu)
+            tangent = abs(weight[0]) if dim == 2 else math.hypot(weight[0], weight[2])
+            if not (weight[1] > 0.0 and (tangent < mu * weight[1] or tangent == 0.0)):
+                return False
+            for r in range(dim):
+                impulse[a, r] = weight[r]
+            other = slot[ant[a]] if side[k] == 0 else slot[cand[a]]
+            if other < 0:
+                continue
+            ho = h_ant if side[k] == 0 else h_cand
+            for p in range(dof):
+                acc = 0.0
+                for r in range(dim):
+                    acc += ho[a, r, p] * weight[r]
+                carried[other, p] -= acc
+            waiting[other] -= 1
+            if waiting[other] == 0:
+                queue[tail] = other
+                tail += 1
+    return tail == nfree
+
+
+@nb.njit(cache=True)
+def _cholesky_solve(s, rhs):
+    """rhs = S^-1 rhs for a small symmetric positive semi-definite S (overwritten by its
+    Cholesky factor); False where S is singular (a pivot below 1e-12 of its diagonal entry:
+    loads on a motion that the contacts holding the body up do not resist)."""
+    n = s.shape[0]
+    for j in range(n):
+        diag = s[j, j]
+        for p in range(j):
+            diag -= s[j, p] * s[j, p]
+        if not diag > 1e-12 * s[j, j]:
+            return False
+        s[j, j] = math.sqrt(diag)
+        for i in range(j + 1, n):
+            acc = s[i, j]
+            for p in range(j):
+                acc -= s[i, p] * s[j, p]
+            s[i, j] = acc / s[j, j]
+    for i in range(n):
+        acc = rhs[i]
+        for p in range(i):
+            acc -= s[i, p] * rhs[p]
+        rhs[i] = acc / s[i, i]
+    for i in range(n - 1, -1, -1):
+        acc = rhs[i]
+        for p in range(i + 1, n):
+            acc -= s[p, i] * rhs[p]
+        rhs[i] = acc / s[i, i]
+    return True
 
 
 @nb.njit(inline="always")

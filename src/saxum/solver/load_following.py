@@ -83,6 +83,8 @@ class _Anchor:
         misfit, size = _combine(loads, self.loads, self.q, self.answers, self.change, self.lam)
         if misfit > _FIT * tolerance * size:  # a new direction of the loads: one solve
             dr = self.response.impulse_change(problem, self.change / weight)
+            if dr is None:  # a system kept unfactorized (a load path) found singular
+                return False
             n = self.answers
             self.q[n] = self.change / misfit
             self.dr[n] = dr / misfit
@@ -190,7 +192,7 @@ class LoadFollowing:
         if found:
             step_loads = self._loads(problem, v_free)
             keys = problem.contacts.key[:count]
-            if step_loads is None or self.response.lu is None:
+            if step_loads is None or not self.response.ready:
                 self.clear()
                 return
             if (self._keys is None or len(self._keys) != count

@@ -255,9 +255,10 @@ class NLGS(ContactSolver):
             attempted = True
             if follow:
                 found = rest_solution(problem, impulse, v_free, v, self._following.response,
-                                      *((START_MARGIN,) if followed else ()))
+                                      *((START_MARGIN,) if followed else ()),
+                                      load_path=not followed)
             else:
-                found = rest_solution(problem, impulse, v_free, v)
+                found = rest_solution(problem, impulse, v_free, v, load_path=True)
             if found:
                 self.rest_solutions += 1
             else:
