@@ -1,0 +1,134 @@
+"""numba's cache compiled with the package and shipped inside it (saxum._shipped_cache): found
+after the package moved (an install), ignored once the package's source changed."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import textwrap
+from pathlib import Path
+
+import pytest
+
+import saxum._shipped_cache as shipped
+
+SRC = Path(shipped.__file__).resolve().parents[1]
+
+# a package of two files, as saxum's kernels are: a kernel that calls a helper from another file
+_PACKAGE = {
+    "__init__.py": """\
+        from pathlib import Path
+
+        import numba  # noqa: F401 - register needs numba
+
+        from saxum._shipped_cache import register
+
+        register(Path(__file__).parent)
+        """,
+    "kernel.py": """\
+        import numba
+
+        from .helper import part
+
+
+        @numba.njit(cache=True)
+        def kernel(x):
+            return 2.0 * x + part(x)
+        """,
+    "helper.py": """\
+        import numba
+
+
+        @numba.njit(cache=True)
+        def part(x):
+            return 0.5 * x
+        """,
+}
+
+_CALL = textwrap.dedent("""\
+    import json
+    from pkg.kernel import kernel
+    value = kernel(3.0)
+    print(json.dumps({"value": value, "loaded": sum(kernel.stats.cache_hits.values()),
+                      "compiled": sum(kernel.stats.cache_misses.values()),
+                      "locator": type(kernel._cache._impl.locator).__name__}))
+""")
+
+
+def _package(root: Path) -> Path:
+    package = root / "pkg"
+    package.mkdir(parents=True)
+    for name, text in _PACKAGE.items():
+        (package / name).write_text(textwrap.dedent(text))
+    return package
+
+
+def _call(package: Path, tmp_path: Path, **env) -> dict:
+    """The kernel called in a fresh process whose NUMBA_CACHE_DIR (numba's own cache) is empty."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": tempfile.mkdtemp(dir=tmp_path), **env,
+           "PYTHONPATH": os.pathsep.join([str(package.parent), str(SRC)])}
+    done = subprocess.run([sys.executable, "-c", _CALL], capture_output=True, text=True,
+                          env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+def test_a_shipped_cache_is_loaded_after_a_move_and_ignored_once_the_source_changed(tmp_path):
+    built = _package(tmp_path / "build")
+    shipped._prepare(built)
+    first = _call(built, tmp_path)
+    assert (first["locator"], first["compiled"], first["loaded"]) == ("ShippedCacheLocator", 1, 0)
+
+    # installed elsewhere, every file newer (as pip writes them): loaded, nothing compiled
+    installed = tmp_path / "site-packages" / "pkg"
+    shutil.copytree(built, installed)
+    stamp = shipped.source_hash(installed)
+    for path in installed.rglob("*.py"):
+        os.utime(path, (path.stat().st_atime + 3600.0, path.stat().st_mtime + 3600.0))
+    assert shipped.source_hash(installed) == stamp  # the stamp ignores modification times
+    moved = _call(installed, tmp_path)
+    assert (moved["locator"], moved["compiled"], moved["loaded"]) == ("ShippedCacheLocator", 0, 1)
+    # 2 x 3 + 0.5 x 3: exact binary fractions, the same in both processes
+    assert moved["value"] == first["value"] == pytest.approx(7.5, rel=1e-15)
+
+    # switched off: numba's own cache, where the kernel compiles
+    off = _call(installed, tmp_path, SAXUM_SHIPPED_CACHE="0")
+    assert off["locator"] != "ShippedCacheLocator" and off["compiled"] == 1
+
+    # the helper's file edited (not the kernel's, whose numba stamp would not change): the
+    # kernel's shipped machine code, which holds the old helper, is not used
+    helper = installed / "helper.py"
+    helper.write_text(helper.read_text().replace("0.5 * x", "0.25 * x"))
+    edited = _call(installed, tmp_path)
+    assert edited["locator"] != "ShippedCacheLocator" and edited["compiled"] == 1
+    assert edited["value"] == pytest.approx(6.75, rel=1e-15)  # 2 x 3 + 0.25 x 3
+
+
+def test_saxum_kernels_look_in_the_shipped_cache_when_it_matches_the_source(tmp_path):
+    """The locator is registered before saxum's kernels are decorated (numba picks a kernel's
+    locator then), though `import saxum` does not load numba."""
+    package = tmp_path / "saxum"
+    shutil.copytree(SRC / "saxum", package,
+                    ignore=shutil.ignore_patterns("__pycache__", shipped.FOLDER))
+    shipped._prepare(package)
+    probe = ("import sys, saxum; assert 'numba' not in sys.modules; "
+             "from saxum.bodies.rigid2d import predict_positions as k; "
+             "print(type(k._cache._impl.locator).__name__, k._cache.cache_path)")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(tmp_path)}, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["ShippedCacheLocator",
+                                   str(package / shipped.FOLDER / "bodies")]
+
+
+def test_a_build_that_cannot_compile_ships_no_cache(tmp_path):
+    """A failed compile (here: the package cannot even be imported) is reported, and the
+    half-made cache removed: the kernels then compile on their first call."""
+    package = tmp_path / "saxum"
+    package.mkdir()
+    (package / "__init__.py").write_text("raise ImportError('broken')\n")
+    why = shipped.build(package)
+    assert why is not None and "broken" in why
+    assert not (package / shipped.FOLDER).exists()
