@@ -132,3 +132,52 @@ def test_a_build_that_cannot_compile_ships_no_cache(tmp_path):
     why = shipped.build(package)
     assert why is not None and "broken" in why
     assert not (package / shipped.FOLDER).exists()
+
+
+# A 3D arch's run (benchmarks/first_run.py's, 0.1 s): each saxum kernel it calls from Python,
+# with its signatures and whether any was compiled (rather than loaded from a cache)
+_RUN_3D = textwrap.dedent("""\
+    import json, sys, tempfile
+    from pathlib import Path
+    from numba.core.dispatcher import Dispatcher
+    called = {}
+    compile_for_args = Dispatcher._compile_for_args
+    def record(self, *args, **kwargs):
+        called[f"{self.py_func.__module__[6:]}.{self.py_func.__name__}"] = self
+        return compile_for_args(self, *args, **kwargs)
+    Dispatcher._compile_for_args = record
+    from saxum.cli import main
+    folder = Path(tempfile.mkdtemp())
+    (folder / "arch.toml").write_text(sys.argv[1])
+    assert main(["run", str(folder / "arch.toml"), "--quiet", "-o", str(folder / "a.h5")]) == 0
+    print(json.dumps({name: [[str(s) for s in d.signatures],
+                             sum(d.stats.cache_misses.values()) > 0]
+                      for name, d in called.items()}))
+""")
+
+
+@pytest.mark.skipif(shipped._stamp(SRC / "saxum") is None,
+                    reason="no shipped cache for this source (pip install -e . builds one); "
+                           "without it the 3D kernels compile, ~40 s of CPU")
+def test_the_listed_3d_kernels_are_those_of_a_3d_run_and_shipped(tmp_path):
+    """The build compiles the 3D kernels of saxum.precompile's list: they must be those that
+    a 3D run calls, with its argument types (else the build compiles for nothing and the run
+    compiles on its call), and the shipped cache must hold them (nothing compiles)."""
+    from saxum.precompile import kernel_signatures
+
+    sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
+    try:
+        from first_run import ARCH3D_TOML
+    finally:
+        sys.path.pop(0)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])}
+    done = subprocess.run(
+        [sys.executable, "-c", _RUN_3D, ARCH3D_TOML.replace("duration = 1.0", "duration = 0.1")],
+        capture_output=True, text=True, env=env, timeout=600)
+    assert done.returncode == 0, done.stderr
+    kernels = json.loads(done.stdout)
+    listed = kernel_signatures()[3]
+    assert sorted(kernels) == sorted(listed)
+    for name, types in listed.items():
+        assert kernels[name] == [[str(types)], False], name

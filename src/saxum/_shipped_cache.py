@@ -160,16 +160,22 @@ def install() -> None:
         sys.meta_path.insert(0, _AfterNumba())
 
 
+_FIRST_SHARE = {3: 2}
+"""How many of a dimension's kernels, from the first, the build's first process compiles (2D:
+those of precompile's second process; 3D: polyhedron_contacts and nlgs_3d, with the 2D
+ones ~half the CPU time of all, BENCHMARKS.md)."""
+
+
 def _shares() -> list[list[tuple[int, str]]]:
     """The kernels of saxum.precompile in two shares of similar compile time, one per
-    process: each dimension's share for precompile's second process, and the rest."""
+    process (_FIRST_SHARE): [(dim, name)] each."""
     from saxum.precompile import _CHILD_SHARE, kernel_signatures
 
+    first = {**_CHILD_SHARE, **_FIRST_SHARE}
     shares = [[], []]
     for dim, signatures in kernel_signatures().items():
-        split = _CHILD_SHARE.get(dim, len(signatures) // 2)
         for k, name in enumerate(signatures):
-            shares[k >= split].append((dim, name))
+            shares[k >= first[dim]].append((dim, name))
     return shares
 
 
