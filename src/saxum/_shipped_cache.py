@@ -13,8 +13,8 @@ of its own file would not see change.
 
 The shipped cache is used only where it can be trusted; otherwise numba caches as without it
 (NUMBA_CACHE_DIR, `__pycache__`, the user's cache), and the kernels compile on their first call:
-- the package's source differs from the one it was compiled from (an edited editable install):
-  the stamp in `_numba_cache/source.sha256` does not match;
+- the package's source, or numpy's version, differs from those it was compiled with (an edited
+  editable install, another numpy): the stamp in `_numba_cache/source.sha256` does not match;
 - the folder is not writable (a system-wide install: numba saves each new compile, of
   argument types the build did not list, where it found the cache);
 - SAXUM_SHIPPED_CACHE=0 in the environment.
@@ -34,7 +34,7 @@ FOLDER = "_numba_cache"
 """The shipped cache's folder, inside the package."""
 
 _STAMP = "source.sha256"
-"""The file in FOLDER that holds source_hash() of the package it was compiled from."""
+"""The file in FOLDER that holds the stamp of the package it was compiled from (_stamp_of)."""
 
 _SWITCH = "SAXUM_SHIPPED_CACHE"
 """Environment variable: "0" leaves the shipped cache unused (compile as without it)."""
@@ -59,13 +59,23 @@ def source_hash(package: Path) -> str:
     return digest.hexdigest()
 
 
+def _stamp_of(package: Path) -> str:
+    """The package's source hash and numpy's version: numba's cache index checks numba's and
+    Python's, not numpy's, on which numba's typing depends (NumPy 2's promotion rules), and a
+    build's isolated environment may hold another numpy than the one the package runs with."""
+    import numpy
+
+    return f"{source_hash(package)} numpy-{numpy.__version__}"
+
+
 @functools.cache
 def _stamp(package: Path) -> str | None:
-    """The package's source hash if its shipped cache was compiled from this source, else
-    None. Once per process: a source changed while it runs is the one already imported."""
+    """_stamp_of(package) if its shipped cache was compiled from this source with this numpy,
+    else None. Once per process: a source changed while it runs is the one already
+    imported."""
     try:
         shipped = (package / FOLDER / _STAMP).read_text().strip()
-        current = source_hash(package)
+        current = _stamp_of(package)
     except OSError:  # no shipped cache, or a file that cannot be read: numba's own locators
         return None
     return current if current == shipped else None
@@ -198,7 +208,7 @@ def _prepare(package: Path) -> Path:
     folder = package / FOLDER
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir()
-    (folder / _STAMP).write_text(source_hash(package) + "\n")
+    (folder / _STAMP).write_text(_stamp_of(package) + "\n")
     return folder
 
 
