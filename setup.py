@@ -38,16 +38,17 @@ class BuildPyWithKernels(build_py):
                 env={**os.environ, "PYTHONPATH": os.pathsep.join(
                     [str(package.parent), *filter(None, [os.environ.get("PYTHONPATH")])])},
                 cwd=package.parent, stdin=subprocess.DEVNULL, capture_output=True, text=True)
-            why = None if done.returncode == 0 else (done.stderr.strip()[-2000:]
-                                                      or f"exit {done.returncode}")
+            why = (done.stderr.strip()[-4000:] or f"exit {done.returncode}") if (
+                done.returncode or done.stderr.strip()) else None
         except Exception as error:  # noqa: BLE001 - the build must go on without the cache
             why = repr(error)
+        took = time.perf_counter() - start
         if why is None:
             print(f"saxum: the first run's numba kernels compiled into {package.name}/"
-                  f"_numba_cache in {time.perf_counter() - start:.1f} s")
+                  f"_numba_cache in {took:.1f} s")
         else:
-            print(f"WARNING: saxum: the first run's numba kernels were not compiled ahead, "
-                  f"they compile on their first call ({why})", file=sys.stderr)
+            print(f"WARNING: saxum: the first run's numba kernels ({took:.1f} s): {why}; those "
+                  f"compile on their first call", file=sys.stderr)
 
 
 setup(cmdclass={"build_py": BuildPyWithKernels})

@@ -191,13 +191,21 @@ def _shares() -> list[list[tuple[int, str]]]:
 
 def _compile_share(share: int) -> None:
     """One build process: its share of the kernels, into FOLDER (the locator is registered).
-    A kernel whose listed types no longer fit is left out (it compiles on its call); any
-    other error stops the process, and the build ships no cache."""
+    A kernel that does not compile (its listed types out of date, or an error: a package
+    missing from the build's environment, say) is left out, named on stderr, and compiles on
+    its first call; the others are shipped."""
     from saxum.precompile import _compile, kernel_signatures
 
     signatures = kernel_signatures()
     for dim, name in _shares()[share]:
-        _compile([name], signatures[dim])
+        try:
+            _compile([name], signatures[dim])
+        except Exception as error:  # noqa: BLE001 - any error: this kernel is not shipped
+            print(f"{_LEFT_OUT}{name} ({dim}D): {error!r}"[:500], file=sys.stderr)
+
+
+_LEFT_OUT = "not compiled ahead: "
+"""How a build process names a kernel it could not compile (_compile_share)."""
 
 
 def _prepare(package: Path) -> Path:
@@ -214,8 +222,9 @@ def _prepare(package: Path) -> Path:
 
 def build(package: Path, timeout: float = _BUILD_TIMEOUT) -> str | None:
     """Compile saxum.precompile's kernels into `package`'s FOLDER, two processes at once; the
-    package's source must be importable from `package`'s parent. None if done, else why not:
-    the folder is then removed (the kernels compile on their first call)."""
+    package's source must be importable from `package`'s parent. None if all were compiled,
+    else what was not: the kernels left out (their names), or, where a process failed, all
+    (the folder is then removed). Those compile on their first call."""
     import shutil
     import subprocess
     import tempfile
@@ -243,9 +252,10 @@ def build(package: Path, timeout: float = _BUILD_TIMEOUT) -> str | None:
                 if worker.poll() is None:
                     worker.kill()
                     worker.wait()
-        if failed is not None:
-            log.seek(0)
-            failed += ": " + log.read().strip()[-2000:]
+        log.seek(0)
+        output = log.read()
     if failed is not None:
         shutil.rmtree(folder, ignore_errors=True)
-    return failed
+        return f"no kernel shipped: {failed}: {output.strip()[-2000:]}"
+    left_out = [line for line in output.splitlines() if line.startswith(_LEFT_OUT)]
+    return "; ".join(left_out) or None
