@@ -86,7 +86,7 @@ def register(package: Path) -> None:
     FOLDER first (numba must be imported; once per package)."""
     from numba.core import caching
 
-    # numba 0.59 names the class of cache implementations _CacheImpl, later ones CacheImpl
+    # the class of cache implementations: CacheImpl in numba 0.68, _CacheImpl in older ones
     impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
     package = package.resolve()
     if any(getattr(cls, "package", None) == package for cls in impl._locator_classes):
