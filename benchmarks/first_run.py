@@ -41,6 +41,14 @@ again --repeat times, so that two versions are compared on the same machine and 
 TREE's bytecode is compiled first (python -m compileall, into its __pycache__), as `pip
 install` does: otherwise, where PYTHONDONTWRITEBYTECODE is set, every process (the second one
 too) would compile saxum's ~70 modules from source, ~0.3 s of CPU each time.
+
+--python PY (repeatable, after the --src trees) runs each case with the interpreter PY and the
+saxum installed for it (a virtual environment's bin/python after `pip install .`: the package
+as a user gets it, with the numba cache its build shipped, saxum._shipped_cache), without
+PYTHONPATH:
+
+    python benchmarks/first_run.py --cases arch --python /tmp/v1/bin/python \
+        --python /tmp/v2/bin/python
 """
 
 import argparse
@@ -256,15 +264,17 @@ def _worker(case: str, folder: Path) -> dict:
 
 
 def _measure(case: str, cache: Path, mpl: Path | None, folder: Path,
-             src: str | None) -> dict:
+             src: str | None, python: str = sys.executable) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    if python != sys.executable:  # its own installed saxum
+        env.pop("PYTHONPATH", None)
     if src is not None:
         env["PYTHONPATH"] = src
     if mpl is not None:
         env["MPLCONFIGDIR"] = str(mpl)
     out = folder / f"{case}.json"
     t0, cpu0 = time.perf_counter(), _children_cpu()
-    subprocess.run([sys.executable, __file__, "--worker", case, "--folder", str(folder),
+    subprocess.run([python, __file__, "--worker", case, "--folder", str(folder),
                     "--out", str(out)], env=env, check=True, stdout=subprocess.DEVNULL)
     total, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
     result = json.loads(out.read_text())
@@ -300,6 +310,8 @@ def main() -> None:
     parser.add_argument("--json", type=Path, help="write all figures to this file")
     parser.add_argument("--src", action="append",
                         help="a source tree to import saxum from (PYTHONPATH); repeatable")
+    parser.add_argument("--python", action="append",
+                        help="an interpreter whose installed saxum to run; repeatable")
     parser.add_argument("--repeat", type=int, default=1, help="runs of each case and tree")
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--folder", type=Path, help=argparse.SUPPRESS)
@@ -319,7 +331,9 @@ def main() -> None:
     print(HEADER)
     for repeat in range(args.repeat):
         for case in args.cases.split(","):
-            for src in args.src or [None]:
+            variants = [(src, sys.executable) for src in args.src or []] + [
+                (None, python) for python in args.python or []]
+            for src, python in variants or [(None, sys.executable)]:
                 with tempfile.TemporaryDirectory() as tmp:
                     tmp = Path(tmp)
                     cache = tmp / "numba-cache"
@@ -331,8 +345,9 @@ def main() -> None:
                     for label in ("empty cache", "filled cache"):
                         folder = tmp / label.replace(" ", "-")
                         folder.mkdir()
-                        r = _measure(case, cache, mpl, folder, src)
+                        r = _measure(case, cache, mpl, folder, src, python)
                         key = (f"{case}, {label}" + (f" [{src}]" if src else "")
+                               + (f" [{python}]" if python != sys.executable else "")
                                + (f" #{repeat + 1}" if args.repeat > 1 else ""))
                         results[key] = r
                         print(_row(key, r), flush=True)

@@ -15,6 +15,10 @@ from results_check import sigint_as_from_a_terminal
 import saxum.precompile
 from saxum.precompile import _CHILD_SHARE, kernel_signatures
 
+_EMPTY = {"SAXUM_SHIPPED_CACHE": "0"}
+"""With an empty NUMBA_CACHE_DIR: no kernel loaded from the package's shipped cache either
+(saxum._shipped_cache; an install compiles one)."""
+
 # The bundled demo's two arches, 1 s each (long enough for a position projection), in a
 # process whose numba cache starts empty; then, for each saxum kernel this process holds: its
 # signatures and whether it was loaded from the cache (so compiled by the second process).
@@ -43,7 +47,7 @@ def test_a_first_2d_run_compiles_each_kernel_once_for_the_listed_types(tmp_path)
     would compile on its call, after the others), and the second process compiled its share
     into the cache, from which this process loaded it."""
     src = str(Path(saxum.precompile.__file__).parents[1])  # this saxum, in the child too
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), **_EMPTY,
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
     done = subprocess.run([sys.executable, "-c", _RUN], capture_output=True, text=True,
                           timeout=600, env=env)
@@ -85,7 +89,7 @@ def _children(pid: int) -> list[int]:
 def _first_demo(tmp_path) -> subprocess.Popen:
     """`saxum demo arch` (this saxum) started with an empty numba cache, as from a terminal."""
     src = str(Path(saxum.precompile.__file__).parents[1])
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), **_EMPTY,
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
     return subprocess.Popen([sys.executable, "-m", "saxum", "demo", "arch", "-o",
                              str(tmp_path / "demo.png")], env=env, stdout=subprocess.DEVNULL,
@@ -148,7 +152,7 @@ def test_ctrl_c_while_llvm_compiles_stops_the_first_demo(tmp_path):
     dropped ("Exception ignored on calling ctypes callback"), and the demo went on to the end
     and exited 0; now it stops after that kernel's compile, as for any Ctrl-C."""
     src = str(Path(saxum.precompile.__file__).parents[1])
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), **_EMPTY,
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
     done = subprocess.run([sys.executable, "-c", _CTRL_C_WHILE_LLVM_COMPILES, "demo", "arch",
                            "-o", str(tmp_path / "demo.png")], env=env, capture_output=True,
@@ -177,7 +181,7 @@ def test_ctrl_c_while_llvm_compiles_a_kernel_outside_precompile_stops_the_run(tm
     KeyboardInterrupt was printed with a traceback and dropped, and the run went on to the end
     and exited 0; now the Ctrl-C is sent again (saxum.cli) and the command stops, 130."""
     src = str(Path(saxum.precompile.__file__).parents[1])
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), **_EMPTY,
            "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
     (tmp_path / "arch3d.toml").write_text(_ARCH3D)
     done = subprocess.run([sys.executable, "-c", _CTRL_C_WHILE_LLVM_COMPILES, "run",

@@ -10,7 +10,11 @@ find saxum.__main__'s handler, and a child process that only compiles kernels ne
 
 import importlib.util
 
+from . import _shipped_cache
 from ._version import __version__ as __version__
+
+# the kernels compiled when the package was built: numba finds them once it is imported
+_shipped_cache.install()
 
 _EXPORTS = {
     "NLGS": "solver",

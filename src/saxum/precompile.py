@@ -10,8 +10,10 @@ run's calls, the machine code is the one a compile on the first call gives: resu
 change. A kernel called with other types (kernel_signatures out of date) compiles on its call, as
 without this module; tests/test_precompile.py checks that the list matches a run's calls.
 
-Only the kernels that every run of a dimension calls are listed: those of the rest solution,
-floods or ground motions compile on their first call.
+Only the kernels that every 2D run calls are listed for 2D: those of the rest solution,
+floods or ground motions compile on their first call. The 3D list, those of a 3D arch's run
+(the rest solution's too), is compiled by the package's build only (saxum._shipped_cache, which
+ships the 2D ones too).
 
 A Ctrl-C (SIGINT) while this module compiles stops the command as any other does (a
 KeyboardInterrupt, after the kernel being compiled): Python runs its SIGINT handler at the next
@@ -40,13 +42,14 @@ _CHILD_TIMEOUT = 300.0
 
 def kernel_signatures() -> dict[int, dict[str, tuple]]:
     """{dim: {"module.kernel": argument types}}; the child process compiles the first half of
-    each dimension's kernels, this process the second (their CPU times balance, less the
-    child's start-up)."""
+    each 2D run's kernels, this process the second (their CPU times balance, less the
+    child's start-up). The package's build compiles both dimensions' (saxum._shipped_cache)."""
     from numba import types as t
 
     f1, f2, f3 = t.float64[::1], t.float64[:, ::1], t.float64[:, :, ::1]
     i32_1, i32_2, i64_1, i8_1, b1 = t.int32[::1], t.int32[:, ::1], t.int64[::1], t.int8[::1], \
         t.boolean[::1]
+    i64_2 = t.int64[:, ::1]
     F, I, B, N = t.float64, t.int64, t.boolean, t.none  # noqa: E741 - numba's scalar types
     return {2: {
         # the child's half: 5.4 s of CPU on a quiet machine, 2026-11-25, ~0.6x that since they
@@ -71,6 +74,47 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         "integrator.diagonal_free_velocity": (f2, f2, f2, F, f2),
         "solver.projection._projection_targets": (i32_1, f1, I, i8_1, f2, F, f1, b1),
         "bodies.rigid2d.update_positions": (f2, f2, f2, F, F),
+    }, 3: {
+        # a 3D run's kernels, the rest solution's too (benchmarks/first_run.py's 3D arch and
+        # tests/test_shipped_cache.py): compiled by the package's build (saxum._shipped_cache)
+        # only, not at run time (no second process for 3D: _CHILD_SHARE). The build's first
+        # process compiles the first two with the 2D ones above, the second the rest
+        "detection.polyhedra.polyhedron_contacts": (
+            i32_2, I, f2, f2, f2, i32_1, i32_1, i32_1, i32_1, i32_1, i32_2, i32_2, i32_1, i32_2,
+            i32_1, I, F, f1, f1, F, I, I, I, i32_1, i32_1, i64_1, i32_1, f2, f3, f1, f1),
+        "solver.nlgs.nlgs_3d": (i32_1, i32_1, f3, f3, f3, f1, f1, b1, I, f2, f2, f2, f2, f2, f2,
+                                f2, N, N, N, I, F, I, F),
+        "bodies.rigid3d.angular_velocity_to_body": (f2, i64_1, f2),
+        "bodies.rigid3d.world_geometry": (f2, i32_1, f2, i32_1, f2, f2, f2),
+        "detection.detector._largest_motion_3d": (f2, f2, f1),
+        "detection.broadphase.bounding_boxes": (f2, i32_1, F, f2, f2),
+        "detection.broadphase.grid_pairs": (f2, f2, b1, b1, F, i32_2),
+        "detection.broadphase.sort_pairs": (i32_2, I, I),
+        "bodies.rigid3d.gyroscopic_torques": (f2, f2, f2, f2, F, f2),
+        "integrator.diagonal_free_velocity": (f2, f2, f2, F, f2),
+        "bodies.rigid3d.predict_positions": (f2, f2, F, f2),
+        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
+        "bodies.rigid3d.contact_jacobians": (f2, i32_1, i32_1, f2, f3, f1, I, f3, f3),
+        "solver.problem._assemble": (i32_1, i32_1, i32_1, f1, I, f3, f3, f2, f2, i8_1, f1, f1, F,
+                                     F, F, f3, f1, f1, b1),
+        "solver.problem._apply": (i32_1, i32_1, f3, f3, b1, I, f2, f2, f2),
+        "solver.equilibrium._rest_contacts": (i32_1, i32_1, f3, f3, f1, f1, b1, I, f2, f2, f2,
+                                              i64_1, i64_1),
+        "solver.equilibrium._pattern": (i32_1, i32_1, i64_1, i64_1, I, I),
+        "solver.equilibrium._start": (i64_1, f1, f2, f2, F),
+        "solver.equilibrium._residual": (i32_1, i32_1, f3, f3, i64_1, i64_1, f3, f2, f2, f2, f2),
+        "solver.equilibrium._newton_system": (i32_1, i32_1, f3, f3, i64_1, i64_1, f3, f2, F,
+                                              i64_2, i64_1, i64_1, f2, f1),
+        "solver.equilibrium._newton_step": (i32_1, i32_1, f3, f3, i64_1, i64_1, f3, f2, F, f2, B,
+                                            f2),
+        "solver.equilibrium._step_length": (f2, f2),
+        "solver.equilibrium._inside": (f2,),
+        "solver.equilibrium._apply": (i32_1, i32_1, f3, f3, b1, I, i64_1, f3, f2, f2, f2, f2, f2),
+        "bodies.rigid3d.update_positions": (f2, f2, f2, F, F),
+        "solver.problem._end_gaps": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
+        "bodies.rigid3d.kinetic_energy": (f2, f1, f2, f2),
+        "solver.load_following._equal": (i64_1, i64_1),
+        "solver.load_following._distance": (f2, f2),
     }}
 
 
