@@ -84,17 +84,23 @@ def build(rows: int = COURSES, units: float = 12.5, f_t: float = 0.1e6, g_i: flo
     k_n = E_M / course  # the wall's vertical stiffness E_m / H, whatever the rows
     joint = sx.ContactLaw(friction=MU, kind=sx.LawKind.COHESIVE, k_n=k_n, k_t=k_n / 2.4,
                           f_t=f_t, cohesion=COHESION, g_i=g_i, g_ii=g_ii, points=points)
-    for a, c in (("brick", "brick"), ("ground", "brick"), ("beam", "brick")):
-        b.set_law(a, c, joint)
-    for a, c in (("pusher", "beam"), ("pusher", "pusher"), ("beam", "beam"),
-                 ("ground", "beam"), ("pusher", "brick"), ("ground", "pusher")):
-        b.set_law(a, c, sx.ContactLaw(friction=0.0))
+    set_laws(b, joint)
     model = b.finalize()
     model.body_inv_mass[beam, 2] = 0.0  # guided: the top cannot turn (H0/H = 0.5)
     return model, beam, pusher
 
 
-def _forces(c: sx.Contacts, beam: int, pusher: int, h: float) -> tuple[float, float]:
+def set_laws(b: sx.ModelBuilder, joint: sx.ContactLaw) -> None:
+    """`joint` between bricks, ground and beam (groups "brick", "ground", "beam"); the pusher
+    ("pusher") touches the beam without friction, and the beam stays clear of the ground."""
+    for a, c in (("brick", "brick"), ("ground", "brick"), ("beam", "brick")):
+        b.set_law(a, c, joint)
+    for a, c in (("pusher", "beam"), ("pusher", "pusher"), ("beam", "beam"),
+                 ("ground", "beam"), ("pusher", "brick"), ("ground", "pusher")):
+        b.set_law(a, c, sx.ContactLaw(friction=0.0))
+
+
+def forces(c: sx.Contacts, beam: int, pusher: int, h: float) -> tuple[float, float]:
     """(H, V) [N/m]: the pusher's horizontal force on the beam and the wall's vertical force
     on it, from the impulses / h."""
     n = c.count
@@ -116,7 +122,7 @@ def push(dt: float = 1e-4, drift: float = 4e-3, **wall):
     u, fx, fy = [], [], []
     while state.time < PRESS + HOLD + drift / SPEED:
         sim.step(state)
-        h_force, v_force = _forces(state.contacts, beam, pusher, dt)
+        h_force, v_force = forces(state.contacts, beam, pusher, dt)
         u.append(state.body_q[beam, 0] - x0)
         fx.append(h_force * THICKNESS)
         fy.append(v_force * THICKNESS)
