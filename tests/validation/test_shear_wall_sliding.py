@@ -3,7 +3,7 @@ of Graziotti et al. (2016b), a reduced model of benchmarks/shear_wall_sliding.py
 
 Source of the measured numbers (secondary: a database that quotes the test report): EPFL-ENAC,
 modern masonry walls database, github.com/EPFL-ENAC/eesd-modern-masonry-walls-db,
-frontend/public/data/ModernMasonryDatabase_EIA_Database.csv, rows 187 (COMP2_4) and 188
+frontend/public/data/ModernMasonryDatabase_EIA_Database.csv, entries N = 187 (COMP2_4) and 188
 (COMP2_5). Primary (not read here): F. Graziotti, U. Tomassetti, A. Rossi et al., "Shaking
 table tests on a full-scale clay-brick masonry house representative of the Groningen building
 stock and related characterization tests", Report EUC128/2016U, Eucentre, Pavia, 2016.
@@ -14,10 +14,11 @@ f_v0 = 0.15 MPa, mu = 0.55, H0/H = 0.5, sigma_0 = 0.30 MPa) reached V_max = 149.
 scatter is 126.1 to 149.0 kN. saxum's rigid-brick model takes c and mu from the source and
 chooses what the source lacks (f_t = 0.1 MPa, G_I = 10 J/m^2, G_II = 100 J/m^2, k_n = E_m / h).
 
-Tolerance: the measured range widened by 5 % on each side, the model's own margin: over
-G_I = 5 to 20 J/m^2 at f_t = 0.1 MPa the peak moves by -3 % / +3 % (BENCHMARKS.md, the
---sweep of the benchmark), and the reduced model (9 rows of 5 blocks, each a group of 5 x 2.5
-bricks) differs from the 45 x 12.5 brick wall by the amount BENCHMARKS.md records. Closed
+Tolerance: the measured range widened by 7 % on each side, the reduced model's margin: its
+peak (9 rows of 5 blocks, each a group of 5 x 2.5 bricks: 147.3 kN) stands 6.3 % above that of
+the brick-by-brick wall (45 x 12.5 bricks: 138.6 kN), BENCHMARKS.md. The parameters the source
+lacks move the peak further (G_I 5 to 20 J/m^2: -3 % / +3 %; f_t 0.01 to 0.2 MPa: -13 % /
++3.5 %, the benchmark's --sweep): the test pins the chosen values. Closed
 forms it must respect as well: the peak exceeds the sliding load mu N (the bond carried part
 of it) and stays below the whole end joint's Mohr-Coulomb strength c L t + mu N (the end
 moment V H / 2 opens the joint's heel before the peak, so that strength is not reached).
@@ -27,11 +28,11 @@ import numpy as np
 from shear_wall_model import wall
 
 MEASURED_LOW, MEASURED_HIGH = 126.1e3, 149.0e3  # [N]: COMP2_4's V_max+, COMP2_5's V_max+
-MARGIN = 0.05  # the model's margin (module doc)
+MARGIN = 0.07  # the reduced model's margin (module doc)
 
 
 def test_comp2_5_peak_within_the_tests_scatter():
-    u, fx, fy, contacts, _ = wall.push(drift=1.5e-3, rows=9, units=5.0, f_t=0.1e6, g_i=10.0,
+    _, fx, fy, _, _ = wall.push(drift=1.5e-3, rows=9, units=5.0, f_t=0.1e6, g_i=10.0,
                                        g_ii=100.0)
     k = int(np.argmax(fx))
     peak = fx[k]
