@@ -32,10 +32,12 @@ MARGIN = 0.07  # the reduced model's margin (module doc)
 
 
 def test_comp2_5_peak_within_the_tests_scatter():
-    _, fx, fy, _, _ = wall.push(drift=1.5e-3, rows=9, units=5.0, f_t=0.1e6, g_i=10.0,
+    u, fx, fy, _, _ = wall.push(drift=1.5e-3, rows=9, units=5.0, f_t=0.1e6, g_i=10.0,
                                        g_ii=100.0)
     k = int(np.argmax(fx))
     peak = fx[k]
+    # the wall's peak, not the spike as the pusher starts (BENCHMARKS.md): it came at 0.77 mm
+    assert u[k] > 0.2e-3
     lt = wall.LENGTH * wall.THICKNESS  # [m^2]
     n = wall.SIGMA_0 * lt  # [N]
     # the beam carries sigma_0 L t at the peak (guided beam, constant vertical force)
