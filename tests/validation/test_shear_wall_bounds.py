@@ -24,6 +24,7 @@ and the vertical reaction to equal N within 1 %, the boundary conditions the tes
 import math
 
 import numpy as np
+from shear_wall_model import wall as benchmark
 
 import saxum as sx
 
@@ -62,25 +63,10 @@ def _wall():
                          group="pusher")
     joint = sx.ContactLaw(friction=MU, kind=sx.LawKind.COHESIVE, k_n=4.0e10, k_t=2.0e10,
                           f_t=0.25e6, cohesion=C, g_i=18.0, g_ii=125.0, points=3)
-    for a, c in (("brick", "brick"), ("ground", "brick"), ("beam", "brick")):
-        b.set_law(a, c, joint)
-    for a, c in (("pusher", "beam"), ("pusher", "pusher"), ("beam", "beam"),
-                 ("ground", "beam"), ("pusher", "brick"), ("ground", "pusher")):
-        b.set_law(a, c, sx.ContactLaw(friction=0.0))
+    benchmark.set_laws(b, joint)
     model = b.finalize()
     model.body_inv_mass[beam, 2] = 0.0  # guided: the beam stays horizontal
     return model, beam, pusher
-
-
-def _forces(c, beam: int, pusher: int) -> tuple[float, float]:
-    """(H, V) [N/m]: the pusher's horizontal force on the beam and the wall's vertical
-    force on it, from the impulses / h."""
-    n = c.count
-    world = np.einsum("ar,ard->ad", c.impulse[:n], c.frame[:n]) / H
-    on_beam = np.where(c.candidate[:n] == beam, 1.0, np.where(c.antagonist[:n] == beam, -1.0,
-                                                              0.0))
-    pushing = (c.candidate[:n] == pusher) | (c.antagonist[:n] == pusher)
-    return float((on_beam * pushing) @ world[:, 0]), float((on_beam * ~pushing) @ world[:, 1])
 
 
 def test_guided_wall_is_bounded_by_mohr_coulomb_and_slides_at_mu_n():
@@ -94,7 +80,7 @@ def test_guided_wall_is_bounded_by_mohr_coulomb_and_slides_at_mu_n():
             continue
         # the beam cannot turn (inverse rotational inertia 0): no rotation beyond round-off
         assert abs(state.body_q[beam, 2]) < 1e-12
-        h_force, v_force = _forces(state.contacts, beam, pusher)
+        h_force, v_force = benchmark.forces(state.contacts, beam, pusher, H)
         loads.append(h_force)
         verticals.append(v_force)
         c = state.contacts
