@@ -672,7 +672,8 @@ def _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints, law_m
 
 @nb.njit(inline="always")
 def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, sums):
-    """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; sums: None, or LMGC90's check sums to add its change to (_check_sums)."""
+    """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; sums:
+    None, or LMGC90's check sums to add its change to (_check_sums)."""
     ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
     rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12], row[13],
                                        row[14], row[15], ut, un, row[17])
