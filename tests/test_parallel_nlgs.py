@@ -91,3 +91,22 @@ def test_bad_settings():
         sx.NLGS(threads=-1)
     with pytest.raises(InputError, match="solver.domains"):
         sx.NLGS(domains=0)
+
+
+def test_parallel_assembly_and_end_gaps_are_the_serial_ones():
+    """A 40 x 40 wall at rest (about 9 600 contacts: three blocks of
+    saxum.solver.problem._BLOCK) on 2 threads with one domain: the serial step bit for bit."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    model = running_bond_wall(courses=40, bricks=40)
+    runs = []
+    for threads, domains in ((None, None), (2, 1)):
+        sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
+        state = sim.initial_state()
+        sim.run(state, 0.005)
+        runs.append((sim, state))
+    assert runs[0][1].contacts.count > 2 * 4096
+    assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
+    _same(*runs)
+    assert np.array_equal(runs[0][0].problem.gap_end, runs[1][0].problem.gap_end)
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)

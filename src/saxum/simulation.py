@@ -15,6 +15,7 @@ import logging
 import math
 import warnings
 
+import numba as nb
 import numpy as np
 
 from .bodies import rigid as rigid_kind
@@ -75,6 +76,10 @@ class Simulation:
         if solver is None:
             solver = NLGS() if self.problem.joint_laws or model.fe is not None else Hybrid()
         self.solver = solver
+        self._threads = getattr(solver, "threads", None)
+        """numba's threads for the step's parallel kernels (the solver's setting; None: one,
+        the serial kernels)."""
+        self.problem.parallel = self._threads is not None
         self.detector = detector_for(model, detection)
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
@@ -250,6 +255,8 @@ class Simulation:
         h = self.integrator.dt
         theta = self.integrator.theta
         t0, t1 = state.time, state.start_time + (state.step + 1) * h
+        if self._threads is not None:
+            nb.set_num_threads(self._threads or nb.config.NUMBA_NUM_THREADS)
 
         if self.model.accelerations or self.model.forces or self.model.field_loads:
             self._step_force(state.time, t1, self._force, state.body_q)

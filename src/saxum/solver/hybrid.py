@@ -124,8 +124,8 @@ class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that
     tries the conic fixed point where NLGS stalls or at its cap, and keeps what it finds only
     where it is better by NLGS's own criterion (module doc); window: sweeps between two
-    measurements of the error, and the sweeps that judge a conic iterate; threads: NLGS's
-    (saxum.solver.NLGS)."""
+    measurements of the error, and the sweeps that judge a conic iterate; threads, domains:
+    NLGS's (saxum.solver.NLGS)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -133,17 +133,19 @@ class Hybrid(ContactSolver):
     rest_after: int = 50
     window: int = 100
     threads: int | None = None
+    domains: int | None = None
 
     def __post_init__(self) -> None:
         if self.window < 1:
             raise InputError(f"solver.window must be >= 1, got {self.window}")
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
-                           self.rest_after, threads=self.threads)
+                           self.rest_after, threads=self.threads, domains=self.domains)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0,
-                          threads=self.threads)
+                          threads=self.threads, domains=self.domains)
         self._first._trend = self._more._trend = False  # the windows give it (solve)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self._conic._nlgs.threads = self.threads
+        self._conic._nlgs.domains = self.domains
         self.finished = {name: 0 for name in SOLVER_NAMES}
         """Solves (steps and projections) finished by each solver."""
         self.attempts = 0
