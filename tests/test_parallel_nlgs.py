@@ -93,9 +93,11 @@ def test_bad_settings():
         sx.NLGS(domains=0)
 
 
-def test_parallel_assembly_and_end_gaps_are_the_serial_ones():
+def test_parallel_kernels_are_the_serial_ones():
     """A 40 x 40 wall at rest (about 9 600 contacts: three blocks of
-    saxum.solver.problem._BLOCK) on 2 threads with one domain: the serial step bit for bit."""
+    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polygons._PAIR_BLOCK) on 2
+    threads with one domain: parallel narrow phase, assembly and end gaps, the serial step
+    bit for bit."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has one thread here")
     model = running_bond_wall(courses=40, bricks=40)
@@ -107,6 +109,7 @@ def test_parallel_assembly_and_end_gaps_are_the_serial_ones():
         runs.append((sim, state))
     assert runs[0][1].contacts.count > 2 * 4096
     assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
+    assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 2048
     _same(*runs)
     assert np.array_equal(runs[0][0].problem.gap_end, runs[1][0].problem.gap_end)
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)

@@ -81,6 +81,7 @@ class Simulation:
         the serial kernels)."""
         self.problem.parallel = self._threads is not None
         self.detector = detector_for(model, detection)
+        self.detector.parallel = self._threads is not None
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()

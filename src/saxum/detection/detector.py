@@ -15,7 +15,7 @@ from ..model import BodyKind, Model, Shape
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .fe_nodes import node_contacts
 from .fe_nodes3d import node_contacts_3d
-from .polygons import polygon_contacts
+from .polygons import polygon_contacts, polygon_contacts_parallel
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
 from .round import round_contacts
 
@@ -134,6 +134,11 @@ class Detector:
         mobile_groups[model.body_group[free]] = True
         self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
         """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
+        self.parallel = False
+        """Run the 2D narrow phase on numba's threads (polygon_contacts_parallel: the same
+        contacts bit for bit): Simulation sets it where the solver's threads are set."""
+        self._scratch = Contacts(model.dim)
+        """The parallel narrow phase's rows per block of pairs."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
         self._round_room = (2 + model.max_vertices if (model.body_shape == Shape.CAPSULE).any()
@@ -168,16 +173,21 @@ class Detector:
         m = self.model
         contacts.reserve(self.slots * self.pair_count
                          + self._round_room * len(self._round_pairs))
-        contacts.count, self.kept_faces = polygon_contacts(
+        out = (contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+               contacts.point, contacts.frame, contacts.gap, contacts.area)
+        kernel = polygon_contacts
+        if self.parallel:
+            self._scratch.reserve(self.slots * self.pair_count)
+            s = self._scratch
+            kernel = polygon_contacts_parallel
+            out += (s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
+        contacts.count, self.kept_faces = kernel(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
             m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
             self._body_alert, self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
-            self._slack,
-            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-            contacts.point, contacts.frame, contacts.gap, contacts.area,
-        )
+            self._slack, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0
