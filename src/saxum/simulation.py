@@ -81,7 +81,7 @@ class Simulation:
         the serial kernels)."""
         self.problem.parallel = self._threads is not None
         self.detector = detector_for(model, detection)
-        self.detector.parallel = self._threads is not None
+        self.detector.parallel = self._threads is not None and model.dim == 2
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
@@ -281,7 +281,7 @@ class Simulation:
             self.detector.detect(self._q_pred, contacts)
         else:
             self.detector.detect(self._q_pred, contacts, fe.x_pred)
-        contacts.warm_start_from(state.contacts, m.law_kind)
+        contacts.warm_start_from(state.contacts, m.law_kind, parallel=self.problem.parallel)
         problem = self.problem
         problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
                          self.detector.closed_gap, self._v)
