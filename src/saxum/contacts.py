@@ -142,7 +142,7 @@ def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, 
     return hits
 
 
-@nb.njit(cache=True)
+@nb.njit(inline="always")
 def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_slip, damage,
                  old_damage, history, old_history, law, law_kind):
     """_carry's merge for the rows lo .. hi - 1, from old_key[first] on (no old key before it

@@ -35,7 +35,7 @@ def world_geometry(q, vertex_start, vertex_local, direction_local, vertices, dir
                          vertices, directions)
 
 
-@nb.njit(cache=True)
+@nb.njit(inline="always")
 def world_geometry_range(lo, hi, q, vertex_start, vertex_local, direction_local, vertices,
                          directions):
     """world_geometry of the bodies lo .. hi - 1 (a parallel region calls it on blocks)."""

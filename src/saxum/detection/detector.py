@@ -81,7 +81,7 @@ def _geometry_parallel(q, q_ref, radius, motion, turn, vertex_start, vertex_loca
     return worst
 
 
-@nb.njit(cache=True)
+@nb.njit(inline="always")
 def _motion_range(lo, hi, q, q_ref, radius, motion, turn):
     """_motion_since of the bodies lo .. hi - 1."""
     worst = 0.0

@@ -378,11 +378,11 @@ def _end_gaps_2d_parallel(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h
     return loaded, worst
 
 
-@nb.njit(cache=True)
+@nb.njit(inline="always")
 def _end_gaps_range_2d(lo, hi, cand, ant, h_cand, h_ant, gap, impulse, v, w, h_w, h, theta,
                        gap_end):
-    """_end_gaps_2d of the contacts lo .. hi - 1 (a function of its own, as
-    _contact_rows_range_2d)."""
+    """_end_gaps_2d of the contacts lo .. hi - 1 (inline: the serial kernel stays one
+    compiled function, tests/test_precompile.py)."""
     loaded = 0
     worst = 0.0
     for a in range(lo, hi):
