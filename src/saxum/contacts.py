@@ -132,14 +132,15 @@ def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, 
                     history, old_history, law, law_kind):
     """_carry by blocks of contacts on numba's threads, the same rows: each block's merge
     starts at the first old key not below its first key (a bisection)."""
-    hits = 0
-    for b in nb.prange(-(-key.shape[0] // _CARRY_BLOCK)):
+    hits = np.zeros(-(-key.shape[0] // _CARRY_BLOCK), dtype=np.int64)
+    for b in nb.prange(hits.shape[0]):
         lo = b * _CARRY_BLOCK
         hi = min(key.shape[0], lo + _CARRY_BLOCK)
         first = np.searchsorted(old_key, key[lo])
-        hits += _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip,
-                             old_slip, damage, old_damage, history, old_history, law, law_kind)
-    return hits
+        hits[b] = _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip,
+                               old_slip, damage, old_damage, history, old_history, law,
+                               law_kind)
+    return hits.sum()
 
 
 @nb.njit(inline="always")

@@ -71,14 +71,14 @@ def _geometry_parallel(q, q_ref, radius, motion, turn, vertex_start, vertex_loca
     """world_geometry and _motion_since by blocks of bodies on numba's threads (the same
     numbers: each body's own, and a largest value does not depend on the order); returns
     the largest motion [m]."""
-    worst = 0.0
-    for k in nb.prange(-(-q.shape[0] // _BODY_BLOCK)):
+    worst = np.zeros(-(-q.shape[0] // _BODY_BLOCK))
+    for k in nb.prange(worst.shape[0]):
         lo = k * _BODY_BLOCK
         hi = min(q.shape[0], lo + _BODY_BLOCK)
         world_geometry_range(lo, hi, q, vertex_start, vertex_local, direction_local, vertices,
                              directions)
-        worst = max(worst, _motion_range(lo, hi, q, q_ref, radius, motion, turn))
-    return worst
+        worst[k] = _motion_range(lo, hi, q, q_ref, radius, motion, turn)
+    return worst.max()
 
 
 @nb.njit(inline="always")

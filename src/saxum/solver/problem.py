@@ -368,14 +368,13 @@ def _end_gaps_2d_parallel(cand, ant, h_cand, h_ant, gap, count, impulse, v, w, h
     """_end_gaps_2d by blocks of contacts on numba's threads: the same numbers bit for bit
     (each contact's gap is its own; a count and a largest value do not depend on the
     order)."""
-    loaded = 0
-    worst = 0.0
-    for k in nb.prange(-(-count // _BLOCK)):
-        n, d = _end_gaps_range_2d(k * _BLOCK, min(count, (k + 1) * _BLOCK), cand, ant, h_cand,
-                                  h_ant, gap, impulse, v, w, h_w, h, theta, gap_end)
-        loaded += n
-        worst = max(worst, d)
-    return loaded, worst
+    loaded = np.zeros(-(-count // _BLOCK), dtype=np.int64)
+    worst = np.zeros(loaded.shape[0])
+    for k in nb.prange(loaded.shape[0]):
+        loaded[k], worst[k] = _end_gaps_range_2d(k * _BLOCK, min(count, (k + 1) * _BLOCK),
+                                                 cand, ant, h_cand, h_ant, gap, impulse, v, w,
+                                                 h_w, h, theta, gap_end)
+    return loaded.sum(), worst.max() if count > 0 else 0.0
 
 
 @nb.njit(inline="always")
