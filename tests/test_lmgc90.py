@@ -48,10 +48,9 @@ def test_wall2d_bodies_drives_and_laws():
     # pairs without a see-table pass through each other
     assert laws[("JAUNx", "REDxx")] is NO_CONTACT and ("REDxx", "REDxx") in imported.no_contact
     listed = "\n".join(map(str, imported.untranslated))
-    assert "BODIES.DAT line 10: JONCx of RBDY2 1" in listed
     assert "DRV_DOF.DAT line 26: RBDY2 6: only dofs [1] of 3" in listed
     assert "TACT_BEHAV.DAT line 5: law 'rst01': tangential restitution" in listed
-    assert "Vloc_Rloc.INI: 2 contacts" in listed
+    assert model.body_shape[model.body("RBDY2 1")] == sx.Shape.CAPSULE  # the JONCx, exact
     settings = DetectionSettings(initial_overlap=OVERLAP_TOLERANCE)  # brick 7, 1 um in
     state = Simulation(model, dt=1e-3, detection=settings).initial_state()
     imported.set_initial_velocities(model, state)
@@ -194,7 +193,7 @@ def test_scenario_from_import_runs_like_the_python_model(tmp_path):
     imported = import_lmgc90(DATA / "wall2d")
     extra = imported.write_scenario(tmp_path / "model.toml", duration=0.05)
     text = (tmp_path / "model.toml").read_text()
-    assert "#   BODIES.DAT line 10: JONCx of RBDY2 1" in text
+    assert "#   TACT_BEHAV.DAT line 5: law 'rst01'" in text
     assert any("RBDY2 7: initial velocity" in str(item) for item in extra)
     assert 'groups = ["JAUNx", "REDxx"]\nkind = "none"' in text
     scenario = load_scenario(tmp_path / "model.toml")
@@ -294,8 +293,8 @@ duration = 0.1
 def _column_in_python():
     """column2d (tests/data/lmgc90) built with ModelBuilder from the numbers in its files."""
     b = sx.ModelBuilder()
-    b.add_block([(-0.5, -0.1), (0.5, -0.1), (0.5, 0.0), (-0.5, 0.0)], group="GRNDx",
-                kind=BodyKind.FIXED, name="RBDY2 1")
+    # JONCx ax1 = 0.5, ax2 = 0.05 at node (0, -0.05): a capsule, segment 1.0, radius 0.05
+    b.add_capsule((0.0, -0.05), 1.0, 0.05, group="GRNDx", kind=BodyKind.FIXED, name="RBDY2 1")
     for k, (x, y) in enumerate([(0.0, 0.051), (0.004, 0.153), (-0.003, 0.255),
                                 (0.006, 0.357), (0.11, 0.05)]):
         b.add_disc((x, y), 0.05, density=2000.0, group="GRAIx", name=f"RBDY2 {k + 2}")
@@ -316,7 +315,7 @@ def _settle(model, steps=150):
 def test_discs_imported_run_like_the_python_model():
     imported = import_lmgc90(DATA / "column2d")
     model = imported.model()
-    assert model.body_round_radius.tolist() == [0.0] + [0.05] * 5  # byrd= 5.0000000D-02
+    assert model.body_round_radius.tolist() == [0.05] * 6  # byrd=, JONCx ax2= 5.0000000D-02
     assert not any("DISKx" in str(item) for item in imported.untranslated)
     sim_a, a = _settle(model)
     sim_b, b = _settle(_column_in_python())
@@ -336,7 +335,7 @@ def test_discs_and_spheres_round_trip(tmp_path):
     export_lmgc90(model, tmp_path / "disc", precision="full")
     text = (tmp_path / "disc" / "TACT_BEHAV.DAT").read_text()
     assert "RBDY2  DISKx  GRA01  law01  RBDY2  DISKx  GRA01" in text
-    assert "RBDY2  DISKx  GRA01  law02  RBDY2  POLYG  GRN02" in text  # the disc: candidate
+    assert "RBDY2  DISKx  GRA01  law02  RBDY2  JONCx  GRN02" in text  # the disc: candidate
     _same_models(model, import_lmgc90(tmp_path / "disc").model(), 1e-12)
     b = sx.ModelBuilder(dim=3)
     b.add_plane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 1.0), name="ground")

@@ -113,6 +113,7 @@ FULL = textwrap.dedent("""\
     threads = 1
     domains = 3
     criterion = "quad"
+    warm_start = "start.json"
 
     [detection]
     alert = 0.002
@@ -148,7 +149,7 @@ PYTHON = Scenario(
                                 drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
                       rest_after=20, kind="nlgs", threads=1, domains=3,
-                      criterion="quad"),
+                      criterion="quad", warm_start="start.json"),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5,
                             per_pair=True, initial_overlap=2e-6),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,

@@ -19,6 +19,7 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum export-vtk RESULTS [-o FOLDER]
     saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
     saxum import-lmgc90 DATBOX -o SCENARIO [--duration T] [--dt H] [--overlap-tolerance D]
+                        [--impulses VLOC_RLOC]
     saxum export-lmgc90 SCENARIO -o DATBOX [--precision lmgc90|full]
 
 `saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
@@ -587,19 +588,32 @@ def _view(args) -> None:
 
 
 def _import_lmgc90(args) -> None:
+    from .detection import DetectionSettings
     from .lmgc90 import OVERLAP_TOLERANCE, import_lmgc90
+    from .simulation import Simulation
 
     tolerance = args.overlap_tolerance if args.overlap_tolerance is not None else (
         OVERLAP_TOLERANCE)
     blocks = args.output.with_name(args.output.stem + ".blocks.json")
-    taken = [p for p in (args.output, blocks) if p.exists()]
+    impulses = args.output.with_name(args.output.stem + ".impulses.json")
+    taken = [p for p in (args.output, blocks, impulses) if p.exists()]
     if taken and not args.overwrite:
-        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and {blocks.name})")
-    imported = import_lmgc90(args.datbox)
+        raise InputError(f"{taken[0]} exists; give --overwrite to replace it (and "
+                         f"{blocks.name}, {impulses.name})")
+    imported = import_lmgc90(args.datbox, args.impulses)
     model = imported.model()
     depth = imported.check_overlaps(model, tolerance)
-    extra = imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
-                                    overlap_tolerance=tolerance)
+    forces, extra = [], []
+    if imported.impulses:  # matched as the run will: the scenario's detection settings
+        sim = Simulation(model, dt=args.dt,
+                         detection=DetectionSettings(initial_overlap=tolerance))
+        forces, extra = imported.warm_start(sim, sim.initial_state(check_overlaps=False))
+        zero = sum(e.zero for e in imported.impulses)
+        print(f"{imported.impulses_file}: {len(forces)} of {len(imported.impulses)} contacts' "
+              f"impulses are the first step's warm start (solver.warm_start); {zero} are 0 "
+              "(open contacts: nothing to start from)")
+    extra += imported.write_scenario(args.output, duration=args.duration, dt=args.dt,
+                                     overlap_tolerance=tolerance, warm_start=forces)
     kinds = np.bincount(model.body_kind, minlength=3)
     print(f"{args.output}: {model.body_count} blocks ({kinds[0]} free, {kinds[1]} fixed, "
           f"{kinds[2]} driven) in {len(model.group_names)} groups, {len(model.laws)} laws, "
@@ -951,6 +965,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--overlap-tolerance", type=float, default=None, metavar="D",
                    help="deepest interpenetration accepted in the imported state [m] "
                         "(default 1e-5: LMGC90 states carry micrometre ones)")
+    p.add_argument("--impulses", type=Path, default=None, metavar="FILE",
+                   help="a Vloc_Rloc file whose impulses start the first step (default: "
+                        "DATBOX/Vloc_Rloc.INI, else OUTBOX/Vloc_Rloc.OUT beside it, if any)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace an existing scenario and its blocks file")
     p.set_defaults(func=_import_lmgc90)

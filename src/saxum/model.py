@@ -38,7 +38,7 @@ from .geometry3d import (
 from .laws import ContactLaw, NoContact, Parameter
 
 __all__ = ["DENSITY_RANGE", "BodyKind", "FieldLoad", "Model", "ModelBuilder", "Shape",
-           "capsule_properties"]
+           "capsule_axis", "capsule_properties", "spherocylinder_properties"]
 
 DENSITY_RANGE = (1.0, 1.0e5)
 """Densities a free block may have [kg/m^3]: masonry is 1000-3000 and the densest metal
@@ -84,7 +84,9 @@ class Shape(IntEnum):
     radius Model.body_round_radius about its centre of mass; its vertices are the corners of
     its bounding square (cube), which only the broad phase and plots of polygons read) or
     CAPSULE (2D: a segment with round ends of radius Model.body_round_radius, the stadium; its
-    vertices are its bounding rectangle, whose first edge runs along the segment)."""
+    vertices are its bounding rectangle, whose first edge runs along the segment; 3D: the
+    spherocylinder, a cylinder with hemispherical ends, its segment along the body frame's z
+    axis and its vertices its bounding box)."""
 
     POLYGON = 0
     ROUND = 1
@@ -253,7 +255,10 @@ def drawn_polyhedra(m) -> dict[str, np.ndarray]:
     """The 3D geometry that draws bodies (plots, VTK, viewer) from a mapping m of the Model's
     arrays (a results file's /model): body_vertex_start, vertex_local [m], body_face_start,
     face_vertex_start, face_vertex, each sphere's (m["body_round_radius"] > 0) bounding cube
-    replaced by a polyhedron inscribed in it (8 rings of 16 vertices and the poles)."""
+    replaced by a polyhedron inscribed in it (8 rings of 16 vertices and the poles), a 3D
+    capsule's (m["body_shape"] CAPSULE) bounding box by that polyhedron cut at its equator,
+    the halves moved apart along the body z axis to the ends of its segment (its
+    cylinder drawn as the band between them)."""
     keys = ("body_vertex_start", "vertex_local", "body_face_start", "face_vertex_start",
             "face_vertex")
     radius = m.get("body_round_radius")
@@ -279,9 +284,12 @@ def drawn_polyhedra(m) -> dict[str, np.ndarray]:
                   + [[south, ring(rings - 1, k + 1), ring(rings - 1, k)] for k in range(around)])
     vs, fs, fvs = m["body_vertex_start"], m["body_face_start"], m["face_vertex_start"]
     local, rings_of = [], []
+    capsule = m.get("body_shape", np.zeros(len(radius))) == Shape.CAPSULE
     for b, r in enumerate(radius):
         if r > 0.0:
-            local.append(unit * r)
+            # a capsule's segment: its bounding box's half extent along z less r
+            half = m["vertex_local"][vs[b]:vs[b + 1], 2].max() - r if capsule[b] else 0.0
+            local.append(unit * r + np.outer(np.sign(unit[:, 2]), (0.0, 0.0, half)))
             rings_of.append([np.array(f) for f in unit_faces])
         else:
             local.append(m["vertex_local"][vs[b]:vs[b + 1]])
@@ -297,6 +305,18 @@ def drawn_polyhedra(m) -> dict[str, np.ndarray]:
             "face_vertex": np.concatenate(faces).astype(np.int32)}
 
 
+def capsule_axis(model: "Model", b: int) -> tuple[float, float]:
+    """A 2D capsule's segment at the start: its direction from the x axis [rad] and its
+    length [m] (its bounding rectangle's first edge runs along it, 2 r longer)."""
+    if model.dim != 2:
+        raise InputError(f"capsule_axis is for 2D capsules; {model.body_name[b]!r} is in a "
+                         "3D model (its axis is the body frame's z axis)")
+    start = model.body_vertex_start[b]
+    e = model.vertex_local[start + 1] - model.vertex_local[start]
+    return math.atan2(e[1], e[0]), math.hypot(e[0], e[1]) - 2.0 * float(
+        model.body_round_radius[b])
+
+
 def capsule_properties(length: float, radius: float) -> tuple[float, float]:
     """(area [m^2], polar moment of area about the centre [m^4]) of a capsule: a segment of
     `length` L [m] with round ends of `radius` r [m]: a rectangle L x 2r and two half discs.
@@ -310,6 +330,25 @@ def capsule_properties(length: float, radius: float) -> tuple[float, float]:
              + disc * (0.5 * radius * radius + 0.25 * length * length
                        + 4.0 * radius * length / (3.0 * math.pi)))
     return rectangle + disc, polar
+
+
+def spherocylinder_properties(length: float, radius: float) -> tuple[float, float, float]:
+    """(volume [m^3], axial, transverse second moment of volume about the centre [m^5]) of a
+    3D capsule: a cylinder of `length` L [m] and `radius` r [m] with hemispherical ends;
+    times the density, its mass and principal moments of inertia. With V_c = pi r^2 L and
+    V_s = 4/3 pi r^3 (the two ends together, a sphere): V = V_c + V_s, J_axis = V_c r^2 / 2
+    + 2/5 V_s r^2, J_across = V_c (L^2 / 12 + r^2 / 4) + V_s (2/5 r^2 + L^2 / 4 + 3 L r / 8),
+    each hemisphere's moment about its base's diameter (2/5 of its mass r^2) moved by the
+    parallel-axis theorem to its centroid, 3 r / 8 from its base, then to the centre (J. L.
+    Meriam, L. G. Kraige, Engineering Mechanics: Dynamics, table D/4, properties of
+    homogeneous solids: circular cylinder, hemisphere)."""
+    cylinder = math.pi * radius * radius * length
+    sphere = 4.0 / 3.0 * math.pi * radius**3
+    axial = 0.5 * cylinder * radius * radius + 0.4 * sphere * radius * radius
+    across = (cylinder * (length * length / 12.0 + 0.25 * radius * radius)
+              + sphere * (0.4 * radius * radius + 0.25 * length * length
+                          + 0.375 * length * radius))
+    return cylinder + sphere, axial, across
 
 
 def _shape_of(block: "_Block") -> Shape:
@@ -333,6 +372,8 @@ class _Block:
     with `length` > 0 a capsule's."""
     length: float = 0.0
     """> 0: a capsule whose segment is this long [m], vertices its bounding rectangle."""
+    axes: np.ndarray | None = None
+    """A 3D capsule's body frame: columns two unit vectors across it and its axis."""
 
 
 class ModelBuilder:
@@ -462,7 +503,8 @@ class ModelBuilder:
                                kind=kind, motion=motion, name=name)
 
     def add_capsule(self, centre: Sequence[float], length: float, radius: float, *,
-                    angle: float = 0.0, density: float = 0.0, group: str = "block",
+                    angle: float = 0.0, axis: Sequence[float] | None = None,
+                    density: float = 0.0, group: str = "block",
                     kind: BodyKind = BodyKind.FREE, motion: Motion | None = None,
                     name: str | None = None) -> int:
         """Add a capsule (2D, LMGC90's JONCx): a segment of `length` L [m] centred at (x, y)
@@ -470,22 +512,35 @@ class ModelBuilder:
         stadium, L + 2 r long and 2 r wide); returns its body index. Mass rho (2 r L + pi r^2)
         [kg per metre of depth], polar moment saxum.model.capsule_properties; the other
         arguments as in add_block. Capsules touch polygons, discs and capsules with the laws
-        of their groups (saxum.detection.round)."""
+        of their groups (saxum.detection.round).
+
+        3D (LMGC90's CYLND, the spherocylinder): a cylinder of `length` L and `radius` r
+        centred at (x, y, z) [m] along `axis` (a direction of any length; default x) with
+        hemispherical ends; `angle` is for 2D only. Mass rho (pi r^2 L + 4/3 pi r^3) [kg],
+        principal moments saxum.model.spherocylinder_properties; it touches polyhedra,
+        spheres and capsules."""
         name = name if name is not None else f"block {len(self._blocks)}"
-        if self.dim != 2:
-            raise InputError(f"{name}: add_capsule is for 2D models; this one is {self.dim}D")
         c = np.asarray(centre, dtype=np.float64)
-        if c.shape != (2,) or not np.all(np.isfinite(c)):
-            raise InputError(f"{name}: the centre must be 2 finite coordinates [m], got "
-                             f"{plain(centre)}")
+        if c.shape != (self.dim,) or not np.all(np.isfinite(c)):
+            raise InputError(f"{name}: the centre must be {self.dim} finite coordinates [m], "
+                             f"got {plain(centre)}")
+        if self.dim == 2 and axis is not None:
+            raise InputError(f"{name}: axis is for 3D capsules; in 2D give angle= [rad]")
+        if self.dim == 3 and angle != 0.0:
+            raise InputError(f"{name}: angle is for 2D capsules; in 3D give axis=(x, y, z)")
         sizes = {"length": length, "radius": radius, "angle": angle}
+        round_body = "a disc: add_disc" if self.dim == 2 else "a sphere: add_sphere"
         for what, value in sizes.items():
             if not math.isfinite(float(value)) or (what != "angle" and not float(value) > 0.0):
                 must = "a finite angle [rad]" if what == "angle" else "a finite length > 0 [m]"
                 raise InputError(f"{name}: the capsule's {what} must be {must}, got "
-                                 f"{plain(value)}" + (" (a disc: add_disc)" if what == "length"
+                                 f"{plain(value)}" + (f" ({round_body})" if what == "length"
                                                       else ""))
         half, r = 0.5 * float(length), float(radius)
+        if self.dim == 3:
+            return self._add_capsule_3d(c, half, r, (1.0, 0.0, 0.0) if axis is None else axis,
+                                        density=density, group=group, kind=kind,
+                                        motion=motion, name=name)
         t = np.array([math.cos(angle), math.sin(angle)])
         n = np.array([-t[1], t[0]])
         # CCW, the first edge along the segment (saxum.detection.round reads it so)
@@ -494,6 +549,27 @@ class ModelBuilder:
         index = self.add_block(corners, density=density, group=group, kind=kind,
                                motion=motion, name=name)
         self._blocks[index].round_radius, self._blocks[index].length = r, float(length)
+        return index
+
+    def _add_capsule_3d(self, centre: np.ndarray, half: float, r: float, axis, **block) -> int:
+        """A 3D capsule as a block whose vertices are its bounding box (along t, the unit
+        axis, and n1, n2 = t x n1 across it, n1 the world axis least along t made normal to
+        t), its body frame (n1, n2, t)."""
+        t = np.asarray(axis, dtype=np.float64)
+        norm = float(np.linalg.norm(t)) if t.shape == (3,) else 0.0
+        if not (math.isfinite(norm) and norm > 0.0):
+            raise InputError(f"{block['name']}: the capsule's axis must be a non-zero direction "
+                             f"(x, y, z), got {plain(axis)}")
+        t = t / norm
+        n1 = np.eye(3)[int(np.argmin(np.abs(t)))]
+        n1 = n1 - (n1 @ t) * t
+        n1 /= np.linalg.norm(n1)
+        axes = np.column_stack((n1, np.cross(t, n1), t))
+        corners = [centre + axes @ (a * r, b * r, d * (half + r))
+                   for a in (-1, 1) for b in (-1, 1) for d in (-1, 1)]
+        index = self.add_block(corners, **block)
+        blk = self._blocks[index]
+        blk.round_radius, blk.length, blk.axes = r, 2.0 * half, axes
         return index
 
     def add_plane(self, point: Sequence[float], normal: Sequence[float],
@@ -762,7 +838,11 @@ class ModelBuilder:
         for b, blk in enumerate(self._blocks):
             poly = blk.vertices
             props = polyhedron_properties(poly)
-            if blk.round_radius > 0.0:  # a sphere inside its bounding cube, axes the world's
+            if blk.axes is not None:  # a capsule inside its bounding box, its axis z
+                volume, axial, across = spherocylinder_properties(blk.length, blk.round_radius)
+                props = PolyhedronProperties(volume, props.centroid,
+                                             np.array([across, across, axial]), blk.axes)
+            elif blk.round_radius > 0.0:  # a sphere inside its bounding cube, axes the world's
                 r = blk.round_radius
                 volume = 4.0 / 3.0 * math.pi * r**3
                 props = PolyhedronProperties(volume, props.centroid,

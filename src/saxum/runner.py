@@ -24,6 +24,7 @@ from .errors import InputError, ResultsDamageWarning, ResultsWriteError, Simulat
 from .precompile import precompile
 from .results import Results, ResultsWriter
 from .scenario import Scenario
+from .warmstart import apply_warm_start, read_warm_start
 
 __all__ = ["RunSummary", "resume_run", "run_scenario"]
 
@@ -51,6 +52,8 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
     precompile(scenario.structure.dim)
     sim = scenario.build_simulation()
     state = sim.initial_state()
+    if scenario.solver.warm_start is not None:
+        _warm_start(sim, state, scenario.solver.warm_start)
     writer = ResultsWriter(output, sim.model, dt=scenario.solver.dt,
                            theta=scenario.solver.theta, scenario=scenario_text,
                            scenario_json=scenario.model_dump_json(), version=__version__,
@@ -58,6 +61,18 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
                            ground=scenario.loads.ground_motion is not None,
                            overwrite=overwrite)
     return _advance(scenario, sim, state, writer, quiet, initial=True)
+
+
+def _warm_start(sim, state, path: str) -> None:
+    """The first step's warm start from the contact forces of `path` (saxum.warmstart); a
+    force that matches no contact is an InputError: the file is not of this model."""
+    unmatched = apply_warm_start(sim, state, read_warm_start(path))
+    if unmatched:
+        lines = [f"  {f}: {why}" for f, why in unmatched[:10]]
+        more = [f"  ... and {len(unmatched) - 10} more"] if len(unmatched) > 10 else []
+        raise InputError(f"solver.warm_start = {path!r}: {len(unmatched)} contact force(s) "
+                         "match no contact of the model at the start (was the model "
+                         "changed? remove them or the key):\n" + "\n".join(lines + more))
 
 
 def resume_run(path: str | Path, *, quiet: bool = False) -> RunSummary:

@@ -1034,6 +1034,9 @@ class SolverSpec(_Strict):
     criterion: Literal["delassus", "quad", "maxm", "qm/16"] = "delassus"
     """NLGS's convergence criterion (saxum.solver.NLGS, docs/criteria.md); LMGC90's ("quad",
     "maxm", "qm/16") make kind "nlgs" (the hybrid judges by "delassus")."""
+    warm_start: str | None = None
+    """A file of contact forces (JSON, saxum.warmstart; saxum import-lmgc90 writes one from
+    LMGC90's Vloc_Rloc.INI) that the first step starts from; relative to the scenario."""
 
 
 class DetectionSpec(_Strict):
@@ -1380,10 +1383,11 @@ def parse_scenario(text: str, *, base_dir: str | Path = ".",
         _apply_override(data, item)
     ground = data.get("loads", {}).get("ground_motion") if isinstance(data.get("loads"),
                                                                          dict) else None
-    for table in (data.get("structure"), ground):
-        if isinstance(table, dict) and isinstance(table.get("file"), str):
-            file = Path(table["file"])
-            table["file"] = str(file if file.is_absolute() else Path(base_dir) / file)
+    for table, key in ((data.get("structure"), "file"), (ground, "file"),
+                       (data.get("solver"), "warm_start")):
+        if isinstance(table, dict) and isinstance(table.get(key), str):
+            file = Path(table[key])
+            table[key] = str(file if file.is_absolute() else Path(base_dir) / file)
     ensemble = data.get("ensemble")
     if isinstance(ensemble, dict) and isinstance(ensemble.get("records"), str):
         from .records import SETS

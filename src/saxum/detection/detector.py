@@ -171,7 +171,7 @@ class Detector:
         self._round_room = (2 + model.max_vertices if (model.body_shape == Shape.CAPSULE).any()
                             else 1)
         """The most contacts of a pair with a round body: a disc's 1, a capsule's two ends
-        and the other body's vertices against its side."""
+        and the other body's vertices (3D: and edges) against its side."""
 
     def detect(self, q: np.ndarray, contacts: Contacts, node_x: np.ndarray | None = None) -> None:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q and, for
@@ -250,12 +250,15 @@ class Detector:
         # two ends each a disc's, and the polygon's vertices against its side
         faces, edges = (self._max_faces, self._max_edges) if m.dim == 3 else (
             m.max_vertices, 3 * m.max_vertices if self._round_room > 1 else 0)
+        features = faces + edges + m.max_vertices
+        if m.dim == 3 and self._round_room > 1:  # a 3D capsule: its two ends each a
+            features *= 3  # sphere's, the polyhedron's edges and vertices against its side
         contacts.count = round_contacts(
             self._round_pairs, len(self._round_pairs), q, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_face_start, m.face_vertex_start, m.face_vertex,
             m.body_edge_start, m.edge_vertex, m.body_shape, m.body_round_radius, m.body_group,
             m.group_law, self.alert, self.law_alert, self._body_alert, faces, edges,
-            self._round_key_base(), faces + edges + m.max_vertices, contacts.count,
+            self._round_key_base(), features, contacts.count,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area)
 
@@ -418,6 +421,8 @@ class PolyhedronDetector(Detector):
         self._axes0 = None
         """Deformable blocks: the principal axes of their body rows at the start [n_fe, 3,
         3], which their body rows' quaternions turn (saxum.bodies.fe3d.principal_axes)."""
+        if self._round_room > 1:  # a capsule's two ends, a polyhedron's edges and vertices
+            self._round_room = 2 + self._max_edges + model.max_vertices
         features = self._max_faces + self._max_edges
         self.slots = SLOTS if model.law_points.max(initial=2) == 2 else 2 * SLOTS + 1
         if float(model.body_count) ** 2 * 2 * features**2 * self.slots >= 2.0**62:
@@ -443,7 +448,8 @@ class PolyhedronDetector(Detector):
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         m = self.model
         points = MAX_POINTS if self.slots == SLOTS else 2 * MAX_POINTS + 1
-        contacts.reserve(points * self.pair_count + len(self._round_pairs))
+        contacts.reserve(points * self.pair_count
+                         + self._round_room * len(self._round_pairs))
         contacts.count = polyhedron_contacts(
             self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
             m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,

@@ -19,7 +19,7 @@ What is read (every value keeps the file and line it came from, for messages):
 - TACT_BEHAV.DAT: `$behav` contact laws (name, law type, parameters `key= value`) and
   `$seety` see-tables (candidate body, contactor, colour, law, antagonist body,
   contactor, colour, alert [m]).
-- Vloc_Rloc.INI: counted (its `$icdan` contacts); MODELS.DAT: its `$model` entries counted.
+- MODELS.DAT: its `$model` entries counted. (Vloc_Rloc.INI: saxum.lmgc90.vlocrloc.)
 
 Numbers are Fortran reals (`0.5000000D-01`) or plain ones; values are read in free format
 (key= value), so files with more digits than LMGC90's fixed columns are read too.
@@ -144,8 +144,6 @@ class Datbox:
     see_tables: list[SeeTable]
     groups: dict[str, str] = field(default_factory=dict)
     """Colour -> saxum group name, from saxum's writer's comments (`! saxum group: ...`)."""
-    contacts: int = 0
-    """Number of contacts in Vloc_Rloc.INI (0: no file)."""
     models: list[Where] = field(default_factory=list)
     """The `$model` entries of MODELS.DAT."""
 
@@ -434,5 +432,4 @@ def read_datbox(folder: str | Path) -> Datbox:
                                  ([0.0, 0.0, 0.0], {}, {}))
     laws, tables = _read_tact(folder / "TACT_BEHAV.DAT")
     return Datbox(folder, bodies, drives, gravity, densities, kinds, laws, tables, groups,
-                  contacts=len(_count(folder / "Vloc_Rloc.INI", "$icdan")),
                   models=_count(folder / "MODELS.DAT", "$model"))

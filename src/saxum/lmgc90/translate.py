@@ -3,11 +3,16 @@
 Bodies: a body's contactor is its block (one per body): POLYG -> a convex polygon, POLYR ->
 the convex hull of its vertices, DISKx -> a disc and SPHER -> a sphere of radius `byrd`
 centred at the node (ModelBuilder.add_disc, add_sphere; a shifted one, `coo1=`..., is
-refused: its centre would not be the centre of mass); JONCx (2D) and PLANx (3D) grounds ->
-the rectangle
-2 ax1 x 2 ax2 (box 2 axe1 x 2 axe2 x 2 axe3), listed as approximated (LMGC90's JONCx has
-rounded ends, a PLANx is a contact plane). Positions: node coordinates + DOF.INI's X (2D:
-rotation by X(3); 3D: the frame a, b, g). The group of a block is its contactor's colour.
+refused: its centre would not be the centre of mass); JONCx (2D) -> a capsule (stadium) with
+a segment 2 ax1 long and ends of radius ax2 (LMGC90's mod_a_BDARY_JONCx.f90 gives it the area
+4 ax1 ax2 + pi ax2^2), along the body's x axis turned by X(3) (ModelBuilder.add_capsule);
+PLANx (3D) -> the box 2 axe1 x 2 axe2 x 2 axe3, listed as approximated (a PLANx is a contact
+plane). Positions: node coordinates + DOF.INI's X (2D: rotation by X(3); 3D: the frame a, b,
+g). The group of a block is its contactor's colour.
+
+Impulses (a Vloc_Rloc file, saxum.lmgc90.vlocrloc): the first step's warm start
+(Lmgc90Import.warm_start, saxum.warmstart): each contact's mean force rl/H on the bodies
+and point it names, matched to saxum's contacts there.
 
 Drives (DRV_DOF.DAT): a body whose every dof is imposed becomes FIXED (all zero) or DRIVEN;
 saxum drives all dofs of a body or none, so a body with only some dofs imposed stays FREE
@@ -34,7 +39,9 @@ from ..errors import InputError, OverlapError
 from ..geometry3d import rotation_matrix
 from ..laws import NO_CONTACT, ContactLaw, LawKind, NoContact
 from ..model import BodyKind, Model, ModelBuilder
+from ..warmstart import ContactForce, apply_warm_start, write_warm_start
 from .reader import Body, Datbox, Drive, LawEntry, Where, read_datbox
+from .vlocrloc import VlocEntry, read_vloc_rloc
 
 __all__ = ["LAW_TYPES", "OVERLAP_TOLERANCE", "Lmgc90Import", "Untranslated", "import_lmgc90"]
 
@@ -80,6 +87,10 @@ class Block:
     velocity: np.ndarray
     drives: list[Drive] = field(default_factory=list)
     radius: float = 0.0
+    length: float = 0.0
+    """> 0: a capsule (JONCx): its segment's length [m], `radius` its ends' [m], `angle` the
+    segment's direction [rad] from the x axis, `vertices` its centre."""
+    angle: float = 0.0
 
     def motion(self, t: float) -> tuple[float, ...]:
         """The imposed velocity at time t [s] (DRIVEN blocks)."""
@@ -99,8 +110,11 @@ class Lmgc90Import:
     untranslated: list[Untranslated]
     no_contact: list[tuple[str, str]]
     """Pairs of groups without a see-table: NO_CONTACT."""
-    contacts: int = 0
-    """Contacts in Vloc_Rloc.INI (listed as not translated: saxum starts from zero impulses)."""
+    impulses: list[VlocEntry] = field(default_factory=list)
+    """The contacts of the Vloc_Rloc file (`impulses_file`): the first step's warm start."""
+    impulses_file: Path | None = None
+    body_names: dict[tuple[str, int], str] = field(default_factory=dict)
+    """(body type, number) -> block name."""
 
     def builder(self) -> ModelBuilder:
         """A ModelBuilder with the blocks (driven ones following their DRV_DOF formula
@@ -109,7 +123,10 @@ class Lmgc90Import:
         for blk in self.blocks:
             common = dict(density=blk.density, group=blk.group, kind=blk.kind, name=blk.name,
                           motion=blk.motion if blk.kind == BodyKind.DRIVEN else None)
-            if blk.radius > 0.0:
+            if blk.length > 0.0:
+                b.add_capsule(blk.vertices[0], blk.length, blk.radius, angle=blk.angle,
+                              **common)
+            elif blk.radius > 0.0:
                 add = b.add_disc if self.dim == 2 else b.add_sphere
                 add(blk.vertices[0], blk.radius, **common)
             else:
@@ -133,6 +150,42 @@ class Lmgc90Import:
         free = model.body_kind == BodyKind.FREE
         state.body_v[free] = v[free]
 
+    def contact_forces(self) -> tuple[list[ContactForce], list[Untranslated]]:
+        """The Vloc_Rloc file's contacts with impulses (not the open ones, all 0: a warm start
+        from 0 is no warm start) as mean forces [N] on the candidate in world axes
+        (saxum.warmstart), and those that cannot be: a body the model lacks, no normal or
+        frame (n lines; 3D also t, s), no point (coo lines)."""
+        forces, notes = [], []
+        for e in self.impulses:
+            if e.zero:
+                continue
+            a, c = (self.body_names.get(x[:2]) for x in (e.candidate, e.antagonist))
+            force, point = e.force(self.dim), e.point(self.dim)
+            why = ("a body the model does not have" if a is None or c is None else
+                   "no frame (n(k)= lines; 3D also t(k)=, s(k)=)" if force is None else
+                   "no contact point (coo lines)" if point is None else None)
+            if why:
+                notes.append(Untranslated(f"contact {e.module} {e.candidate[0]} "
+                                          f"{e.candidate[1]} - {e.antagonist[0]} "
+                                          f"{e.antagonist[1]}: {why}; not a warm start",
+                                          e.where))
+                continue
+            forces.append(ContactForce(a, c, tuple(point.tolist()), tuple(force.tolist()),
+                                       str(e.where)))
+        return forces, notes
+
+    def warm_start(self, sim, state) -> tuple[list[ContactForce], list[Untranslated]]:
+        """Give `state` (sim's, before its first step) the Vloc_Rloc file's impulses as the
+        first step's warm start (saxum.warmstart.apply_warm_start: R = F dt); returns the
+        forces used and what was not: contacts that match none of saxum's (each with why)
+        and those contact_forces cannot read. Open contacts (impulses 0) are neither."""
+        forces, notes = self.contact_forces()
+        unmatched = apply_warm_start(sim, state, forces)
+        left = {id(f) for f, _ in unmatched}
+        notes += [Untranslated(f"contact {f.candidate!r} - {f.antagonist!r}: {why}; it "
+                               "starts from zero", f.source) for f, why in unmatched]
+        return [f for f in forces if id(f) not in left], notes
+
     def deepest_overlap(self, model: Model) -> tuple[float, str, str]:
         """The deepest interpenetration at the start [m] and the two blocks (0 if none)."""
         detector = detector_for(model, DetectionSettings())
@@ -155,19 +208,26 @@ class Lmgc90Import:
         return depth
 
     def write_scenario(self, path: str | Path, *, duration: float = 1.0, dt: float = 1e-3,
-                       overlap_tolerance: float = OVERLAP_TOLERANCE) -> list[Untranslated]:
+                       overlap_tolerance: float = OVERLAP_TOLERANCE,
+                       warm_start: Sequence[ContactForce] = ()) -> list[Untranslated]:
         """Write the scenario `path` (TOML) and its blocks file (`<stem>.blocks.json` next to
-        it); returns what the scenario cannot hold beyond `untranslated` (time-varying
-        drives, written as their velocity at t = 0; initial velocities). A driven block is a
-        settlement at its constant velocity over `duration` [s]."""
+        it), and with `warm_start` (contact forces, e.g. from Lmgc90Import.warm_start) the
+        first step's warm start (`<stem>.impulses.json`, key solver.warm_start); returns
+        what the scenario cannot hold beyond `untranslated` (time-varying drives, written as
+        their velocity at t = 0; initial velocities). A driven block is a settlement at its
+        constant velocity over `duration` [s]."""
         path = Path(path)
         blocks_path = path.with_name(path.stem + ".blocks.json")
+        impulses_path = path.with_name(path.stem + ".impulses.json")
         extra = []
         rows = []
         for blk in self.blocks:
             row = {"name": blk.name, "group": blk.group,
                    "kind": "free" if blk.kind == BodyKind.FREE else "fixed"}
-            if blk.radius > 0.0:
+            if blk.length > 0.0:
+                row.update(centre=blk.vertices[0].tolist(), length=blk.length,
+                           radius=blk.radius, angle=blk.angle)
+            elif blk.radius > 0.0:
                 row.update(centre=blk.vertices[0].tolist(), radius=blk.radius)
             else:
                 row["vertices"] = blk.vertices.tolist()
@@ -201,7 +261,12 @@ class Lmgc90Import:
             if law.kind == LawKind.RESTITUTION_COULOMB:
                 lines += [f"restitution = {law.restitution!r}"]
             lines += [f"alert = {law.alert!r}"]
-        lines += ["", "[solver]", f"dt = {dt!r}", "", "[detection]",
+        lines += ["", "[solver]", f"dt = {dt!r}"]
+        if warm_start:
+            write_warm_start(impulses_path, warm_start)
+            lines += [f"warm_start = {_string(impulses_path.name)}  # {len(warm_start)} "
+                      f"contacts of {self.impulses_file}"]
+        lines += ["", "[detection]",
                   f"initial_overlap = {overlap_tolerance!r}", "", "[output]",
                   f"duration = {duration!r}", ""]
         head = [f"# Imported from the LMGC90 DATBOX {self.folder} by saxum import-lmgc90.",
@@ -234,9 +299,10 @@ def _vector(values: Sequence[float]) -> str:
 
 
 def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]
-                 ) -> tuple[np.ndarray, float] | None:
-    """The contactor's vertices in the body frame [m] (a disc or sphere: its centre, the
-    origin) and its radius [m] (0: a polygon), or None (a problem is recorded)."""
+                 ) -> tuple[np.ndarray, float, float] | None:
+    """The contactor's vertices in the body frame [m] (a disc, sphere or capsule: its
+    centre, the origin), its radius [m] (0: a polygon) and a capsule's segment length [m]
+    (0: not a capsule), or None (a problem is recorded)."""
     allowed = CONTACTORS[body.type]
     if len(body.contactors) != 1:
         what = "no contactor" if not body.contactors else (
@@ -257,7 +323,7 @@ def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]
             problems.append(f"{tact.where}: {tact.kind} of {body.type} {body.number}: expected "
                             f"{int(v.get('nb_vertex', 0))} vertices of {dim} coordinates")
             return None
-        return pts, 0.0
+        return pts, 0.0, 0.0
     if tact.kind in ("DISKx", "SPHER"):
         dim = 2 if tact.kind == "DISKx" else 3
         r = v.get("byrd", 0.0)
@@ -268,17 +334,20 @@ def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]
                     f"byrd = {r:g}, not a radius > 0 [m]")
             problems.append(f"{tact.where}: {tact.kind} of {body.type} {body.number} has {what}")
             return None
-        return np.zeros((1, dim)), r
-    if tact.kind == "JONCx":
-        a, b = v.get("ax1", 0.0), v.get("ax2", 0.0)
-        notes.append(Untranslated(f"JONCx of {body.type} {body.number}: taken as the rectangle "
-                                  f"{2 * a:g} x {2 * b:g} m (LMGC90's has rounded ends)",
-                                  tact.where))
-        return np.array([(-a, -b), (a, -b), (a, b), (-a, b)]), 0.0
+        return np.zeros((1, dim)), r, 0.0
+    if tact.kind == "JONCx":  # mod_a_BDARY_JONCx.f90: area 4 ax1 ax2 + pi ax2^2
+        a, r = v.get("ax1", 0.0), v.get("ax2", 0.0)
+        if not (math.isfinite(a) and math.isfinite(r) and a > 0.0 and r > 0.0):
+            problems.append(f"{tact.where}: JONCx of {body.type} {body.number} has ax1 = "
+                            f"{a:g}, ax2 = {r:g}; a JONCx needs both > 0 [m] (ax1 its "
+                            "segment's half-length, ax2 its radius)")
+            return None
+        return np.zeros((1, 2)), r, 2.0 * a
     a, b, c = (v.get(f"axe{k}", 0.0) for k in (1, 2, 3))
     notes.append(Untranslated(f"PLANx of {body.type} {body.number}: taken as the box "
                               f"{2 * a:g} x {2 * b:g} x {2 * c:g} m", tact.where))
-    return np.array([(x, y, z) for x in (-a, a) for y in (-b, b) for z in (-c, c)]), 0.0
+    return (np.array([(x, y, z) for x in (-a, a) for y in (-b, b) for z in (-c, c)]), 0.0,
+            0.0)
 
 
 def _place(body: Body, local: np.ndarray) -> np.ndarray:
@@ -356,17 +425,29 @@ def _drives(body: Body, drives: list[Drive], n: int, notes: list[Untranslated]
     return BodyKind.DRIVEN, ordered
 
 
-def import_lmgc90(folder: str | Path) -> Lmgc90Import:
-    """Read and translate the DATBOX `folder` (module doc). Raises InputError listing, with
-    file and line, every body type, contactor or law that cannot be translated, see-tables
-    naming colours no body has or laws TACT_BEHAV does not define, and DOF.INI or DRV_DOF.DAT
-    entries for bodies not in BODIES.DAT."""
+def import_lmgc90(folder: str | Path, impulses: str | Path | None = None) -> Lmgc90Import:
+    """Read and translate the DATBOX `folder` (module doc) and the contacts of `impulses`, a
+    Vloc_Rloc file (default: DATBOX/Vloc_Rloc.INI, else OUTBOX/Vloc_Rloc.OUT beside the
+    DATBOX, if there is one), the first step's warm start (Lmgc90Import.warm_start).
+    Raises InputError listing, with file and line, every body type, contactor or law that
+    cannot be translated, see-tables naming colours no body has or laws TACT_BEHAV does not
+    define, and DOF.INI or DRV_DOF.DAT entries for bodies not in BODIES.DAT."""
     box = read_datbox(folder)
-    return translate(box)
+    if impulses is None:
+        impulses = next((p for p in (box.folder / "Vloc_Rloc.INI",
+                                     box.folder.parent / "OUTBOX" / "Vloc_Rloc.OUT")
+                         if p.is_file()), None)
+    elif not Path(impulses).is_file():
+        raise InputError(f"{impulses}: no such Vloc_Rloc file")
+    if impulses is None:
+        return translate(box)
+    return translate(box, read_vloc_rloc(Path(impulses)), Path(impulses))
 
 
-def translate(box: Datbox) -> Lmgc90Import:
-    """Translate a Datbox read by read_datbox (see import_lmgc90)."""
+def translate(box: Datbox, impulses: Sequence[VlocEntry] = (),
+              impulses_file: Path | None = None) -> Lmgc90Import:
+    """Translate a Datbox read by read_datbox, with the contacts of a Vloc_Rloc file
+    (saxum.lmgc90.vlocrloc.read_vloc_rloc), see import_lmgc90."""
     problems: list[str] = []
     notes: list[Untranslated] = []
     types = {b.type for b in box.bodies}
@@ -387,7 +468,7 @@ def translate(box: Datbox) -> Lmgc90Import:
         shape = _local_shape(body, problems, notes)
         if shape is None:
             continue
-        local, radius = shape
+        local, radius, length = shape
         kind, drives = _drives(body, box.drives.get(body.key, []), n, notes)
         density = 0.0
         if kind == BodyKind.FREE:
@@ -405,19 +486,21 @@ def translate(box: Datbox) -> Lmgc90Import:
         colour = body.contactors[0].colour
         blocks.append(Block(body.name or f"{body.type} {body.number}",
                             box.groups.get(colour, colour), kind, density,
-                            _place(body, local), velocity, drives, radius))
+                            _place(body, local), velocity, drives, radius, length,
+                            0.0 if body.displacement is None else body.displacement[2]))
     laws, no_contact = _laws(box, blocks, notes, problems)
     if problems:
         raise InputError(_listing(box, problems))
-    if box.contacts:
-        notes.append(Untranslated(f"{box.contacts} contacts' impulses not used as a warm start "
-                                  "(saxum's first step starts from zero impulses)",
-                                  "Vloc_Rloc.INI"))
+    if impulses_file is not None and impulses_file.suffix.upper() == ".OUT":
+        notes.append(Untranslated("the impulses are LMGC90's output (Vloc_Rloc.OUT): DOF.INI "
+                                  "must hold the positions of the same step (its DOF.OUT)",
+                                  str(impulses_file)))
     notes += [Untranslated("a model of deformable bodies (MODELS.DAT is for MAILx bodies)", w)
               for w in box.models]
     gravity = tuple(box.gravity[:dim])
+    names = {b.key: blk.name for b, blk in zip(box.bodies, blocks, strict=True)}
     return Lmgc90Import(box.folder, dim, gravity, blocks, laws, notes, no_contact,
-                        box.contacts)
+                        list(impulses), impulses_file, names)
 
 
 def _laws(box: Datbox, blocks: list[Block], notes: list[Untranslated], problems: list[str]):

@@ -2,8 +2,10 @@
 TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT) in the layout pylmgc90 writes.
 
 Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles), a
-disc RBDY2 with one DISKx (a sphere RBDY3 with one SPHER) of radius `byrd=`, the node at the
-centre of mass, the vertices in the body frame (saxum's: world axes in 2D,
+disc RBDY2 with one DISKx (a sphere RBDY3 with one SPHER) of radius `byrd=`, a capsule RBDY2
+with one JONCx (ax1 = half its segment, ax2 = its radius, turned by DOF.INI's X(3); LMGC90
+has no JONCx-JONCx contact, so capsules that could meet capsules are refused), the node at
+the centre of mass, the vertices in the body frame (saxum's: world axes in 2D,
 the principal frame in 3D, whose rotation DOF.INI gives as the frame a, b, g). Fixed blocks
 have all their dofs imposed at 0 in DRV_DOF.DAT, driven ones at their velocity at t = 0
 (written as constant). Groups become colours (5 characters), densities RIGID bulk laws.
@@ -17,6 +19,8 @@ precision "lmgc90" writes LMGC90's fixed columns (7 significant digits, what its
 reader takes); "full" writes 17 significant digits (exact round trip through
 saxum.lmgc90.import_lmgc90, which reads values in free format; LMGC90 itself may not).
 Comments `! saxum name:` and `! saxum group:` keep block and group names for the way back.
+With a state, DOF.INI holds its positions and velocities and Vloc_Rloc.INI its contacts'
+impulses as mean forces over the step (saxum.lmgc90.vlocrloc).
 """
 
 import math
@@ -29,7 +33,9 @@ from ..errors import InputError
 from ..geometry2d import polygon_properties
 from ..geometry3d import rotation_matrix
 from ..laws import LawKind
-from ..model import BodyKind, Model, Shape
+from ..model import BodyKind, Model, Shape, capsule_axis, capsule_properties
+from ..state import State
+from .vlocrloc import write_vloc_rloc
 
 __all__ = ["export_lmgc90"]
 
@@ -49,20 +55,25 @@ def _colours(names: tuple[str, ...]) -> list[str]:
 
 
 def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90",
-                  alert: float | None = None, velocities: np.ndarray | None = None) -> Path:
-    """Write `model` (its initial configuration; `velocities` in model.body_v's layout,
-    default at rest) to the DATBOX `folder` (created); alert [m] for laws without their
-    own (default: saxum's default, 2 % of the smallest free block's size). Returns the
-    folder. Raises InputError for deformable blocks and joint laws (module doc)."""
+                  alert: float | None = None, velocities: np.ndarray | None = None,
+                  state: State | None = None, dt: float | None = None) -> Path:
+    """Write `model` to the DATBOX `folder` (created): its initial configuration, at rest
+    or with `velocities` (model.body_v's layout), or with `state` the state's positions,
+    velocities and contacts, whose impulses over the step dt [s] Vloc_Rloc.INI holds as
+    LMGC90's mean forces R / dt [N] (the next run's warm start). alert [m] for laws
+    without their own (default: saxum's default, 2 % of the smallest free block's size).
+    Returns the folder. Raises InputError for deformable blocks, joint laws and capsules
+    that LMGC90 cannot make meet (module doc)."""
     if precision not in ("lmgc90", "full"):
         raise InputError(f"precision must be 'lmgc90' or 'full', got {precision!r}")
     if (model.body_kind == BodyKind.DEFORMABLE).any():
         raise InputError("export_lmgc90 writes rigid blocks; this model has deformable ones")
-    capsules = np.flatnonzero(model.body_shape == Shape.CAPSULE)
-    if capsules.size:  # LMGC90's JONCx (mod_JONCx.f90) is this shape, but only an antagonist
-        raise InputError(f"capsule {model.body_name[capsules[0]]!r}: export_lmgc90 does not "
-                         "write capsules yet (LMGC90's JONCx, which meets discs and polygons "
-                         "but no other JONCx); replace it by a polygon to export")
+    if model.dim == 3 and (model.body_shape == Shape.CAPSULE).any():
+        raise InputError("export_lmgc90 does not write 3D capsules (LMGC90's CYLND) yet; "
+                         "replace them by polyhedra or spheres to export this model")
+    if state is not None and dt is None:
+        raise InputError("export_lmgc90: a state's impulses need the step dt [s] they were "
+                         "taken over (dt=...), to write LMGC90's mean forces R / dt")
     for law in model.laws:
         if law.kind not in _LAW_TYPES:
             raise InputError(f"{law.name or 'a law'} is {law.kind.name}: export_lmgc90 writes "
@@ -72,14 +83,16 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     colours = _colours(model.group_names)
-    v = np.zeros((model.body_count, model.dof)) if velocities is None else np.asarray(velocities)
+    q = model.body_q0 if state is None else state.body_q
+    v = (state.body_v if state is not None else np.zeros((model.body_count, model.dof))
+         if velocities is None else np.asarray(velocities))
     free = model.body_kind == BodyKind.FREE
     if alert is None:
         alert = 0.02 * float(model.body_size[free].min() if free.any() else model.body_size.min())
     densities = sorted({float(d) for d in model.body_density[free]})
     behav = {d: f"ST{k + 1:03d}" for k, d in enumerate(densities)}
     _write_bodies(folder / "BODIES.DAT", model, colours, behav, fmt)
-    _write_dof(folder / "DOF.INI", model, v, fmt)
+    _write_dof(folder / "DOF.INI", model, q, v, fmt)
     _write_drives(folder / "DRV_DOF.DAT", model, fmt)
     g = [*model.gravity, 0.0][:3]
     bulk = ["! File BULK_BEHAV (saxum export_lmgc90)", "$gravy",
@@ -92,6 +105,9 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
     _write_tact(folder / "TACT_BEHAV.DAT", model, colours, alert, fmt)
     (folder / "MODELS.DAT").write_text("! File MODELS (rigid blocks need none)\n",
                                        encoding="latin-1")
+    if state is not None:
+        write_vloc_rloc(folder / "Vloc_Rloc.INI", model, q, state.contacts, dt,
+                        lambda b: _contactor(model, b), fmt)
     return folder
 
 
@@ -106,7 +122,11 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
         law = behav[float(model.body_density[b])] if kind == BodyKind.FREE else "FIXED"
         colour = colours[model.body_group[b]]
         r = float(model.body_round_radius[b])
-        if r > 0.0:  # a disc (sphere): both formulas below give r
+        if model.body_shape[b] == Shape.CAPSULE:  # LMGC90's JONCx formulas
+            area, polar = capsule_properties(capsule_axis(model, b)[1], r)
+            avrd, gyrd = math.sqrt(area / math.pi), math.sqrt(polar / area)
+            inertia = []
+        elif r > 0.0:  # a disc (sphere): both formulas below give r
             avrd = gyrd = r
             moment = 0.4 * (4.0 / 3.0 * math.pi * r**3) * r * r
             inertia = [] if model.dim == 2 else [
@@ -128,7 +148,10 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
         out += [f"! saxum name: {model.body_name[b]}", "$bdyty", f" {body}{b + 1:7d}",
                 "$blmty", f" PLAIN      1  behav  {law}  avrd={fmt(avrd)}  gyrd={fmt(gyrd)}",
                 *inertia, "$nodty", f" {node}      1{' ' * 16}{coo}", "$tacty"]
-        if r > 0.0:
+        if model.body_shape[b] == Shape.CAPSULE:
+            half = 0.5 * capsule_axis(model, b)[1]
+            out.append(f" JONCx      1  color  {colour}  ax1 ={fmt(half)}  ax2 ={fmt(r)}")
+        elif r > 0.0:
             out.append(f" {_contactor(model, b)}      1  color  {colour}  byrd={fmt(r)}")
         elif model.dim == 2:
             out.append(f" POLYG      1  color  {colour}  nb_vertex={len(local):5d}")
@@ -145,7 +168,9 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
 
 
 def _contactor(model: Model, b: int) -> str:
-    """LMGC90's contactor type of body b: DISKx, SPHER, POLYG or POLYR."""
+    """LMGC90's contactor type of body b: DISKx, SPHER, JONCx, POLYG or POLYR."""
+    if model.body_shape[b] == Shape.CAPSULE:
+        return "JONCx"
     if model.body_round_radius[b] > 0.0:
         return "DISKx" if model.dim == 2 else "SPHER"
     return "POLYG" if model.dim == 2 else "POLYR"
@@ -170,18 +195,19 @@ def _volume_moments(model: Model, b: int) -> tuple[float, np.ndarray]:
     return props.volume, props.moments
 
 
-def _write_dof(path: Path, model: Model, v: np.ndarray, fmt) -> None:
+def _write_dof(path: Path, model: Model, q: np.ndarray, v: np.ndarray, fmt) -> None:
     out = ["! File DOF (saxum export_lmgc90)", "$steps      0                time= "
            + fmt(0.0)]
+    x = q[:, :model.dim] - model.body_q0[:, :model.dim]
     for b in range(model.body_count):
         if model.dim == 2:
             node = " NO3xx      1" + " " * 16
-            rows = [[0.0] * 3, list(v[b])]
+            rows = [[*x[b], q[b, 2] + _capsule_angle(model, b)], list(v[b])]
             labels = ["X", "V"]
         else:
-            rot = rotation_matrix(model.body_q0[b, 3:])
+            rot = rotation_matrix(q[b, 3:])
             node = " NO6xx      1" + " " * 16
-            rows = [[0.0] * 3, [0.0] * 3, list(v[b, :3]), list(v[b, 3:]), *(list(rot[:, k])
+            rows = [list(x[b]), [0.0] * 3, list(v[b, :3]), list(v[b, 3:]), *(list(rot[:, k])
                                                                               for k in range(3))]
             labels = ["X", "X", "V", "V", "a", "b", "g"]
         out += ["$bdyty", f" {'RBDY2' if model.dim == 2 else 'RBDY3'}{b + 1:7d}", "$nodty"]
@@ -191,6 +217,13 @@ def _write_dof(path: Path, model: Model, v: np.ndarray, fmt) -> None:
             out.append((node if r == 0 else _PAD) + cells)
         out.append("$$$$$$")
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
+
+
+def _capsule_angle(model: Model, b: int) -> float:
+    """A capsule's segment direction at the start [rad] (LMGC90's JONCx lies along its
+    body's x axis, turned by DOF.INI's X(3)); 0 for other blocks, whose vertices BODIES.DAT
+    gives as they are."""
+    return capsule_axis(model, b)[0] if model.body_shape[b] == Shape.CAPSULE else 0.0
 
 
 def _write_drives(path: Path, model: Model, fmt) -> None:
@@ -208,11 +241,18 @@ def _write_drives(path: Path, model: Model, fmt) -> None:
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
 
 
+def _loose_capsule(model: Model, i: int, j: int) -> bool:
+    """True if groups i and j have capsules and one of them is not fixed."""
+    capsule = model.body_shape == Shape.CAPSULE
+    both = capsule & np.isin(model.body_group, (i, j))
+    return bool((model.body_kind[both] != BodyKind.FIXED).any())
+
+
 def _write_tact(path: Path, model: Model, colours: list[str], alert: float, fmt) -> None:
     body = "RBDY2" if model.dim == 2 else "RBDY3"
     # LMGC90 detects a pair of contactor types only where a see-table names it: one per
     # pair of types the two groups have, the disc (sphere) the candidate
-    order = ("DISKx", "SPHER", "POLYG", "POLYR")
+    order = ("DISKx", "SPHER", "POLYG", "POLYR", "JONCx")  # JONCx: always the antagonist
     tacts = [sorted({_contactor(model, b) for b in np.flatnonzero(model.body_group == g)},
                     key=order.index) for g in range(len(model.group_names))]
     out = ["! File TACT_BEHAV (saxum export_lmgc90)"]
@@ -229,13 +269,18 @@ def _write_tact(path: Path, model: Model, colours: list[str], alert: float, fmt)
             if k < 0:
                 continue
             a = model.laws[k].alert if model.laws[k].alert is not None else alert
+            if "JONCx" in tacts[i] and "JONCx" in tacts[j] and _loose_capsule(model, i, j):
+                raise InputError(f"groups {model.group_names[i]!r} and {model.group_names[j]!r}"
+                                 " both have capsules, one of them not fixed: LMGC90 has no "
+                                 "JONCx-JONCx contact; give them no contact (NO_CONTACT) or "
+                                 "make one side polygons to export")
             out += ["$seety", " cdbdy  cdtac  cdcol  behav  anbdy  antac  ancol       alert"]
             seen = set()
             for ti in tacts[i]:
                 for tj in tacts[j]:
                     (ci, cti), (cj, ctj) = sorted(((i, ti), (j, tj)),
                                                   key=lambda x: order.index(x[1]))
-                    if (ci, cti, cj, ctj) not in seen:
+                    if (ci, cti, cj, ctj) not in seen and cti != "JONCx":
                         seen.add((ci, cti, cj, ctj))
                         out.append(f" {body}  {cti}  {colours[ci]}  {names[k]}  {body}  {ctj}  "
                                    f"{colours[cj]}     {fmt(a)}")

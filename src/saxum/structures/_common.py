@@ -73,6 +73,18 @@ class Assembly:
         c = np.asarray(centre, dtype=np.float64)
         return self._record(part, group, index, np.array([c - radius, c + radius]))
 
+    def add_capsule(self, builder: ModelBuilder, part: str, centre, length: float,
+                    radius: float, angle: float, *, group: str, name: str,
+                    density: float = 0.0, kind: BodyKind = BodyKind.FREE) -> int:
+        """Add a capsule (ModelBuilder.add_capsule: segment `length` [m], ends' `radius`
+        [m], `angle` [rad]) to `builder` and record it under `part`; its outline is two
+        corners of its bounding box."""
+        index = builder.add_capsule(centre, length, radius, angle=angle, density=density,
+                                    group=group, kind=kind, name=name)
+        c = np.asarray(centre, dtype=np.float64)
+        reach = 0.5 * length * np.abs((np.cos(angle), np.sin(angle))) + radius
+        return self._record(part, group, index, np.array([c - reach, c + reach]))
+
     def _record(self, part: str, group: str, index: int, outline) -> int:
         self.parts.setdefault(part, []).append(index)
         if group not in self.groups:

@@ -3,7 +3,10 @@ polylines of a DXF drawing.
 
 JSON: {"blocks": [{"vertices": [[x, y], ...], "density": 2000.0, "group": "stone",
 "kind": "free", "name": "keystone"}, ...]}; only "vertices" is required. A disc (a sphere in
-a 3D file) has "centre": [x, y] and "radius" [m] instead of "vertices" (JSON only).
+a 3D file) has "centre": [x, y] and "radius" [m] instead of "vertices"; a capsule (2D: a
+segment with round ends, LMGC90's JONCx) "centre", "radius" (its ends' [m]), "length" (its
+segment's [m], > 0) and optionally "angle" (the segment's direction from the x axis [rad],
+default 0) (JSON only).
 
 CSV: a header row naming the columns, then one row per vertex: `block` (the block's name),
 `x`, `y` [m] (required) and `density` [kg/m^3], `group`, `kind` (optional: given on any row
@@ -42,7 +45,7 @@ from ..errors import InputError
 from ..geometry2d import normalize_polygon
 from ..geometry3d import convex_polyhedron
 from ..laws import LawKind
-from ..model import BodyKind, Model, ModelBuilder, Shape
+from ..model import BodyKind, Model, ModelBuilder, Shape, capsule_axis
 from ._common import Assembly, finalize
 
 __all__ = ["BlockSpec", "add_blocks_from_file", "block_file_dim", "blocks_model", "read_blocks",
@@ -52,7 +55,8 @@ FORMATS = ("json", "csv", "dxf")
 KINDS = {"free": BodyKind.FREE, "fixed": BodyKind.FIXED}
 CSV_COLUMNS = ("block", "x", "y", "density", "group", "kind")
 CSV_COLUMNS_3D = ("block", "x", "y", "z", "density", "group", "kind")
-JSON_KEYS = ("vertices", "centre", "radius", "density", "group", "kind", "name")
+JSON_KEYS = ("vertices", "centre", "radius", "length", "angle", "density", "group", "kind",
+             "name")
 
 
 @dataclass(frozen=True)
@@ -60,7 +64,7 @@ class BlockSpec:
     """A block read from a file: vertices [m] (n, 2) counter-clockwise (3D: (n, 3), the
     vertices of its convex hull), density [kg/m^3] (0 for fixed blocks), group, kind, name,
     and where it is in the file (for messages); a disc (sphere) has radius > 0 [m] and its
-    centre as its one vertex."""
+    centre as its one vertex, a capsule also its segment's length > 0 [m] and angle [rad]."""
 
     vertices: np.ndarray
     density: float
@@ -69,6 +73,8 @@ class BlockSpec:
     name: str
     where: str
     radius: float = 0.0
+    length: float = 0.0
+    angle: float = 0.0
 
 
 def _format(path: Path, format: str | None) -> str:
@@ -109,7 +115,7 @@ class _Defaults:
         self.scale = _number(scale, "scale", "read_blocks")
 
     def spec(self, vertices, density, group, kind: BodyKind, name: str,
-             where: str, radius=None) -> BlockSpec:
+             where: str, radius=None, length=None, angle=0.0) -> BlockSpec:
         group = self.group if group in (None, "") else str(group)
         points = np.asarray(vertices, dtype=np.float64) * self.scale
         if radius is not None:  # a disc (sphere): its centre as its one vertex
@@ -118,6 +124,13 @@ class _Defaults:
                 raise InputError(f"{where}: a disc (sphere) needs a radius > 0 [m] and a "
                                  f"centre [x, y] (3D [x, y, z]); got radius {radius:g}")
             verts = points
+            if length is not None:
+                length = _number(length, "length [m]", where) * self.scale
+                angle = _number(angle, "angle [rad]", where)
+                if length <= 0.0 or points.shape != (1, 2):
+                    raise InputError(f"{where}: a capsule needs a length > 0 [m] (its "
+                                     "segment's; a disc has no length) and a centre [x, y]; "
+                                     f"got length {length:g}")
         elif points.ndim == 2 and points.shape[1] == 3:
             verts = convex_polyhedron(points, name=where).vertices
         else:
@@ -134,7 +147,8 @@ class _Defaults:
         density = _number(density, "density [kg/m^3]", where)
         if kind == BodyKind.FREE and density <= 0.0:
             raise InputError(f"{where}: density must be > 0 [kg/m^3], got {density:g}")
-        return BlockSpec(verts, density, group, kind, name, where, radius or 0.0)
+        return BlockSpec(verts, density, group, kind, name, where, radius or 0.0,
+                         length or 0.0, float(angle) if length else 0.0)
 
 
 def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
@@ -152,12 +166,16 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
         round_ = isinstance(block, dict) and "vertices" not in block and "centre" in block
         if not isinstance(block, dict) or not round_ and "vertices" not in block:
             raise InputError(f'{where}: expected an object with "vertices": [[x, y], ...] or, '
-                             'for a disc, "centre": [x, y] and "radius"')
+                             'for a disc, "centre": [x, y] and "radius" (a capsule also '
+                             '"length")')
         if isinstance(block.get("name"), str):
             where += f" ({block['name']!r})"
         unknown = sorted(set(block) - set(JSON_KEYS))
         if unknown:
             raise InputError(f"{where}: unknown key {unknown[0]!r}; keys are {JSON_KEYS}")
+        if not round_ and ("length" in block or "angle" in block):
+            raise InputError(f'{where}: "length" and "angle" are a capsule\'s, which has '
+                             '"centre" and "radius", not "vertices"')
         kind = _kind(block.get("kind", "free"), where)
         try:
             vertices = np.array([block["centre"]] if round_ else block["vertices"],
@@ -172,7 +190,8 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
                              "blocks, not both")
         specs.append(defaults.spec(vertices, block.get("density"), block.get("group"), kind,
                                    str(block.get("name", f"block {i + 1}")), where,
-                                   block.get("radius", 0.0) if round_ else None))
+                                   block.get("radius", 0.0) if round_ else None,
+                                   block.get("length"), block.get("angle", 0.0)))
     return specs
 
 
@@ -333,16 +352,20 @@ def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -
                              "and fixed blocks only")
         block = {"name": model.body_name[b], "group": model.group_names[model.body_group[b]],
                  "kind": kind.name.lower(), "density": float(model.body_density[b])}
-        if model.body_shape[b] == Shape.CAPSULE:
-            raise InputError(f"block {model.body_name[b]!r} is a capsule; block files hold "
-                             "polygons, discs and spheres: build capsules with "
-                             "ModelBuilder.add_capsule")
         if model.body_round_radius[b] > 0.0:
+            capsule = model.body_shape[b] == Shape.CAPSULE
             if fmt == "csv":
-                raise InputError(f"block {model.body_name[b]!r} is a disc (sphere); CSV block "
+                raise InputError(f"block {model.body_name[b]!r} is a "
+                                 f"{'capsule' if capsule else 'disc (sphere)'}; CSV block "
                                  "files hold polygons only: write JSON")
             block.update(centre=model.body_q0[b, : model.dim].tolist(),
                          radius=float(model.body_round_radius[b]))
+            if capsule and model.dim == 3:
+                raise InputError(f"block {model.body_name[b]!r} is a 3D capsule; block files "
+                                 "hold 2D capsules only (centre, length, angle)")
+            if capsule:
+                angle, length = capsule_axis(model, b)
+                block.update(length=length, angle=angle)
         else:
             block["vertices"] = model.vertices(b).tolist()
         blocks.append(block)
@@ -370,7 +393,10 @@ def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> 
                          f"with ModelBuilder(dim={d})")
     for spec in specs:
         common = dict(group=spec.group, density=spec.density, kind=spec.kind, name=spec.name)
-        if spec.radius > 0.0:
+        if spec.length > 0.0:
+            asm.add_capsule(builder, "blocks", spec.vertices[0], spec.length, spec.radius,
+                            spec.angle, **common)
+        elif spec.radius > 0.0:
             asm.add_round(builder, "blocks", spec.vertices[0], spec.radius, **common)
         else:
             asm.add_block(builder, "blocks", spec.vertices, **common)
