@@ -5,6 +5,7 @@ solvers tried on them (docs/method.md, "The shaken 3D L wall").
     python benchmarks/capped_steps.py --case wall3d-shaken --solve 1
     python benchmarks/capped_steps.py --small --solve 1        # the 29-brick L wall, 0.02 s
     python benchmarks/capped_steps.py --save /tmp/capped.npz   # keep them (benchmarks/fischer.py)
+    python benchmarks/capped_steps.py --load /tmp/capped.npz --existence 10
 
 Runs the case (benchmarks/convergence.py's CASES; --small: the 4-course L wall of walls 1.0
 and 0.75 m under 0.7 g, tests/test_hybrid.py's) with NLGS alone and keeps the assembled
@@ -15,10 +16,22 @@ error ||F_nat(r)|| / ||q|| of NLGS's iterate (saxum.solver.residual), then their
 and from zero impulses (--newton iterations), and the proximal point method (outer iterations
 r_k+1 solving u = (W + sigma I) r + q - sigma r_k by Newton; sigma = 1e-2, then 1e-3 times
 W's largest diagonal entry, --outer each): the natural-map error each reaches and its time.
+--existence K: on the first K of them, whether the step's problem has a solution: W's rank
+(singular values above 1e-12 times the largest) and the strict feasibility margin
+max t subject to u_N - mu (|u_T1| + |u_T2|) >= t ||q|| for every contact, u = W r + q, t <= 1
+(a linear program, HiGHS). A positive margin puts u in the interior of the dual cone K* (the
+l1 norm bounds the l2 one), and then the Coulomb problem has a solution whatever W's rank (V.
+Acary, F. Cadoux, C. Lemarechal, J. Malick, "A formulation of the linear discrete Coulomb
+friction problem via convex optimization", ZAMM 91(2), 2011, sec. 3: strict feasibility of
+the associated conic problem). Also the frictionless problem (mu = 0: a monotone linear
+complementarity problem, W positive semidefinite: one convex problem) by Clarabel
+(saxum.solver.conic, whose fixed point is exact after one iteration there): the natural-map
+error it reaches. --load: the steps of an earlier --save instead of a run.
 """
 
 import argparse
 import dataclasses
+import math
 import sys
 import time
 import warnings
@@ -29,6 +42,7 @@ import scipy.sparse as sp
 
 import saxum as sx
 from saxum.solver.assembled import assemble_local
+from saxum.solver.conic import delassus_conic
 from saxum.solver.newton import alart_curnier_newton
 from saxum.solver.residual import natural_map_error
 from saxum.structures import wall3d
@@ -79,6 +93,38 @@ def _proximal(w, q, mu, r, outer: int, newton: int):
     return out
 
 
+def _existence(w, q, mu) -> tuple[int, int, float, float]:
+    """(rank of W, its size, the strict feasibility margin t of the module doc, the natural-map
+    error of the frictionless problem's solution by Clarabel)."""
+    from scipy.optimize import linprog
+
+    singular = np.linalg.svd(w.toarray(), compute_uv=False)
+    rank = int(np.count_nonzero(singular > 1e-12 * singular[0]))
+    m = mu.size
+    w = sp.csr_matrix(w)
+    rows_n, rows_t1, rows_t2 = w[0::3], w[1::3], w[2::3]
+    eye, zero = sp.identity(m, format="csr"), sp.csr_matrix((m, m))
+    scale = float(np.linalg.norm(q))
+    col = sp.csr_matrix(np.full((m, 1), scale))
+    # unknowns (r, s1, s2, t): -u_N + mu (s1 + s2) + t ||q|| <= 0, +-u_Tk - s_k <= 0
+    mu_diag = sp.diags(mu)
+    a = sp.vstack([
+        sp.hstack([-rows_n, mu_diag, mu_diag, col]),
+        sp.hstack([rows_t1, -eye, zero, sp.csr_matrix((m, 1))]),
+        sp.hstack([-rows_t1, -eye, zero, sp.csr_matrix((m, 1))]),
+        sp.hstack([rows_t2, zero, -eye, sp.csr_matrix((m, 1))]),
+        sp.hstack([-rows_t2, zero, -eye, sp.csr_matrix((m, 1))]),
+    ]).tocsr()
+    b = np.concatenate([q[0::3], -q[1::3], q[1::3], -q[2::3], q[2::3]])
+    cost = np.zeros(q.size + 2 * m + 1)
+    cost[-1] = -1.0
+    bounds = [(None, None)] * q.size + [(0.0, None)] * (2 * m) + [(None, 1.0)]
+    result = linprog(cost, A_ub=a, b_ub=b, bounds=bounds, method="highs")
+    margin = float(result.x[-1]) if result.success else math.nan
+    frictionless = delassus_conic(w, q, np.zeros_like(mu), 3, None, 1e-10, 3)
+    return rank, q.size, margin, frictionless.error
+
+
 def _save(path: Path, kept: list[dict]) -> None:
     """The kept problems in one .npz (W as CSR arrays), read back by load_kept."""
     arrays = {}
@@ -116,6 +162,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--newton", type=int, default=100, help="Newton iterations at most")
     parser.add_argument("--outer", type=int, default=15,
                         help="proximal outer iterations per sigma")
+    parser.add_argument("--existence", type=int, default=0,
+                        help="W's rank and the strict feasibility margin of the first K steps")
+    parser.add_argument("--load", type=Path, default=None,
+                        help="the steps of an earlier --save (3D) instead of a run")
     parser.add_argument("--save", type=Path, default=None,
                         help="write the kept problems (W, q, mu, NLGS's iterate) to this .npz")
     args = parser.parse_args(argv)
@@ -125,10 +175,14 @@ def main(argv: list[str] | None = None) -> int:
         model, duration = CASES[args.case][0](), CASES[args.case][1]
     duration = duration if args.duration is None else args.duration
     keeping = _Keeping()
-    sim = sx.Simulation(model, dt=DT, solver=keeping)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", sx.SolverWarning)
-        sim.run(sim.initial_state(), duration)
+    if args.load is not None:
+        keeping.kept = load_kept(args.load)
+        keeping.steps = max(k["step"] for k in keeping.kept)  # at least: the run's is not kept
+    else:
+        sim = sx.Simulation(model, dt=DT, solver=keeping)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", sx.SolverWarning)
+            sim.run(sim.initial_state(), duration)
     if args.save is not None:
         _save(args.save, keeping.kept)
     natural = np.array([natural_map_error(k["w"], k["q"], k["mu"], k["r"], 3)
@@ -144,6 +198,11 @@ def main(argv: list[str] | None = None) -> int:
               f"{np.count_nonzero(natural <= 1e-5)} at most 1e-5); NLGS's criterion "
               f"{criterion.min():.2g} / {np.median(criterion):.2g} / {criterion.max():.2g}; "
               f"ratio {np.min(natural / criterion):.2g} to {np.max(natural / criterion):.2g}")
+    for k in keeping.kept[: args.existence]:
+        rank, size, margin, frictionless = _existence(k["w"], k["q"], k["mu"])
+        print(f"step {k['step']}: W of rank {rank} of {size}, strict feasibility margin "
+              f"{margin:.3g}" + (" (a solution exists)" if margin > 0.0 else "")
+              + f"; frictionless problem solved to {frictionless:.2g}", flush=True)
     for k in keeping.kept[: args.solve]:
         w, q, mu = k["w"], k["q"], k["mu"]
         for name, r0 in (("NLGS's iterate", k["r"]), ("zero", None)):

@@ -5,7 +5,8 @@ impulses with saxum.fclib (global problems through their Delassus form W = H^T M
 natural-map error ||F_nat(r)|| / ||q|| <= --tolerance (Acary, Bremond & Huber 2018) or
 --max-iterations NLGS sweeps, by each solver of --solvers (one table each): hybrid (the
 default of `saxum fclib solve`), nlgs (NLGS alone, relaxation 1; a problem it does not solve is
-solved again with --relaxation, and both rows are shown), conic (the conic fixed point alone).
+solved again with --relaxation, and both rows are shown), conic (the conic fixed point alone),
+newton (Fischer-Burmeister Newton, then NLGS from its iterate where it stops short).
 Times are wall-clock (time.perf_counter) on one thread, the median of --repeats solves,
 kernels compiled beforehand; they cover the Delassus reduction, the solve and the error.
 
@@ -78,12 +79,17 @@ zero impulses (global problems through W = H^T M^-1 H, q = H^T M^-1 f + w) by ea
 **nlgs** the Delassus NLGS (`saxum.solver.delassus_nlgs`: the time stepper's single-contact
 solvers over W in CSR); **conic** De Saxce's fixed point on the friction threshold with each
 convex subproblem solved by Clarabel (`saxum.solver.conic`, at most 40 fixed-point
-iterations); **hybrid** (the default of `saxum fclib solve`) NLGS, relaxed to 0.7 where its
+iterations); **newton** semismooth Newton on the Fischer-Burmeister function with a line search
+and Levenberg-Marquardt regularization (`saxum.solver.fischer`, at most 100 iterations, fewer
+where its merit stalls), then NLGS from its iterate where it ends above the target;
+**hybrid** (the default of `saxum fclib solve`) NLGS, relaxed to 0.7 where its
 error stalls, then the conic fixed point where it stalls again or falls too slowly to reach the
 target within the sweeps, then NLGS from there (docs/method.md). **error** is the natural-map
 residual with De Saxce's modified velocity, ||F_nat(r)|| / ||q|| (Acary, Bremond & Huber 2018),
 recomputed from r alone; target {tolerance:g}, at most {max_iterations} sweeps. "fixed points":
-the conic solver's iterations (one interior-point solve each). Time: median of the timed solves,
+the conic solver's iterations (one interior-point solve each); "Newton iterations": the
+Fischer-Burmeister Newton's (one sparse LU each, more where the line search raises the
+regularization). Time: median of the timed solves,
 compiled kernels, one thread, including the Delassus reduction of global problems. {verdicts}
 
 {body}
@@ -116,7 +122,7 @@ def main(argv=None) -> int:
     parser.add_argument("--relaxation", type=float, default=0.7,
                         help="relaxation of the second try (default: %(default)g)")
     parser.add_argument("--repeats", type=int, default=3, help="solves per problem, timed")
-    parser.add_argument("--solvers", default="hybrid,nlgs,conic",
+    parser.add_argument("--solvers", default="hybrid,nlgs,conic,newton",
                         help="comma-separated solvers, one table each (default: %(default)s)")
     parser.add_argument("--markdown", type=Path, default=REPO / "BENCHMARKS.md",
                         help="file whose FCLIB section is written (default: %(default)s)")

@@ -33,8 +33,6 @@ from saxum.structures.wall import add_running_bond_wall
 def wall(courses: int, bricks: int, deformable: bool, dim: int = 2,
          pulse: float = 0.0) -> sx.Model:
     b = ModelBuilder()
-    if pulse:
-        b.add_acceleration(lambda t: (pulse if t > 1.5e-3 else 0.0,) + (0.0,) * (dim - 1))
     add_running_bond_wall(b, courses=courses, bricks=bricks, brick_length=0.4,
                           brick_height=0.2, density=2000.0)
     width = 0.4 * bricks
@@ -46,6 +44,8 @@ def wall(courses: int, bricks: int, deformable: bool, dim: int = 2,
         plane.set_law("brick", "ground", sx.ContactLaw(friction=0.6))
         b = ModelBuilder(dim=3)
         add_extruded(b, plane.finalize(), 0.2)
+    if pulse:  # (on the model built last: the 3D one of an extruded wall)
+        b.add_acceleration(lambda t: (pulse if t > 1.5e-3 else 0.0,) + (0.0,) * (dim - 1))
     if deformable:
         b.set_material("brick", Elastic(1.0e10, 0.2, 2000.0, damping=(0.0, 1e-4)),
                        0.05 if dim == 2 else 0.1)

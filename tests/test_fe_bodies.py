@@ -180,6 +180,35 @@ PIER_3D = PIER.replace('type = "pier"', 'type = "pier_3d"\ndepth = 0.3').replace
 """The pier in 3D: two courses of two blocks each, split across x and across y in turn."""
 
 
+def _check_rigid_motions(model, x, v, body_v):
+    """The deformable blocks' rows of a results file's body_v [frames, blocks, dof] are, in
+    every frame, the rigid motion nearest (mass-weighted) to the nodes' x, v [frames, N, d]:
+    the centre of mass's velocity sum m_i v_i / sum m_i and the spin w solving I w = sum m_i
+    r_i x v_i, I = sum m_i (|r_i|^2 1 - r_i r_i^T), written out here with numpy (tolerance:
+    1e-12 of the largest speed, round-off of sums over ~100 nodes)."""
+    from saxum.fe.blocks import FEBlocks
+
+    d = model.dim
+    blocks = FEBlocks.geometry(list(model.fe.meshes), list(model.fe.materials))
+    scale = 1e-12 * max(np.abs(v).max(), 1e-3)
+    starts = blocks.node_start
+    for b, (start, end) in enumerate(zip(starts[:-1], starts[1:], strict=True)):
+        m = blocks.node_mass[start:end]
+        c = np.einsum("i,fid->fd", m, x[:, start:end]) / m.sum()
+        assert np.abs(body_v[:, b, :d] - np.einsum("i,fid->fd", m, v[:, start:end]) / m.sum()
+                      ).max() < scale
+        r = np.zeros((len(x), end - start, 3))
+        u = np.zeros_like(r)
+        r[..., :d] = x[:, start:end] - c[:, None]
+        u[..., :d] = v[:, start:end]
+        moment = np.einsum("i,fik->fk", m, np.cross(r, u))
+        inertia = (np.einsum("i,fi->f", m, (r * r).sum(-1))[:, None, None] * np.eye(3)
+                   - np.einsum("i,fik,fil->fkl", m, r, r))
+        spin = (moment[:, 2] / inertia[:, 2, 2])[:, None] if d == 2 else np.linalg.solve(
+            inertia, moment[..., None])[..., 0]
+        assert np.abs(body_v[:, b, d:] - spin).max() * 0.3 < scale  # 0.3 m: a block's size
+
+
 @pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
 def test_results_and_restart_are_bit_identical(tmp_path, text):
     """A run of two deformable courses on the ground writes the nodes and the contact sides in
@@ -199,6 +228,8 @@ def test_results_and_restart_are_bit_identical(tmp_path, text):
         contacts = r.contacts(r.frame_count - 1)
         assert (contacts["side_kind"][:, 0] == 1).all()  # every contact has a node candidate
         saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 40)[0]))
+        x, v, body_v = r.node_x[:], r.node_v[:], r.body_v[:, model.fe.body]
+    _check_rigid_motions(model, x, v, body_v)
     sim = scenario.build_simulation()
     state = sim.restore(saved)
     for _ in range(20):
@@ -215,7 +246,8 @@ def test_info_finds_the_collapse_of_a_deformable_block(tmp_path, capsys):
     """`saxum info` of a run in which a deformable block (0.4 x 0.2 m, mu = 0.5) slides under a
     horizontal acceleration of 1 g: it counts the block as deformable, finds the collapse
     (saxum.collapse.find_collapse: the block slides on, 0.5 g net, ~0.2 m in 0.3 s) and
-    names the sliding base as the mechanism, from the nodes' velocities in the file."""
+    names the sliding base as the mechanism, from the nodes' velocities in the file. The run
+    says on stderr which stages it leaves out for deformable blocks, and why."""
     from saxum.cli import main
 
     text = (PIER.replace("width = 0.3", "width = 0.4").replace("height = 0.6", "height = 0.2")
@@ -226,7 +258,9 @@ def test_info_finds_the_collapse_of_a_deformable_block(tmp_path, capsys):
     scenario = tmp_path / "slide.toml"
     scenario.write_text(text)
     assert main(["run", str(scenario), "--quiet"]) == 0
-    capsys.readouterr()
+    err = capsys.readouterr().err
+    assert "saxum: note: deformable blocks: the rest solution, load following and the " in err
+    assert "(they are written for rigid blocks)" in err
     assert main(["info", str(tmp_path / "slide.h5")]) == 0
     out = capsys.readouterr().out
     assert "(0 free, 1 deformable)" in out
@@ -237,8 +271,10 @@ def test_info_finds_the_collapse_of_a_deformable_block(tmp_path, capsys):
 @pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
 def test_stresses_in_results_and_paraview_export(tmp_path, text):
     """Results.stresses gives the cell stresses of the stored nodes (the same as the run's
-    own), the piers are compressed on average, and the ParaView export writes the triangle
-    (3D: tetrahedron) meshes with them as a third part."""
+    own blocks give for them), the piers are compressed on average, and the ParaView export
+    writes the triangle (3D: tetrahedron) meshes with them as a third part. (The stored nodes,
+    not those of a second run: a run with checkpoints restarts its solver's memory at each, as
+    a resumed run does, so that its sticking starts can differ from an uninterrupted run's.)"""
     import meshio
 
     from saxum.results import Results
@@ -251,12 +287,11 @@ def test_stresses_in_results_and_paraview_export(tmp_path, text):
     run_scenario(scenario, path, quiet=True)
     sim = scenario.build_simulation()
     dim = sim.model.dim
-    state = sim.initial_state()
-    sim.run(state, 0.06)
     with Results(path) as r:
         stored = r.stresses(-1)
         blocks = sim.fe.blocks
-        own = blocks.stresses(state.node_x, *blocks.frames(state.node_x))[0]
+        x = r.node_x[-1]
+        own = blocks.stresses(x, *blocks.frames(x))[0]
         assert np.array_equal(stored["stress"], own)
         # sigma_yy (3D: sigma_zz): compression under the weight
         assert stored["stress"][:, dim - 1].mean() < 0.0
@@ -309,3 +344,55 @@ def test_a_fixed_block_cannot_be_deformable():
     with pytest.raises(sx.InputError, match="only a free block can be deformable"):
         ModelBuilder().add_block([(0, 0), (1, 0), (1, 1), (0, 1)], material=STONE,
                                  kind=BodyKind.FIXED)
+
+
+BRICK_2D = [(0, 0), (0.4, 0), (0.4, 0.2), (0, 0.2)]
+BRICK_3D = [(x, y, z) for x in (0, 0.4) for y in (0, 0.2) for z in (0, 0.2)]
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_given_mesh_is_the_blocks_mesh(dim):
+    """add_block(mesh=...) takes a user's mesh of the block: the mesher's own mesh given back
+    makes the same deformable body as its mesh size; a hand-made one (two triangles, six
+    tetrahedra around a diagonal) is taken as it is."""
+    from saxum.fe import Mesh, mesh_polygon, mesh_polyhedron
+
+    vertices = BRICK_2D if dim == 2 else BRICK_3D
+    if dim == 2:
+        made = mesh_polygon(vertices, 0.1)
+        hand = Mesh.from_cells(vertices, [(0, 1, 2), (0, 2, 3)])
+    else:
+        faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2),
+                 (1, 3, 7, 5)]
+        made = mesh_polyhedron(np.array(vertices, dtype=float), faces, 0.1)
+        hand = Mesh.from_cells(vertices, [(0, 1, 3, 7), (0, 1, 5, 7), (0, 2, 3, 7),
+                                          (0, 2, 6, 7), (0, 4, 5, 7), (0, 4, 6, 7)])
+    models = []
+    for kwargs in ({"mesh_size": 0.1}, {"mesh": made}, {"mesh": hand}):
+        b = ModelBuilder(dim=dim)
+        b.add_block(vertices, material=STONE, **kwargs)
+        b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+        models.append(b.finalize())
+    assert np.array_equal(models[0].fe.node_x0, models[1].fe.node_x0)
+    assert np.array_equal(models[0].fe.facet_node, models[1].fe.facet_node)
+    assert np.array_equal(models[2].fe.node_x0, np.array(vertices, dtype=float))
+    assert models[2].body_mass[0] == pytest.approx(models[0].body_mass[0], rel=1e-12)
+
+
+@pytest.mark.parametrize("cells, nodes, match", [
+    ([(0, 1, 2)], BRICK_2D[:3], "does not fill the block"),
+    ([(0, 1, 2), (0, 2, 3)], [(0, 0), (0.5, 0), (0.4, 0.2), (0, 0.2)], "lie outside the block"),
+])
+def test_a_given_mesh_that_is_not_the_blocks_is_refused(cells, nodes, match):
+    from saxum.fe import Mesh
+
+    b = ModelBuilder()
+    b.add_block(BRICK_2D, material=STONE, mesh=Mesh.from_cells(nodes, cells), name="keystone")
+    b.set_law("block", "block", sx.ContactLaw(friction=0.6))
+    with pytest.raises(sx.InputError, match=f"keystone: .*{match}"):
+        b.finalize()
+    with pytest.raises(sx.InputError, match="keystone: give mesh_size or mesh, not both"):
+        ModelBuilder().add_block(BRICK_2D, material=STONE, mesh_size=0.1, name="keystone",
+                                 mesh=Mesh.from_cells(nodes, cells))
+    with pytest.raises(sx.InputError, match="mesh_size and mesh are for deformable blocks"):
+        ModelBuilder().add_block(BRICK_2D, density=2000.0, mesh=Mesh.from_cells(nodes, cells))

@@ -17,6 +17,7 @@ import saxum as sx
 from saxum.fclib import (
     LocalProblem,
     format_table,
+    read_fclib,
     solve_fclib_files,
     solve_local,
     verdict,
@@ -137,9 +138,11 @@ def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch, tm
 
 def test_a_3d_step_above_the_tolerance_says_how_far_from_a_solution():
     """A small 3D L wall (4 courses, walls 1.0 and 0.75 m long, 29 bricks) under 0.7 g: its
-    14th step is the first whose problem neither NLGS (cap) nor the hybrid's attempts solve
-    (the friction threshold of docs/method.md, with 3-4 contact points per face pair). The
-    step ends not converged and reports the natural-map error of its impulses, that of the
+    14th step is the first whose problem NLGS does not solve (cap; the friction threshold of
+    docs/method.md, with 3-4 contact points per face pair), its iterate at a natural-map error
+    of 1.6e-5 with NLGS crawling, beyond where Fischer-Burmeister Newton from it has reached
+    a solution (saxum.solver.hybrid's _REACH): the hybrid tries nothing there. The step ends
+    not converged and reports the natural-map error of its impulses, that of the
     exported step problem (saxum.fclib.step_problem, 3D; relative tolerance 1e-12: the same
     sums in another order), as the run's warning says; the steps before it converged and
     report none."""
@@ -151,12 +154,13 @@ def test_a_3d_step_above_the_tolerance_says_how_far_from_a_solution():
     model = wall3d(courses=4, length=1.0, return_length=0.75)
     g = float(np.linalg.norm(model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid())
+    # without NLGS's refinement (NLGS.refine), whose more exact steps lead elsewhere
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0))
     state = sim.initial_state()
     with pytest.warns(sx.SolverWarning, match="natural-map error of their impulses up to"):
         sim.run(state, 0.014)
     assert np.flatnonzero(~sim.log.converged).tolist() == [13]  # step 14
-    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == 1
+    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == 0
     exported = step_problem(sim, state)
     expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
     assert math.isclose(sim.log.natural_map[13], expected, rel_tol=1e-12)
@@ -176,6 +180,43 @@ def test_hybrid_is_nlgs_where_nlgs_converges():
     assert not runs[1][2].any()
 
 
+def test_3d_hybrid_switches_to_fischer_burmeister_newton_at_the_cap():
+    """A 2-course L wall (walls 1.0 and 0.75 m) at rest, first step from a cold start with a
+    cap of 20 sweeps and no rest solution: NLGS alone ends it at the cap (out of sweeps,
+    velocities ~2e-4 m/s); the hybrid runs the same 20 sweeps, then Fischer-Burmeister Newton
+    from NLGS's iterate, which reaches a natural-map error within the tolerance: the step
+    ends converged, finished by Newton, and reports that error, the natural-map error of the
+    exported step problem (saxum.fclib.step_problem; relative tolerance 1e-12: the same sums
+    in another order). The exact solution is rest (a wall on level ground under gravity
+    alone): Newton's impulses (natural-map error ~4e-10 relative to |q|) leave velocities of
+    ~2e-11 m/s, bounded here by 1e-9 m/s."""
+    from saxum.fclib import step_problem
+    from saxum.structures import wall3d
+
+    model = wall3d(courses=2, length=1.0, return_length=0.75)
+    states = []
+    for solver in (sx.NLGS(rest_after=0, max_iterations=20),
+                   sx.Hybrid(rest_after=0, max_iterations=20)):
+        sim = sx.Simulation(model, dt=1e-3, solver=solver)
+        state = sim.initial_state()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", sx.SolverWarning)
+            report = sim.step(state)
+        states.append((sim, state, report))
+    (_, nlgs_state, nlgs), (sim, state, report) = states
+    assert not nlgs.converged and nlgs.outcome == STEP_OUTCOMES.index("out of sweeps")
+    assert report.converged and report.iterations == 20
+    assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("newton")
+    assert sim.solver.finished == {"nlgs": 0, "conic": 0, "newton": 1}
+    exported = step_problem(sim, state)
+    expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
+    assert expected <= sim.solver.tolerance
+    assert math.isclose(report.natural_map, expected, rel_tol=1e-12)
+    assert math.isclose(report.error, expected, rel_tol=1e-12)
+    assert np.abs(state.body_v).max() < 1e-9 < np.abs(nlgs_state.body_v).max()
+    assert "finished by semismooth Newton at 1 step(s)" in sim.log.summary()
+
+
 def test_stalled_steps_say_so_and_the_hybrid_finishes_them():
     """The shaken stack-bond wall of benchmarks/convergence.py (10 x 2 bricks under 0.7 g):
     NLGS alone ends steps 7 and 8 at its cap with the error at the friction threshold
@@ -184,7 +225,9 @@ def test_stalled_steps_say_so_and_the_hybrid_finishes_them():
     model = wall(courses=10, bricks=2, bond="stack")
     g = float(np.hypot(*model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0)),))
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS())
+    # without NLGS's refinement (NLGS.refine): with it, steps 3-5 are refined (1010 sweeps
+    # each instead of 10-16) and the hybrid's attempts on steps 7 and 8 are then rejected
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(refine=0))
     with pytest.warns(sx.SolverWarning) as caught:
         sim.run(sim.initial_state(), 0.008)
     log = sim.log
@@ -195,7 +238,7 @@ def test_stalled_steps_say_so_and_the_hybrid_finishes_them():
     message = str(caught[0].message)
     assert "2 stalled (the error stopped falling" in message
     assert "ran out of sweeps" not in message
-    hybrid = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid())
+    hybrid = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0))
     with warnings.catch_warnings():
         warnings.simplefilter("error", sx.SolverWarning)
         hybrid.run(hybrid.initial_state(), 0.008)
@@ -300,6 +343,25 @@ def test_running_out_of_sweeps_is_not_called_a_stall():
     assert conic.solved and conic.iterations == 0 and conic.conic_iterations > 0
 
 
+@needs_shared
+@pytest.mark.parametrize("name", ["siconosdat_Capsules-i101-404.hdf5",
+                                  "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5",
+                                  "siconosdat_OneObject-i100000-499.hdf5",
+                                  "siconosdat_FrictionContactProblem00071.hdf5"])
+def test_fischer_burmeister_newton_solves_fclib_problems_with_defaults(name):
+    """The 'newton' solver with its defaults (no relaxation given) to FCLIB's 1e-8 on the
+    natural-map error, recomputed here from the returned r: Capsules stops at a stationary
+    point of the Fischer-Burmeister merit (3.5e-7) and NLGS finishes from there; PerioBox
+    (3.9e-8) likewise in one sweep; OneObject, where NLGS alone cycles at 3e-3, and the 2D
+    FrictionContactProblem00071 (lifted to 3D) by Newton alone."""
+    row = solve_fclib_files([SHARED / name], solver="newton")[0]
+    problem = LocalProblem(*(getattr(read_fclib(SHARED / name), k)
+                             for k in ("W", "q", "mu", "spacedim")))
+    error = natural_map_error(problem.W, problem.q, problem.mu, row.r, problem.spacedim)
+    assert row.solved and error <= 1e-8 and row.newton_iterations > 0
+    assert row.solver == ("newton+nlgs" if "Capsules" in name or "Perio" in name else "newton")
+
+
 # --- the natural-map error a solve reports is that of what it returns --------------------------
 
 
@@ -320,7 +382,7 @@ def local_problems(draw):
 
 
 @settings(max_examples=40, deadline=None)
-@given(local_problems(), st.sampled_from(["hybrid", "nlgs", "conic"]))
+@given(local_problems(), st.sampled_from(["hybrid", "nlgs", "conic", "newton"]))
 def test_reported_error_is_the_natural_map_of_the_returned_impulses(problem, solver):
     row = solve_local(problem, solver=solver, max_iterations=3000)
     error = natural_map_error(problem.W, problem.q, problem.mu, row.r, problem.spacedim)

@@ -18,7 +18,7 @@ def _run(monkeypatch, backoff: int, acceleration: float, duration: float):
     model = running_bond_wall(courses=25, bricks=2)
     g = float(np.hypot(*model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (acceleration * g, 0.0)),))
-    solver = sx.NLGS()
+    solver = sx.NLGS(refine=0)  # the case of issue 18: without NLGS.refine
     sim = sx.Simulation(model, dt=1e-3, solver=solver)
     state = sim.initial_state()
     sim.run(state, duration)

@@ -28,6 +28,7 @@ source repository.
 
 import argparse
 import contextlib
+import logging
 import math
 import os
 import signal
@@ -897,9 +898,10 @@ def _parser() -> argparse.ArgumentParser:
     q.add_argument("--relaxation", type=float, default=None,
                    help="NLGS relaxation omega in (0, 1] (default: 1, and 0.7 where the "
                         "hybrid finds NLGS stalling)")
-    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic"), default="hybrid",
+    q.add_argument("--solver", choices=("hybrid", "nlgs", "conic", "newton"), default="hybrid",
                    help="hybrid (default: NLGS, the conic fixed point where NLGS stalls or is "
-                        "too slow, then NLGS), nlgs or conic alone")
+                        "too slow, then NLGS), nlgs or conic alone, or newton (Fischer-"
+                        "Burmeister Newton, then NLGS where it stops short)")
     q.set_defaults(func=_fclib_solve)
 
     p = sub.add_parser("info", help="what a run was and what the solver did")
@@ -1024,11 +1026,28 @@ def _ctrl_c_not_dropped() -> Iterator[None]:
             again.cancel()
 
 
+@contextlib.contextmanager
+def _notes_on_stderr():
+    """saxum's own log records (logger "saxum", INFO and up: what a run leaves out and why,
+    as saxum.simulation's for deformable blocks) printed as "saxum: note: ..." lines."""
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("saxum: note: %(message)s"))
+    logger = logging.getLogger("saxum")
+    level = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(level)
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         _check_output(args)
-        with warnings.catch_warnings(), _ctrl_c_not_dropped():
+        with warnings.catch_warnings(), _ctrl_c_not_dropped(), _notes_on_stderr():
             warnings.showwarning = _show_warning
             args.func(args)
     except KeyboardInterrupt:  # Ctrl-C outside a run's own handling (start-up, a picture)

@@ -26,6 +26,7 @@ import numpy as np
 from .bodies.fe import FEBodies, build_fe_bodies
 from .errors import InputError, plain
 from .fe.material import Elastic
+from .fe.mesh import Mesh
 from .geometry2d import normalize_polygon, polygon_properties
 from .geometry3d import (
     Polyhedron,
@@ -366,7 +367,8 @@ class _Block:
     kind: BodyKind
     motion: Motion | None
     material: Elastic | None = None
-    mesh_size: float | None = None
+    mesh_size: float | Mesh | None = None
+    """The element size [m] of a deformable block, or its given mesh."""
     round_radius: float = 0.0
     """> 0: a disc (sphere) of this radius [m] whose vertices are its bounding square (cube), or
     with `length` > 0 a capsule's."""
@@ -436,6 +438,7 @@ class ModelBuilder:
         name: str | None = None,
         material: Elastic | None = None,
         mesh_size: float | None = None,
+        mesh: Mesh | None = None,
     ) -> int:
         """Add a convex block; returns its body index.
 
@@ -447,7 +450,9 @@ class ModelBuilder:
         material: an elastic material (saxum.fe.Elastic) makes the block DEFORMABLE, a
         finite-element mesh (triangles; 3D tetrahedra) of elements of about mesh_size [m]
         (default: 2D a fifth of the block's smallest side, 3D half its shortest edge) whose
-        density is the material's.
+        density is the material's, or the given `mesh` (saxum.fe.Mesh.from_cells(nodes [m],
+        cells): linear triangles, 3D tetrahedra, in world coordinates), which must fill the
+        block (saxum.fe.mesh.fit_mesh).
         """
         index = len(self._blocks)
         name = name if name is not None else f"block {index}"
@@ -461,8 +466,11 @@ class ModelBuilder:
                 raise InputError(f"{name}: only a free block can be deformable (material=); "
                                  f"this one is {kind.name}")
             kind, density = BodyKind.DEFORMABLE, material.density
-        elif mesh_size is not None:
-            raise InputError(f"{name}: mesh_size is for deformable blocks; give material=")
+        elif mesh_size is not None or mesh is not None:
+            raise InputError(f"{name}: mesh_size and mesh are for deformable blocks; give "
+                             "material=")
+        if mesh is not None and mesh_size is not None:
+            raise InputError(f"{name}: give mesh_size or mesh, not both")
         low, high = DENSITY_RANGE
         massive = kind in (BodyKind.FREE, BodyKind.DEFORMABLE)
         if massive and not (math.isfinite(density) and density > 0.0):
@@ -480,7 +488,7 @@ class ModelBuilder:
             raise InputError(f"{name}: group must be a non-empty name")
         density = density if massive else 0.0
         self._blocks.append(_Block(name, verts, float(density), group, kind, motion, material,
-                                   mesh_size))
+                                   mesh if mesh is not None else mesh_size))
         return index
 
     def add_disc(self, centre: Sequence[float], radius: float, *, density: float = 0.0,

@@ -948,13 +948,12 @@ class Results:
         self.time = fr["time"][: self.frame_count]
         self.step = fr["step"][: self.frame_count]
         self.body_q = fr["body_q"][: self.frame_count]
-        self.body_v = fr["body_v"][: self.frame_count]
+        self._body_v = fr["body_v"][: self.frame_count]
         self.node_x = fr["node_x"][: self.frame_count] if "node_x" in fr else None
         """Deformable blocks' node positions [m] per frame [frames, nodes, dim] (or None)."""
         self.node_v = fr["node_v"][: self.frame_count] if "node_v" in fr else None
         """... and velocities [m/s]."""
-        if self.node_v is not None and self.frame_count:
-            self._deformable_body_velocities()
+        self._body_v_filled = self.node_v is None or not self.frame_count
         counts = fr["contact_count"][: self.frame_count]
         self._contact_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         st = self.file["steps"]
@@ -1096,19 +1095,28 @@ class Results:
 
         return View(view_html(self, every=every, blocks=blocks))
 
-    def _deformable_body_velocities(self) -> None:
-        """body_v's rows of the deformable blocks, which the run leaves empty (their body rows
-        hold only their frames), set to their nodes' nearest rigid motion [m/s, rad/s]
-        (FEBlocks.rigid_velocities, as saxum.mechanism does for a run's state): collapse
-        detection and the mechanism read the blocks' speeds there."""
-        from .bodies.fe import stored_blocks
+    @property
+    def body_v(self) -> np.ndarray:
+        """Body velocities per frame [frames, bodies, dof] [m/s, rad/s]. The rows of deformable
+        blocks, which the run leaves empty (their body rows hold only their frames), are their
+        nodes' nearest rigid motion (FEBlocks.rigid_velocities, as saxum.mechanism does for a
+        run's state), computed for all frames at the first read: collapse detection and the
+        mechanism read the blocks' speeds there."""
+        if not self._body_v_filled:
+            body, d = self.model["fe_body"], self.dim
+            velocity, spin = self._blocks().rigid_velocities(self.node_x, self.node_v)
+            self._body_v[:, body, :d] = velocity
+            self._body_v[:, body, d:] = spin
+            self._body_v_filled = True
+        return self._body_v
 
-        self._fe_blocks = stored_blocks(self.model)
-        body, d = self.model["fe_body"], self.dim
-        for k in range(self.frame_count):
-            velocity, spin = self._fe_blocks.rigid_velocities(self.node_x[k], self.node_v[k])
-            self.body_v[k, body, :d] = velocity
-            self.body_v[k, body, d:] = spin
+    def _blocks(self):
+        """The deformable blocks' geometry (saxum.bodies.fe.stored_blocks), built once."""
+        if getattr(self, "_fe_blocks", None) is None:
+            from .bodies.fe import stored_blocks
+
+            self._fe_blocks = stored_blocks(self.model)
+        return self._fe_blocks
 
     def stresses(self, frame: int) -> dict[str, np.ndarray]:
         """Cell stresses of the deformable blocks at output frame `frame` [Pa], world axes,
@@ -1118,11 +1126,7 @@ class Results:
         without deformable blocks."""
         if self.node_x is None:
             return {}
-        if getattr(self, "_fe_blocks", None) is None:
-            from .bodies.fe import stored_blocks
-
-            self._fe_blocks = stored_blocks(self.model)
-        blocks = self._fe_blocks
+        blocks = self._blocks()
         x = self.node_x[range(self.frame_count)[frame]]
         stress, principal, compression, tension = blocks.stresses(x, *blocks.frames(x))
         return {"stress": stress, "principal": principal, "compression": compression,

@@ -1031,6 +1031,9 @@ class SolverSpec(_Strict):
     kind: Literal["nlgs", "hybrid"] | None = None
     threads: Annotated[Integer, Field(ge=0)] | None = None
     domains: Annotated[Integer, Field(ge=1)] | None = None
+    refine: Annotated[Real, Field(ge=0.0)] = 0.0
+    """A step that converged in at most 1000 sweeps sweeps on towards tolerance / refine
+    (saxum.solver.NLGS; 0 or 1: off)."""
     criterion: Literal["delassus", "quad", "maxm", "qm/16"] = "delassus"
     """NLGS's convergence criterion (saxum.solver.NLGS, docs/criteria.md); LMGC90's ("quad",
     "maxm", "qm/16") make kind "nlgs" (the hybrid judges by "delassus")."""
@@ -1298,7 +1301,8 @@ class Scenario(_Strict):
             model, dt=s.dt, theta=s.theta,
             solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
-                rest_after=s.rest_after, threads=s.threads, domains=s.domains, **options),
+                rest_after=s.rest_after, threads=s.threads, domains=s.domains,
+                refine=s.refine, **options),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration,

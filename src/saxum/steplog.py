@@ -134,11 +134,14 @@ def bonds_note(step: np.ndarray, bonds_lost: np.ndarray) -> str:
 
 
 def natural_map_note(values: np.ndarray) -> str:
-    """', natural-map error of their impulses up to X' where the solver measured it."""
+    """', no solution reached: natural-map error of their impulses up to X' where the solver
+    measured it (the hybrid, on the steps it did not converge: the step's problem may have a
+    solution that no solver reached, benchmarks/capped_steps.py --existence)."""
     measured = values[np.isfinite(values)]
     if measured.size == 0:
         return ""
-    return f", natural-map error of their impulses up to {measured.max():.3g}"
+    return (f", no solution reached: natural-map error of their impulses up to "
+            f"{measured.max():.3g}")
 
 
 def why_not_converged(step: np.ndarray, converged: np.ndarray, outcome: np.ndarray,

@@ -8,6 +8,8 @@ the slip is along q_T); with q_N > 0 it separates, r = 0; with mu = 0 it is pres
 friction, r = (-q_N / W_NN, 0, 0). A box of mass 3 kg on four corner points (6 dof, 12 unknowns:
 W of rank 6, the normal impulses not unique) pushed down and sideways within the cone comes to
 rest: u = 0 and the impulses sum to M (-v_free) (Newton's second law over the step).
+A 2D contact (spacedim 2, solved as 3D with a second tangent of W = 1, q = 0) pushed harder
+than friction holds slides: r = (-q_N / W_NN, -mu r_N sign(q_T)).
 Tolerances: 1e-10 (the solver's natural-map tolerance 1e-12 relative to |q| of order one, and
 round-off); the property test's 1e-9 is its tolerance 1e-10 plus round-off on |q| up to 10.
 """
@@ -52,6 +54,14 @@ def test_contact_separates():
 def test_frictionless_contact():
     r = _solve(np.diag([2.0, 1.0, 1.0]), [-1.0, 3.0, 4.0], [0.0])
     assert r == pytest.approx([0.5, 0.0, 0.0], abs=1e-10)
+
+
+def test_2d_contact_slides():
+    w = sp.csr_matrix(np.diag([2.0, 1.0]))
+    q, mu = np.array([-1.0, 3.0]), np.array([0.5])
+    result = fischer_burmeister_newton(w, q, mu, tolerance=1e-12, spacedim=2)
+    assert result.error <= 1e-12
+    assert result.r == pytest.approx([0.5, -0.25], abs=1e-10)
 
 
 def _box_on_four_points():

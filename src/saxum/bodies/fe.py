@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ..fe.blocks import FEBlocks, _add_node_velocity, compliance_block, congruence
 from ..fe.material import Elastic
-from ..fe.mesh import Mesh, mesh_polygon
+from ..fe.mesh import Mesh, fit_mesh, mesh_polygon
 from ..geometry3d import Polyhedron
 from ..laws import LawKind
 from .fe3d import frame_quaternions, mesh_polyhedra, principal_axes
@@ -66,6 +66,13 @@ class FEBodies:
     """Boundary facets (global node numbers), the antagonists: 2D edges, counter-clockwise
     (outward normal = the edge turned by -90 degrees), shape [n_facets, 2]; 3D triangles (a,
     b, c) with outward normal along (b - a) x (c - a), shape [n_facets, 3]; int64."""
+    edge_start: np.ndarray
+    """3D: block f's boundary edges (the sides of its boundary triangles) are
+    edge_node[edge_start[f]:edge_start[f+1]]; 2D: zeros (its facets are its edges), int64."""
+    edge_node: np.ndarray
+    """3D: the two nodes (global numbers) of each boundary edge, shape [n_edges, 2], int64."""
+    edge_facet: np.ndarray
+    """3D: the two boundary triangles that share each edge, shape [n_edges, 2], int64."""
 
     @property
     def count(self) -> int:
@@ -97,6 +104,8 @@ def build_fe_bodies(bodies: list[int], shapes: list, materials: list[Elastic],
     node_start = np.cumsum([0] + [len(m.nodes) for m in meshes])
     fe_index = np.full(body_count, -1, dtype=np.int32)
     fe_index[bodies] = np.arange(len(bodies), dtype=np.int32)
+    facet_node = np.concatenate([m.facets + s for m, s in zip(meshes, node_start, strict=False)
+                                 ]).astype(np.int64)
     return FEBodies(
         body=np.array(bodies, dtype=np.int32), fe_index=fe_index, meshes=tuple(meshes),
         materials=tuple(materials),
@@ -106,18 +115,46 @@ def build_fe_bodies(bodies: list[int], shapes: list, materials: list[Elastic],
         boundary_node=np.concatenate([m.boundary_nodes + s for m, s in
                                       zip(meshes, node_start, strict=False)]).astype(np.int64),
         facet_start=np.cumsum([0] + [len(m.facets) for m in meshes]).astype(np.int64),
-        facet_node=np.concatenate([m.facets + s for m, s in
-                                   zip(meshes, node_start, strict=False)]).astype(np.int64),
+        facet_node=facet_node,
+        **_boundary_edges(facet_node, [len(m.facets) for m in meshes], dim),
     )
+
+
+def _boundary_edges(facet_node: np.ndarray, facets: list[int], dim: int) -> dict:
+    """FEBodies' edge_start, edge_node, edge_facet of the boundary triangles facet_node
+    (`facets` per block, in block order): each side of a triangle once, with the two
+    triangles of the closed surface that share it (none in 2D)."""
+    if dim == 2:
+        return {"edge_start": np.zeros(len(facets) + 1, dtype=np.int64),
+                "edge_node": np.zeros((0, 2), dtype=np.int64),
+                "edge_facet": np.zeros((0, 2), dtype=np.int64)}
+    sides = np.concatenate([facet_node[:, [0, 1]], facet_node[:, [1, 2]],
+                            facet_node[:, [2, 0]]])
+    owner = np.tile(np.arange(len(facet_node)), 3)
+    order = np.lexsort((sides.max(axis=1), sides.min(axis=1)))
+    # on a closed surface each edge is the side of exactly two triangles, adjacent in order
+    first, second = order[0::2], order[1::2]
+    edge_node = sides[first]
+    edge_facet = np.column_stack((owner[first], owner[second]))
+    block = np.searchsorted(np.cumsum(facets), edge_facet[:, 0], side="right")
+    keep = np.argsort(block, kind="stable")
+    return {"edge_start": np.concatenate([[0], np.cumsum(np.bincount(block, minlength=len(
+                facets)))]).astype(np.int64),
+            "edge_node": np.ascontiguousarray(edge_node[keep]),
+            "edge_facet": np.ascontiguousarray(edge_facet[keep])}
 
 
 def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]]:
     """Triangle meshes of the polygons and their node sides [n, 2, 2] (FEBodies.node_side)."""
     meshes, sides = [], []
     for poly, size, name in zip(polygons, sizes, names, strict=True):
-        if size is None:
-            size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).min())
-        mesh = mesh_polygon(poly, size, name=name)
+        if isinstance(size, Mesh):
+            mesh = _fit_polygon(size, poly, name)
+        else:
+            if size is None:
+                size = 0.2 * float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly,
+                                                  axis=1).min())
+            mesh = mesh_polygon(poly, size, name=name)
         meshes.append(mesh)
         edge = mesh.nodes[mesh.facets[:, 1]] - mesh.nodes[mesh.facets[:, 0]]
         half = 0.5 * np.column_stack((edge[:, 1], -edge[:, 0]))  # outward: counter-clockwise
@@ -126,6 +163,16 @@ def _mesh_polygons(polygons, sizes, names) -> tuple[list[Mesh], list[np.ndarray]
         side[mesh.facets[:, 1], 1] = half
         sides.append(side)
     return meshes, sides
+
+
+def _fit_polygon(mesh: Mesh, polygon: np.ndarray, name: str) -> Mesh:
+    """A given mesh of the convex polygon [k, 2] [m] (saxum.fe.mesh.fit_mesh)."""
+    edge = np.roll(polygon, -1, axis=0) - polygon
+    area = 0.5 * float(np.sum(polygon[:, 0] * edge[:, 1] - polygon[:, 1] * edge[:, 0]))
+    normals = np.sign(area) * np.column_stack((edge[:, 1], -edge[:, 0]))
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    return fit_mesh(mesh, normals, np.einsum("kd,kd->k", normals, polygon), abs(area),
+                    name=name)
 
 
 def stored_blocks(model: dict) -> FEBlocks:

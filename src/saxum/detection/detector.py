@@ -236,6 +236,9 @@ class Detector:
         room = int(np.diff(fe.boundary_start).max()) + m.max_vertices
         contacts.reserve(first + len(self._fe_pairs) * room)
         count = self._node_kernel(q, node_x, first, contacts)
+        while count < 0:  # (3D: edges crossing edges filled the arrays)
+            contacts.reserve(2 * contacts.capacity)
+            count = self._node_kernel(q, node_x, first, contacts)
         order = first + np.argsort(contacts.key[first:count], kind="stable")
         for name in contacts._fields():
             array = getattr(contacts, name)
@@ -475,15 +478,17 @@ class PolyhedronDetector(Detector):
             self._axes0 = principal_axes(m.body_q0[fe.body])
         key_base = self._round_key_base()
         if float(key_base) + float(len(node_x) + m.vertex_local.shape[0]) * float(
-                len(self._wn) + len(fe.facet_node)) >= 2.0 ** 62:
+                len(self._wn) + len(fe.facet_node)) + float(len(m.edge_vertex)) * float(
+                len(fe.edge_node)) >= 2.0 ** 62:
             raise InputError(f"{m.body_count} blocks with {len(node_x)} mesh nodes are too many "
                              "to number their contacts in 64 bits; use coarser meshes")
         return node_contacts_3d(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
             fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
             self._wv, self._wn, m.body_face_start, m.face_vertex_start, m.face_vertex,
-            m.body_vertex_start, m.body_group, m.group_law, self.alert, self.law_alert,
-            self._body_alert, key_base, first,
+            m.body_vertex_start, m.body_edge_start, m.edge_vertex, m.edge_face,
+            fe.edge_start, fe.edge_node, fe.edge_facet, m.body_group, m.group_law, self.alert,
+            self.law_alert, self._body_alert, key_base, first,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
             contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
             contacts.side_node, contacts.side_weight)

@@ -14,9 +14,23 @@ triangles, the one x projects into); a point within `alert` of it becomes a cont
 face: frame (t, n, s) with n the face's outward normal, t along its first edge and s = t x n
 (saxum.detection.polyhedra's frame), point = x. A point that projects outside the face is left
 to the face's edges and corners (a rigid corner against a deformable block is a contact of
-its own; a rigid edge crossing a deformable block's edge is not detected). Sides: a node is
-side_node with weight 1; a triangle is its three nodes with the barycentric coordinates of
-the projection of x.
+its own, and so is a rigid edge crossing a boundary edge of a deformable block: below).
+Sides: a node is side_node with weight 1; a triangle is its three nodes with the barycentric
+coordinates of the projection of x.
+
+Edges (deformable - rigid): where a rigid edge P(s) = a + s (b - a) crosses a side Q(t) = p +
+t (q - p) of a boundary triangle, away from their ends (where the corner's or the node's own
+contact holds), the contact is at the closest points: n = (b - a) x (q - p) made unit and
+turned out of the rigid block, g = n . (Q - P), t along the rigid edge, candidate the two
+nodes (weights 1 - t, t), point Q. It is a contact of the two edges when n is strictly
+inside the rigid edge's normal cone (between its faces' normals: on a face's normal, the
+edge lies on that face, whose own contacts hold) and -n within the deformable edge's (of its
+two triangles' normals; for two coplanar triangles, their normal within _FLAT: a rigid edge
+lying across a face of the block crosses the mesh's edges there), and g is no deeper than
+the deformable edge is long. This is what holds a rigid block that rocks on its edge on a
+deformable one, or a rigid beam laid across a deformable block's edge: neither has a node or
+a corner on the other's faces where they touch. Not detected: an edge of a deformable block
+crossing one of another deformable block.
 
 Area: a node stands for the part of its tributary boundary (a third of each adjacent boundary
 triangle) that faces the face, sum max(0, -n . R s) over its triangles' shares s (outward
@@ -33,6 +47,16 @@ from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, rigid_
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
+
+_FLAT = 1e-6
+"""|m x n|^2 below which the normal m of a deformable block's triangle is n (1e-3 rad): the
+cone of an edge between coplanar triangles, loose enough for their strain (~1e-4 rad)."""
+_STRICT = 1e-6
+"""(n1 x n) . (n x n2) above which n is strictly inside the normal cone of a rigid edge
+between faces of normals n1, n2 (about 1e-3 rad from either)."""
+_END = 1e-6
+"""Closest points within this fraction of an edge's length of its ends are left to the
+corner's or the node's own contact."""
 
 
 @nb.njit(inline="always")
@@ -191,10 +215,75 @@ def _write(count, cand, ant, key_value, law_index, x, y, z, tx, ty, tz, nx, ny, 
 
 
 @nb.njit(cache=True)
+def _edge_contacts(count, fb, ob, f, law_index, pair_alert, wv, wn, body_edge_start,
+                   edge_vertex, edge_face, node_x, facet_node, fe_edge_start, fe_edge_node,
+                   fe_edge_facet, edge_base, candidate, antagonist, key, law, point, frame,
+                   gap, area, side_kind, side_node, side_weight):
+    """Append the contacts of rigid body ob's edges crossing deformable block f's boundary
+    edges (module doc) from row `count` on; returns the new count, or -1 when the arrays are
+    full. Keys edge_base + e E + k, e the rigid edge, k the block's edge (E of them in all)."""
+    edges = fe_edge_node.shape[0]
+    for e in range(body_edge_start[ob], body_edge_start[ob + 1]):
+        a = edge_vertex[e, 0]
+        b = edge_vertex[e, 1]
+        n1 = wn[edge_face[e, 0]]
+        n2 = wn[edge_face[e, 1]]
+        d1 = wv[b] - wv[a]
+        aa = d1 @ d1
+        for k in range(fe_edge_start[f], fe_edge_start[f + 1]):
+            p = fe_edge_node[k, 0]
+            q = fe_edge_node[k, 1]
+            d2 = node_x[q] - node_x[p]
+            r = wv[a] - node_x[p]
+            bb = d1 @ d2
+            ee = d2 @ d2
+            denom = aa * ee - bb * bb
+            if denom <= 1e-12 * aa * ee:
+                continue  # parallel: the ends' contacts hold
+            c = d1 @ r
+            ff = d2 @ r
+            s = (bb * ff - c * ee) / denom
+            t = (aa * ff - bb * c) / denom
+            if s <= _END or s >= 1.0 - _END or t <= _END or t >= 1.0 - _END:
+                continue
+            n = np.cross(d1, d2) / math.sqrt(denom)
+            if n @ (n1 + n2) < 0.0:
+                n = -n
+            g = n @ (node_x[p] + t * d2 - wv[a] - s * d1)
+            if g > pair_alert or g < -math.sqrt(ee):
+                continue
+            if np.cross(n1, n) @ np.cross(n, n2) <= _STRICT:
+                continue
+            m1 = _triangle(node_x, facet_node, fe_edge_facet[k, 0])
+            m2 = _triangle(node_x, facet_node, fe_edge_facet[k, 1])
+            u1 = np.array([m1[0], m1[1], m1[2]])
+            u2 = np.array([m2[0], m2[1], m2[2]])
+            if n @ (u1 + u2) >= 0.0 or np.cross(u1, n) @ np.cross(n, u2) < -_FLAT:
+                continue
+            if count >= candidate.shape[0]:
+                return -1
+            x = node_x[p] + t * d2
+            side_kind[count, 0] = 1
+            side_node[count, 0, 0] = p
+            side_node[count, 0, 1] = q
+            side_node[count, 0, 2] = p
+            side_weight[count, 0, 0] = 1.0 - t
+            side_weight[count, 0, 1] = t
+            side_weight[count, 0, 2] = 0.0
+            rigid_side(count, 1, side_kind, side_node, side_weight)
+            _write(count, fb, ob, edge_base + e * edges + k, law_index, x[0], x[1], x[2],
+                   d1[0], d1[1], d1[2], n[0], n[1], n[2], g, 0.0, candidate, antagonist, key,
+                   law, point, frame, gap, area)
+            count += 1
+    return count
+
+
+@nb.njit(cache=True)
 def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
                      boundary_node, node_side, facet_start, facet_node, wv, wn, face_start, fvs,
-                     fv, body_vertex_start, body_group, group_law, alert, law_alert, body_alert,
-                     key_base, count,
+                     fv, body_vertex_start, body_edge_start, edge_vertex, edge_face,
+                     fe_edge_start, fe_edge_node, fe_edge_facet, body_group, group_law, alert,
+                     law_alert, body_alert, key_base, count,
                      candidate, antagonist, key, law, point, frame, gap, area, side_kind,
                      side_node, side_weight):
     """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
@@ -203,12 +292,15 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     distinct per (point, face): node p against face or facet e, key_base + p E + e' with e' =
     e for a rigid face and F_r + e for a facet (F_r rigid faces, E = F_r + facets); a rigid
     vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays must
-    have room for every boundary node and vertex of every pair. alert [m]: the detector's;
+    have room for every boundary node and vertex of every pair; a rigid edge e against
+    boundary edge k (_edge_contacts), key_base + (N + V) E + e E_k + k (V vertices, E_k
+    boundary edges). Returns -1 when the arrays are full. alert [m]: the detector's;
     law_alert, body_alert [m]: per law and body (Detector), which a pair uses
     (alert_of_pair)."""
     faces = wn.shape[0]
     facets = facet_node.shape[0]
     tie, features, vertex_base = key_layout(alert, faces, node_x.shape[0], facets, key_base)
+    edge_base = vertex_base + wv.shape[0] * facets
     r = np.empty((3, 3))
     weight = np.empty(3)
     for pr in range(pair_count):
@@ -278,4 +370,11 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                    node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2], nx, ny, nz, g,
                    0.0, candidate, antagonist, key, law, point, frame, gap, area)
             count += 1
+        count = _edge_contacts(count, fb, ob, f, law_index, pair_alert, wv, wn, body_edge_start,
+                               edge_vertex, edge_face, node_x, facet_node, fe_edge_start,
+                               fe_edge_node, fe_edge_facet, edge_base, candidate, antagonist,
+                               key, law, point, frame, gap, area, side_kind, side_node,
+                               side_weight)
+        if count < 0:
+            return -1
     return count

@@ -299,14 +299,17 @@ class FEBlocks:
 
     def rigid_velocities(self, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The rigid motion nearest (mass-weighted) to node velocities v [m/s] at positions x
-        [m], [N, d]: (velocity of each block's centre of mass [nb, d] [m/s], spin [nb, 1 | 3]
-        [rad/s], spins())."""
-        centroid = self.frames(x)[1]
-        spin = np.empty((self.n_blocks, 1 if self.dim == 2 else 3))
-        spins(self.node_start, self.node_mass, x, v, centroid, spin)
-        starts = self.node_start[:-1]
-        momentum = np.add.reduceat(self.node_mass[:, None] * v, starts, axis=0)
-        return momentum / np.add.reduceat(self.node_mass, starts)[:, None], spin
+        [m], [N, d] or a stack of frames [F, N, d]: (velocity of each block's centre of mass
+        [nb, d] [m/s], spin [nb, 1 | 3] [rad/s], spins()), with a leading [F] for a stack."""
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        v = np.ascontiguousarray(v, dtype=np.float64)
+        frames_ = x.reshape((-1,) + x.shape[-2:])
+        velocity = np.empty((len(frames_), self.n_blocks, self.dim))
+        spin = np.empty((len(frames_), self.n_blocks, 1 if self.dim == 2 else 3))
+        rigid_motions(self.node_start, self.node_mass, frames_, v.reshape(frames_.shape),
+                      velocity, spin)
+        return velocity.reshape(x.shape[:-2] + velocity.shape[1:]), spin.reshape(
+            x.shape[:-2] + spin.shape[1:])
 
     def free_velocity(self, x, v, force, rotation, centroid, spin, rotation_step) -> np.ndarray:
         """v_free [m/s] [N, d] from positions x [m], velocities v [m/s], nodal forces `force`
@@ -404,10 +407,8 @@ def _centres(x0: np.ndarray, node_start: np.ndarray, node_mass: np.ndarray) -> n
 
 
 @nb.njit(cache=True)
-def frames(node_start, x0, c0, node_mass, x, rotation, centroid):
-    """centroid[b] = sum m_i x_i / sum m_i [m]; rotation[b] = polar factor of A = sum m_i (x_i -
-    c)(X0_i - c0)^T (2D: the angle atan2(A10 - A01, A00 + A11); 3D: U diag(1, 1, det) V^T
-    from the SVD A = U S V^T), the best mass-weighted rigid fit of the reference."""
+def centroids(node_start, node_mass, x, centroid):
+    """centroid[b] = sum m_i x_i / sum m_i [m] over block b's nodes."""
     d = x.shape[1]
     for b in range(len(node_start) - 1):
         total = 0.0
@@ -419,6 +420,39 @@ def frames(node_start, x0, c0, node_mass, x, rotation, centroid):
                 centroid[b, k] += node_mass[i] * x[i, k]
         for k in range(d):
             centroid[b, k] /= total
+
+
+@nb.njit(cache=True)
+def rigid_motions(node_start, node_mass, x, v, velocity, spin):
+    """For each of the F frames of x, v [F, N, d] ([m], [m/s]): velocity[f, b] = sum m_i v_i /
+    sum m_i [m/s] and spin[f, b] [rad/s] (spins()) of block b, the rigid motion nearest
+    (mass-weighted) to its nodal velocities."""
+    nb_ = len(node_start) - 1
+    d = x.shape[2]
+    centroid = np.empty((nb_, d))
+    for f in range(x.shape[0]):
+        centroids(node_start, node_mass, x[f], centroid)
+        spins(node_start, node_mass, x[f], v[f], centroid, spin[f])
+        for b in range(nb_):
+            total = 0.0
+            for k in range(d):
+                velocity[f, b, k] = 0.0
+            for i in range(node_start[b], node_start[b + 1]):
+                total += node_mass[i]
+                for k in range(d):
+                    velocity[f, b, k] += node_mass[i] * v[f, i, k]
+            for k in range(d):
+                velocity[f, b, k] /= total
+
+
+@nb.njit(cache=True)
+def frames(node_start, x0, c0, node_mass, x, rotation, centroid):
+    """centroid[b] = sum m_i x_i / sum m_i [m]; rotation[b] = polar factor of A = sum m_i (x_i -
+    c)(X0_i - c0)^T (2D: the angle atan2(A10 - A01, A00 + A11); 3D: U diag(1, 1, det) V^T
+    from the SVD A = U S V^T), the best mass-weighted rigid fit of the reference."""
+    d = x.shape[1]
+    centroids(node_start, node_mass, x, centroid)
+    for b in range(len(node_start) - 1):
         a = np.zeros((d, d))
         for i in range(node_start[b], node_start[b + 1]):
             for k in range(d):

@@ -17,7 +17,8 @@ import numpy as np
 
 from saxum.errors import InputError, plain
 
-__all__ = ["DEFAULT_MAX_NODES", "Mesh", "boundary_facets", "mesh_polygon", "mesh_polyhedron"]
+__all__ = ["DEFAULT_MAX_NODES", "Mesh", "boundary_facets", "fit_mesh", "mesh_polygon",
+           "mesh_polyhedron"]
 
 DEFAULT_MAX_NODES = 1000
 """Largest number of nodes of one block's mesh unless max_nodes says otherwise: M~^-1 is stored
@@ -107,6 +108,35 @@ def boundary_facets(cells, dim: int) -> tuple[np.ndarray, np.ndarray]:
                                  return_counts=True)
     outer = np.sort(index[counts == 1])
     return faces[outer], outer // (dim + 1)
+
+
+def fit_mesh(mesh: Mesh, normals: np.ndarray, offsets: np.ndarray, volume: float,
+             max_nodes: int = DEFAULT_MAX_NODES, name: str = "block") -> Mesh:
+    """A given mesh of a convex block {x: n_i . x <= c_i} (normals [k, d], offsets c [k] [m]) of
+    area (3D volume) `volume` [m^2 | m^3], checked to be one: every node inside the block and
+    every boundary node on a face of it (within 1e-9 of the block's size), the cells' areas
+    (volumes) adding up to the block's (1e-9), at most max_nodes nodes; else an InputError."""
+    dim = len(normals[0])
+    if not isinstance(mesh, Mesh) or mesh.dim != dim:
+        raise InputError(f"{name}: mesh must be a saxum.fe.Mesh of {dim}D nodes "
+                         f"(saxum.fe.Mesh.from_cells(nodes, cells)), got {mesh!r:.60}")
+    if len(mesh.nodes) > max_nodes:
+        raise InputError(f"{name}: the given mesh has {len(mesh.nodes)} nodes, more than "
+                         f"max_nodes = {max_nodes}; give a coarser mesh")
+    tol = 1e-9 * _diameter(mesh.nodes)
+    height = mesh.nodes @ np.asarray(normals).T - np.asarray(offsets)  # [n, k], <= 0 inside
+    outside = np.flatnonzero(height.max(axis=1) > tol)
+    if len(outside):
+        raise InputError(f"{name}: given mesh nodes {plain(outside[:5])} lie outside the block; "
+                         "mesh the block itself")
+    off = mesh.boundary_nodes[np.abs(height[mesh.boundary_nodes]).min(axis=1) > tol]
+    cells = np.abs(_signed_volumes(mesh.nodes, mesh.cells)).sum()
+    if len(off) or abs(cells - volume) > 1e-9 * volume:
+        raise InputError(f"{name}: the given mesh does not fill the block (its cells cover "
+                         f"{cells:.9g} of {volume:.9g} {'m^2' if dim == 2 else 'm^3'}"
+                         + (f"; nodes {plain(off[:5])} are on its boundary but on no face of "
+                            "the block" if len(off) else "") + "); mesh the block itself")
+    return mesh
 
 
 def _check_size(name, size, diameter):

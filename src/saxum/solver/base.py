@@ -39,10 +39,11 @@ class SolverReport:
     """What a solver did on one step: iterations (Gauss-Seidel sweeps), final error,
     converged or not, and which solver finished the step (an entry of SOLVER_NAMES: "nlgs",
     or "conic" / "newton" when saxum.solver.hybrid's attempt with the conic fixed point or
-    semismooth Newton was kept). Where it did not converge: natural_map, the natural-map
-    error ||F_nat(R)|| / ||q|| of the impulses it returned (saxum.solver.residual: how far
-    they are from a solution of the step's problem, whatever the solver's own criterion; nan
-    where not measured: NLGS alone); rate, the error's factor per sweep over its last sweeps
+    semismooth Newton was kept). natural_map: the natural-map error ||F_nat(R)|| / ||q|| of
+    the impulses it returned (saxum.solver.residual: how far they are from a solution of the
+    step's problem, whatever the solver's own criterion), where it did not converge or where
+    the hybrid ended the step by it (then also `error`); nan where not measured (NLGS alone,
+    steps converged by NLGS's criterion); rate, the error's factor per sweep over its last sweeps
     (nan where not measured), and stalled, whether the error had stopped falling there
     (error_trend) rather than the sweeps running out."""
 

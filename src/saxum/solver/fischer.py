@@ -38,6 +38,11 @@ when 30 halvings find no such step or the step is shorter than 0.1, and divided 
 a full step. The linear algebra is
 sparse: per-contact 3x3 blocks of d phi / dr and d phi / du times W (scipy.sparse), solved by
 SuperLU. The iterate of least natural-map error is returned.
+
+2D problems (spacedim 2: [normal, tangent]) are solved as 3D ones with a second tangent of
+W = 1 (its row and column otherwise zero) and q = 0: there u_T2 = r_T2, which every solution
+has zero (sliding, r_T = -c u_T with c > 0 gives r_T2 = -c r_T2; sticking, u_T = 0), so the
+3D problem's solutions are the 2D ones with r_T2 = 0, and their natural maps are the same.
 """
 
 from __future__ import annotations
@@ -66,6 +71,11 @@ _SHORT = 0.1
 fast (contacts near the cone's apex or edge) the Gauss-Newton direction is taken in steps of
 1e-2 to 1e-3 for tens of iterations (the shaken L wall's steps), a shorter, more gradient-like
 direction is taken whole."""
+_PATIENCE = 10
+"""Iterations after which Newton stops where ||phi|| has not halved: it has reached a
+stationary point of the merit that is not a solution (siconosdat_Capsules-i101-404 from zero:
+3.5e-7 from iteration 30 to 200; the shaken L wall's steps at the onset of motion,
+docs/method.md), where more iterations cost ~0.2 s each on 770 contacts for nothing."""
 _LEAST = 1e-14
 """Least Levenberg-Marquardt lambda relative to J^T J's largest diagonal entry."""
 _FLOOR = 1e-14
@@ -157,13 +167,28 @@ def fischer_burmeister(r: np.ndarray, w: sp.csr_matrix, q: np.ndarray, mu: np.nd
     return phi.ravel(), a_blocks, b_blocks
 
 
+def _lifted(w: sp.spmatrix, q: np.ndarray, r: np.ndarray):
+    """A 2D problem (FCLIB order) as the 3D one of the module doc: (W, q, r) with a second
+    tangent per contact, W = 1 and q = r = 0 there."""
+    import scipy.sparse as sp
+
+    m = q.size // 2
+    place = (3 * np.arange(m)[:, None] + np.arange(2)[None]).ravel()  # 2D index -> 3D index
+    lift = sp.csr_matrix((np.ones(2 * m), (place, np.arange(2 * m))), shape=(3 * m, 2 * m))
+    pad = np.zeros(3 * m)
+    pad[3 * np.arange(m) + 2] = 1.0
+    q3, r3 = lift @ q, lift @ r
+    return (lift @ w @ lift.T + sp.diags(pad)).tocsr(), q3, r3, place
+
+
 def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
                               r0: np.ndarray | None = None, tolerance: float = 1e-8,
-                              max_iterations: int = 100) -> ConicResult:
-    """The method of the module doc on u = W r + q (3D, FCLIB order) from r0 (zero if None),
-    until the natural-map error ||F_nat(r)|| / ||q|| (saxum.solver.residual) is <= tolerance,
-    after max_iterations iterations, or when no step decreases the merit even with the largest
-    Levenberg-Marquardt multiplier. Returns the iterate of least natural-map error
+                              max_iterations: int = 100, spacedim: int = 3) -> ConicResult:
+    """The method of the module doc on u = W r + q (FCLIB order; spacedim 2 is solved as 3D)
+    from r0 (zero if None), until the natural-map error ||F_nat(r)|| / ||q||
+    (saxum.solver.residual) is <= tolerance, after max_iterations iterations, when no step
+    decreases the merit even with the largest Levenberg-Marquardt multiplier, or when ||phi||
+    has not halved in _PATIENCE iterations. Returns the iterate of least natural-map error
     (ConicResult: interior_iterations counts the linear solves)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
@@ -173,6 +198,12 @@ def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
     mu = np.asarray(mu, dtype=np.float64)
     if q.size == 0:
         return ConicResult(np.zeros(0), 0, 0, 0.0)
+    if spacedim == 2:
+        w3, q3, r3, place = _lifted(w, q, np.zeros(q.size) if r0 is None else r0)
+        result = fischer_burmeister_newton(w3, q3, mu, r3, tolerance, max_iterations)
+        r = result.r[place]
+        return ConicResult(r, result.iterations, result.interior_iterations,
+                           natural_map_error(w, q, mu, r, 2))
     rho = 1.0 / np.maximum(w.diagonal().reshape(-1, 3).max(axis=1), 1e-300)
     r = np.zeros(q.size) if r0 is None else np.array(r0, dtype=np.float64)
     phi, a_blocks, b_blocks = fischer_burmeister(r, w, q, mu, rho)
@@ -182,8 +213,10 @@ def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
     multiplier = _MULTIPLIER[1]
     solves = 0
     it = 0
-    while it < max_iterations and best > tolerance and merit > 0.0:
+    mark, since = merit, 0  # the merit when ||phi|| last halved, and the iterations since
+    while it < max_iterations and best > tolerance and merit > 0.0 and since < _PATIENCE:
         it += 1
+        since += 1
         jacobian = (_block_diagonal(a_blocks) + _block_diagonal(b_blocks) @ w).tocsr()
         gradient = jacobian.T @ phi
         normal = (jacobian.T @ jacobian).tocsc()
@@ -217,4 +250,6 @@ def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
         error = natural_map_error(w, q, mu, r, 3)
         if error < best:
             best, best_r = error, r
+        if merit <= 0.25 * mark:
+            mark, since = merit, 0
     return ConicResult(best_r, it, solves, best)

@@ -1,6 +1,7 @@
 """Time-step solvers beyond NLGS: the conic fixed point alone (ConicSolver) and the hybrid
-(Hybrid) that runs NLGS and tries the conic fixed point, then semismooth Newton
-(saxum.solver.newton), where NLGS stalls or at its cap.
+(Hybrid) that runs NLGS and, where NLGS stalls or at its cap, accepts NLGS's iterate by the
+natural map or tries Fischer-Burmeister Newton (3D), or the conic fixed point and Alart-Curnier
+Newton (2D).
 
 ConicSolver assembles the rows H* of the step's active contacts (saxum.solver.assembled),
 solves the step by De Saxce's fixed point with Clarabel in body space (saxum.solver.conic's
@@ -11,29 +12,41 @@ solved by NLGS alone reports, so that every step is judged alike.
 
 Hybrid: NLGS exactly as saxum.solver.NLGS runs it (the same sweeps, the same rest solution),
 in windows of `window` sweeps, never ending a step worse than NLGS's iterate by NLGS's own
-criterion. After each window it compares NLGS's error with the least at the end of the
-windows before. Only a measured stall (no new least error for _PATIENCE = 10 windows in a
-row: NLGS's error oscillates, and rises for a few windows on steps it then finishes) or the
-sweep cap makes it try the conic fixed point, once per solve, from NLGS's iterate; a rate
-that predicts the cap does not (NLGS finishes such steps, slowly: docs/method.md). One NLGS
-sweep from the fixed point's result judges it: it is kept, and NLGS sweeps on from it with
-the sweeps left, only where that sweep converged or its error (the relative change NLGS
-reports) is below half NLGS's last sweep's; else semismooth Newton runs from zero impulses
-(from NLGS's iterate it crawls as NLGS does at the friction threshold) and is judged the
-same way; where neither is kept NLGS's iterate is put back bit for bit and NLGS goes on as
-if alone (at the cap: the step ends as NLGS alone ends it). Where NLGS's sweeps from a kept
-iterate end above that iterate's error, the step ends at it. After k attempts in a row
-that were rejected or did not end their solve converged, the next 2^k - 1 solves (k at most
-6) are NLGS's alone: on the friction threshold the fixed point crawls too, and each attempt
-costs seconds on a few hundred contacts. Where NLGS converges without such a stall the
+criterion or by the natural map. After each window it compares NLGS's error with the least at
+the end of the windows before. Only a measured stall (no new least error for _PATIENCE = 10
+windows in a row: NLGS's error oscillates, and rises for a few windows on steps it then
+finishes) or the sweep cap makes it look further, once per solve; a rate that predicts the
+cap does not (NLGS finishes such steps, slowly: docs/method.md). There it first measures the
+natural-map error of NLGS's iterate (saxum.solver.residual, on the assembled problem): where
+it is within the tolerance the step ends there, converged, reporting that error (the shaken
+3D L wall: 37 of its 75 steps above NLGS's criterion are such steps). Else it tries other
+solvers. In 3D, where that error is within _REACH times the tolerance or NLGS's error was not
+crawling (_CRAWL), Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's iterate, kept
+where the natural-map error of its result is within the tolerance (the step ends converged,
+finished by "newton", reporting that error); it dominates the others there (docs/method.md:
+the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
+and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries. In
+2D, the conic fixed point from NLGS's iterate, judged by one NLGS sweep from its result: it is
+kept, and NLGS sweeps on from it with the sweeps left, only where that sweep converged or its
+error (the relative change NLGS reports) is below half NLGS's last sweep's; then semismooth
+Newton on Alart-Curnier's function from zero impulses (from NLGS's iterate it crawls as NLGS
+does at the friction threshold; the Fischer-Burmeister one does not help in 2D:
+docs/method.md), judged the same way. Where none is kept NLGS's iterate is put back bit for
+bit and NLGS goes on as if alone (at the cap: the step ends as NLGS alone ends it). Where
+NLGS's sweeps from a kept conic iterate end above that iterate's error, the step ends at it.
+After k attempts in a row that were rejected or did not end their solve converged, the next
+2^k - 1 solves (k at most 6) try no other solver (the natural-map test still runs): on the
+friction threshold the other solvers crawl too, and each attempt costs seconds on a few
+hundred contacts. Where NLGS converges without such a stall the
 hybrid is NLGS: the same iterates bit for bit, one more Python call per window. A solve that
 ends above the tolerance reports the natural-map error of the impulses it ends with
-(SolverReport.natural_map; saxum.solver.residual): how far they are from a solution, which
-NLGS's criterion (a sweep's change) does not say.
+(SolverReport.natural_map): how far they are from a solution, which NLGS's criterion (a
+sweep's change) does not say; the step log calls them "no solution reached" (whether the
+step's problem has a solution: benchmarks/capped_steps.py --existence).
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,8 +54,9 @@ from ..errors import InputError
 from .assembled import assemble_local
 from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
+from .fischer import fischer_burmeister_newton
 from .newton import alart_curnier_newton
-from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS
+from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, check_refinement, refine_step
 from .problem import ContactProblem
 
 __all__ = ["ConicSolver", "Hybrid"]
@@ -61,6 +75,21 @@ window on stalled steps, and a step left at a near-equal iterate changes the run
 _NEWTON_ITERATIONS = 60
 """Newton iterations at most per attempt (the shaken stack's capped step: 40 to 2.4e-9 from
 zero impulses, 1 s on 78 contacts; on 770 contacts of the shaken 3D L wall each costs ~0.2 s)."""
+_FISCHER_ITERATIONS = 10
+"""Fischer-Burmeister Newton iterations at most per attempt (3D): on the shaken 3D L wall's
+steps above the tolerance it brings those it solves under 1e-6 in 1 to 7 (0.8-4.5 s on 685-771
+contacts, a loaded machine), and the others only halfway in 20 (9-47 s each); it stops earlier
+where its merit stalls (saxum.solver.fischer)."""
+_REACH = 3.0
+"""In 3D, Fischer-Burmeister Newton runs only where NLGS's iterate is within this factor of
+the tolerance by the natural map: on the shaken 3D L wall's 38 steps above it (NLGS's iterate
+at 1.04e-6 to 3.9e-5) it brought under it only steps that started at most 2.33 times above
+(14 of the 18 within 3 times, in 1 to 7 iterations), and none of the 20 above 3 times
+(3.1e-6 to 3.9e-5), whose error it halved in 10 iterations at 10-60 s each (BENCHMARKS.md,
+fb13), all of them where NLGS's error crawled (_CRAWL)."""
+_CRAWL = 1e-3
+"""NLGS's error falling by less than this fraction per sweep crawls (the L wall's capped steps:
+1e-5 per sweep and less; a cold start cut by a small cap: 0.04 to 0.25)."""
 _NEWTON_TOLERANCE = 1e-2
 """Newton's natural-map tolerance relative to the hybrid's: its last iterations are quadratic
 and cheap, and the judging sweep must converge from its result."""
@@ -121,11 +150,14 @@ class ConicSolver(ContactSolver):
 
 @dataclass
 class Hybrid(ContactSolver):
-    """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that
-    tries the conic fixed point where NLGS stalls or at its cap, and keeps what it finds only
-    where it is better by NLGS's own criterion (module doc); window: sweeps between two
-    measurements of the error, and the sweeps that judge a conic iterate; threads, domains:
-    NLGS's (saxum.solver.NLGS)."""
+    """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that,
+    where NLGS stalls or at its cap, ends the step where NLGS's iterate is within the tolerance
+    by the natural map, else tries Fischer-Burmeister Newton (3D) or the conic fixed point and
+    Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
+    by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
+    two measurements of the error, and the sweeps that judge a conic iterate; threads, domains,
+    refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
+    converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -134,14 +166,19 @@ class Hybrid(ContactSolver):
     window: int = 100
     threads: int | None = None
     domains: int | None = None
+    refine: float = 0.0
+    refine_sweeps: int = 1000
 
     def __post_init__(self) -> None:
+        check_refinement(self)
         if self.window < 1:
             raise InputError(f"solver.window must be >= 1, got {self.window}")
+        # NLGS's refinement (NLGS.refine) comes once the step has converged (solve)
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
-                           self.rest_after, threads=self.threads, domains=self.domains)
+                           self.rest_after, threads=self.threads, domains=self.domains,
+                           refine=0.0)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0,
-                          threads=self.threads, domains=self.domains)
+                          threads=self.threads, domains=self.domains, refine=0.0)
         self._first._trend = self._more._trend = False  # the windows give it (solve)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self._conic._nlgs.threads = self.threads
@@ -149,12 +186,13 @@ class Hybrid(ContactSolver):
         self.finished = {name: 0 for name in SOLVER_NAMES}
         """Solves (steps and projections) finished by each solver."""
         self.attempts = 0
-        """Solves on which the conic fixed point ran (a stall or the cap)..."""
+        """Solves on which other solvers ran (a stall or the cap, NLGS's iterate not within
+        the tolerance by the natural map)..."""
         self.rejected = 0
-        """... and those on which neither its iterate nor Newton's was better (NLGS went on
-        from its own)."""
+        """... and those on which none of their iterates was kept (NLGS went on from its
+        own)."""
         self.newton_iterations = 0
-        """Semismooth Newton iterations done, in all."""
+        """Semismooth Newton iterations done (Fischer-Burmeister and Alart-Curnier), in all."""
         self._failures = 0
         self._wait = 0
 
@@ -188,24 +226,32 @@ class Hybrid(ContactSolver):
         since = 0  # ... and the windows since it last fell
         attempt = self._wait == 0  # else NLGS alone (back-off)
         self._wait = max(self._wait - 1, 0)
-        attempted = False
+        attempted = checked = False
         errors = []  # at the end of NLGS's windows since the last iterate kept: the trend
         while not report.converged:
             if report.error < least:
                 least, since = report.error, 0
             else:
                 since += 1
-            if attempt and not attempted and (since >= _PATIENCE
-                                              or done >= self.max_iterations):
-                attempted = True
-                self.attempts += 1
-                judged, wasted = self._attempt(problem, impulse, v_free, v, report.error)
-                judging += wasted
-                if judged is not None:
-                    report, solver = judged, judged.solver
-                    done += judged.iterations
-                    kept = judged, impulse.copy(), v.copy()
-                    errors.clear()
+            if not checked and (since >= _PATIENCE or done >= self.max_iterations):
+                checked = True
+                local = assemble_local(problem, v_free)
+                natural = local.natural_map_error(impulse)
+                if natural <= self.tolerance:
+                    # NLGS's iterate is a solution to the tolerance by the natural map
+                    report = SolverReport(report.iterations, natural, True, "nlgs", natural)
+                    break
+                if attempt and self._hopeful(problem, natural, errors):
+                    attempted = True
+                    self.attempts += 1
+                    judged, wasted = self._attempt(problem, local, impulse, v_free, v,
+                                                   report.error)
+                    judging += wasted
+                    if judged is not None:
+                        report, solver = judged, judged.solver
+                        done += judged.iterations
+                        kept = judged, impulse.copy(), v.copy()
+                        errors.clear()
             if report.converged or done >= self.max_iterations:
                 break
             self._more.max_iterations = min(self.window, self.max_iterations - done)
@@ -213,6 +259,16 @@ class Hybrid(ContactSolver):
             done += report.iterations
             if report.iterations == self.window:
                 errors.append(report.error)
+        if report.converged and solver == "nlgs" and not checked:
+            # NLGS's refinement (NLGS.solve), only where NLGS converged by itself
+            more, error = refine_step(self, lambda target, count: self._sweep_to(
+                problem, impulse, v_free, v, target, count), done, report.error)
+            done += more
+            report = replace(report, error=error)
+            if error > self.tolerance:  # the refinement's last sweep changed more
+                self._more.max_iterations = self.max_iterations - done
+                report = self._more.solve(problem, impulse, v_free, v)
+                done += report.iterations
         if solver == "conic" and not report.converged and report.error > kept[0].error:
             # NLGS's error rose from the conic iterate's: the step ends at that iterate
             impulse[...] = kept[1]
@@ -231,22 +287,51 @@ class Hybrid(ContactSolver):
         # shaken 3D L wall NLGS's criterion of 1e-6 to 1e-5 at the cap is a natural-map
         # error of 1e-5 to 1e-4), and whether its error stalled or was still falling
         if report.converged:
-            natural, trend = math.nan, (math.nan, False)
+            natural, trend = report.natural_map, (math.nan, False)
         else:
             natural = assemble_local(problem, v_free).natural_map_error(impulse)
             trend = error_trend(errors[-_TREND_WINDOWS:], self.window)
         return SolverReport(done + judging, report.error, report.converged, solver, natural,
                             *trend)  # (natural_map, rate, stalled)
 
-    def _attempt(self, problem, impulse, v_free, v, error: float):
-        """The conic fixed point from NLGS's iterate, then (where NLGS rejects it)
-        semismooth Newton from zero impulses, each judged by one NLGS sweep from its result.
-        Returns (report, rejected): the first judging sweep's report that converged or whose
+    def _sweep_to(self, problem, impulse, v_free, v, tolerance: float, count: int):
+        """At most `count` NLGS sweeps, stopping at `tolerance`: (sweeps, error)."""
+        self._more.tolerance, self._more.max_iterations = tolerance, count
+        report = self._more.solve(problem, impulse, v_free, v)
+        self._more.tolerance = self.tolerance
+        return report.iterations, report.error
+
+    def _hopeful(self, problem, natural: float, errors: list) -> bool:
+        """Whether to try other solvers on a step whose NLGS iterate has the natural-map error
+        `natural`, NLGS's error at the end of its windows being `errors`: in 2D always; in 3D
+        where `natural` is within _REACH times the tolerance or NLGS's error was not crawling
+        (falling by more than _CRAWL per sweep over its last windows, or too few windows to
+        say: a small cap)."""
+        rate = error_trend(errors[-_TREND_WINDOWS:], self.window)[0]
+        return (problem.model.dim == 2 or natural <= _REACH * self.tolerance
+                or not rate > 1.0 - _CRAWL)
+
+    def _attempt(self, problem, local, impulse, v_free, v, error: float):
+        """In 3D, Fischer-Burmeister Newton from NLGS's iterate, kept where the natural-map
+        error of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
+        iterate, then semismooth Newton on Alart-Curnier's function from zero impulses, each
+        judged by one NLGS sweep from its result. `local`: the step's assembled
+        problem. Returns (report, rejected): Fischer-Burmeister Newton's (its natural-map error
+        as the error, converged) or the first judging sweep's report that converged or whose
         error is below _BETTER times NLGS's last sweep's `error` (its solver's name in
         SolverReport.solver), or None with NLGS's iterate put back (impulse and v bit for
         bit); rejected: the judging sweeps of the iterates not kept."""
         kept = impulse.copy(), v.copy()
-        for name, candidate in (("conic", self._conic.conic), ("newton", self._newton)):
+        if problem.model.dim == 3:
+            natural = self._fischer(local, impulse, v_free, v)
+            if natural <= self.tolerance:
+                return SolverReport(0, natural, True, "newton", natural), 0
+            impulse[...] = kept[0]
+            v[...] = kept[1]
+            candidates = ()
+        else:
+            candidates = (("conic", self._conic.conic), ("newton", self._newton))
+        for name, candidate in candidates:
             if name == "newton":
                 impulse[...] = kept[0]
                 v[...] = kept[1]
@@ -259,7 +344,19 @@ class Hybrid(ContactSolver):
         self.rejected += 1
         impulse[...] = kept[0]
         v[...] = kept[1]
-        return None, 2
+        return None, len(candidates)
+
+    def _fischer(self, local, impulse, v_free, v) -> float:
+        """Fischer-Burmeister Newton (saxum.solver.fischer) from the current impulses on the
+        step's assembled problem `local`; writes impulse and v, returns the natural-map error
+        of the impulses written."""
+        result = fischer_burmeister_newton(local.w, local.q, local.mu,
+                                           local.impulses(impulse),
+                                           _NEWTON_TOLERANCE * self.tolerance,
+                                           _FISCHER_ITERATIONS)
+        self.newton_iterations += result.iterations
+        local.scatter(result.r, v_free, impulse, v)
+        return local.natural_map_error(impulse)
 
     def _newton(self, problem, impulse, v_free, v) -> None:
         """Semismooth Newton (saxum.solver.newton) from zero impulses on the step's assembled

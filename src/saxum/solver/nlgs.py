@@ -107,7 +107,16 @@ class NLGS(ContactSolver):
     fixes that order: the same bits on machines of different cores where it is given. 3D
     and deformable models ignore both. criterion: the error compared with the tolerance,
     "delassus" (saxum's, module doc) or LMGC90's "quad", "maxm", "qm/16" (_check_error,
-    docs/criteria.md; rigid blocks, swept in the serial order whatever threads says)."""
+    docs/criteria.md; rigid blocks, swept in the serial order whatever threads says).
+    refine [-]: a rigid step that converged in at most refine_sweeps sweeps sweeps on towards
+    tolerance / refine, for at most refine_sweeps more (0 or 1: off, the default; 10 for models
+    that slide: docs/method.md, "Refinement"); it is still converged at the tolerance, and a
+    refinement whose last sweep changed more than the tolerance sweeps on to it. Why: a step
+    stopped at the criterion leaves velocity errors up to tol / (1 - rho) (module doc), which
+    the next steps damp where the assembly is at rest but not where it slides with every joint
+    at mu N (docs/method.md, "A sliding wall"), where they add up from step to step; the cheap
+    steps of a slide reach tolerance / 10 in a few dozen sweeps, while the slow ones (the onset
+    of a slide, thousands of sweeps) are left at the tolerance."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -117,6 +126,8 @@ class NLGS(ContactSolver):
     threads: int | None = None
     criterion: str = "delassus"
     domains: int | None = None
+    refine: float = 0.0
+    refine_sweeps: int = 1000
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tolerance) and self.tolerance > 0.0):
@@ -130,6 +141,7 @@ class NLGS(ContactSolver):
         if self.criterion not in CRITERIA:
             raise InputError(f"solver.criterion must be one of {', '.join(CRITERIA)}, got "
                              f"{self.criterion!r}")
+        check_refinement(self)
         self._sums = None if self.criterion == "delassus" else np.zeros(8)
         if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
@@ -273,6 +285,15 @@ class NLGS(ContactSolver):
             self._rest_backoff = 0
         # a rest solution serves later steps as an anchor: only where the loads are followed
         self._rest_found = follow and found and converged
+        if converged:
+            # class doc (refine): the errors of a sliding assembly's steps add up
+            more, error = refine_step(self, lambda target, count: sweep(
+                *args[:-1], target, count, self.relaxation), iterations, error)
+            iterations += more
+            if error > self.tolerance:  # the refinement's last sweep changed more
+                more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
+                iterations += more
+                converged = error <= self.tolerance
         rate, stalled = trend
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
 
@@ -337,7 +358,7 @@ class NLGS(ContactSolver):
     def _solve_deformable(self, problem: ContactProblem, impulse: np.ndarray,
                           v_free: np.ndarray, v: np.ndarray) -> SolverReport:
         """Sweeps of a model with deformable blocks (saxum.solver.nlgs_fe); no rest solution
-        and no load following (both are for rigid blocks; Simulation logs it): a 2D step not
+        and no load following (both are for rigid blocks; Simulation logs it): a step not
         converged after min(rest_after, _FE_FIRST) sweeps sweeps on from the sticking solution
         (saxum.solver.sticking), counted in rest_attempts (and in rest_solutions where its
         statuses settled, or nearly, and it was taken)."""
@@ -356,10 +377,8 @@ class NLGS(ContactSolver):
         if problem.model.dim == 2:
             args += (problem.law_map,)
         args += (self.tolerance,)
-        # the sticking start is written for 2D (saxum.solver.sticking) and for dry contacts:
-        # 3D sweeps, and those with joint laws, alone
-        sticking = (problem.model.dim == 2 and self.rest_after > 0
-                    and not getattr(problem, "joint_laws", False))
+        # the sticking start is written for dry contacts: those with joint laws sweep alone
+        sticking = self.rest_after > 0 and not getattr(problem, "joint_laws", False)
         first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
                  else self.max_iterations)
         iterations, error = sweep(*args, first, self.relaxation)
@@ -381,8 +400,34 @@ class NLGS(ContactSolver):
                             converged=error <= self.tolerance)
 
 
+def check_refinement(solver) -> None:
+    """InputError unless solver.refine (NLGS, Hybrid) is 0 or >= 1 and solver.refine_sweeps
+    >= 0."""
+    if not (solver.refine == 0.0 or solver.refine >= 1.0):
+        raise InputError(f"solver.refine must be 0 (off) or >= 1, got {solver.refine}")
+    if solver.refine_sweeps < 0:
+        raise InputError(f"solver.refine_sweeps must be >= 0, got {solver.refine_sweeps}")
+
+
+def refine_step(solver, sweeps, iterations: int, error: float) -> tuple[int, float]:
+    """The refinement of a step of `solver` (NLGS, Hybrid: NLGS's doc, refine) that converged
+    after `iterations` sweeps with `error`: sweeps(tolerance, count), which runs at most count
+    sweeps, stopping at tolerance, and returns (sweeps done, error), towards tolerance /
+    refine for at most refine_sweeps. Returns (sweeps done, error); (0, error) for a step
+    already there, or one that took more than refine_sweeps. (A stop where the error falls
+    slowly was tried: on the 0.7 g wall of benchmarks/shaken_wall.py it cut the slide's
+    refinement short, and the steps after it cost 1.5 to 6 times as many sweeps.)"""
+    if not (solver.refine > 1.0 and error > solver.tolerance / solver.refine
+            and 0 < iterations <= solver.refine_sweeps):
+        return 0, error
+    budget = min(solver.refine_sweeps, solver.max_iterations - iterations)
+    if budget <= 0:
+        return 0, error
+    return sweeps(solver.tolerance / solver.refine, budget)
+
+
 _FE_FIRST = 5
-"""Sweeps of a 2D step with deformable blocks before its sticking start (at most
+"""Sweeps of a step with deformable blocks before its sticking start (at most
 rest_after): a sweep of the 210-brick wall costs about a seventh of one of the start's LU
 (benchmarks/wall_fe.py), and steps that converge in a few sweeps (free flight, light
 contact) need no start."""

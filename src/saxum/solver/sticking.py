@@ -1,6 +1,6 @@
 """The sticking solution of a step with deformable blocks: the impulses with which every
 closed contact sticks, U_n + b_n = 0 and U_t = 0, from one sparse solve of the step's linear
-equations in node and body velocities (2D):
+equations in node and body velocities (2D and 3D):
 
     [ A  H^T ] [ dv ]   [      0         ]      A = diag(R_s M~ R_s^T per deformable block,
     [ H   0  ] [ -R ] = [ -(H v_free + b) ]             M of the free rigid bodies),
@@ -9,12 +9,17 @@ v = v_free + dv, H the rows of the contacts in the solve (saxum.solver.problem, 
 as in saxum.bodies.fe), b the normal shift of each law. Each contact has a status, first
 that of its warm-start impulse (open for R_n = 0, sliding on the cone's edge, else
 sticking), and after each solve an active set changes it: a closed contact with R_n < 0
-opens (R = 0), a sticking one outside its Coulomb cone slides (R_t = +-mu R_n, U_n + b_n =
-0), a sliding one whose slip goes with its friction impulse sticks, an open one with U_n +
-b_n < 0 closes; up to _PASSES solves. When no status changes, this is a solution of the
-step's problem (every law holds); when a few still change (at most _CHANGING of the
-contacts), it is a start near one, from which NLGS sweeps on (the caller judges convergence
-by the sweeps, as always); with more, it is not taken.
+opens (R = 0), a sticking one outside its Coulomb cone slides (R_t = mu R_n d, U_n + b_n =
+0, d the unit direction of its friction impulse: +-1 in 2D, a unit vector of the tangent
+plane in 3D, the friction cone's generatrix), a sliding one whose slip goes with its
+friction impulse sticks, one whose slip turned (3D: by more than _TURN) slides on along
+-U_t / |U_t| (not counted as a change of status: the directions of a few sliding contacts
+settle over more solves than the statuses, and NLGS's local solves finish them), an open
+one with U_n + b_n < 0 closes; up to _PASSES solves. When no status changes, this is a
+solution of the step's problem (every law holds; in 3D, up to the sliding directions); when
+a few still change (at most _CHANGING of the contacts), it is a start near one, from which
+NLGS sweeps on (the caller judges convergence by the sweeps, as always); with more, it is
+not taken.
 
 Why: a wall of elastic blocks has no rest solution (its nodes vibrate), and Gauss-Seidel
 over node contacts converges as slowly as a Gauss-Seidel on the blocks' stiffness: hundreds
@@ -42,9 +47,11 @@ and each contact's U + b is off by 1e-9 of its W R, which NLGS's sweeps then tak
 _PASSES = 8
 """Solves at most, each with the contacts' status (open, sticking, sliding) from the last
 one's impulses and velocities (module doc)."""
-_OPEN, _STICK, _SLIDE_UP, _SLIDE_DOWN = 0, 1, 2, 3
-"""A contact's status in the solve: R = 0; U + b = 0; U_n + b_n = 0 and R_t = +mu R_n, or
--mu R_n."""
+_OPEN, _STICK, _SLIDE = 0, 1, 2
+"""A contact's status in the solve: R = 0; U + b = 0; U_n + b_n = 0 and R_t = mu R_n d."""
+_TURN = 1e-3
+"""A 3D sliding contact whose slip direction -U_t / |U_t| differs from its d by more than
+this [rad] (|d - (-U_t / |U_t|)|) slides along the slip's direction in the next solve."""
 _CHANGING = 0.01
 """The start is taken when the last solve left at most this fraction of its contacts still
 changing status (their impulses as that solve gave them: NLGS's local solves correct
@@ -64,12 +71,14 @@ _SLACK = 1e-9
 @nb.njit(cache=True)
 def _rows(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, bias, v_free,
           node_free, count, take, body_column, node_columns, rows, cols, vals, rhs):
-    """Triplets of H over the contacts `take` (row 2 k: t, 2 k + 1: n of contact take[k]):
-    an FE side's rows on its nodes' dofs (2 p, 2 p + 1), weighted; a rigid side's on the
-    body's columns (body_column, -1 for bodies without unknowns); rhs = -(H v_free + b).
-    Returns the number of triplets."""
+    """Triplets of H over the contacts `take` (rows d k + r of contact take[k], r in the
+    contact's frame (t, n) or (t, n, s)): an FE side's rows on its nodes' dofs (d p + i),
+    weighted; a rigid side's on the body's columns (body_column, -1 for bodies without
+    unknowns); rhs = -(H v_free + b). Returns the number of triplets."""
+    dim = h_cand.shape[1]
+    dof = h_cand.shape[2]
     e = 0
-    u = np.empty(2)
+    u = np.empty(dim)
     for k in range(take.shape[0]):
         a = take[k]
         for side in range(2):
@@ -81,16 +90,16 @@ def _rows(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, bias, v_f
                     if w == 0.0:
                         continue
                     p = side_node[a, side, i]
-                    for r in range(2):
-                        for d in range(2):
-                            rows[e] = 2 * k + r
-                            cols[e] = 2 * p + d
+                    for r in range(dim):
+                        for d in range(dim):
+                            rows[e] = dim * k + r
+                            cols[e] = dim * p + d
                             vals[e] = w * rws[a, r, d]
                             e += 1
             elif body_column[body] >= 0:
-                for r in range(2):
-                    for d in range(3):
-                        rows[e] = 2 * k + r
+                for r in range(dim):
+                    for d in range(dof):
+                        rows[e] = dim * k + r
                         cols[e] = node_columns + body_column[body] + d
                         vals[e] = rws[a, r, d]
                         e += 1
@@ -99,8 +108,9 @@ def _rows(side_kind, side_node, side_weight, cand, ant, h_cand, h_ant, bias, v_f
                       v_free, node_free, u)
         side_velocity(h_ant, a, side_kind[a, 1], side_node[a, 1], side_weight[a, 1], ant[a],
                       v_free, node_free, u)
-        rhs[2 * k] = -u[0]
-        rhs[2 * k + 1] = -(u[1] + bias[a])
+        for r in range(dim):
+            rhs[dim * k + r] = -u[r]
+        rhs[dim * k + 1] -= bias[a]
     return e
 
 
@@ -110,41 +120,51 @@ def _world_iteration_matrix(kind):
     import scipy.sparse as sp
 
     b = kind.blocks
-    n = b.n_nodes
-    rot = kind.rotation[b.node_block]  # [N, 2, 2]
-    rows = np.repeat(np.arange(2 * n), 2)
-    cols = (2 * np.arange(n)[:, None, None] + np.array([0, 1])[None, None, :]
-            + np.zeros((1, 2, 1), dtype=np.int64)).ravel()
-    q = sp.csr_matrix((rot.ravel(), (rows, cols)), shape=(2 * n, 2 * n))
+    n, d = b.n_nodes, b.dim
+    rot = kind.rotation[b.node_block]  # [N, d, d]
+    rows = np.repeat(np.arange(d * n), d)
+    cols = (d * np.arange(n)[:, None, None] + np.arange(d)[None, None, :]
+            + np.zeros((1, d, 1), dtype=np.int64)).ravel()
+    q = sp.csr_matrix((rot.ravel(), (rows, cols)), shape=(d * n, d * n))
     return (q @ kind.iteration_matrix @ q.T).tocsr()
 
 
-def _solve_status(a_matrix, h, rhs, status, mu, diagonal):
-    """(x = (dv, -R) [m/s, N s], R [m, 2] [N s]) of the equations with each contact's rows by
+def _solve_status(a_matrix, h, rhs, status, direction, mu, diagonal):
+    """(x = (dv, -R) [m/s, N s], R [m, d] [N s]) of the equations with each contact's rows by
     its status: sticking U + b = 0 (with _REGULARIZATION), sliding U_n + b_n = 0 and R_t =
-    +-mu R_n, open R = 0."""
+    mu R_n d (d = direction [m, d - 1]: the tangent axes t, and s in 3D), open R = 0."""
     import scipy.sparse as sp
     import scipy.sparse.linalg
 
     n = a_matrix.shape[0]
-    m = len(status)
+    m, dim = diagonal.shape
+    tangent = [0] if dim == 2 else [0, 2]
     open_ = status == _OPEN
-    sliding = (status == _SLIDE_UP) | (status == _SLIDE_DOWN)
-    keep = np.ones((m, 2))
+    sliding = status == _SLIDE
+    keep = np.ones((m, dim))
     keep[open_] = 0.0
-    keep[sliding, 0] = 0.0
     lower = _REGULARIZATION * diagonal
     lower[open_] = 1.0
-    lower[sliding, 0] = 1.0
     k = np.flatnonzero(sliding)
-    sign = np.where(status[k] == _SLIDE_UP, 1.0, -1.0)
-    coupling = sp.csr_matrix((-sign * mu[k], (2 * k, 2 * k + 1)), shape=(2 * m, 2 * m))
+    for j in tangent:
+        keep[sliding, j] = 0.0
+        lower[sliding, j] = 1.0
+    rows = (dim * k[:, None] + np.array(tangent)[None, :]).ravel()
+    coupling = sp.csr_matrix(((-mu[k, None] * direction[k]).ravel(),
+                              (rows, np.repeat(dim * k + 1, len(tangent)))),
+                             shape=(dim * m, dim * m))
     kkt = sp.bmat([[a_matrix, h.T], [sp.diags(keep.ravel()) @ h,
                                      -sp.diags(lower.ravel()) - coupling]], format="csc")
     x = scipy.sparse.linalg.splu(kkt, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                                  options={"SymmetricMode": True}).solve(np.concatenate((np.zeros(n),
                                                              keep.ravel() * rhs)))
-    return x, -x[n:].reshape(m, 2)
+    return x, -x[n:].reshape(m, dim)
+
+
+def _tangent(values: np.ndarray) -> np.ndarray:
+    """The tangent components [m, d - 1] of contact vectors [m, d] (frame (t, n) or (t, n,
+    s))."""
+    return values[:, [0]] if values.shape[1] == 2 else values[:, [0, 2]]
 
 
 def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
@@ -159,27 +179,30 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
     kind = problem.fe
     c = problem.contacts
     model = problem.model
+    dim, dof = model.dim, model.dof
     count = problem.count
     take = np.flatnonzero(problem.active[:count]).astype(np.int64)
     free = np.flatnonzero(model.body_kind == BodyKind.FREE)
     body_column = np.full(model.body_count, -1, dtype=np.int64)
-    body_column[free] = 3 * np.arange(len(free))
-    node_columns = 2 * kind.blocks.n_nodes
-    n = node_columns + 3 * len(free)
-    mass = np.divide(1.0, model.body_inv_mass[free], out=np.zeros((len(free), 3)),
+    body_column[free] = dof * np.arange(len(free))
+    node_columns = dim * kind.blocks.n_nodes
+    n = node_columns + dof * len(free)
+    mass = np.divide(1.0, model.body_inv_mass[free], out=np.zeros((len(free), dof)),
                      where=model.body_inv_mass[free] > 0.0).ravel()
     a_matrix = sp.block_diag((_world_iteration_matrix(kind), sp.diags(mass)), format="csr")
     m = len(take)
-    rows = np.empty(16 * m, dtype=np.int64)
-    cols = np.empty(16 * m, dtype=np.int64)
-    vals = np.empty(16 * m)
-    rhs = np.empty(2 * m)
+    # per contact at most d rows on 3 nodes a side (3D) or on a rigid body's dof columns
+    per = 2 * dim * max(3 * dim, dof)
+    rows = np.empty(per * m, dtype=np.int64)
+    cols = np.empty(per * m, dtype=np.int64)
+    vals = np.empty(per * m)
+    rhs = np.empty(dim * m)
     e = _rows(c.side_kind, c.side_node, c.side_weight, c.candidate, c.antagonist,
               problem.h_cand, problem.h_ant, problem.bias, v_free, kind.v_free, count, take,
               body_column, node_columns, rows, cols, vals, rhs)
-    h = sp.csr_matrix((vals[:e], (rows[:e], cols[:e])), shape=(2 * m, n))
+    h = sp.csr_matrix((vals[:e], (rows[:e], cols[:e])), shape=(dim * m, n))
     mu = problem.friction[take]
-    diagonal = problem.delassus[take][:, [0, 1], [0, 1]]
+    diagonal = problem.delassus[take][:, np.arange(dim), np.arange(dim)]
     # tolerance on U_n + b_n [m/s] of an open contact: round-off of the velocities
     slack = _SLACK * max(float(np.abs(rhs).max(initial=0.0)), 1e-300)
     # the status of the warm start's impulses (those of the last step, by contact): the
@@ -187,33 +210,50 @@ def sticking_solution(problem, impulse: np.ndarray, v_free: np.ndarray,
     warm = impulse[take]
     status = np.full(m, _STICK)
     status[warm[:, 1] <= 0.0] = _OPEN
-    edge = (warm[:, 1] > 0.0) & (np.abs(warm[:, 0]) >= (1.0 - _EDGE) * mu * warm[:, 1])
-    status[edge] = np.where(warm[edge, 0] > 0.0, _SLIDE_UP, _SLIDE_DOWN)
+    direction = _unit(_tangent(warm))
+    edge = (warm[:, 1] > 0.0) & (_norm(_tangent(warm)) >= (1.0 - _EDGE) * mu * warm[:, 1])
+    status[edge] = _SLIDE
     changing = m
     for _ in range(_PASSES):
-        x, r = _solve_status(a_matrix, h, rhs, status, mu, diagonal)
-        u = h @ x[:n] - rhs  # U + b of every contact in the solve [m/s]
+        x, r = _solve_status(a_matrix, h, rhs, status, direction, mu, diagonal)
+        u = (h @ x[:n] - rhs).reshape(m, dim)  # U + b of every contact in the solve [m/s]
         new = status.copy()
-        new[(status == _OPEN) & (u[1::2] < -slack)] = _STICK
+        new_direction = direction.copy()
+        new[(status == _OPEN) & (u[:, 1] < -slack)] = _STICK
         closed = status != _OPEN
         new[closed & (r[:, 1] < 0.0)] = _OPEN
-        stick = new == _STICK
-        outside = stick & (status == _STICK) & (np.abs(r[:, 0]) > mu * r[:, 1])
-        new[outside] = np.where(r[outside, 0] > 0.0, _SLIDE_UP, _SLIDE_DOWN)
+        r_t, u_t = _tangent(r), _tangent(u)
+        outside = (new == _STICK) & (status == _STICK) & (_norm(r_t) > mu * r[:, 1])
+        new[outside] = _SLIDE
+        new_direction[outside] = _unit(r_t[outside])
         # a slip against its friction impulse: it sticks
-        sliding = (new == _SLIDE_UP) | (new == _SLIDE_DOWN)
-        wrong = sliding & (status == new) & (u[0::2] * r[:, 0] > 0.0)
-        new[wrong] = _STICK
+        sliding = (new == _SLIDE) & (status == _SLIDE)
+        new[sliding & ((u_t * r_t).sum(axis=1) > 0.0)] = _STICK
+        # (3D) a slip that turned: its friction impulse turns with it
+        turned = (new == _SLIDE) & (status == _SLIDE) & (_norm(u_t) > 0.0) & (
+            _norm(direction + _unit(u_t)) > _TURN)
+        new_direction[turned] = -_unit(u_t[turned])
         changing = int((new != status).sum())
         if changing == 0:
             break
-        status = new
+        status, direction = new, new_direction
     if changing > _CHANGING * m:
         return False
     impulse[:count] = 0.0
     impulse[take] = r
     dv = x[:n]
-    kind.v[:] = kind.v_free + dv[:node_columns].reshape(-1, 2)
+    kind.v[:] = kind.v_free + dv[:node_columns].reshape(-1, dim)
     v[:] = v_free
-    v[free] += dv[node_columns:].reshape(-1, 3)
+    v[free] += dv[node_columns:].reshape(-1, dof)
     return True
+
+
+def _norm(vectors: np.ndarray) -> np.ndarray:
+    """|t| of tangent vectors [m, d - 1] (d = 2: |t_0|, exactly)."""
+    return np.abs(vectors[:, 0]) if vectors.shape[1] == 1 else np.linalg.norm(vectors, axis=1)
+
+
+def _unit(vectors: np.ndarray) -> np.ndarray:
+    """t / |t| of tangent vectors [m, d - 1] (d = 2: the sign, +-1; 3D: 0 for t = 0)."""
+    size = _norm(vectors)[:, None]
+    return np.divide(vectors, size, out=np.zeros_like(vectors), where=size > 0.0)
