@@ -1,25 +1,29 @@
-"""Benchmark: NLGS on 1 and 2 numba threads (issue 16), the coloured sweep
-(saxum.solver.nlgs.nlgs_2d_coloured) against the serial one (nlgs_2d), in one process.
+"""Benchmark: one step on 1 and 2 numba threads (issue 16), stage by stage: the serial step
+(solver threads None: nlgs_2d and the serial kernels) against the parallel one (threads 1 and 2:
+NLGS by domains, saxum.solver.nlgs.nlgs_2d_domains, and the parallel assembly and end gaps of
+saxum.solver.problem), in one process.
 
-Cases (dt 1e-3 s, running-bond walls of 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a
-fixed ground, saxum.NLGS): a 160 x 100 wall (about 16 000 bricks) at rest, and a 50 x 40
-wall (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its base). Per case and
-solver (serial, coloured on 1 thread, coloured on 2), interleaved --repeats times: wall and
-CPU time (time.process_time: all threads) of the contact solve per step, and sweeps per step,
-after the first steps of that simulation (the kernels compiled before, on a separate one). The
-colouring (colour_contacts_2d, when the active contacts change) is inside the solve's time. On
-a shared machine only ratios from one run mean anything; CPU time changes less with load than
-wall time, but omp's threads spin while they wait (CPU time that is not work): compare the
-layers with NUMBA_THREADING_LAYER.
+Cases (dt 1e-3 s, saxum.NLGS, domains left to their default: the machine's cores): running-bond
+walls of 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080
+bricks) at rest, and 50 x 40 (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its
+base); and a 3D wall of saxum.structures.wall3d at rest (3D runs the serial kernels whatever
+the threads: 1 -> 2 threads shows it). Per case and variant, interleaved --repeats times,
+after `warm` steps of that simulation (the kernels compiled before on a small one): wall time
+(time.perf_counter) and CPU time (time.process_time: all threads; omp's threads spin while
+they wait, CPU time that is not work) per step of detection, the warm start (Contacts.
+warm_start_from), assembly, the solve, the end gaps and the whole step, medians over the
+repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit for
+bit. On a shared machine only ratios from one run mean anything.
 
-    python benchmarks/parallel_nlgs.py                    # both cases
-    python benchmarks/parallel_nlgs.py --steps 10 --repeats 1
+    python benchmarks/parallel_nlgs.py                               # all cases
+    python benchmarks/parallel_nlgs.py --cases "rest 160x100" --steps 10 --repeats 1
     NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
-    NUMBA_THREADING_LAYER=omp python benchmarks/parallel_nlgs.py
 """
 
 import argparse
+import collections
 import dataclasses
+import os
 import statistics
 import time
 
@@ -27,16 +31,12 @@ import numba
 import numpy as np
 
 import saxum as sx
+from saxum.contacts import Contacts
 from saxum.ground import harmonic
-from saxum.structures import running_bond_wall
-
-CASES = {"rest 160x100": ((160, 100), 0.0, 5), "shaken 50x40": ((50, 40), 0.7, 150)}
-"""name: ((courses, bricks), base acceleration [g], steps before the timed ones: at 0.7 g the
-wall slides from about 0.1 s on)"""
-SOLVERS = {"serial": None, "coloured 1": 1, "coloured 2": 2}
+from saxum.structures import running_bond_wall, wall3d
 
 
-def _model(size, amplitude_g):
+def _wall(size, amplitude_g):
     model = running_bond_wall(courses=size[0], bricks=size[1], brick_length=0.25,
                               brick_height=0.065, density=1800.0, friction=0.6)
     if amplitude_g > 0.0:
@@ -45,27 +45,51 @@ def _model(size, amplitude_g):
     return model
 
 
+CASES = {"rest 160x100": (lambda: _wall((160, 100), 0.0), lambda: _wall((4, 3), 0.0), 5),
+         "shaken 50x40": (lambda: _wall((50, 40), 0.7), lambda: _wall((4, 3), 0.7), 150),
+         "3D wall3d 20x4": (lambda: wall3d(courses=20, length=4.0),
+                            lambda: wall3d(courses=2, length=1.0), 5)}
+"""name: (model, small model that compiles the kernels, steps before the timed ones: at 0.7 g
+the wall slides from about 0.1 s on)"""
+VARIANTS = {"serial": None, "1 thread": 1, "2 threads": 2}
+STAGES = ("detection", "warm start", "assembly", "solve", "end gaps", "step")
+
+
+def _timed(owner, name, label, sums):
+    inner = getattr(owner, name)
+
+    def timed(*args, **kwargs):
+        w, c = time.perf_counter(), time.process_time()
+        try:
+            return inner(*args, **kwargs)
+        finally:
+            sums[label] += np.array([time.perf_counter() - w, time.process_time() - c])
+
+    setattr(owner, name, timed)
+    return inner
+
+
 def _run(model, threads, warm, steps):
-    """(wall s, CPU s, sweeps) per step of the solve, mean over `steps` after `warm`."""
+    """({stage: (wall s, CPU s) per step}, sweeps per step, final positions)."""
     sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads))
     state = sim.initial_state()
     for _ in range(warm):
         sim.step(state)
-    solve = sim.solver.solve
-    spent = [0.0, 0.0]
-
-    def timed(*args):
-        w, c = time.perf_counter(), time.process_time()
-        out = solve(*args)
-        spent[0] += time.perf_counter() - w
-        spent[1] += time.process_time() - c
-        return out
-
-    sim.solver.solve = timed
-    for _ in range(steps):
-        sim.step(state)
+    sums = collections.defaultdict(lambda: np.zeros(2))
+    for owner, name, label in ((sim.detector, "detect", "detection"),
+                               (sim.problem, "assemble", "assembly"),
+                               (sim.solver, "solve", "solve"),
+                               (sim.problem, "end_gaps", "end gaps"),
+                               (sim, "step", "step")):
+        _timed(owner, name, label, sums)
+    carry = _timed(Contacts, "warm_start_from", "warm start", sums)
+    try:
+        for _ in range(steps):
+            sim.step(state)
+    finally:
+        Contacts.warm_start_from = carry
     sweeps = float(np.mean(sim.log.iterations[warm:]))
-    return spent[0] / steps, spent[1] / steps, sweeps, state.body_q.copy()
+    return {k: sums[k] / steps for k in STAGES}, sweeps, state.body_q.copy()
 
 
 def main() -> None:
@@ -74,29 +98,37 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--cases", default=",".join(CASES), help="comma-separated names")
     args = parser.parse_args()
-    print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}", flush=True)
+    print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}; load average "
+          f"{os.getloadavg()[0]:.1f} at the start", flush=True)
     for name in args.cases.split(","):
-        size, amplitude, warm = CASES[name]
-        model = _model(size, amplitude)
-        bricks = int((model.body_kind == sx.BodyKind.FREE).sum())
-        for threads in SOLVERS.values():  # compile (or load) every kernel first
-            _run(_model((4, 3), amplitude), threads, 1, 1)
-        rows = {s: [] for s in SOLVERS}
+        build, small, warm = CASES[name]
+        model = build()
+        for threads in VARIANTS.values():  # compile (or load) every kernel first
+            _run(small(), threads, 1, 1)
+        rows = {v: [] for v in VARIANTS}
         q = {}
         for _ in range(args.repeats):
-            for label, threads in SOLVERS.items():
+            for label, threads in VARIANTS.items():
                 *row, q[label] = _run(model, threads, warm, args.steps)
                 rows[label].append(row)
-        same = np.array_equal(q["coloured 1"], q["coloured 2"])
-        print(f"{name} ({bricks} bricks, {args.steps} steps after {warm}, "
-              f"median of {args.repeats}); coloured 1 == coloured 2 bit for bit: {same}")
-        base = statistics.median(r[0] for r in rows["coloured 1"])
+        bricks = int((model.body_kind == sx.BodyKind.FREE).sum())
+        same = np.array_equal(q["1 thread"], q["2 threads"])
+        print(f"\n{name} ({bricks} blocks, {args.steps} steps after {warm}, median of "
+              f"{args.repeats}, load average {os.getloadavg()[0]:.1f} at the end); 1 thread == "
+              f"2 threads bit for bit: {same}")
+        print("| per step [ms], wall (CPU) | " + " | ".join(STAGES) + " | sweeps |")
+        print("|---" * (len(STAGES) + 2) + "|")
+        med = {}
         for label, r in rows.items():
-            wall = statistics.median(x[0] for x in r)
-            cpu = statistics.median(x[1] for x in r)
-            print(f"  {label:11s} solve {1e3 * wall:8.2f} ms/step wall, {1e3 * cpu:8.2f} ms "
-                  f"CPU, {r[0][2]:7.1f} sweeps/step, {1e9 * wall / bricks / r[0][2]:6.1f} "
-                  f"ns/brick/sweep; coloured 1 / this: {base / wall:.2f}", flush=True)
+            med[label] = {k: [statistics.median(x[0][k][i] for x in r) for i in (0, 1)]
+                          for k in STAGES}
+            cells = " | ".join(f"{1e3 * w:.2f} ({1e3 * c:.2f})" for w, c in med[label].values())
+            print(f"| {label} | {cells} | {r[0][1]:.1f} |")
+        for top, bottom in (("serial", "2 threads"), ("1 thread", "2 threads"),
+                            ("serial", "1 thread")):
+            cells = " | ".join(f"{med[top][k][0] / med[bottom][k][0]:.2f}" for k in STAGES)
+            print(f"| speed-up {top} / {bottom} (wall) | {cells} | |")
+        print(flush=True)
     print(f"threading layer: {numba.threading_layer()}")
 
 

@@ -1,5 +1,6 @@
-"""The coloured NLGS (saxum.solver.nlgs.nlgs_2d_coloured, issue 16): its colouring, and the same
-result bit for bit with 1 and 2 numba threads (both runs inside this test, one machine)."""
+"""The NLGS swept by domains (saxum.solver.nlgs.nlgs_2d_domains, issue 16): its partition, the
+same result bit for bit with 1 and 2 numba threads, and with one domain nlgs_2d's result (the
+runs compared inside each test, one machine)."""
 
 import dataclasses
 
@@ -10,72 +11,105 @@ import pytest
 import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
-from saxum.solver.nlgs import body_strips, colour_contacts_2d
+from saxum.solver.nlgs import body_domains, partition_contacts_2d
 from saxum.structures import running_bond_wall
 
 
-def _shaken_wall(threads):
+def _shaken_wall(threads, domains=None):
     """A 10 x 8 running-bond wall on a base shaken at 0.7 g (2 Hz), 0.1 s: the wall slides on
     its fixed ground (mu 0.6), so the sweeps see changing contact sets."""
     model = running_bond_wall(courses=10, bricks=8)
     load = harmonic(0.7 * 9.81, 0.5, 1.0).inertial_load()
     model = dataclasses.replace(model, accelerations=(load,))
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
     state = sim.initial_state()
     sim.run(state, 0.1)
     return sim, state
 
 
-def _check_colouring(c, active, free, order, chunks, colours):
-    """Each active contact once, and no free body in two chunks of one colour."""
-    assert np.array_equal(np.sort(order), np.flatnonzero(active[:c.count]))
-    assert chunks[0] == 0 and chunks[-1] == len(order) and np.all(np.diff(chunks) > 0)
-    assert colours[0] == 0 and colours[-1] == len(chunks) - 1 and np.all(np.diff(colours) >= 0)
-    for k in range(len(colours) - 1):
-        seen = np.zeros(len(free), dtype=np.int64)
-        for u in range(colours[k], colours[k + 1]):
-            mine = order[chunks[u]:chunks[u + 1]]
-            bodies = np.unique(np.concatenate([c.candidate[mine], c.antagonist[mine]]))
-            seen[bodies[free[bodies]]] += 1
-        assert seen.max() <= 1, f"chunks of colour {k} share a free body"
-
-
-def test_colouring_separates_free_bodies():
-    sim, state = _shaken_wall(None)
-    c = state.contacts
-    active = np.ones(c.count, dtype=np.bool_)
-    active[::7] = False  # inactive contacts take no colour
-    free = (sim.model.body_inv_mass > 0.0).any(axis=1)
-    strip, nstrips = body_strips(free)
-    assert nstrips == 4 and np.all(strip[~free] == -1)  # 85 bricks and halves: 4 strips
-    assert np.ptp(np.bincount(strip[free])) <= 1  # of as many as can be
-    order, chunks, colours = colour_contacts_2d(c.candidate, c.antagonist, active, c.count,
-                                                strip, nstrips)
-    assert len(chunks) == 5 and len(colours) == 3  # the strips are wider than a brick
-    _check_colouring(c, active, free, order, chunks, colours)
-    # strips of one brick each: a brick has contacts in strips of one colour (those of the
-    # bricks two further along its course), so they are merged until none has
-    strip[free] = np.arange(free.sum())
-    order, chunks, colours = colour_contacts_2d(c.candidate, c.antagonist, active, c.count,
-                                                strip, free.sum())
-    assert 1 < len(chunks) - 1 < free.sum()
-    _check_colouring(c, active, free, order, chunks, colours)
-
-
-def test_same_bits_with_one_and_two_threads():
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        pytest.skip("numba has one thread here")
-    runs = [_shaken_wall(n) for n in (1, 2)]
-    (sim1, s1), (sim2, s2) = runs
+def _same(run1, run2):
+    """The two runs' positions, velocities, impulses and sweeps, bit for bit."""
+    (sim1, s1), (sim2, s2) = run1, run2
     assert np.array_equal(s1.body_q, s2.body_q)
     assert np.array_equal(s1.body_v, s2.body_v)
     assert np.array_equal(s1.contacts.impulse[:s1.contacts.count],
                           s2.contacts.impulse[:s2.contacts.count])
     assert np.array_equal(sim1.log.iterations, sim2.log.iterations)
-    assert np.all(sim1.log.converged)
-    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
 
 
-def test_threads_out_of_range():
+def test_partition_separates_free_bodies():
+    sim, state = _shaken_wall(None)
+    c = state.contacts
+    active = np.ones(c.count, dtype=np.bool_)
+    active[::7] = False  # inactive contacts are not swept
+    free = (sim.model.body_inv_mass > 0.0).any(axis=1)
+    assert body_domains(free, None)[1] == 1  # 85 bricks and halves: fewer than 256 a domain
+    domain, n = body_domains(free, 4)
+    assert n == 4 and np.all(domain[~free] == -1)
+    assert np.ptp(np.bincount(domain[free])) <= 1  # of as many bodies as can be
+    order, groups = partition_contacts_2d(c.candidate, c.antagonist, active, c.count,
+                                          domain, n)
+    assert len(groups) == 2 * n + 1 and groups[0] == 0 and np.all(np.diff(groups) >= 0)
+    assert np.array_equal(np.sort(order), np.flatnonzero(active[:c.count]))
+    for g in range(2 * n):  # each group in nlgs_2d's order (last first)
+        assert np.all(np.diff(order[groups[g]:groups[g + 1]]) < 0)
+    # the domains, the even cuts (0, 2), the odd cut (1): no free body in two groups of one
+    # phase; the domains' and cuts' contacts have their free bodies where the docstring says
+    for phase in ((0, 1, 2, 3), (4, 5), (6,)):
+        seen = np.zeros(len(free), dtype=np.int64)
+        for g in phase:
+            mine = order[groups[g]:groups[g + 1]]
+            bodies = np.unique(np.concatenate([c.candidate[mine], c.antagonist[mine]]))
+            bodies = bodies[free[bodies]]
+            seen[bodies] += 1
+            cut = {4: 0, 5: 2, 6: 1}.get(g)
+            assert set(domain[bodies]) <= ({g} if cut is None else {cut, cut + 1})
+        assert seen.max() <= 1, f"groups {phase} share a free body"
+    assert groups[-1] - groups[-2] == 0  # no joint spans two cuts of a 10-course wall
+
+
+def test_same_bits_with_one_and_two_threads():
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    try:
+        # four domains: both phases of cuts, one of them with two cuts in parallel
+        _same(_shaken_wall(1, domains=4), _shaken_wall(2, domains=4))
+        _same(_shaken_wall(1, domains=2), _shaken_wall(2, domains=2))
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+
+
+def test_one_domain_is_the_serial_sweep():
+    """One domain: nlgs_2d's order and arithmetic (its fixed ground's copy apart)."""
+    run = _shaken_wall(1, domains=1)
+    _same(_shaken_wall(None), run)
+    assert np.all(run[0].log.converged)
+
+
+def test_bad_settings():
     with pytest.raises(InputError, match="solver.threads"):
         sx.NLGS(threads=-1)
+    with pytest.raises(InputError, match="solver.domains"):
+        sx.NLGS(domains=0)
+
+
+def test_parallel_kernels_are_the_serial_ones():
+    """A 40 x 40 wall at rest (about 9 600 contacts: three blocks of
+    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polygons._PAIR_BLOCK) on 2
+    threads with one domain: parallel narrow phase, assembly and end gaps, the serial step
+    bit for bit."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    model = running_bond_wall(courses=40, bricks=40)
+    runs = []
+    for threads, domains in ((None, None), (2, 1)):
+        sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
+        state = sim.initial_state()
+        sim.run(state, 0.005)
+        runs.append((sim, state))
+    assert runs[0][1].contacts.count > 2 * 4096
+    assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
+    assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 2048
+    _same(*runs)
+    assert np.array_equal(runs[0][0].problem.gap_end, runs[1][0].problem.gap_end)
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)

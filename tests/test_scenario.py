@@ -111,6 +111,7 @@ FULL = textwrap.dedent("""\
     rest_after = 20
     kind = "nlgs"
     threads = 1
+    domains = 3
     refine = 4.0
     criterion = "quad"
     warm_start = "start.json"
@@ -148,8 +149,8 @@ PYTHON = Scenario(
                 flood=FloodSpec(level=0.1, velocity=0.5, tailwater=0.05, water_density=1050.0,
                                 drag_coefficient=0.8)),
     solver=SolverSpec(dt=5e-4, theta=0.6, tolerance=1e-7, max_iterations=300, relaxation=0.9,
-                      rest_after=20, kind="nlgs", threads=1, refine=4.0, criterion="quad",
-                      warm_start="start.json"),
+                      rest_after=20, kind="nlgs", threads=1, domains=3, refine=4.0,
+                      criterion="quad", warm_start="start.json"),
     detection=DetectionSpec(alert=0.002, margin=0.003, interpenetration=1e-6, refresh_every=5,
                             per_pair=True, initial_overlap=2e-6),
     output=OutputSpec(duration=0.1, interval=0.02, checkpoint_interval=0.05,
@@ -188,8 +189,8 @@ def test_scenario_builds_the_model_and_simulation_it_describes():
     assert law == sx.ContactLaw(0.7, sx.LawKind.RESTITUTION_COULOMB, 0.2)
     assert sim.integrator.dt == 5e-4 and sim.integrator.theta == 0.6
     assert (sim.solver.tolerance, sim.solver.max_iterations, sim.solver.relaxation,
-            sim.solver.rest_after, sim.solver.threads, sim.solver.criterion,
-            sim.solver.refine) == (1e-7, 300, 0.9, 20, 1, "quad", 4.0)
+            sim.solver.rest_after, sim.solver.threads, sim.solver.domains,
+            sim.solver.criterion, sim.solver.refine) == (1e-7, 300, 0.9, 20, 1, 3, "quad", 4.0)
     assert (sim.detector.alert, sim.detector.margin, sim.detector.interpenetration,
             sim.detector.refresh_every) == (0.002, 0.003, 1e-6, 5)
     assert sim.detector.initial_overlap == pytest.approx(2e-6, rel=1e-15)

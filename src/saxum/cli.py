@@ -740,7 +740,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="override a scenario key, e.g. --set solver.dt=5e-4 (repeatable)")
     _unset_option(p)
     p.add_argument("--threads", type=int, default=None, metavar="N",
-                   help="NLGS on N threads, its contacts swept colour by colour (0: all "
+                   help="the step on N threads, NLGS's contacts swept by domains (0: all "
                         "cores; the same as --set solver.threads=N)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)

@@ -94,13 +94,15 @@ class Contacts:
             getattr(c, k)[: self.count] = getattr(self, k)[: self.count]
         return c
 
-    def warm_start_from(self, previous: "Contacts", law_kind: np.ndarray | None = None) -> int:
+    def warm_start_from(self, previous: "Contacts", law_kind: np.ndarray | None = None, *,
+                        parallel: bool = False) -> int:
         """Copy the impulses and the joint state (slip, damage, history) of persisting
         contacts (same key) from `previous`; returns how many. A new contact starts with
         zero impulse and slip, and, under a COHESIVE law (law_kind: Model.law_kind), fully
-        damaged: a joint that was not bonded at the start does not bond later."""
+        damaged: a joint that was not bonded at the start does not bond later. parallel: by
+        blocks of contacts on numba's threads (_carry_parallel, the same rows)."""
         n, m = self.count, previous.count
-        return _carry(
+        return (_carry_parallel if parallel else _carry)(
             self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
             self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
             self.history[:n], previous.history[:m], self.law[:n],
@@ -117,9 +119,38 @@ def _carry(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damag
            old_history, law, law_kind):
     """Merge of two key lists that detection writes in increasing order: O(count), no sort;
     rows of a key found in old_key are copied, the others reset (module doc)."""
+    return _carry_range(0, key.shape[0], 0, key, old_key, impulse, old_impulse, slip,
+                        old_slip, damage, old_damage, history, old_history, law, law_kind)
+
+
+_CARRY_BLOCK = 4096
+"""Contacts per block of _carry_parallel."""
+
+
+@nb.njit(parallel=True, cache=True)
+def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage,
+                    history, old_history, law, law_kind):
+    """_carry by blocks of contacts on numba's threads, the same rows: each block's merge
+    starts at the first old key not below its first key (a bisection)."""
+    hits = np.zeros(-(-key.shape[0] // _CARRY_BLOCK), dtype=np.int64)
+    for b in nb.prange(hits.shape[0]):
+        lo = b * _CARRY_BLOCK
+        hi = min(key.shape[0], lo + _CARRY_BLOCK)
+        first = np.searchsorted(old_key, key[lo])
+        hits[b] = _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip,
+                               old_slip, damage, old_damage, history, old_history, law,
+                               law_kind)
+    return hits.sum()
+
+
+@nb.njit(inline="always")
+def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_slip, damage,
+                 old_damage, history, old_history, law, law_kind):
+    """_carry's merge for the rows lo .. hi - 1, from old_key[first] on (no old key before it
+    is at least key[lo]); returns the rows found."""
     hits = 0
-    k = 0
-    for a in range(key.shape[0]):
+    k = first
+    for a in range(lo, hi):
         while k < old_key.shape[0] and old_key[k] < key[a]:
             k += 1
         # element by element: a slice assignment per contact costs more than the merge itself

@@ -1018,8 +1018,9 @@ class SolverSpec(_Strict):
     the conic fixed point or semismooth Newton where its error stalls or at the cap:
     saxum.solver.Hybrid), or "nlgs" alone; None (the default): "hybrid", or "nlgs" for a
     model with joint laws or deformable blocks, which only NLGS solves (saxum.solver.laws_local,
-    saxum.solver.nlgs_fe); threads: NLGS's (None: one, in the serial order; n >= 1: the
-    coloured sweep on n threads, 0 all cores: saxum.solver.NLGS)."""
+    saxum.solver.nlgs_fe); threads: NLGS's and the step's (None: one, in the serial order;
+    n >= 1: the sweep by domains and the parallel kernels on n threads, 0 all cores), domains:
+    the sweep's (None: the machine's cores; saxum.solver.NLGS)."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
@@ -1029,6 +1030,7 @@ class SolverSpec(_Strict):
     rest_after: Annotated[Integer, Field(ge=0)] = 50
     kind: Literal["nlgs", "hybrid"] | None = None
     threads: Annotated[Integer, Field(ge=0)] | None = None
+    domains: Annotated[Integer, Field(ge=1)] | None = None
     refine: Annotated[Real, Field(ge=0.0)] = 0.0
     """A step that converged in at most 1000 sweeps sweeps on towards tolerance / refine
     (saxum.solver.NLGS; 0 or 1: off)."""
@@ -1299,7 +1301,8 @@ class Scenario(_Strict):
             model, dt=s.dt, theta=s.theta,
             solver=(Hybrid if kind == "hybrid" else NLGS)(
                 tolerance=s.tolerance, max_iterations=s.max_iterations, relaxation=s.relaxation,
-                rest_after=s.rest_after, threads=s.threads, refine=s.refine, **options),
+                rest_after=s.rest_after, threads=s.threads, domains=s.domains,
+                refine=s.refine, **options),
             detection=DetectionSettings(alert=d.alert, margin=d.margin,
                                         refresh_every=d.refresh_every,
                                         interpenetration=d.interpenetration,

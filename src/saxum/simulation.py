@@ -15,6 +15,7 @@ import logging
 import math
 import warnings
 
+import numba as nb
 import numpy as np
 
 from .bodies import rigid as rigid_kind
@@ -75,7 +76,12 @@ class Simulation:
         if solver is None:
             solver = NLGS() if self.problem.joint_laws or model.fe is not None else Hybrid()
         self.solver = solver
+        self._threads = getattr(solver, "threads", None)
+        """numba's threads for the step's parallel kernels (the solver's setting; None: one,
+        the serial kernels)."""
+        self.problem.parallel = self._threads is not None and model.dim == 2
         self.detector = detector_for(model, detection)
+        self.detector.parallel = self.problem.parallel
         self.projection = PositionProjection(model, self.detector.interpenetration)
         self.log = StepLog()
         self._check_step()
@@ -250,6 +256,8 @@ class Simulation:
         h = self.integrator.dt
         theta = self.integrator.theta
         t0, t1 = state.time, state.start_time + (state.step + 1) * h
+        if self._threads is not None:
+            nb.set_num_threads(self._threads or nb.config.NUMBA_NUM_THREADS)
 
         if self.model.accelerations or self.model.forces or self.model.field_loads:
             self._step_force(state.time, t1, self._force, state.body_q)
@@ -273,7 +281,7 @@ class Simulation:
             self.detector.detect(self._q_pred, contacts)
         else:
             self.detector.detect(self._q_pred, contacts, fe.x_pred)
-        contacts.warm_start_from(state.contacts, m.law_kind)
+        contacts.warm_start_from(state.contacts, m.law_kind, parallel=self.problem.parallel)
         problem = self.problem
         problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
                          self.detector.closed_gap, self._v)

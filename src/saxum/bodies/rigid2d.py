@@ -22,6 +22,7 @@ __all__ = [
     "predict_positions",
     "update_positions",
     "world_geometry",
+    "world_geometry_range",
 ]
 
 
@@ -30,7 +31,15 @@ def world_geometry(q, vertex_start, vertex_local, direction_local, vertices, dir
     """vertices[k] = x_b + Rot(theta_b) vertex_local[k] [m] and directions[k] =
     Rot(theta_b) direction_local[k] for every vertex k of every body b (one rotation per
     body for both)."""
-    for b in range(q.shape[0]):
+    world_geometry_range(0, q.shape[0], q, vertex_start, vertex_local, direction_local,
+                         vertices, directions)
+
+
+@nb.njit(inline="always")
+def world_geometry_range(lo, hi, q, vertex_start, vertex_local, direction_local, vertices,
+                         directions):
+    """world_geometry of the bodies lo .. hi - 1 (a parallel region calls it on blocks)."""
+    for b in range(lo, hi):
         c = math.cos(q[b, 2])
         s = math.sin(q[b, 2])
         for k in range(vertex_start[b], vertex_start[b + 1]):

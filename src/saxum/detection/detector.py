@@ -8,14 +8,14 @@ import numpy as np
 
 from ..bodies import rigid3d
 from ..bodies.fe3d import principal_axes
-from ..bodies.rigid2d import world_geometry
+from ..bodies.rigid2d import world_geometry, world_geometry_range
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model, Shape
 from .broadphase import bounding_boxes, grid_pairs, sort_pairs
 from .fe_nodes import node_contacts
 from .fe_nodes3d import node_contacts_3d
-from .polygons import polygon_contacts
+from .polygons import polygon_contacts, polygon_contacts_parallel
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
 from .round import round_contacts
 
@@ -58,8 +58,34 @@ class DetectionSettings:
 def _motion_since(q, q_ref, radius, motion, turn):
     """motion[b] [m]: upper bound of the displacement of any point of body b since q_ref,
     turn[b] [rad]: its rotation; returns the largest motion."""
+    return _motion_range(0, q.shape[0], q, q_ref, radius, motion, turn)
+
+
+_BODY_BLOCK = 4096
+"""Bodies per block of _geometry_parallel."""
+
+
+@nb.njit(parallel=True, cache=True)
+def _geometry_parallel(q, q_ref, radius, motion, turn, vertex_start, vertex_local,
+                       direction_local, vertices, directions):
+    """world_geometry and _motion_since by blocks of bodies on numba's threads (the same
+    numbers: each body's own, and a largest value does not depend on the order); returns
+    the largest motion [m]."""
+    worst = np.zeros(-(-q.shape[0] // _BODY_BLOCK))
+    for k in nb.prange(worst.shape[0]):
+        lo = k * _BODY_BLOCK
+        hi = min(q.shape[0], lo + _BODY_BLOCK)
+        world_geometry_range(lo, hi, q, vertex_start, vertex_local, direction_local, vertices,
+                             directions)
+        worst[k] = _motion_range(lo, hi, q, q_ref, radius, motion, turn)
+    return worst.max()
+
+
+@nb.njit(inline="always")
+def _motion_range(lo, hi, q, q_ref, radius, motion, turn):
+    """_motion_since of the bodies lo .. hi - 1."""
     worst = 0.0
-    for b in range(q.shape[0]):
+    for b in range(lo, hi):
         turn[b] = abs(q[b, 2] - q_ref[b, 2])
         motion[b] = np.hypot(q[b, 0] - q_ref[b, 0], q[b, 1] - q_ref[b, 1]) + turn[b] * radius[b]
         worst = max(worst, motion[b])
@@ -134,6 +160,12 @@ class Detector:
         mobile_groups[model.body_group[free]] = True
         self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
         """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
+        self.parallel = False
+        """Run the world geometry and the narrow phase of a 2D model on numba's threads
+        (_geometry_parallel, polygon_contacts_parallel: the same contacts bit for bit):
+        Simulation sets it where the solver's threads are set."""
+        self._scratch = Contacts(model.dim)
+        """The parallel narrow phase's rows per block of pairs."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
         self._round_room = (2 + model.max_vertices if (model.body_shape == Shape.CAPSULE).any()
@@ -145,8 +177,14 @@ class Detector:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q and, for
         deformable blocks, node positions node_x [m] (default: the reference ones)."""
         self._node_x = node_x
-        self._world_geometry(q)
-        moved = self._motion_since_refresh(q)
+        if self.parallel:  # 2D (Simulation)
+            m = self.model
+            moved = _geometry_parallel(q, self._q_ref, m.body_radius, self._motion,
+                                       self._turn, m.body_vertex_start, m.vertex_local,
+                                       m.edge_normal_local, self._wv, self._wn)
+        else:
+            self._world_geometry(q)
+            moved = self._motion_since_refresh(q)
         refresh = self._since_refresh >= self.refresh_every or moved > 0.5 * self.margin
         if refresh:
             self._refresh(q)
@@ -168,16 +206,21 @@ class Detector:
         m = self.model
         contacts.reserve(self.slots * self.pair_count
                          + self._round_room * len(self._round_pairs))
-        contacts.count, self.kept_faces = polygon_contacts(
+        out = (contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+               contacts.point, contacts.frame, contacts.gap, contacts.area)
+        kernel = polygon_contacts
+        if self.parallel:
+            self._scratch.reserve(self.slots * self.pair_count)
+            s = self._scratch
+            kernel = polygon_contacts_parallel
+            out += (s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
+        contacts.count, self.kept_faces = kernel(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
             m.body_vertex_start, m.body_group, m.group_law,
             m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
             self._body_alert, self.reference_bias,
             m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
-            self._slack,
-            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-            contacts.point, contacts.frame, contacts.gap, contacts.area,
-        )
+            self._slack, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0

@@ -52,7 +52,7 @@ alone do.
 import numba as nb
 import numpy as np
 
-__all__ = ["polygon_contacts"]
+__all__ = ["polygon_contacts", "polygon_contacts_parallel"]
 
 
 _NO_CHOICE = 0
@@ -294,6 +294,65 @@ def polygon_contacts(
             g1 = _clipped_end(s_hi, s0, ds, p0x, p0y, p1x, p1y, nx, ny, ax, ay)[2]
             area[first] = _alert_length(s_hi - s_lo if ds > 0.0 else 0.0, g0, g1, pair_alert)
     return count, reused
+
+
+_PAIR_BLOCK = 2048
+"""Pairs per block of polygon_contacts_parallel."""
+
+
+@nb.njit(parallel=True, cache=True)
+def polygon_contacts_parallel(
+    pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, law_points,
+    slots, alert, law_alert, body_alert, ref_tol, max_vertices, q, radius, motion, turn, record,
+    faces, slack,
+    candidate, antagonist, key, law, point, frame, gap, area,
+    s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
+):
+    """polygon_contacts on numba's threads, the same contacts in the same order bit for bit:
+    blocks of _PAIR_BLOCK pairs in parallel, each block's contacts into its own rows of the
+    scratch arrays s_* (room for slots * npairs contacts: slots * its first pair on), then
+    copied in the blocks' order into the output arrays (room as polygon_contacts')."""
+    blocks = -(-npairs // _PAIR_BLOCK)
+    start = np.zeros(blocks + 1, dtype=np.int64)
+    reused = np.zeros(blocks, dtype=np.int64)
+    for k in nb.prange(blocks):
+        lo = k * _PAIR_BLOCK
+        hi = min(npairs, lo + _PAIR_BLOCK)
+        r = slots * lo
+        start[k + 1], reused[k] = polygon_contacts(
+            pairs[lo:hi], hi - lo, wv, wn, edge_length, vertex_start, body_group, group_law,
+            law_points, slots, alert, law_alert, body_alert, ref_tol, max_vertices, q, radius,
+            motion, turn, record, faces[lo:hi], slack[lo:hi], s_candidate[r:],
+            s_antagonist[r:], s_key[r:], s_law[r:], s_point[r:], s_frame[r:], s_gap[r:],
+            s_area[r:])
+    for k in range(blocks):
+        start[k + 1] += start[k]
+    for k in nb.prange(blocks):
+        _copy_rows(slots * k * _PAIR_BLOCK, start[k], start[k + 1] - start[k],
+                   s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
+                   candidate, antagonist, key, law, point, frame, gap, area)
+    return start[blocks], reused.sum()
+
+
+@nb.njit(cache=True)
+def _copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap,
+               s_area, candidate, antagonist, key, law, point, frame, gap, area):
+    """Rows src .. src + n - 1 of the s_* arrays into rows dst .. dst + n - 1 of the others."""
+    for i in range(n):
+        a = src + i
+        c = dst + i
+        candidate[c] = s_candidate[a]
+        antagonist[c] = s_antagonist[a]
+        key[c] = s_key[a]
+        law[c] = s_law[a]
+        point[c, 0] = s_point[a, 0]
+        point[c, 1] = s_point[a, 1]
+        frame[c, 0, 0] = s_frame[a, 0, 0]
+        frame[c, 0, 1] = s_frame[a, 0, 1]
+        frame[c, 1, 0] = s_frame[a, 1, 0]
+        frame[c, 1, 1] = s_frame[a, 1, 1]
+        gap[c] = s_gap[a]
+        area[c] = s_area[a]
 
 
 @nb.njit(inline="always")

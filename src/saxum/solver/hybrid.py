@@ -155,9 +155,9 @@ class Hybrid(ContactSolver):
     by the natural map, else tries Fischer-Burmeister Newton (3D) or the conic fixed point and
     Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
     by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
-    two measurements of the error, and the sweeps that judge a conic iterate; threads, refine,
-    refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has converged by
-    itself, so that where NLGS converges the hybrid is NLGS bit for bit)."""
+    two measurements of the error, and the sweeps that judge a conic iterate; threads, domains,
+    refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
+    converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -165,6 +165,7 @@ class Hybrid(ContactSolver):
     rest_after: int = 50
     window: int = 100
     threads: int | None = None
+    domains: int | None = None
     refine: float = 0.0
     refine_sweeps: int = 1000
 
@@ -174,12 +175,14 @@ class Hybrid(ContactSolver):
             raise InputError(f"solver.window must be >= 1, got {self.window}")
         # NLGS's refinement (NLGS.refine) comes once the step has converged (solve)
         self._first = NLGS(self.tolerance, self.max_iterations, self.relaxation,
-                           self.rest_after, threads=self.threads, refine=0.0)
+                           self.rest_after, threads=self.threads, domains=self.domains,
+                           refine=0.0)
         self._more = NLGS(self.tolerance, self.max_iterations, self.relaxation, rest_after=0,
-                          threads=self.threads, refine=0.0)
+                          threads=self.threads, domains=self.domains, refine=0.0)
         self._first._trend = self._more._trend = False  # the windows give it (solve)
         self._conic = ConicSolver(self.tolerance, relaxation=self.relaxation)
         self._conic._nlgs.threads = self.threads
+        self._conic._nlgs.domains = self.domains
         self.finished = {name: 0 for name in SOLVER_NAMES}
         """Solves (steps and projections) finished by each solver."""
         self.attempts = 0

@@ -78,9 +78,9 @@ pays ends the putting off. 0: every slow step tries at once (saxum before issue 
 benchmarks/rest_cost.py)."""
 
 
-_STRIP_BODIES = 1024
-"""Free bodies per four strips of the coloured sweep (body_strips): a fixed number, so that the
-order does not depend on the threads."""
+_DOMAIN_BODIES = 256
+"""The fewest free bodies per domain of nlgs_2d_domains (body_domains): smaller domains would
+leave more of the contacts on their cuts."""
 
 
 _TREND_SWEEPS = 1000
@@ -99,22 +99,24 @@ class NLGS(ContactSolver):
     there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK); follow_loads: a
     step that follows steps which ended at rest starts from their rest solutions extrapolated
     to its loads (saxum.solver.load_following). threads: None sweeps 2D rigid dry contacts
-    in nlgs_2d's order on one thread; a number n >= 1 (0: all cores) sweeps them colour by
-    colour on n threads (nlgs_2d_coloured), the same bit for bit for every n but not nlgs_2d's
-    order, so not bit for bit the serial result (None stays the default until the coloured
-    sweep is shown as fast on one thread: issue 16). 3D and deformable models ignore it.
-    criterion: the error compared with the tolerance, "delassus" (saxum's, module doc) or
-    LMGC90's "quad", "maxm", "qm/16" (_check_error, docs/criteria.md; rigid blocks, swept
-    in the serial order whatever threads says). refine [-]: a rigid step that converged in at
-    most refine_sweeps sweeps sweeps on towards tolerance / refine, for at most refine_sweeps
-    more (0 or 1: off, the default; 10 for models that slide: docs/method.md, "Refinement");
-    it is still converged at the tolerance, and a refinement whose last
-    sweep changed more than the tolerance sweeps on to it. Why: a step stopped at the
-    criterion leaves velocity errors up to tol / (1 - rho) (module doc), which the next steps
-    damp where the assembly is at rest but not where it slides with every joint at mu N
-    (docs/method.md, "A sliding wall"), where they add up from step to step; the cheap steps
-    of a slide reach tolerance / 10 in a few dozen sweeps, while the slow ones (the onset of
-    a slide, thousands of sweeps) are left at the tolerance."""
+    in nlgs_2d's order on one thread; a number n >= 1 (0: all cores) sweeps them domain by
+    domain on n threads (nlgs_2d_domains: `domains` runs of the blocks' order, the domains'
+    own contacts in parallel, then those across their cuts), the same bit for bit for every
+    n but not nlgs_2d's order, so not bit for bit the serial result. domains: how many
+    (None: the machine's cores, numba's threads, but at most one per 256 free blocks), which
+    fixes that order: the same bits on machines of different cores where it is given. 3D
+    and deformable models ignore both. criterion: the error compared with the tolerance,
+    "delassus" (saxum's, module doc) or LMGC90's "quad", "maxm", "qm/16" (_check_error,
+    docs/criteria.md; rigid blocks, swept in the serial order whatever threads says).
+    refine [-]: a rigid step that converged in at most refine_sweeps sweeps sweeps on towards
+    tolerance / refine, for at most refine_sweeps more (0 or 1: off, the default; 10 for models
+    that slide: docs/method.md, "Refinement"); it is still converged at the tolerance, and a
+    refinement whose last sweep changed more than the tolerance sweeps on to it. Why: a step
+    stopped at the criterion leaves velocity errors up to tol / (1 - rho) (module doc), which
+    the next steps damp where the assembly is at rest but not where it slides with every joint
+    at mu N (docs/method.md, "A sliding wall"), where they add up from step to step; the cheap
+    steps of a slide reach tolerance / 10 in a few dozen sweeps, while the slow ones (the onset
+    of a slide, thousands of sweeps) are left at the tolerance."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -123,6 +125,7 @@ class NLGS(ContactSolver):
     follow_loads: bool = True
     threads: int | None = None
     criterion: str = "delassus"
+    domains: int | None = None
     refine: float = 0.0
     refine_sweeps: int = 1000
 
@@ -143,6 +146,9 @@ class NLGS(ContactSolver):
         if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
                              f"(0: all cores; the machine's numba threads), got {self.threads}")
+        if self.domains is not None and self.domains < 1:
+            raise InputError(f"solver.domains must be >= 1 (or absent: the machine's cores), "
+                             f"got {self.domains}")
         self.rest_attempts = 0
         """Solves (steps and projections) that looked for a rest solution..."""
         self.rest_solutions = 0
@@ -160,10 +166,16 @@ class NLGS(ContactSolver):
         (_REST_BACKOFF)."""
         self._rest_found = False
         """Whether the last step found a rest solution (_REST_BACKOFF)."""
-        self._coloured = None
-        """(the arrays it was computed for, colour_contacts_2d's result): _colouring."""
-        self._strips = None
-        """body_strips' (strip, nstrips) and free [bool] per body, of the model solved."""
+        self._domains = None
+        """body_domains' (domain, n), ghost and inv_mass_x (nlgs_2d_domains), of the model
+        solved."""
+        self._pairs = np.full((3, 0), -1)
+        """The active contacts' candidates, antagonists and flags of the last partition."""
+        self._partitioned = None
+        """partition_contacts_2d's (order, groups) for _pairs: _partition."""
+        self._own = (np.empty((0, 18)), np.empty((2, 0), dtype=np.int64), np.empty((0, 2)),
+                     np.empty((0, 3)))
+        """nlgs_2d_domains' work memory (rows, own, own_impulse, vx)."""
 
     def forget(self) -> None:
         self._following.clear()
@@ -183,7 +195,7 @@ class NLGS(ContactSolver):
             self._inv_mass = inv_mass
             self._mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
                                    where=inv_mass > 0.0)
-            self._strips = self._coloured = None
+            self._domains = self._partitioned = None
         if getattr(problem, "fe", None) is not None:
             if self._sums is not None:
                 raise InputError(f"solver.criterion {self.criterion!r} is for rigid blocks: "
@@ -193,9 +205,8 @@ class NLGS(ContactSolver):
             self._v_prev = np.empty_like(v)
         dim = problem.model.dim
         width = 18 if dim == 2 else 38  # the packed row of nlgs_2d / nlgs_3d
-        rows = problem.count * (2 if dim == 2 and self.threads is not None else 1)
-        if len(self._work) < rows or self._work.shape[1] != width:
-            self._work = np.empty((max(rows, 2 * len(self._work)), width))
+        if len(self._work) < problem.count or self._work.shape[1] != width:
+            self._work = np.empty((max(problem.count, 2 * len(self._work)), width))
         # joint laws (saxum.solver.laws_local) change the local problems; a problem without
         # them (the projection's) has none, and a sweep without them is compiled without their
         # code (nlgs_2d)
@@ -212,8 +223,8 @@ class NLGS(ContactSolver):
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
         if dim == 2 and self.threads is not None and self._sums is None:
             nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
-            sweep = nlgs_2d_coloured
-            args += self._colouring(problem.model, c.candidate, c.antagonist, active,
+            sweep = nlgs_2d_domains
+            args += self._partition(problem.model, c.candidate, c.antagonist, active,
                                     problem.count)
         else:
             args += (self._sums, CRITERIA.index(self.criterion))
@@ -292,21 +303,34 @@ class NLGS(ContactSolver):
         (_REST_BACKOFF)."""
         self._rest_backoff = min(max(1, 2 * self._rest_backoff), _REST_BACKOFF)
 
-    def _colouring(self, model, cand, ant, active, count) -> tuple:
-        """colour_contacts_2d's (order, chunks, colours) and free, reused while the active
-        contacts' pairs have not changed (comparing them costs less than colouring them)."""
-        if self._strips is None:
-            free = (model.body_inv_mass > 0.0).any(axis=1)
-            self._strips = (*body_strips(free), free)
-        key = (cand[:count], ant[:count], active[:count])
-        old = self._coloured
-        if old is None or not all(len(x) == len(y) and np.array_equal(x, y)
-                                  for x, y in zip(key, old[0], strict=True)):
-            strip, nstrips, free = self._strips
-            self._coloured = old = (tuple(x.copy() for x in key),
-                                    (*colour_contacts_2d(cand, ant, active, count, strip,
-                                                         nstrips), free))
-        return old[1]
+    def _partition(self, model, cand, ant, active, count) -> tuple:
+        """nlgs_2d_domains' arguments from order to inv_mass_x: the partition reused while
+        the active contacts' pairs have not changed (comparing them costs less than
+        partitioning them)."""
+        if self._domains is None:
+            inv_mass = model.body_inv_mass
+            fixed = ~(inv_mass > 0.0).any(axis=1)
+            domain, n = body_domains(~fixed, self.domains)
+            ghost = np.full(len(fixed), -1, dtype=np.int64)
+            ghost[fixed] = np.arange(fixed.sum())
+            inv_mass_x = np.zeros((len(fixed) + 2 * n * int(fixed.sum()), inv_mass.shape[1]))
+            inv_mass_x[: len(fixed)] = inv_mass
+            self._domains = (domain, n, ghost, inv_mass_x)
+        if self._pairs.shape[1] < count:
+            self._pairs = np.full((3, max(count, 2 * self._pairs.shape[1])), -1)
+            self._partitioned = None
+        if not _same_pairs(cand, ant, active, count, self._pairs) or self._partitioned is None:
+            self._partitioned = partition_contacts_2d(cand, ant, active, count,
+                                                      *self._domains[:2])
+        order, groups = self._partitioned
+        domain, n, ghost, inv_mass_x = self._domains
+        rows, own, own_impulse, vx = self._own
+        if len(rows) < len(order) or vx.shape != inv_mass_x.shape:
+            size = max(len(order), 2 * len(rows))
+            self._own = rows, own, own_impulse, vx = (
+                np.empty((size, 18)), np.empty((2, size), dtype=np.int64),
+                np.empty((size, 2)), np.empty_like(inv_mass_x))
+        return order, groups, ghost, rows, own, own_impulse, vx, inv_mass_x
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
@@ -444,8 +468,7 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, None,
-                           sums)
+            _update_dry_2d(a, cand, ant, work[a], v, impulse, inv_mass, relaxation, sums)
         error = _end_sweep_2d(cand, ant, v, v_prev, v_free, mass, impulse, work, joints,
                               law_map, inv_mass, relaxation, sums, criterion)
         if error <= tolerance:
@@ -454,62 +477,118 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 
 
 @nb.njit(parallel=True, cache=True)
-def nlgs_2d_coloured(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
-                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
-                     chunks, colours, free, tolerance, max_iterations, relaxation):
-    """nlgs_2d with its dry contacts swept colour by colour, the chunks of one colour in
-    parallel (numba threads), each chunk's contacts in order: order, chunks, colours from
-    colour_contacts_2d, free [bool] per body (inv_mass > 0). It is still a Gauss-Seidel
-    sweep, in the colouring's order (not nlgs_2d's): a chunk reads and writes only the
-    velocities of its own contacts' bodies, which no other chunk of its colour writes (a
-    fixed body, inv_mass 0, is read but never written), and the error's sums go by fixed
-    blocks of bodies (_parallel_change), so the result is the same bit for bit whatever the
-    number of threads. The joints are swept after, in order, as nlgs_2d does; work: at least
-    2 count x 18."""
-    # the dry contacts' rows, bodies and impulses in the colours' order (the sweeps read
-    # them in sequence: gathered from a strip's contacts, spread over the whole array, they
-    # cost 3x as much), after the joints' (in nlgs_2d's rows, which those of the dry ones
-    # do not overlap)
-    dry = order.shape[0]
-    packed = dry
-    own_cand = np.empty(dry, dtype=np.int64)
-    own_ant = np.empty(dry, dtype=np.int64)
-    own_impulse = np.empty((dry, 2))
-    for i in nb.prange(dry):
-        a = order[i]
-        _pack_2d(work[count + i], h_cand, h_ant, delassus, bias, friction, a)
-        own_cand[i] = cand[a]
-        own_ant[i] = ant[a]
-        own_impulse[i, 0] = impulse[a, 0]
-        own_impulse[i, 1] = impulse[a, 1]
+def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
+                    inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
+                    groups, ghost, rows, own, own_impulse, vx, inv_mass_x, tolerance,
+                    max_iterations, relaxation):
+    """nlgs_2d with its dry contacts swept domain by domain (partition_contacts_2d): the
+    domains' own contacts in parallel (numba threads), then the contacts across the even cuts
+    between domains in parallel, then those across the odd cuts, then the rest; each group's
+    contacts in nlgs_2d's order, by nlgs_2d's serial loop (_sweep_range_2d) on rows packed
+    in that order. It is still a Gauss-Seidel sweep, in the partition's order (not
+    nlgs_2d's): the groups swept together write the velocities of disjoint free bodies, and
+    each group has its own copy of the fixed bodies' velocities (which a push changes by
+    0 x dR: read by all, written by each into its own), so the result is the same bit for bit
+    whatever the number of threads; the error's sums go by fixed blocks of bodies
+    (_parallel_change). One domain gives nlgs_2d's order and arithmetic. The joints are
+    swept after, in order, as nlgs_2d does.
+
+    order, groups from partition_contacts_2d; ghost [int] per body: -1 for a free body, a
+    fixed one's rank among the fixed ones (nfixed in all), whose copy for group g is row
+    n + g nfixed + rank of vx (n bodies) and of inv_mass_x (inv_mass, then zeros). Work
+    memory: rows (at least len(order) x 18), own (int64, 2 x len(order): candidates,
+    antagonists as rows of vx) and own_impulse (len(order) x 2), the dry contacts' in the
+    sweep's order; vx (as inv_mass_x)."""
+    ndomains = groups.shape[0] // 2
+    even = ndomains + ndomains // 2  # the phases: [0, ndomains), [ndomains, even),
+    last = 2 * ndomains - 1          # [even, last), [last, last + 1)
+    n = v.shape[0]
+    nfixed = (vx.shape[0] - n) // (2 * ndomains)
+    for g in nb.prange(2 * ndomains):
+        _pack_range_2d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
+                       h_ant, delassus, bias, friction, impulse, ghost, rows, own,
+                       own_impulse)
+    packed = order.shape[0]
     if joints is not None:
         packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
                                   law_map)
     if packed == 0:
         return 0, 0.0
-    sums = np.empty((-(-v.shape[0] // _SUM_BODIES), 3))
+    for b in nb.prange(n):
+        for d in range(3):
+            vx[b, d] = v[b, d]
+        if ghost[b] >= 0:
+            for g in range(2 * ndomains):
+                for d in range(3):
+                    vx[n + g * nfixed + ghost[b], d] = v[b, d]
+    v_own = vx[:n]
+    sums = np.empty((-(-n // _SUM_BODIES), 3))
     error = np.inf
     it = 0
-    _parallel_change(v, v_prev, v_free, mass, sums)
+    _parallel_change(v_own, v_prev, v_free, mass, sums)
     while it < max_iterations:
         it += 1
-        for k in range(colours.shape[0] - 1):
-            if colours[k + 1] == colours[k]:
-                continue
-            for u in nb.prange(colours[k], colours[k + 1]):
-                for i in range(chunks[u], chunks[u + 1]):
-                    _update_dry_2d(i, own_cand, own_ant, work[count + i], v, own_impulse,
-                                   inv_mass, relaxation, free, None)
+        for g in nb.prange(ndomains):
+            _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse, inv_mass_x,
+                            relaxation)
+        if even - ndomains > 1:
+            for g in nb.prange(ndomains, even):
+                _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse,
+                                inv_mass_x, relaxation)
+        else:  # one cut at most (two domains): no parallel region
+            _sweep_range_2d(groups[ndomains], groups[even], own, rows, vx, own_impulse,
+                            inv_mass_x, relaxation)
+        if last - even > 1:
+            for g in nb.prange(even, last):
+                _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse,
+                                inv_mass_x, relaxation)
+        else:
+            _sweep_range_2d(groups[even], groups[last], own, rows, vx, own_impulse,
+                            inv_mass_x, relaxation)
+        _sweep_range_2d(groups[last], groups[last + 1], own, rows, vx, own_impulse,
+                        inv_mass_x, relaxation)
         if joints is not None:
-            _joint_sweep_2d(cand, ant, v, impulse, work, joints, law_map, inv_mass,
+            _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
                             relaxation, None)
-        error = _parallel_change(v, v_prev, v_free, mass, sums)
+        error = _parallel_change(v_own, v_prev, v_free, mass, sums)
         if error <= tolerance:
             break
-    for i in nb.prange(dry):
-        impulse[order[i], 0] = own_impulse[i, 0]
-        impulse[order[i], 1] = own_impulse[i, 1]
+    for g in nb.prange(2 * ndomains):
+        for i in range(groups[g], groups[g + 1]):
+            impulse[order[i], 0] = own_impulse[i, 0]
+            impulse[order[i], 1] = own_impulse[i, 1]
+    for b in nb.prange(n):
+        for d in range(3):
+            v[b, d] = vx[b, d]
     return it, error
+
+
+@nb.njit(cache=True)
+def _pack_range_2d(lo, hi, base, order, cand, ant, h_cand, h_ant, delassus, bias, friction,
+                   impulse, ghost, rows, own, own_impulse):
+    """The rows, bodies and impulses of the dry contacts order[lo:hi] of nlgs_2d_domains, a
+    fixed body as its group's copy (row base + its rank); a function of its own as
+    _sweep_range_2d."""
+    for i in range(lo, hi):
+        a = order[i]
+        _pack_2d(rows[i], h_cand, h_ant, delassus, bias, friction, a)
+        c = cand[a]
+        b = ant[a]
+        own[0, i] = c if ghost[c] < 0 else base + ghost[c]
+        own[1, i] = b if ghost[b] < 0 else base + ghost[b]
+        own_impulse[i, 0] = impulse[a, 0]
+        own_impulse[i, 1] = impulse[a, 1]
+
+
+@nb.njit(cache=True)
+def _sweep_range_2d(lo, hi, own, rows, v, impulse, inv_mass, relaxation):
+    """Single-contact updates of the packed dry contacts lo .. hi - 1 in order
+    (nlgs_2d_domains), as nlgs_2d's loop: a function of its own, so that the loop compiles
+    as nlgs_2d's does whichever parallel region calls it."""
+    cand = own[0]
+    ant = own[1]
+    for i in range(lo, hi):
+        _update_dry_2d(i, cand, ant, rows[i], v, impulse, inv_mass, relaxation, None)
 
 
 _SUM_BODIES = 2048
@@ -534,90 +613,80 @@ def _parallel_change(v, v_prev, v_free, mass, sums):
     return change_ratio(num, den, size)
 
 
-def body_strips(free: np.ndarray) -> tuple[np.ndarray, int]:
-    """The strips of colour_contacts_2d: the free bodies, in the model's order, cut into
-    nstrips runs of as many bodies, nstrips = 4 per _STRIP_BODIES of them (at least 4, at
-    most 256: two colours of an even number of strips, balanced on 2 threads). The
-    structures of saxum.structures number their blocks course by course, so a strip is a
-    band of courses whose velocities lie together in memory (strips along the longest side
-    of the structure instead cost 1.2x as much per sweep on a 16 000-brick wall); blocks
-    numbered at random give strips that the colouring merges into one. Returns (strip per
-    body, fixed bodies -1; nstrips): a function of the model only, so not of the threads."""
+def body_domains(free: np.ndarray, domains: int | None) -> tuple[np.ndarray, int]:
+    """The domains of partition_contacts_2d: the free bodies, in the model's order, cut into
+    n runs of as many bodies, n = domains (at most one per free body), or where it is None
+    the machine's cores (numba's threads) but at most one per _DOMAIN_BODIES free bodies (at
+    least 1). The structures of saxum.structures number their blocks course by course, so a
+    domain is a band of courses whose velocities lie together in memory, and the cuts between
+    domains cross few joints; blocks numbered at random give domains that share most
+    contacts (then swept in order, on one thread). Returns (domain per body, fixed bodies
+    -1; n): a function of the model and `domains` only, not of the threads."""
     index = np.flatnonzero(free)
-    strip = np.full(len(free), -1, dtype=np.int64)
-    nstrips = min(256, 4 * max(1, len(index) // _STRIP_BODIES))
-    strip[index] = np.arange(len(index)) * nstrips // max(1, len(index))
-    return strip, nstrips
+    domain = np.full(len(free), -1, dtype=np.int64)
+    if domains is None:
+        domains = min(nb.config.NUMBA_NUM_THREADS, len(index) // _DOMAIN_BODIES)
+    n = max(1, min(domains, len(index)))
+    domain[index] = np.arange(len(index)) * n // max(1, len(index))
+    return domain, n
 
 
 @nb.njit(cache=True)
-def colour_contacts_2d(cand, ant, active, count, strip, nstrips):
-    """Red-black strips: the active contacts go into the strips (body_strips) of their free
-    bodies (the lower of the two), the even strips are colour 0 and the odd ones colour 1,
-    and each strip keeps nlgs_2d's order (last first) inside: a contiguous piece of the
-    structure swept as the serial sweep would, two barriers per sweep. The colours hold where
-    no free body has contacts in two strips of one colour (strips wider than the bodies);
-    where one has, the strips are merged in pairs until none has (one strip at the end: one
-    thread). Returns (order, chunks, colours): chunk u (a non-empty strip) is
-    order[chunks[u]:chunks[u+1]], the chunks of colour k are colours[k] to colours[k+1] - 1;
-    a function of the contacts and the strips, not of the threads."""
-    visit = np.empty(count, dtype=np.int64)
-    key = np.empty(count, dtype=np.int64)
-    n = 0
+def _same_pairs(cand, ant, active, count, pairs):
+    """Whether the first `count` contacts' candidates, antagonists and active flags are those
+    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there."""
+    same = count == pairs.shape[1] or pairs[0, count] == -1
+    for a in range(count):
+        if not same:
+            break
+        same = pairs[0, a] == cand[a] and pairs[1, a] == ant[a] and pairs[2, a] == active[a]
+    if same:
+        return True
+    pairs[:, :] = -1
+    for a in range(count):
+        pairs[0, a] = cand[a]
+        pairs[1, a] = ant[a]
+        pairs[2, a] = active[a]
+    return False
+
+
+@nb.njit(cache=True)
+def partition_contacts_2d(cand, ant, active, count, domain, ndomains):
+    """The groups of nlgs_2d_domains: the active dry contacts whose free bodies lie in one
+    domain d (body_domains) go to group d, those across the cut between domains d and d + 1
+    to group ndomains + d // 2 (d even) or ndomains + ndomains // 2 + d // 2 (d odd), the
+    others (across two cuts or more) to the last group, 2 ndomains - 1; each group keeps
+    nlgs_2d's order (last first). Groups of one phase share no free body: two domains do
+    not, and a cut's contacts have their free bodies in its two domains, which the other cuts
+    of its parity do not touch. Returns (order, groups): group g is
+    order[groups[g]:groups[g + 1]]; a function of the contacts and the domains, not of the
+    threads."""
+    last = 2 * ndomains - 1
+    group = np.empty(count, dtype=np.int64)
+    size = np.zeros(2 * ndomains + 1, dtype=np.int64)
+    for a in range(count):
+        if active[a]:
+            dc = domain[cand[a]]
+            da = domain[ant[a]]  # a fixed body's is -1
+            if dc < 0 or da < 0 or dc == da:
+                g = max(dc, da, 0)
+            elif abs(dc - da) == 1:
+                d = min(dc, da)
+                g = ndomains + d // 2 + (ndomains // 2 if d % 2 else 0)
+            else:
+                g = last
+            group[a] = g
+            size[g + 1] += 1
+    for g in range(2 * ndomains):
+        size[g + 1] += size[g]
+    order = np.empty(size[-1], dtype=np.int64)
+    fill = size[:-1].copy()
     for k in range(count):
         a = count - 1 - k
         if active[a]:
-            sc = strip[cand[a]]
-            sa = strip[ant[a]]  # a fixed body's is -1
-            visit[n] = a
-            key[n] = min(sc, sa) if sc >= 0 and sa >= 0 else max(sc, sa, 0)
-            n += 1
-    seen = np.empty((strip.shape[0], 2), dtype=np.int64)
-    shift = 0
-    while (nstrips - 1) >> shift > 0:  # more than one strip: do the colours hold?
-        seen[:] = -1
-        clash = False
-        for i in range(n):
-            s = key[i] >> shift
-            for body in (cand[visit[i]], ant[visit[i]]):
-                if strip[body] >= 0:
-                    if seen[body, s & 1] < 0:
-                        seen[body, s & 1] = s
-                    elif seen[body, s & 1] != s:
-                        clash = True
-            if clash:
-                break
-        if not clash:
-            break
-        shift += 1
-    merged = ((nstrips - 1) >> shift) + 1
-    even = (merged + 1) // 2
-    # strip s's place: the even ones first, then the odd ones
-    size = np.zeros(merged + 1, dtype=np.int64)
-    for i in range(n):
-        s = key[i] >> shift
-        size[(s & 1) * even + (s >> 1) + 1] += 1
-    start = np.zeros(merged + 1, dtype=np.int64)
-    for r in range(merged):
-        start[r + 1] = start[r] + size[r + 1]
-    order = np.empty(n, dtype=np.int64)
-    fill = start[:-1].copy()
-    for i in range(n):
-        s = key[i] >> shift
-        r = (s & 1) * even + (s >> 1)
-        order[fill[r]] = visit[i]
-        fill[r] += 1
-    chunks = np.zeros(merged + 1, dtype=np.int64)
-    colours = np.zeros(3, dtype=np.int64)
-    u = 0
-    for r in range(merged):
-        if size[r + 1] > 0:
-            u += 1
-            chunks[u] = start[r + 1]
-        if r + 1 == even:
-            colours[1] = u
-    colours[2] = u
-    return order, chunks[: u + 1], colours
+            order[fill[group[a]]] = a
+            fill[group[a]] += 1
+    return order, size
 
 
 @nb.njit(inline="always")
@@ -648,15 +717,15 @@ def _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints, law_m
 
 
 @nb.njit(inline="always")
-def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, free, sums):
-    """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; free
-    as _push_2d's; sums: None, or LMGC90's check sums to add its change to (_check_sums)."""
+def _update_dry_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, sums):
+    """One single-contact update of a dry contact a (nlgs_2d), row its row of `work`; sums:
+    None, or LMGC90's check sums to add its change to (_check_sums)."""
     ut, un = _local_velocity_2d(a, cand, ant, row, v, impulse)
     rt, rn = solve_factored_contact_2d(row[8], row[9], row[10], row[11], row[12], row[13],
                                        row[14], row[15], ut, un, row[17])
     if sums is not None:
         _check_sums_2d(sums, row, impulse[a, 0], impulse[a, 1], rt, rn)
-    _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free)
+    _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn)
 
 
 @nb.njit(inline="always")
@@ -800,10 +869,9 @@ def _local_velocity_2d(a, cand, ant, row, v, impulse):
 
 
 @nb.njit(inline="always")
-def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free=None):
+def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn):
     """Second half: contact a's new impulse (rt, rn) [N s], relaxed, and its change pushed
-    into the velocities; with `free` (per body, colour_contacts_2d), only into free bodies:
-    a fixed one, shared by contacts that run in parallel, is not written (its change is 0)."""
+    into the velocities."""
     c = cand[a]
     b = ant[a]
     rt0 = impulse[a, 0]
@@ -818,14 +886,12 @@ def _push_2d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rt, rn, free=N
     fx = row[0] * dt + row[2] * dn
     fy = row[1] * dt + row[3] * dn
     mc, mb = inv_mass[c], inv_mass[b]
-    if free is None or free[c]:
-        v[c, 0] = v[c, 0] + mc[0] * fx
-        v[c, 1] = v[c, 1] + mc[1] * fy
-        v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
-    if free is None or free[b]:
-        v[b, 0] = v[b, 0] - mb[0] * fx
-        v[b, 1] = v[b, 1] - mb[1] * fy
-        v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
+    v[c, 0] = v[c, 0] + mc[0] * fx
+    v[c, 1] = v[c, 1] + mc[1] * fy
+    v[c, 2] = v[c, 2] + mc[2] * (row[4] * dt + row[5] * dn)
+    v[b, 0] = v[b, 0] - mb[0] * fx
+    v[b, 1] = v[b, 1] - mb[1] * fy
+    v[b, 2] = v[b, 2] + mb[2] * (row[6] * dt + row[7] * dn)
     impulse[a, 0] = rt
     impulse[a, 1] = rn
 
