@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 import pytest
+from slope_run import run_on_slope
 
 import saxum as sx
 
@@ -131,11 +132,7 @@ def _slide(mu, dim=2):
     sim = _simulation(model)
     state = sim.initial_state()
     x0 = state.body_q[body, :dim].copy()
-    off = 0.0
-    for _ in range(round(DURATION / DT)):
-        sim.step(state)
-        off = max(off, abs(float((state.body_q[body, :dim] - x0) @ normal)))
-    assert np.all(sim.log.converged)
+    off = run_on_slope(sim, state, body, down, normal, DURATION)
     if dim == 2:
         assert abs(state.body_q[body, 2] - model.body_q0[body, 2]) < 1e-12  # it cannot roll
     return (float((state.body_q[body, :dim] - x0) @ down),

@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 import pytest
+from slope_run import run_on_slope
 
 import saxum as sx
 
@@ -54,12 +55,7 @@ def _roll(dim, mu):
     model, body, down, normal = _incline(dim, mu)
     sim = sx.Simulation(model, dt=DT, solver=sx.NLGS(tolerance=1e-10, max_iterations=500))
     state = sim.initial_state()
-    x0 = state.body_q[body, :dim].copy()
-    off = 0.0
-    for _ in range(round(DURATION / DT)):
-        sim.step(state)
-        off = max(off, abs(float((state.body_q[body, :dim] - x0) @ normal)))
-    assert np.all(sim.log.converged)
+    off = run_on_slope(sim, state, body, down, normal, DURATION)
     # spin about the axis across the slope: -z in 2D (rolling down +x turns clockwise), y in 3D
     spin = -state.body_v[body, 2] if dim == 2 else state.body_v[body, 4]
     return float(state.body_v[body, :dim] @ down) / DURATION, spin, spin / DURATION, off
