@@ -17,7 +17,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["PolygonProperties", "normalize_polygon", "polygon_properties"]
+__all__ = ["PolygonProperties", "cluster_polygon_properties", "normalize_polygon",
+           "polygon_properties"]
 
 _REL_TOL = 1e-12
 
@@ -93,3 +94,15 @@ def polygon_properties(vertices: np.ndarray) -> PolygonProperties:
     polar = j_origin - area * float(centroid @ centroid)
     return PolygonProperties(area=float(area), centroid=centroid + origin,
                              polar_moment=float(polar))
+
+
+def cluster_polygon_properties(parts: "list[np.ndarray]") -> PolygonProperties:
+    """Area, centroid and polar second moment about the centroid of the union of CCW convex
+    polygons that do not overlap (a cluster), by the parallel-axis theorem:
+    A = sum A_k, C = sum A_k C_k / A, J = sum (J_k + A_k |C_k - C|^2)."""
+    props = [polygon_properties(part) for part in parts]
+    area = sum(p.area for p in props)
+    centroid = sum(p.area * p.centroid for p in props) / area
+    polar = sum(p.polar_moment + p.area * float((p.centroid - centroid) @ (p.centroid - centroid))
+                for p in props)
+    return PolygonProperties(area=float(area), centroid=centroid, polar_moment=float(polar))

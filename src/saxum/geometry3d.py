@@ -16,6 +16,11 @@ a, b, c taken relative to o and d = a . (b x c) (six times the signed volume),
     S_G = S - V C C^T,   J_G = tr(S_G) 1 - S_G                   (inertia per unit density)
 The principal axes (eigenvectors of J_G, right-handed) are the body frame, so the inertia tensor
 there is diag(J_1, J_2, J_3).
+
+A cluster (a non-convex block as the union of convex parts k, LMGC90's clustered contactors)
+combines its parts by the parallel-axis theorem (Meriam and Kraige, Engineering Mechanics:
+Dynamics, appendix B): V = sum V_k, C = sum V_k C_k / V,
+J_G = sum [A_k diag(J_k) A_k^T + V_k (|d_k|^2 1 - d_k d_k^T)], d_k = C_k - C.
 """
 
 from dataclasses import dataclass
@@ -24,7 +29,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Polyhedron", "clip_polyhedron", "convex_polyhedron", "polyhedron_properties",
+__all__ = ["Polyhedron", "clip_polyhedron", "cluster_properties", "convex_polyhedron",
+           "polyhedron_properties",
            "quaternion_from_matrix", "relative_quaternions", "rotation_matrix", "rotation_vectors",
            "world_points"]
 
@@ -221,6 +227,27 @@ def polyhedron_properties(poly: Polyhedron) -> PolyhedronProperties:
     centroid = first / (24.0 * volume)
     s_g = second / 120.0 - volume * np.outer(centroid, centroid)
     inertia = np.trace(s_g) * np.eye(3) - s_g
+    return _principal(float(volume), centroid + origin, inertia)
+
+
+def cluster_properties(parts: "list[Polyhedron]") -> PolyhedronProperties:
+    """Volume, centroid, principal second moments and axes of the union of convex parts that
+    do not overlap (a cluster: module doc, parallel-axis theorem)."""
+    props = [polyhedron_properties(part) for part in parts]
+    volume = sum(p.volume for p in props)
+    centroid = sum(p.volume * p.centroid for p in props) / volume
+    inertia = np.zeros((3, 3))
+    for p in props:
+        d = p.centroid - centroid
+        inertia += (p.axes * p.moments) @ p.axes.T + p.volume * (d @ d * np.eye(3)
+                                                                  - np.outer(d, d))
+    return _principal(volume, centroid, 0.5 * (inertia + inertia.T))
+
+
+def _principal(volume: float, centroid: np.ndarray, inertia: np.ndarray
+               ) -> PolyhedronProperties:
+    """The properties of a body of inertia tensor `inertia` per unit density [m^5] about its
+    centroid: principal moments and right-handed principal axes."""
     off = np.abs(inertia - np.diag(np.diag(inertia))).max()
     if off <= 1e-12 * np.trace(inertia):
         # already principal (e.g. an axis-aligned box): keep the world axes as body axes
@@ -229,8 +256,7 @@ def polyhedron_properties(poly: Polyhedron) -> PolyhedronProperties:
         moments, axes = np.linalg.eigh(inertia)
         if np.linalg.det(axes) < 0.0:
             axes[:, 2] = -axes[:, 2]
-    return PolyhedronProperties(volume=float(volume), centroid=centroid + origin,
-                                moments=moments, axes=axes)
+    return PolyhedronProperties(volume=volume, centroid=centroid, moments=moments, axes=axes)
 
 
 def rotation_matrix(q) -> np.ndarray:

@@ -27,10 +27,11 @@ from .bodies.fe import FEBodies, build_fe_bodies
 from .errors import InputError, plain
 from .fe.material import Elastic
 from .fe.mesh import Mesh
-from .geometry2d import normalize_polygon, polygon_properties
+from .geometry2d import cluster_polygon_properties, normalize_polygon, polygon_properties
 from .geometry3d import (
     Polyhedron,
     PolyhedronProperties,
+    cluster_properties,
     convex_polyhedron,
     polyhedron_properties,
     quaternion_from_matrix,
@@ -185,12 +186,40 @@ class Model:
     body_round_radius: np.ndarray | None = None
     """Radius of a ROUND body, of a CAPSULE's ends [m] (0 for polygons), shape [body_count],
     float64."""
+    contactor_body: np.ndarray | None = None
+    """The body that owns each contactor (a convex part the narrow phase tests), shape
+    [contactor_count], int32, nondecreasing: a block is one contactor, a cluster (a non-convex
+    block, ModelBuilder.add_cluster) several; its body's vertex, face and edge ranges are
+    those of its contactors one after the other (default: one contactor per body)."""
+    contactor_vertex_start: np.ndarray | None = None
+    """Contactor c owns vertices contactor_vertex_start[c]:contactor_vertex_start[c+1], shape
+    [contactor_count+1], int32 (default: body_vertex_start)."""
+    contactor_face_start: np.ndarray | None = None
+    """3D: contactor c owns faces contactor_face_start[c]:..[c+1] (default: body_face_start)."""
+    contactor_edge_start: np.ndarray | None = None
+    """3D: contactor c owns edges contactor_edge_start[c]:..[c+1] (default: body_edge_start)."""
+    contactor_centre_local: np.ndarray | None = None
+    """Centroid of each contactor in its body's frame [m], shape [contactor_count, dim]
+    (default: 0, the body's centre of mass)."""
     max_vertices: int = field(init=False)
+    """The most vertices of a contactor."""
     has_round: bool = field(init=False)
     """Some body is a disc (sphere) or a capsule: detection runs the round pairs' kernel."""
+    clustered: bool = field(init=False)
+    """Some body has several contactors (a cluster): detection runs over contactors."""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "max_vertices", int(np.diff(self.body_vertex_start).max()))
+        defaults = {"contactor_body": np.arange(self.body_count, dtype=np.int32),
+                    "contactor_vertex_start": self.body_vertex_start,
+                    "contactor_face_start": self.body_face_start,
+                    "contactor_edge_start": self.body_edge_start,
+                    "contactor_centre_local": np.zeros((self.body_count, self.dim))}
+        for name, value in defaults.items():
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, value)
+        object.__setattr__(self, "clustered", len(self.contactor_body) > self.body_count)
+        object.__setattr__(self, "max_vertices",
+                           int(np.diff(self.contactor_vertex_start).max()))
         if self.body_shape is None:
             object.__setattr__(self, "body_shape", np.zeros(self.body_count, dtype=np.int8))
         if self.body_round_radius is None:
@@ -376,6 +405,8 @@ class _Block:
     """> 0: a capsule whose segment is this long [m], vertices its bounding rectangle."""
     axes: np.ndarray | None = None
     """A 3D capsule's body frame: columns two unit vectors across it and its axis."""
+    parts: list | None = None
+    """A cluster's convex parts (2D: CCW polygons, 3D: Polyhedron), `vertices` the first."""
 
 
 class ModelBuilder:
@@ -489,6 +520,31 @@ class ModelBuilder:
         density = density if massive else 0.0
         self._blocks.append(_Block(name, verts, float(density), group, kind, motion, material,
                                    mesh if mesh is not None else mesh_size))
+        return index
+
+    def add_cluster(self, parts: Sequence, *, density: float = 0.0, group: str = "block",
+                    kind: BodyKind = BodyKind.FREE, motion: Motion | None = None,
+                    name: str | None = None) -> int:
+        """Add a non-convex rigid block as the union of convex `parts` (LMGC90's clusters, a
+        POLYF body): one body, whose mass, centre of mass and principal inertia are the
+        union's (saxum.geometry3d.cluster_properties; 2D geometry2d.cluster_polygon_properties),
+        each part a contactor of its own that meets other bodies' with the laws of the
+        block's group; its parts never touch one another. Returns its body index.
+
+        parts: each as add_block's vertices (2D: a convex polygon's (x, y) [m]; 3D: (x, y, z)
+        points [m] whose convex hull is the part); they may share faces but must not
+        overlap (the overlap would count twice in the mass). density, group, kind, motion,
+        name as in add_block; a cluster cannot be deformable."""
+        name = name if name is not None else f"block {len(self._blocks)}"
+        if isinstance(parts, np.ndarray) or len(parts) == 0:
+            raise InputError(f"{name}: parts must be a list of convex parts, each a list of "
+                             "vertices [m], got " + plain(parts))
+        convex = convex_polyhedron if self.dim == 3 else normalize_polygon
+        shapes = [convex(part, name=f"{name} part {k}") for k, part in enumerate(parts)]
+        index = self.add_block(parts[0], density=density, group=group, kind=kind,
+                               motion=motion, name=name)
+        if len(shapes) > 1:
+            self._blocks[index].parts = shapes
         return index
 
     def add_disc(self, centre: Sequence[float], radius: float, *, density: float = 0.0,
@@ -662,6 +718,10 @@ class ModelBuilder:
                                      "capsule) "
                                      f"{block.name!r}, which cannot be deformable; put it in "
                                      "another group")
+                if block.parts is not None:
+                    raise InputError(f"materials: group {group!r} has the cluster "
+                                     f"{block.name!r} (a non-convex block), which cannot be "
+                                     "deformable; put it in another group")
                 block.kind, block.density = BodyKind.DEFORMABLE, material.density
                 block.material, block.mesh_size = material, mesh_size
                 changed += 1
@@ -807,14 +867,22 @@ class ModelBuilder:
         q0 = np.zeros((n, 3))
         starts = np.zeros(n + 1, dtype=np.int32)
         local = []
+        contactor_start = [0]
+        contactor_centre = []
         for b, blk in enumerate(self._blocks):
-            props = polygon_properties(blk.vertices)
+            parts = blk.parts if blk.parts is not None else [blk.vertices]
+            props = (polygon_properties(blk.vertices) if blk.parts is None
+                     else cluster_polygon_properties(parts))
             mass[b] = blk.density * props.area
             inertia[b] = blk.density * props.polar_moment
             q0[b, :2] = props.centroid
-            rel = blk.vertices - props.centroid
-            local.append(rel)
-            radius[b] = np.hypot(rel[:, 0], rel[:, 1]).max()
+            rel = [part - props.centroid for part in parts]
+            local.extend(rel)
+            contactor_start.extend(contactor_start[-1] + np.cumsum([len(r) for r in rel]))
+            contactor_centre.extend(np.zeros(2) if blk.parts is None else
+                                    polygon_properties(part).centroid - props.centroid
+                                    for part in parts)
+            radius[b] = max(np.hypot(r[:, 0], r[:, 1]).max() for r in rel)
             size[b] = math.sqrt(props.area)
             if blk.length > 0.0:  # a capsule inside its bounding rectangle rel
                 area, polar = capsule_properties(blk.length, blk.round_radius)
@@ -825,14 +893,30 @@ class ModelBuilder:
                 mass[b] = blk.density * math.pi * r * r
                 inertia[b] = 0.5 * mass[b] * r * r
                 size[b] = math.sqrt(math.pi) * r
-            starts[b + 1] = starts[b] + len(rel)
+            starts[b + 1] = contactor_start[-1]
         vertex_local = np.ascontiguousarray(np.concatenate(local))
         following = np.concatenate([np.roll(rel, -1, axis=0) for rel in local]) - vertex_local
         edge_length = np.hypot(following[:, 0], following[:, 1])
         edge_normal = np.column_stack((following[:, 1], -following[:, 0])) / edge_length[:, None]
         return dict(body_mass=mass, body_inertia=inertia, body_q0=q0, body_radius=radius,
                     body_size=size, body_vertex_start=starts, vertex_local=vertex_local,
-                    edge_normal_local=np.ascontiguousarray(edge_normal), edge_length=edge_length)
+                    edge_normal_local=np.ascontiguousarray(edge_normal), edge_length=edge_length,
+                    **self._contactors(contactor_start, contactor_centre))
+
+    def _contactors(self, vertex_start: list, centre: list, face_start: list | None = None,
+                    edge_start: list | None = None) -> dict:
+        """The Model's contactor arrays, if some block is a cluster (else their defaults)."""
+        if not any(blk.parts is not None for blk in self._blocks):
+            return {}
+        owner = [b for b, blk in enumerate(self._blocks)
+                 for _ in (blk.parts if blk.parts is not None else [blk.vertices])]
+        arrays = dict(contactor_body=np.array(owner, dtype=np.int32),
+                      contactor_vertex_start=np.array(vertex_start, dtype=np.int32),
+                      contactor_centre_local=np.array(centre, dtype=np.float64))
+        if face_start is not None:
+            arrays["contactor_face_start"] = np.array(face_start, dtype=np.int32)
+            arrays["contactor_edge_start"] = np.array(edge_start, dtype=np.int32)
+        return arrays
 
     def _geometry_3d(self) -> dict:
         """Mass properties and the polyhedra's vertex, face and edge arrays in the principal
@@ -843,9 +927,12 @@ class ModelBuilder:
         q0 = np.zeros((n, 7))
         vstart, fstart, estart = (np.zeros(n + 1, dtype=np.int32) for _ in range(3))
         local, normals, rings, edges, edge_faces = [], [], [], [], []
+        cv, cf, ce, centres = [0], [0], [0], []
         for b, blk in enumerate(self._blocks):
             poly = blk.vertices
-            props = polyhedron_properties(poly)
+            parts = blk.parts if blk.parts is not None else [poly]
+            props = (polyhedron_properties(poly) if blk.parts is None
+                     else cluster_properties(parts))
             if blk.axes is not None:  # a capsule inside its bounding box, its axis z
                 volume, axial, across = spherocylinder_properties(blk.length, blk.round_radius)
                 props = PolyhedronProperties(volume, props.centroid,
@@ -859,17 +946,22 @@ class ModelBuilder:
             inertia[b] = blk.density * props.moments
             q0[b, :3] = props.centroid
             q0[b, 3:] = quaternion_from_matrix(props.axes)
-            rel = (poly.vertices - props.centroid) @ props.axes
-            local.append(rel)
-            normals.append(poly.normals @ props.axes)
-            rings.extend(ring + vstart[b] for ring in poly.faces)
-            edges.append(poly.edges + vstart[b])
-            edge_faces.append(poly.edge_faces + fstart[b])
-            radius[b] = np.linalg.norm(rel, axis=1).max()
+            for part in parts:
+                rel = (part.vertices - props.centroid) @ props.axes
+                local.append(rel)
+                normals.append(part.normals @ props.axes)
+                rings.extend(ring + cv[-1] for ring in part.faces)
+                edges.append(part.edges + cv[-1])
+                edge_faces.append(part.edge_faces + cf[-1])
+                radius[b] = max(radius[b], np.linalg.norm(rel, axis=1).max())
+                centres.append(np.zeros(3) if blk.parts is None else
+                               (polyhedron_properties(part).centroid - props.centroid)
+                               @ props.axes)
+                cv.append(cv[-1] + len(rel))
+                cf.append(cf[-1] + len(part.faces))
+                ce.append(ce[-1] + len(part.edges))
             size[b] = props.volume ** (1.0 / 3.0)
-            vstart[b + 1] = vstart[b] + len(rel)
-            fstart[b + 1] = fstart[b] + len(poly.faces)
-            estart[b + 1] = estart[b] + len(poly.edges)
+            vstart[b + 1], fstart[b + 1], estart[b + 1] = cv[-1], cf[-1], ce[-1]
         face_vertex_start = np.zeros(len(rings) + 1, dtype=np.int32)
         face_vertex_start[1:] = np.cumsum([len(r) for r in rings])
         return dict(body_mass=mass, body_inertia=inertia, body_q0=q0, body_radius=radius,
@@ -881,7 +973,8 @@ class ModelBuilder:
                     face_normal_local=np.ascontiguousarray(np.concatenate(normals)),
                     body_edge_start=estart,
                     edge_vertex=np.concatenate(edges).astype(np.int32),
-                    edge_face=np.concatenate(edge_faces).astype(np.int32))
+                    edge_face=np.concatenate(edge_faces).astype(np.int32),
+                    **self._contactors(cv, centres, cf, ce))
 
     def _check_laws(self, groups: list[str]) -> None:
         mobile = {blk.group for blk in self._blocks

@@ -15,6 +15,7 @@ from ..integrator import diagonal_free_velocity
 
 __all__ = [
     "contact_jacobians",
+    "contactor_coordinates",
     "driven_velocity",
     "free_velocity",
     "lever_arms",
@@ -51,6 +52,19 @@ def world_geometry_range(lo, hi, q, vertex_start, vertex_local, direction_local,
             ly = direction_local[k, 1]
             directions[k, 0] = c * lx - s * ly
             directions[k, 1] = s * lx + c * ly
+
+
+@nb.njit(cache=True)
+def contactor_coordinates(q, contactor_body, centre_local, out):
+    """out[c] = (x_b + Rot(theta_b) centre_local[c], theta_b): where contactor c of body b =
+    contactor_body[c] is, its centroid [m] and its body's angle [rad] (clusters)."""
+    for c in range(contactor_body.shape[0]):
+        b = contactor_body[c]
+        co = math.cos(q[b, 2])
+        si = math.sin(q[b, 2])
+        out[c, 0] = q[b, 0] + co * centre_local[c, 0] - si * centre_local[c, 1]
+        out[c, 1] = q[b, 1] + si * centre_local[c, 0] + co * centre_local[c, 1]
+        out[c, 2] = q[b, 2]
 
 
 def free_velocity(q: np.ndarray, v: np.ndarray, inertia: np.ndarray, inv_mass: np.ndarray,

@@ -31,6 +31,7 @@ from ..linalg3 import solve3
 __all__ = [
     "angular_velocity_to_body",
     "contact_jacobians",
+    "contactor_coordinates",
     "driven_velocity",
     "free_velocity",
     "gyroscopic_torques",
@@ -75,6 +76,21 @@ def world_geometry(q, vertex_start, vertex_local, face_start, normal_local, wv, 
         for f in range(face_start[b], face_start[b + 1]):
             wn[f, 0], wn[f, 1], wn[f, 2] = _rotate(r, normal_local[f, 0], normal_local[f, 1],
                                                    normal_local[f, 2])
+
+
+@nb.njit(cache=True)
+def contactor_coordinates(q, contactor_body, centre_local, out):
+    """out[c] = (x_b + R_b centre_local[c], quaternion of b): where contactor c of body b =
+    contactor_body[c] is, its centroid [m] and its body's orientation (clusters)."""
+    for c in range(contactor_body.shape[0]):
+        b = contactor_body[c]
+        x, y, z = _rotate(_rotation(q, b), centre_local[c, 0], centre_local[c, 1],
+                          centre_local[c, 2])
+        out[c, 0] = q[b, 0] + x
+        out[c, 1] = q[b, 1] + y
+        out[c, 2] = q[b, 2] + z
+        for d in range(3, 7):
+            out[c, d] = q[b, d]
 
 
 @nb.njit(inline="always")

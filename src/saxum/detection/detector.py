@@ -1,4 +1,9 @@
-"""Detection stage of the time step: world geometry, broad phase (refreshed), narrow phase."""
+"""Detection stage of the time step: world geometry, broad phase (refreshed), narrow phase.
+
+Broad and narrow phases run over contactors, the convex parts of the bodies (Model.contactor_*):
+one per body, or several for a cluster (a non-convex block). Pairs of contactors of one body are
+dropped; the contacts found are then written with their bodies as candidate and antagonist
+(keys stay those of the contactor pair), so the solver sees bodies only."""
 
 import math
 from dataclasses import dataclass
@@ -8,7 +13,7 @@ import numpy as np
 
 from ..bodies import rigid3d
 from ..bodies.fe3d import principal_axes
-from ..bodies.rigid2d import world_geometry, world_geometry_range
+from ..bodies.rigid2d import contactor_coordinates, world_geometry, world_geometry_range
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model, Shape
@@ -107,10 +112,12 @@ class Detector:
                                    for law in model.laws], dtype=np.float64)
         """Alert distance per law [m]: ContactLaw.alert, or where it has none alert, or NaN
         with per_pair (the pair's: polygons.alert_of_pair)."""
-        self._body_alert = 0.02 * model.body_size
-        """[m] per body, of which a pair takes the smaller where its law's alert is NaN."""
+        owner = model.contactor_body
+        self._body_alert = 0.02 * model.body_size[owner]
+        """[m] per contactor (its body's), of which a pair takes the smaller where its law's
+        alert is NaN."""
         self.widest_alert = float(max(np.nanmax(self.law_alert, initial=self.alert),
-                                      self._body_alert[free].max(initial=0.0)
+                                      self._body_alert[free[owner]].max(initial=0.0)
                                       if np.isnan(self.law_alert).any() else 0.0))
         """The largest alert distance of any law [m], which the broad phase pads for."""
         self.margin = settings.margin if settings.margin is not None else self.alert
@@ -123,17 +130,26 @@ class Detector:
                                  is not None else 1e-3 * self.alert)
         """Largest interpenetration [m] the gap-based law leaves without projecting."""
         n = model.body_count
-        self._mobile = free
+        self._clustered = model.clustered
+        self._cq = np.empty((len(owner), model.body_q0.shape[1])) if model.clustered else None
+        """Coordinates of the contactors of a clustered model (contactor_coordinates)."""
+        self._group = model.body_group[owner]
+        self._radius = model.body_radius[owner]
+        """Per contactor, its body's group and radius [m] (which bounds the contactor's)."""
+        self._shape = model.body_shape[owner]
+        self._round_radius = model.body_round_radius[owner]
+        self._mobile = free[owner]
+        nc = len(owner)
         self._wv = np.empty_like(model.vertex_local)
         self._wn = np.empty_like(model.vertex_local)
-        self._lo = np.empty((n, model.dim))
-        self._hi = np.empty((n, model.dim))
-        self._pairs = np.empty((4 * n + 16, 2), dtype=np.int32)
+        self._lo = np.empty((nc, model.dim))
+        self._hi = np.empty((nc, model.dim))
+        self._pairs = np.empty((4 * nc + 16, 2), dtype=np.int32)
         # A body's padded box, however it turns, fits in a square (a cube in 3D) of side
         # 2 (radius + pad):
         # bodies far larger than the median go through the broad phase's direct test, and
         # the grid's cell fits every other body's box.
-        extent = 2.0 * (model.body_radius + 0.5 * (self.widest_alert + self.margin))
+        extent = 2.0 * (self._radius + 0.5 * (self.widest_alert + self.margin))
         self._large = extent > 4.0 * np.median(extent)
         self._cell = float(extent[~self._large].max() if (~self._large).any() else extent.max())
         self.pair_count = 0
@@ -152,6 +168,10 @@ class Detector:
         phase's list, which keeps the rigid pairs."""
         self._round_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a disc or sphere (saxum.detection.round), split off likewise."""
+        if model.clustered and model.fe is not None:
+            raise InputError("clusters (non-convex blocks) and deformable blocks in one model "
+                             "are not supported yet; split the clusters into blocks or make "
+                             "the deformable blocks rigid")
         if model.has_round and model.fe is not None:
             raise InputError("discs (spheres) and deformable blocks in one model are not "
                              "supported yet; make the deformable blocks rigid or leave out "
@@ -189,7 +209,21 @@ class Detector:
         if refresh:
             self._refresh(q)
         self._since_refresh += 1
-        self._narrow_phase(q, contacts, refresh)
+        self._narrow_phase(self._contactor_q(q), contacts, refresh)
+        if self._clustered:
+            owner = self.model.contactor_body
+            n = contacts.count
+            contacts.candidate[:n] = owner[contacts.candidate[:n]]
+            contacts.antagonist[:n] = owner[contacts.antagonist[:n]]
+
+    def _contactor_q(self, q: np.ndarray) -> np.ndarray:
+        """Coordinates per contactor, which the broad and narrow phases read: q itself unless
+        some body is a cluster."""
+        if not self._clustered:
+            return q
+        m = self.model
+        contactor_coordinates(q, m.contactor_body, m.contactor_centre_local, self._cq)
+        return self._cq
 
     def _world_geometry(self, q: np.ndarray) -> None:
         """World coordinates of what the narrow phase needs, for configuration q."""
@@ -216,16 +250,23 @@ class Detector:
             out += (s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
         contacts.count, self.kept_faces = kernel(
             self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
-            m.body_vertex_start, m.body_group, m.group_law,
+            m.contactor_vertex_start, self._group, m.group_law,
             m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
-            self._body_alert, self.reference_bias,
-            m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
+            self._body_alert, self.reference_bias, m.max_vertices, q, self._radius,
+            *self._contactor_motion(), refresh, self._faces,
             self._slack, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0
         if m.fe is not None:
             self._node_contacts(q, contacts)
+
+    def _contactor_motion(self) -> tuple[np.ndarray, np.ndarray]:
+        """(motion [m], turn [rad]) since the last broad phase per contactor, its body's."""
+        if not self._clustered:
+            return self._motion, self._turn
+        owner = self.model.contactor_body
+        return self._motion[owner], self._turn[owner]
 
     def _node_contacts(self, q: np.ndarray, contacts: Contacts) -> None:
         """Append the contacts of deformable blocks' boundary nodes, in increasing key order."""
@@ -258,8 +299,9 @@ class Detector:
             features *= 3  # sphere's, the polyhedron's edges and vertices against its side
         contacts.count = round_contacts(
             self._round_pairs, len(self._round_pairs), q, self._wv, self._wn, m.edge_length,
-            m.body_vertex_start, m.body_face_start, m.face_vertex_start, m.face_vertex,
-            m.body_edge_start, m.edge_vertex, m.body_shape, m.body_round_radius, m.body_group,
+            m.contactor_vertex_start, m.contactor_face_start, m.face_vertex_start,
+            m.face_vertex, m.contactor_edge_start, m.edge_vertex, self._shape,
+            self._round_radius, self._group,
             m.group_law, self.alert, self.law_alert, self._body_alert, faces, edges,
             self._round_key_base(), features, contacts.count,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
@@ -269,7 +311,7 @@ class Detector:
         """The first key above those of polygon (polyhedron) pairs, where the keys of
         deformable (round) pairs start."""
         m = self.model
-        return 2 * self.slots * m.body_count ** 2 * m.max_vertices ** 2
+        return 2 * self.slots * len(m.contactor_body) ** 2 * m.max_vertices ** 2
 
     def _node_kernel(self, q: np.ndarray, node_x: np.ndarray, first: int,
                      contacts: Contacts) -> int:
@@ -289,8 +331,8 @@ class Detector:
 
     def _refresh(self, q: np.ndarray) -> None:
         m = self.model
-        bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.widest_alert + self.margin),
-                       self._lo, self._hi)
+        bounding_boxes(self._wv, m.contactor_vertex_start,
+                       0.5 * (self.widest_alert + self.margin), self._lo, self._hi)
         while True:
             count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
                                self._pairs)
@@ -300,8 +342,8 @@ class Detector:
         if len(self._faces) < len(self._pairs):
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
-        sort_pairs(self._pairs, count, m.body_count)
-        if self._no_contact:
+        sort_pairs(self._pairs, count, len(m.contactor_body))
+        if self._no_contact or self._clustered:
             count = self._drop_no_contact(count)
         count = self._split_off(count)
         self.pair_count = count
@@ -310,10 +352,15 @@ class Detector:
         self.refresh_count += 1
 
     def _drop_no_contact(self, count: int) -> int:
-        """Drop the pairs whose groups have no law (NO_CONTACT) from the first `count` pairs,
-        keeping the order; returns how many are left."""
-        g = self.model.body_group[self._pairs[:count]]
-        kept = self._pairs[:count][self.model.group_law[g[:, 0], g[:, 1]] >= 0]
+        """Drop the pairs whose groups have no law (NO_CONTACT) and those of two contactors of
+        one body from the first `count` pairs, keeping the order; returns how many are left."""
+        pairs = self._pairs[:count]
+        g = self._group[pairs]
+        keep = self.model.group_law[g[:, 0], g[:, 1]] >= 0
+        if self._clustered:
+            owner = self.model.contactor_body[pairs]
+            keep &= owner[:, 0] != owner[:, 1]
+        kept = pairs[keep]
         self._pairs[: len(kept)] = kept
         return len(kept)
 
@@ -329,7 +376,7 @@ class Detector:
             self._pairs[: len(kept)] = kept
             count = len(kept)
         if m.has_round:
-            rounded = (m.body_shape[self._pairs[:count]] != 0).any(axis=1)
+            rounded = (self._shape[self._pairs[:count]] != 0).any(axis=1)
             self._round_pairs = self._pairs[:count][rounded].copy()
             kept = self._pairs[:count][~rounded]
             self._pairs[: len(kept)] = kept
@@ -418,8 +465,8 @@ class PolyhedronDetector(Detector):
     def __init__(self, model: Model, settings: DetectionSettings | None = None) -> None:
         super().__init__(model, settings)
         self._wn = np.empty_like(model.face_normal_local)
-        self._max_faces = int(np.diff(model.body_face_start).max())
-        self._max_edges = int(np.diff(model.body_edge_start).max())
+        self._max_faces = int(np.diff(model.contactor_face_start).max())
+        self._max_edges = int(np.diff(model.contactor_edge_start).max())
         self._max_face_vertices = int(np.diff(model.face_vertex_start).max())
         self._axes0 = None
         """Deformable blocks: the principal axes of their body rows at the start [n_fe, 3,
@@ -428,9 +475,9 @@ class PolyhedronDetector(Detector):
             self._round_room = 2 + self._max_edges + model.max_vertices
         features = self._max_faces + self._max_edges
         self.slots = SLOTS if model.law_points.max(initial=2) == 2 else 2 * SLOTS + 1
-        if float(model.body_count) ** 2 * 2 * features**2 * self.slots >= 2.0**62:
+        if float(len(model.contactor_body)) ** 2 * 2 * features**2 * self.slots >= 2.0**62:
             raise InputError(
-                f"{model.body_count} blocks with up to {self._max_faces} faces and "
+                f"{len(model.contactor_body)} blocks (cluster parts) with up to {self._max_faces} faces and "
                 f"{self._max_edges} edges are too many to number their contacts in 64 bits; "
                 "use blocks with fewer faces"
             )
@@ -446,7 +493,7 @@ class PolyhedronDetector(Detector):
     def _round_key_base(self) -> int:
         m = self.model
         features = self._max_faces + self._max_edges
-        return 2 * self.slots * m.body_count ** 2 * features ** 2  # above polyhedron keys
+        return 2 * self.slots * len(m.contactor_body) ** 2 * features ** 2  # above polyhedra
 
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
         m = self.model
@@ -454,9 +501,9 @@ class PolyhedronDetector(Detector):
         contacts.reserve(points * self.pair_count
                          + self._round_room * len(self._round_pairs))
         contacts.count = polyhedron_contacts(
-            self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
-            m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
-            m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points, self.slots,
+            self._pairs, self.pair_count, q, self._wv, self._wn, m.contactor_vertex_start,
+            m.contactor_face_start, m.face_vertex_start, m.face_vertex, m.contactor_edge_start,
+            m.edge_vertex, m.edge_face, self._group, m.group_law, m.law_points, self.slots,
             self.alert, self.law_alert, self._body_alert, self.reference_bias, self._max_faces,
             self._max_edges, self._max_face_vertices,
             contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
