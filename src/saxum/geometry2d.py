@@ -100,6 +100,8 @@ def cluster_polygon_properties(parts: "list[np.ndarray]") -> PolygonProperties:
     """Area, centroid and polar second moment about the centroid of the union of CCW convex
     polygons that do not overlap (a cluster), by the parallel-axis theorem:
     A = sum A_k, C = sum A_k C_k / A, J = sum (J_k + A_k |C_k - C|^2)."""
+    if len(parts) == 1:  # the same numbers as for a block
+        return polygon_properties(parts[0])
     props = [polygon_properties(part) for part in parts]
     area = sum(p.area for p in props)
     centroid = sum(p.area * p.centroid for p in props) / area

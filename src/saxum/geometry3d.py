@@ -233,6 +233,8 @@ def polyhedron_properties(poly: Polyhedron) -> PolyhedronProperties:
 def cluster_properties(parts: "list[Polyhedron]") -> PolyhedronProperties:
     """Volume, centroid, principal second moments and axes of the union of convex parts that
     do not overlap (a cluster: module doc, parallel-axis theorem)."""
+    if len(parts) == 1:  # the same numbers as for a block
+        return polyhedron_properties(parts[0])
     props = [polyhedron_properties(part) for part in parts]
     volume = sum(p.volume for p in props)
     centroid = sum(p.volume * p.centroid for p in props) / volume

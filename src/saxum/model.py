@@ -239,6 +239,15 @@ class Model:
                              self.vertex_local[self.body_vertex_start[b]:
                                                self.body_vertex_start[b + 1]])
 
+    def part_vertices(self, b: int, q: np.ndarray | None = None) -> list[np.ndarray]:
+        """World vertices [m] of each contactor (convex part) of body b at coordinates q
+        (default: initial): one array for a block, one per part for a cluster."""
+        first, last = np.searchsorted(self.contactor_body, (b, b + 1))
+        whole = self.vertices(b, q)
+        start = self.contactor_vertex_start
+        return [whole[start[c] - start[first]:start[c + 1] - start[first]]
+                for c in range(first, last)]
+
 
 def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
     """World vertices [m], shape (n, dim), of a body at coordinates qb ((x, y, theta), or in 3D
@@ -253,12 +262,16 @@ def body_vertices(qb: np.ndarray, local: np.ndarray) -> np.ndarray:
 
 def drawn_outlines(vertex_start: np.ndarray, vertex_local: np.ndarray,
                    round_radius: np.ndarray | None, sides: int = 48,
-                   shape: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                   shape: np.ndarray | None = None,
+                   contactor_start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(vertex_start, vertex_local [m]) of the polygons that draw 2D bodies (plots, VTK): a
     disc's (round_radius > 0, as Model.body_round_radius; None: no discs) bounding square is
     replaced by the regular polygon of `sides` sides inscribed in its circle, a capsule's
     (shape, as Model.body_shape, CAPSULE) bounding rectangle by its stadium, each end a half
-    of that polygon."""
+    of that polygon; a cluster's parts (contactor_start, as Model.contactor_vertex_start)
+    are joined into one ring (_joined_parts)."""
+    if contactor_start is not None and len(contactor_start) > len(vertex_start):
+        vertex_start, vertex_local = _joined_parts(vertex_start, vertex_local, contactor_start)
     if round_radius is None or not (round_radius > 0.0).any():
         return vertex_start, vertex_local
     turn = 2.0 * np.pi * np.arange(sides) / sides
@@ -276,6 +289,29 @@ def drawn_outlines(vertex_start: np.ndarray, vertex_local: np.ndarray,
             rings.append(np.concatenate((half * t + arc, -half * t - arc)))
         else:
             rings.append(circle * r if r > 0.0 else local)
+    start = np.zeros(len(rings) + 1, dtype=vertex_start.dtype)
+    start[1:] = np.cumsum([len(ring) for ring in rings])
+    return start, np.concatenate(rings)
+
+
+def _joined_parts(vertex_start: np.ndarray, vertex_local: np.ndarray,
+                  contactor_start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One ring per 2D body from its parts' rings (CCW polygons that do not overlap): each
+    further part spliced in from the ring's vertex nearest to one of its own, and back
+    (r_i, p_j, ..., p_j, r_i: a bridge of no width, of no length where the parts share a
+    corner), so that the ring's area is the parts' and a fill covers them all; the ring's
+    outline draws each part's."""
+    rings = []
+    for b in range(len(vertex_start) - 1):
+        first, last = np.searchsorted(contactor_start, (vertex_start[b], vertex_start[b + 1]))
+        ring = vertex_local[contactor_start[first]:contactor_start[first + 1]]
+        for c in range(first + 1, last):
+            part = vertex_local[contactor_start[c]:contactor_start[c + 1]]
+            near = np.linalg.norm(ring[:, None, :] - part[None, :, :], axis=2)
+            i, j = np.unravel_index(int(np.argmin(near)), near.shape)
+            ring = np.concatenate((ring[:i + 1], np.roll(part, -j, axis=0), part[j:j + 1],
+                                   ring[i:]))
+        rings.append(ring)
     start = np.zeros(len(rings) + 1, dtype=vertex_start.dtype)
     start[1:] = np.cumsum([len(ring) for ring in rings])
     return start, np.concatenate(rings)

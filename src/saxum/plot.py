@@ -110,13 +110,15 @@ class _Blocks(NamedTuple):
 def _results_blocks(results) -> _Blocks:
     m = results.model
     return _Blocks(*drawn_outlines(m["body_vertex_start"], m["vertex_local"],
-                                   m.get("body_round_radius"),
-                                   shape=m.get("body_shape")), m["body_kind"], m["body_q0"])
+                                   m.get("body_round_radius"), shape=m.get("body_shape"),
+                                   contactor_start=m.get("contactor_vertex_start")),
+                   m["body_kind"], m["body_q0"])
 
 
 def _model_blocks(model: Model) -> _Blocks:
     return _Blocks(*drawn_outlines(model.body_vertex_start, model.vertex_local,
-                                   model.body_round_radius, shape=model.body_shape),
+                                   model.body_round_radius, shape=model.body_shape,
+                                   contactor_start=model.contactor_vertex_start),
                    model.body_kind, model.body_q0)
 
 

@@ -12,7 +12,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            law_kind, law_friction, law_restitution, law_parameter (SI units,
                            columns saxum.laws.Parameter), group_law, gravity [m/s^2];
                            3D also body_face_start, face_vertex_start, face_vertex (faces);
-                           with discs (spheres) body_shape, body_round_radius [m]
+                           with discs (spheres) body_shape, body_round_radius [m];
+                           with clusters contactor_vertex_start (each part's vertices)
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
@@ -728,8 +729,11 @@ def _write_model(g: h5py.Group, model) -> None:
         fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-"),
                    ("body_size", "m")]
     if model.has_round:  # and a disc's size, which its bounding square does not give
-        fields += [("body_shape", "-"), ("body_round_radius", "m")] + (
-            [("body_size", "m")] if model.dim == 2 else [])
+        fields += [("body_shape", "-"), ("body_round_radius", "m")]
+    if model.clustered:  # which vertices make each part of a cluster (drawn_outlines)
+        fields += [("contactor_vertex_start", "-")]
+    if model.dim == 2 and (model.has_round or model.clustered):  # not the vertices' area
+        fields += [("body_size", "m")]
     for name, units in fields:
         ds = g.create_dataset(name, data=np.asarray(getattr(model, name)))
         ds.attrs["units"] = units

@@ -147,7 +147,8 @@ def _geometry(results, shown: np.ndarray, pack: _Packer) -> None:
     vs, local = m["body_vertex_start"], m["vertex_local"]
     if results.dim == 2:
         vs, local = drawn_outlines(vs, local, m.get("body_round_radius"),
-                                   shape=m.get("body_shape"))
+                                   shape=m.get("body_shape"),
+                                   contactor_start=m.get("contactor_vertex_start"))
     else:
         m = drawn_polyhedra(m)
         vs, local = m["body_vertex_start"], m["vertex_local"]

@@ -94,7 +94,8 @@ def _blocks(res: Results, k: int) -> meshio.Mesh:
     needs equal-sized cells in a block) over the world vertices [m] of all blocks."""
     m = res.model
     start, loc = drawn_outlines(m["body_vertex_start"], m["vertex_local"],
-                                m.get("body_round_radius"), shape=m.get("body_shape"))
+                                m.get("body_round_radius"), shape=m.get("body_shape"),
+                                contactor_start=m.get("contactor_vertex_start"))
     count = np.diff(start)
     q, v, q0 = res.body_q[k], res.body_v[k], m["body_q0"]
     # 2D: each vertex turned by its body's angle theta, then shifted to the centre of mass.

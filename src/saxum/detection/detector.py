@@ -477,9 +477,9 @@ class PolyhedronDetector(Detector):
         self.slots = SLOTS if model.law_points.max(initial=2) == 2 else 2 * SLOTS + 1
         if float(len(model.contactor_body)) ** 2 * 2 * features**2 * self.slots >= 2.0**62:
             raise InputError(
-                f"{len(model.contactor_body)} blocks (cluster parts) with up to {self._max_faces} faces and "
-                f"{self._max_edges} edges are too many to number their contacts in 64 bits; "
-                "use blocks with fewer faces"
+                f"{len(model.contactor_body)} blocks (cluster parts) with up to "
+                f"{self._max_faces} faces and {self._max_edges} edges are too many to number "
+                "their contacts in 64 bits; use blocks with fewer faces"
             )
 
     def _world_geometry(self, q: np.ndarray) -> None:

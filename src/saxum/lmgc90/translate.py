@@ -1,7 +1,9 @@
 """Translate an LMGC90 model (saxum.lmgc90.reader.Datbox) into a saxum model or scenario.
 
-Bodies: a body's contactor is its block (one per body): POLYG -> a convex polygon, POLYR ->
-the convex hull of its vertices, DISKx -> a disc and SPHER -> a sphere of radius `byrd`
+Bodies: a body's contactor is its block: POLYG -> a convex polygon, POLYR ->
+the convex hull of its vertices; a body with several POLYG (POLYR) contactors of one colour,
+LMGC90's cluster (e.g. the non-convex POLYF blocks of its vault example, cut into convex
+parts), -> a cluster (ModelBuilder.add_cluster: one rigid body, its parts its contactors); DISKx -> a disc and SPHER -> a sphere of radius `byrd`
 centred at the node (ModelBuilder.add_disc, add_sphere; a shifted one, `coo1=`..., is
 refused: its centre would not be the centre of mass); JONCx (2D) -> a capsule (stadium) with
 a segment 2 ax1 long and ends of radius ax2 (LMGC90's mod_a_BDARY_JONCx.f90 gives it the area
@@ -91,6 +93,9 @@ class Block:
     """> 0: a capsule (JONCx): its segment's length [m], `radius` its ends' [m], `angle` the
     segment's direction [rad] from the x axis, `vertices` its centre."""
     angle: float = 0.0
+    parts: list[np.ndarray] = field(default_factory=list)
+    """A cluster's convex parts, world vertices [m] of each (empty: a single contactor);
+    `vertices` then holds them all."""
 
     def motion(self, t: float) -> tuple[float, ...]:
         """The imposed velocity at time t [s] (DRIVEN blocks)."""
@@ -129,6 +134,8 @@ class Lmgc90Import:
             elif blk.radius > 0.0:
                 add = b.add_disc if self.dim == 2 else b.add_sphere
                 add(blk.vertices[0], blk.radius, **common)
+            elif blk.parts:
+                b.add_cluster(blk.parts, **common)
             else:
                 b.add_block(blk.vertices, **common)
         for (a, c), law in self.laws.items():
@@ -229,6 +236,8 @@ class Lmgc90Import:
                            radius=blk.radius, angle=blk.angle)
             elif blk.radius > 0.0:
                 row.update(centre=blk.vertices[0].tolist(), radius=blk.radius)
+            elif blk.parts:
+                row["parts"] = [part.tolist() for part in blk.parts]
             else:
                 row["vertices"] = blk.vertices.tolist()
             if blk.kind == BodyKind.FREE:
@@ -299,18 +308,39 @@ def _vector(values: Sequence[float]) -> str:
 
 
 def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]
-                 ) -> tuple[np.ndarray, float, float] | None:
-    """The contactor's vertices in the body frame [m] (a disc, sphere or capsule: its
-    centre, the origin), its radius [m] (0: a polygon) and a capsule's segment length [m]
-    (0: not a capsule), or None (a problem is recorded)."""
-    allowed = CONTACTORS[body.type]
-    if len(body.contactors) != 1:
-        what = "no contactor" if not body.contactors else (
-            f"{len(body.contactors)} contactors (a cluster)")
-        problems.append(f"{body.where}: {body.type} {body.number} has {what}; saxum's blocks "
-                        "have one convex contactor each")
+                 ) -> tuple[list[np.ndarray], float, float] | None:
+    """The vertices in the body frame [m] of each of the body's contactors (a disc, sphere
+    or capsule: its centre, the origin), the radius [m] (0: polygons) and a capsule's
+    segment length [m] (0: not a capsule), or None (a problem is recorded). Several
+    contactors: a cluster, which they must all be polygons (polyhedra) of one colour."""
+    if not body.contactors:
+        problems.append(f"{body.where}: {body.type} {body.number} has no contactor")
         return None
-    tact = body.contactors[0]
+    if len(body.contactors) == 1:
+        shape = _contactor_shape(body, body.contactors[0], problems, notes)
+        return None if shape is None else ([shape[0]], shape[1], shape[2])
+    polygon = "POLYG" if body.type == "RBDY2" else "POLYR"
+    kinds = sorted({t.kind for t in body.contactors})
+    colours = sorted({t.colour for t in body.contactors})
+    if kinds != [polygon] or len(colours) > 1:
+        what = (f"contactors {', '.join(kinds)}" if kinds != [polygon] else
+                f"contactors of colours {', '.join(colours)}")
+        problems.append(f"{body.where}: {body.type} {body.number} is a cluster of "
+                        f"{len(body.contactors)} contactors with {what}; saxum translates "
+                        f"a cluster whose contactors are all {polygon} of one colour (one "
+                        "group per block)")
+        return None
+    parts = [_contactor_shape(body, tact, problems, notes) for tact in body.contactors]
+    if any(part is None for part in parts):
+        return None
+    return [part[0] for part in parts], 0.0, 0.0
+
+
+def _contactor_shape(body: Body, tact, problems: list[str], notes: list[Untranslated]
+                     ) -> tuple[np.ndarray, float, float] | None:
+    """One contactor's vertices in the body frame [m], radius [m] and a capsule's segment
+    length [m], as _local_shape; None if it cannot be translated (a problem is recorded)."""
+    allowed = CONTACTORS[body.type]
     if tact.kind not in allowed:
         problems.append(f"{tact.where}: contactor {tact.kind} of {body.type} {body.number} is "
                         f"not translated (translated: {', '.join(allowed)})")
@@ -468,7 +498,7 @@ def translate(box: Datbox, impulses: Sequence[VlocEntry] = (),
         shape = _local_shape(body, problems, notes)
         if shape is None:
             continue
-        local, radius, length = shape
+        parts, radius, length = shape
         kind, drives = _drives(body, box.drives.get(body.key, []), n, notes)
         density = 0.0
         if kind == BodyKind.FREE:
@@ -484,10 +514,12 @@ def translate(box: Datbox, impulses: Sequence[VlocEntry] = (),
         if dim == 3 and body.frame is not None:
             velocity[3:] = np.array(body.frame).T @ velocity[3:]  # LMGC90: body axes
         colour = body.contactors[0].colour
+        placed = [_place(body, local) for local in parts]
         blocks.append(Block(body.name or f"{body.type} {body.number}",
                             box.groups.get(colour, colour), kind, density,
-                            _place(body, local), velocity, drives, radius, length,
-                            0.0 if body.displacement is None else body.displacement[2]))
+                            np.concatenate(placed), velocity, drives, radius, length,
+                            0.0 if body.displacement is None else body.displacement[2],
+                            placed if len(placed) > 1 else []))
     laws, no_contact = _laws(box, blocks, notes, problems)
     if problems:
         raise InputError(_listing(box, problems))

@@ -2,6 +2,7 @@
 TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT) in the layout pylmgc90 writes.
 
 Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles), a
+cluster (ModelBuilder.add_cluster) with one POLYG (POLYR) per part, numbered from 1, a
 disc RBDY2 with one DISKx (a sphere RBDY3 with one SPHER) of radius `byrd=`, a capsule RBDY2
 with one JONCx (ax1 = half its segment, ax2 = its radius, turned by DOF.INI's X(3); LMGC90
 has no JONCx-JONCx contact, so capsules that could meet capsules are refused), the node at
@@ -30,8 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..geometry2d import polygon_properties
-from ..geometry3d import rotation_matrix
+from ..geometry2d import cluster_polygon_properties
+from ..geometry3d import cluster_properties, convex_polyhedron, rotation_matrix
 from ..laws import LawKind
 from ..model import BodyKind, Model, Shape, capsule_axis, capsule_properties
 from ..state import State
@@ -116,8 +117,9 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
     out = ["! File BODIES (saxum export_lmgc90)"]
     out += [f"! saxum group: {c} = {g}" for c, g in zip(colours, model.group_names, strict=True)]
     for b in range(model.body_count):
-        start, end = model.body_vertex_start[b], model.body_vertex_start[b + 1]
-        local = model.vertex_local[start:end]
+        contactors = range(*np.searchsorted(model.contactor_body, (b, b + 1)))
+        cvs = model.contactor_vertex_start
+        parts = [model.vertex_local[cvs[c]:cvs[c + 1]] for c in contactors]
         kind = BodyKind(int(model.body_kind[b]))
         law = behav[float(model.body_density[b])] if kind == BodyKind.FREE else "FIXED"
         colour = colours[model.body_group[b]]
@@ -132,12 +134,12 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
             inertia = [] if model.dim == 2 else [
                 f"{_PAD}I1  ={fmt(moment)}  I2  ={fmt(moment)}  I3  ={fmt(moment)}"]
         elif model.dim == 2:
-            props = polygon_properties(local)
+            props = cluster_polygon_properties(parts)
             area, polar = props.area, props.polar_moment
             avrd, gyrd = math.sqrt(area / math.pi), math.sqrt(2.0 * polar / area)
             inertia = []
         else:
-            volume, moments = _volume_moments(model, b)
+            volume, moments = _volume_moments(model, b, parts)
             avrd = (3.0 * volume / (4.0 * math.pi)) ** (1.0 / 3.0)
             gyrd = math.sqrt(2.5 * float(np.mean(moments)) / volume)
             inertia = [f"{_PAD}I1  ={fmt(moments[0])}  I2  ={fmt(moments[1])}  "
@@ -154,15 +156,18 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
         elif r > 0.0:
             out.append(f" {_contactor(model, b)}      1  color  {colour}  byrd={fmt(r)}")
         elif model.dim == 2:
-            out.append(f" POLYG      1  color  {colour}  nb_vertex={len(local):5d}")
-            out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}" for x, y in local]
+            for k, local in enumerate(parts):
+                out.append(f" POLYG {k + 1:6d}  color  {colour}  nb_vertex={len(local):5d}")
+                out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}" for x, y in local]
         else:
-            triangles = _triangles(model, b) - start + 1
-            out.append(f" POLYR      1  color  {colour}  nb_vertex={len(local):5d}"
-                       f"      nb_face={len(triangles):5d}")
-            out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}  coo3={fmt(z)}" for x, y, z in local]
-            out += [f"{_PAD}ver1= {i:<13d} ver2= {j:<13d} ver3= {k:<13d}".rstrip()
-                    for i, j, k in triangles]
+            for k, (c, local) in enumerate(zip(contactors, parts, strict=True)):
+                triangles = _triangles(model, c) - cvs[c] + 1
+                out.append(f" POLYR {k + 1:6d}  color  {colour}  nb_vertex={len(local):5d}"
+                           f"      nb_face={len(triangles):5d}")
+                out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}  coo3={fmt(z)}"
+                        for x, y, z in local]
+                out += [f"{_PAD}ver1= {i:<13d} ver2= {j:<13d} ver3= {k:<13d}".rstrip()
+                        for i, j, k in triangles]
         out.append("$$$$$$")
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
 
@@ -176,22 +181,23 @@ def _contactor(model: Model, b: int) -> str:
     return "POLYG" if model.dim == 2 else "POLYR"
 
 
-def _triangles(model: Model, b: int) -> np.ndarray:
-    """The faces of 3D body b split into triangles (fans), vertex indices into vertex_local."""
+def _triangles(model: Model, c: int) -> np.ndarray:
+    """The faces of 3D contactor c split into triangles (fans), vertex indices into
+    vertex_local."""
     tris = []
-    for f in range(model.body_face_start[b], model.body_face_start[b + 1]):
+    for f in range(model.contactor_face_start[c], model.contactor_face_start[c + 1]):
         ring = model.face_vertex[model.face_vertex_start[f]:model.face_vertex_start[f + 1]]
         tris += [(ring[0], ring[k], ring[k + 1]) for k in range(1, len(ring) - 1)]
     return np.array(tris, dtype=np.int64)
 
 
-def _volume_moments(model: Model, b: int) -> tuple[float, np.ndarray]:
-    """Volume [m^3] and principal second moments of volume [m^5] of 3D body b (its inertia
-    over its density; from the vertices for fixed bodies, whose density is 0)."""
-    from ..geometry3d import convex_polyhedron, polyhedron_properties
-
-    local = model.vertex_local[model.body_vertex_start[b]:model.body_vertex_start[b + 1]]
-    props = polyhedron_properties(convex_polyhedron(local, name=model.body_name[b]))
+def _volume_moments(model: Model, b: int, parts: list[np.ndarray]
+                    ) -> tuple[float, np.ndarray]:
+    """Volume [m^3] and principal second moments of volume [m^5] of 3D body b made of
+    `parts` (its contactors' vertices; its inertia over its density, from the vertices for
+    fixed bodies, whose density is 0)."""
+    props = cluster_properties([convex_polyhedron(local, name=model.body_name[b])
+                                for local in parts])
     return props.volume, props.moments
 
 
