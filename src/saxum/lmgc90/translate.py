@@ -1,9 +1,9 @@
 """Translate an LMGC90 model (saxum.lmgc90.reader.Datbox) into a saxum model or scenario.
 
-Bodies: a body's contactor is its block: POLYG -> a convex polygon, POLYR ->
-the convex hull of its vertices; a body with several POLYG (POLYR) contactors of one colour,
-LMGC90's cluster (e.g. the non-convex POLYF blocks of its vault example, cut into convex
-parts), -> a cluster (ModelBuilder.add_cluster: one rigid body, its parts its contactors); DISKx -> a disc and SPHER -> a sphere of radius `byrd`
+Bodies: a body's contactor is its block: POLYG -> a convex polygon, POLYR -> the convex hull
+of its vertices; a body with several POLYG (POLYR) contactors of one colour, LMGC90's cluster
+(a non-convex block cut into convex parts) -> a cluster (ModelBuilder.add_cluster: one rigid
+body, its parts its contactors); DISKx -> a disc and SPHER -> a sphere of radius `byrd`
 centred at the node (ModelBuilder.add_disc, add_sphere; a shifted one, `coo1=`..., is
 refused: its centre would not be the centre of mass); JONCx (2D) -> a capsule (stadium) with
 a segment 2 ax1 long and ends of radius ax2 (LMGC90's mod_a_BDARY_JONCx.f90 gives it the area
