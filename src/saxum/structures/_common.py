@@ -63,6 +63,13 @@ class Assembly:
         index = builder.add_block(vertices, density=density, group=group, kind=kind, name=name)
         return self._record(part, group, index, vertices)
 
+    def add_cluster(self, builder: ModelBuilder, part: str, parts, *, group: str, name: str,
+                    density: float = 0.0, kind: BodyKind = BodyKind.FREE) -> int:
+        """Add a cluster of convex `parts` (ModelBuilder.add_cluster) to `builder` and record
+        it under `part`; its outline is all its parts' vertices."""
+        index = builder.add_cluster(parts, density=density, group=group, kind=kind, name=name)
+        return self._record(part, group, index, np.concatenate(parts))
+
     def add_round(self, builder: ModelBuilder, part: str, centre, radius: float, *,
                   group: str, name: str, density: float = 0.0,
                   kind: BodyKind = BodyKind.FREE) -> int:

@@ -6,7 +6,9 @@ JSON: {"blocks": [{"vertices": [[x, y], ...], "density": 2000.0, "group": "stone
 a 3D file) has "centre": [x, y] and "radius" [m] instead of "vertices"; a capsule (2D: a
 segment with round ends, LMGC90's JONCx) "centre", "radius" (its ends' [m]), "length" (its
 segment's [m], > 0) and optionally "angle" (the segment's direction from the x axis [rad],
-default 0) (JSON only).
+default 0) (JSON only). A cluster (a non-convex block made of convex parts,
+ModelBuilder.add_cluster) has "parts": [[[x, y], ...], ...] instead of "vertices", each part
+as "vertices" is (JSON only).
 
 CSV: a header row naming the columns, then one row per vertex: `block` (the block's name),
 `x`, `y` [m] (required) and `density` [kg/m^3], `group`, `kind` (optional: given on any row
@@ -55,8 +57,8 @@ FORMATS = ("json", "csv", "dxf")
 KINDS = {"free": BodyKind.FREE, "fixed": BodyKind.FIXED}
 CSV_COLUMNS = ("block", "x", "y", "density", "group", "kind")
 CSV_COLUMNS_3D = ("block", "x", "y", "z", "density", "group", "kind")
-JSON_KEYS = ("vertices", "centre", "radius", "length", "angle", "density", "group", "kind",
-             "name")
+JSON_KEYS = ("vertices", "parts", "centre", "radius", "length", "angle", "density", "group",
+             "kind", "name")
 
 
 @dataclass(frozen=True)
@@ -64,7 +66,8 @@ class BlockSpec:
     """A block read from a file: vertices [m] (n, 2) counter-clockwise (3D: (n, 3), the
     vertices of its convex hull), density [kg/m^3] (0 for fixed blocks), group, kind, name,
     and where it is in the file (for messages); a disc (sphere) has radius > 0 [m] and its
-    centre as its one vertex, a capsule also its segment's length > 0 [m] and angle [rad]."""
+    centre as its one vertex, a capsule also its segment's length > 0 [m] and angle [rad];
+    a cluster its convex parts' vertices (as `vertices`, which holds the first part's)."""
 
     vertices: np.ndarray
     density: float
@@ -75,6 +78,7 @@ class BlockSpec:
     radius: float = 0.0
     length: float = 0.0
     angle: float = 0.0
+    parts: tuple[np.ndarray, ...] = ()
 
 
 def _format(path: Path, format: str | None) -> str:
@@ -115,10 +119,14 @@ class _Defaults:
         self.scale = _number(scale, "scale", "read_blocks")
 
     def spec(self, vertices, density, group, kind: BodyKind, name: str,
-             where: str, radius=None, length=None, angle=0.0) -> BlockSpec:
+             where: str, radius=None, length=None, angle=0.0, parts=()) -> BlockSpec:
         group = self.group if group in (None, "") else str(group)
         points = np.asarray(vertices, dtype=np.float64) * self.scale
-        if radius is not None:  # a disc (sphere): its centre as its one vertex
+        parts = tuple(self._convex(np.asarray(part, dtype=np.float64) * self.scale,
+                                   f"{where} part {k}") for k, part in enumerate(parts))
+        if parts:
+            verts = parts[0]
+        elif radius is not None:  # a disc (sphere): its centre as its one vertex
             radius = _number(radius, "radius [m]", where) * self.scale
             if radius <= 0.0 or points.shape not in ((1, 2), (1, 3)):
                 raise InputError(f"{where}: a disc (sphere) needs a radius > 0 [m] and a "
@@ -131,10 +139,8 @@ class _Defaults:
                     raise InputError(f"{where}: a capsule needs a length > 0 [m] (its "
                                      "segment's; a disc has no length) and a centre [x, y]; "
                                      f"got length {length:g}")
-        elif points.ndim == 2 and points.shape[1] == 3:
-            verts = convex_polyhedron(points, name=where).vertices
         else:
-            verts = normalize_polygon(points, name=where)
+            verts = self._convex(points, where)
         if kind != BodyKind.FREE:
             density = 0.0
         elif density in (None, ""):
@@ -148,7 +154,14 @@ class _Defaults:
         if kind == BodyKind.FREE and density <= 0.0:
             raise InputError(f"{where}: density must be > 0 [kg/m^3], got {density:g}")
         return BlockSpec(verts, density, group, kind, name, where, radius or 0.0,
-                         length or 0.0, float(angle) if length else 0.0)
+                         length or 0.0, float(angle) if length else 0.0, parts)
+
+    @staticmethod
+    def _convex(points: np.ndarray, where: str) -> np.ndarray:
+        """The vertices [m] of a convex polygon (CCW) or of the hull of 3D points."""
+        if points.ndim == 2 and points.shape[1] == 3:
+            return convex_polyhedron(points, name=where).vertices
+        return normalize_polygon(points, name=where)
 
 
 def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
@@ -164,7 +177,12 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
     for i, block in enumerate(data["blocks"]):
         where = f"{path}: blocks[{i}]"
         round_ = isinstance(block, dict) and "vertices" not in block and "centre" in block
-        if not isinstance(block, dict) or not round_ and "vertices" not in block:
+        clustered = isinstance(block, dict) and "parts" in block
+        if clustered and ("vertices" in block or "centre" in block or not isinstance(
+                block["parts"], list) or not block["parts"]):
+            raise InputError(f'{where}: a cluster has "parts": [[[x, y], ...], ...], a list of '
+                             'convex parts, and neither "vertices" nor "centre"')
+        if not isinstance(block, dict) or not (round_ or clustered) and "vertices" not in block:
             raise InputError(f'{where}: expected an object with "vertices": [[x, y], ...] or, '
                              'for a disc, "centre": [x, y] and "radius" (a capsule also '
                              '"length")')
@@ -178,8 +196,10 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
                              '"centre" and "radius", not "vertices"')
         kind = _kind(block.get("kind", "free"), where)
         try:
-            vertices = np.array([block["centre"]] if round_ else block["vertices"],
-                                dtype=np.float64)
+            parts = [np.array(part, dtype=np.float64) for part in block.get("parts", ())]
+            vertices = (parts[0] if clustered else
+                        np.array([block["centre"]] if round_ else block["vertices"],
+                                 dtype=np.float64))
         except (TypeError, ValueError):
             raise InputError(f"{where}: vertices must be a list of [x, y] (3D: [x, y, z]) "
                              "numbers") from None
@@ -191,7 +211,7 @@ def _read_json(path: Path, defaults: _Defaults) -> list[BlockSpec]:
         specs.append(defaults.spec(vertices, block.get("density"), block.get("group"), kind,
                                    str(block.get("name", f"block {i + 1}")), where,
                                    block.get("radius", 0.0) if round_ else None,
-                                   block.get("length"), block.get("angle", 0.0)))
+                                   block.get("length"), block.get("angle", 0.0), parts))
     return specs
 
 
@@ -306,7 +326,8 @@ def block_file_dim(path: str | Path, *, format: str | None = None) -> int:
         return 3 if "z" in (c.strip() for c in header) else 2
     try:
         block = json.loads(path.read_text(encoding="utf-8"))["blocks"][0]
-        first = block["centre"] if "vertices" not in block else block["vertices"][0]
+        first = (block["parts"][0][0] if "parts" in block else
+                 block["centre"] if "vertices" not in block else block["vertices"][0])
         return 3 if len(first) == 3 else 2
     except (json.JSONDecodeError, UnicodeDecodeError, KeyError, IndexError, TypeError):
         return 2  # read_blocks says what is wrong
@@ -367,7 +388,14 @@ def write_blocks(path: str | Path, model: Model, *, format: str | None = None) -
                 angle, length = capsule_axis(model, b)
                 block.update(length=length, angle=angle)
         else:
-            block["vertices"] = model.vertices(b).tolist()
+            parts = model.part_vertices(b)
+            if len(parts) > 1 and fmt == "csv":
+                raise InputError(f"block {model.body_name[b]!r} is a cluster (non-convex); CSV "
+                                 "block files hold convex blocks only: write JSON")
+            if len(parts) > 1:
+                block["parts"] = [part.tolist() for part in parts]
+            else:
+                block["vertices"] = parts[0].tolist()
         blocks.append(block)
     if fmt == "json":
         path.write_text(json.dumps({"blocks": blocks}, indent=1), encoding="utf-8")
@@ -398,6 +426,8 @@ def add_blocks_from_file(builder: ModelBuilder, path: str | Path, **options) -> 
                             spec.angle, **common)
         elif spec.radius > 0.0:
             asm.add_round(builder, "blocks", spec.vertices[0], spec.radius, **common)
+        elif spec.parts:
+            asm.add_cluster(builder, "blocks", spec.parts, **common)
         else:
             asm.add_block(builder, "blocks", spec.vertices, **common)
     return asm
