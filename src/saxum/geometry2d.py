@@ -70,7 +70,8 @@ def normalize_polygon(vertices, *, name: str = "block") -> np.ndarray:
         kind = "collinear with its neighbours" if abs(turn[bad[0]]) <= 1e-9 else "a reflex corner"
         raise InputError(
             f"{name}: polygon is not strictly convex: vertex {k} at ({v[k, 0]:g}, "
-            f"{v[k, 1]:g}) is {kind}; split the block into convex parts or remove the vertex"
+            f"{v[k, 1]:g}) is {kind}; split the block into convex parts (blocks, or the parts "
+            "of one block: ModelBuilder.add_cluster) or remove the vertex"
         )
     return v
 

@@ -97,7 +97,7 @@ def convex_polyhedron(points, *, name: str = "block") -> Polyhedron:
         raise InputError(
             f"{name}: the point set is not convex: vertex {k} at {at} lies "
             f"{-depth[k]:.3g} m inside the convex hull of the others; split the block into "
-            "convex parts"
+            "convex parts (blocks, or the parts of one block: ModelBuilder.add_cluster)"
         )
     return _merge_faces(p, hull, scale)
 

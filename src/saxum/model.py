@@ -8,11 +8,15 @@ Where the structure is now (positions, velocities, impulses) lives in `saxum.sta
 velocities v = (vx, vy, omega) [m/s, m/s, rad/s]; a block has unit out-of-plane depth, so its
 density [kg/m^3] times its area [m^2] is its mass per metre of depth [kg].
 
-3D conventions (`ModelBuilder(dim=3)`): a block is a convex polyhedron whose body frame is its
-principal frame (saxum.geometry3d), so its inertia tensor there is diagonal and constant;
-q = (x, y, z, qw, qx, qy, qz): the centre of mass [m] and the unit quaternion of the body-to-world
-rotation; v = (vx, vy, vz, wx, wy, wz): the velocity of the centre of mass in the world frame
-[m/s] and the angular velocity in the BODY frame [rad/s] (NSCD.md), so that M stays diagonal.
+A non-convex block is a cluster (`ModelBuilder.add_cluster`): one body whose convex parts are
+its contactors, which detection tests one by one (Model.contactor_*).
+
+3D conventions (`ModelBuilder(dim=3)`): a block is a convex polyhedron (or a cluster of them)
+whose body frame is its principal frame (saxum.geometry3d), so its inertia tensor there is
+diagonal and constant; q = (x, y, z, qw, qx, qy, qz): the centre of mass [m] and the unit
+quaternion of the body-to-world rotation; v = (vx, vy, vz, wx, wy, wz): the velocity of the
+centre of mass in the world frame [m/s] and the angular velocity in the BODY frame [rad/s]
+(NSCD.md), so that M stays diagonal.
 """
 
 import math
@@ -511,7 +515,8 @@ class ModelBuilder:
 
         vertices: 2D: (x, y) pairs [m] in world coordinates, either orientation, of a convex
         polygon; 3D: (x, y, z) points [m] whose convex hull is the block (a point strictly
-        inside the hull means a non-convex block, which is refused).
+        inside the hull means a non-convex block, which is refused: add_cluster makes one of
+        convex parts).
         density [kg/m^3]: required for FREE blocks, within DENSITY_RANGE; ignored otherwise.
         motion: for DRIVEN blocks, t [s] -> velocity of the centre of mass (see `Motion`).
         material: an elastic material (saxum.fe.Elastic) makes the block DEFORMABLE, a
