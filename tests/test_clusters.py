@@ -129,6 +129,10 @@ def test_bad_clusters_are_named():
     b.add_cluster(_l_parts(2), density=2000.0, name="L", group="stones")
     with pytest.raises(InputError, match="the cluster 'L'"):
         b.set_material("stones", sx.Elastic(E=1e9, nu=0.2, density=2000.0))
+    b.set_law("stones", "stones", sx.ContactLaw(friction=0.6))
+    b.add_field_load(sx.FloodLoad(level=0.5))
+    with pytest.raises(InputError, match="1 block.* are clusters .e.g. 'L'., which a flood"):
+        b.finalize()
 
 
 def test_2d_drawing_joins_the_parts_of_a_cluster(tmp_path):

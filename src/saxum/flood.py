@@ -389,6 +389,11 @@ class FloodLoad:
         if model.has_round:  # its pressures integrate over polygon faces
             raise InputError(f"{self.name} acts on polygons (polyhedra); this model has discs "
                              "(spheres, capsules), which a flood does not load yet")
+        if model.clustered:  # its kernels take a body's vertices for one convex block
+            clusters = np.flatnonzero(np.bincount(model.contactor_body) > 1)
+            raise InputError(f"{self.name} acts on convex blocks; {len(clusters)} block(s) "
+                             f"are clusters (e.g. {model.body_name[clusters[0]]!r}), which a "
+                             "flood does not load yet")
         up = self._up(model)
         self.along(model)
         free = np.flatnonzero(model.body_kind == BodyKind.FREE)
