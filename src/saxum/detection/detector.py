@@ -97,6 +97,14 @@ def _motion_range(lo, hi, q, q_ref, radius, motion, turn):
     return worst
 
 
+def _contactor_radius(model: Model) -> np.ndarray:
+    """Largest distance from each contactor's centroid to its vertices [m]."""
+    start = model.contactor_vertex_start
+    owner = np.repeat(np.arange(len(start) - 1), np.diff(start))
+    reach = np.linalg.norm(model.vertex_local - model.contactor_centre_local[owner], axis=1)
+    return np.maximum.reduceat(reach, start[:-1])
+
+
 class Detector:
     """Finds the contacts of a configuration q. Owns its work arrays; no allocation per step
     except when the contact or pair count grows."""
@@ -134,8 +142,8 @@ class Detector:
         self._cq = np.empty((len(owner), model.body_q0.shape[1])) if model.clustered else None
         """Coordinates of the contactors of a clustered model (contactor_coordinates)."""
         self._group = model.body_group[owner]
-        self._radius = model.body_radius[owner]
-        """Per contactor, its body's group and radius [m] (which bounds the contactor's)."""
+        self._radius = _contactor_radius(model) if model.clustered else model.body_radius
+        """Per contactor, its body's group and its radius about its centroid [m]."""
         self._shape = model.body_shape[owner]
         self._round_radius = model.body_round_radius[owner]
         self._mobile = free[owner]
