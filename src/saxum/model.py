@@ -577,7 +577,7 @@ class ModelBuilder:
         overlap (the overlap would count twice in the mass). density, group, kind, motion,
         name as in add_block; a cluster cannot be deformable."""
         name = name if name is not None else f"block {len(self._blocks)}"
-        if isinstance(parts, np.ndarray) or len(parts) == 0:
+        if isinstance(parts, np.ndarray) and parts.ndim != 3 or len(parts) == 0:
             raise InputError(f"{name}: parts must be a list of convex parts, each a list of "
                              "vertices [m], got " + plain(parts))
         convex = convex_polyhedron if self.dim == 3 else normalize_polygon
