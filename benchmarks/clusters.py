@@ -11,11 +11,20 @@ and their ratio. (b) tests the same parts less the pairs inside a cluster, and a
 contactors' coordinates (saxum.bodies.rigid3d.contactor_coordinates) and the mapping of the
 contacts to bodies.
 
+With `--against SRC` (another saxum's source folder, e.g. main's), first: models without
+clusters, this tree against SRC, each in its own process, alternately `--rounds` times: the
+median CPU time (time.process_time) per step and per detection of the 3D wall above at rest
+(60 steps) and of benchmarks/wall.py's 25 x 20 2D wall (400 steps), after a warm-up; the
+smallest and the median over the rounds of each, and their ratios.
+
     python benchmarks/clusters.py                    # about a minute on 2 cores
+    python benchmarks/clusters.py --against /work/main/src --rounds 4
 """
 
 import argparse
 import json
+import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -53,6 +62,63 @@ def _models():
     return built
 
 
+def _per_step(model, steps: int) -> tuple[float, float]:
+    """Median CPU time per step and per detection [s] of `model` over `steps` steps."""
+    import saxum as sx
+
+    sim = sx.Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    for _ in range(3):
+        sim.step(state)
+    detect, inner = [], sim.detector.detect
+
+    def timed(*args, **kwargs):
+        t0 = time.process_time()
+        inner(*args, **kwargs)
+        detect.append(time.process_time() - t0)
+
+    sim.detector.detect = timed
+    step = []
+    for _ in range(steps):
+        t0 = time.process_time()
+        sim.step(state)
+        step.append(time.process_time() - t0)
+    return float(np.median(step)), float(np.median(detect))
+
+
+def _plain_models() -> dict:
+    """The worker of --against: per-step numbers of the two walls without clusters."""
+    from saxum.structures import running_bond_wall, wall3d
+
+    _per_step(wall3d(courses=10, length=0.75, return_length=0.75), 3)  # compile or load
+    _per_step(running_bond_wall(courses=3, bricks=3), 3)
+    return {"3d": _per_step(wall3d(courses=40, length=6.0, return_length=6.0), 60),
+            "2d": _per_step(running_bond_wall(courses=25, bricks=20), 400)}
+
+
+def _against(other: str, rounds: int) -> dict:
+    """This tree against the saxum at `other` on models without clusters (module doc)."""
+    mine = str(HERE.parent / "src")
+    runs: dict[str, list] = {"this": [], "other": []}
+    for _ in range(rounds):
+        for name, src in (("other", other), ("this", mine)):
+            env = {**os.environ, "PYTHONPATH": src}
+            done = subprocess.run([sys.executable, __file__, "--worker"], env=env, check=True,
+                                  capture_output=True, text=True)
+            runs[name].append(json.loads(done.stdout.splitlines()[-1]))
+    out = {}
+    for dim, k, label in (("3d", 0, "3D wall, step"), ("3d", 1, "3D wall, detection"),
+                          ("2d", 0, "2D wall, step"), ("2d", 1, "2D wall, detection")):
+        a, b = (np.array([r[dim][k] for r in runs[n]]) * 1e3 for n in ("other", "this"))
+        out[label] = {"other_ms": [float(a.min()), float(np.median(a))],
+                      "this_ms": [float(b.min()), float(np.median(b))],
+                      "ratio": [float(b.min() / a.min()), float(np.median(b) / np.median(a))]}
+        print(f"{label}: other min {a.min():.4f} median {np.median(a):.4f} ms, this min "
+              f"{b.min():.4f} median {np.median(b):.4f} ms, ratio min "
+              f"{b.min() / a.min():.3f} median {np.median(b) / np.median(a):.3f}")
+    return out
+
+
 def _time(detector, q, contacts, forced: bool, calls: int) -> float:
     times = []
     for _ in range(calls):
@@ -68,7 +134,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--calls", type=int, default=20)
     parser.add_argument("--json", type=Path, default=None, help="also write the numbers here")
+    parser.add_argument("--against", help="another saxum's src folder (module doc)")
+    parser.add_argument("--rounds", type=int, default=4)
+    parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.worker:
+        print(json.dumps(_plain_models()))
+        return 0
+    out = {"against": _against(args.against, args.rounds)} if args.against else {}
     from saxum.contacts import Contacts
     from saxum.detection import detector_for
 
@@ -77,7 +150,6 @@ def main(argv: list[str] | None = None) -> int:
     contacts = [Contacts(3) for _ in models]
     for d, m, c in zip(detectors, models, contacts, strict=True):  # compile or load
         d.detect(m.body_q0, c)
-    out = {}
     for forced in (True, False):
         rows = [[], []]
         for _ in range(args.repeats):

@@ -13,6 +13,7 @@ from saxum.lmgc90 import export_lmgc90, import_lmgc90
 from saxum.model import drawn_outlines
 from saxum.results import Results, ResultsWriter
 from saxum.scenario import load_scenario
+from saxum.structures import extruded
 from saxum.structures.blockfile import blocks_model, write_blocks
 
 
@@ -154,3 +155,12 @@ def test_2d_drawing_joins_the_parts_of_a_cluster(tmp_path):
         np.testing.assert_array_equal(res.model["contactor_vertex_start"],
                                       model.contactor_vertex_start)
         assert res.body_size[1] == pytest.approx(model.body_size[1], rel=1e-15)
+
+
+def test_extruded_2d_cluster_is_a_3d_cluster():
+    """A 2D cluster given a depth (saxum.structures.extruded) keeps its parts: mass per metre
+    of depth times the depth, the same contactors."""
+    model = _model(2, clusters=1)
+    solid = extruded(model, 0.5)
+    np.testing.assert_array_equal(solid.contactor_body, model.contactor_body)
+    assert solid.body_mass[1] == pytest.approx(0.5 * model.body_mass[1], rel=1e-12)

@@ -109,7 +109,7 @@ def _extrude(builder, model2d, depth, pieces, stagger, spans, densities=None):
     for b in range(model2d.body_count):
         group = model2d.group_names[model2d.body_group[b]]
         kind = BodyKind(model2d.body_kind[b])
-        poly = model2d.vertices(b)
+        parts = model2d.part_vertices(b)  # one, or a cluster's
         name = model2d.body_name[b]
         density = float(model2d.body_density[b])
         ranges = spans.get(group, [(0.0, depth, group)])
@@ -122,10 +122,12 @@ def _extrude(builder, model2d, depth, pieces, stagger, spans, densities=None):
                 suffix = f" p{k + 1}" if len(cuts) > 2 else ""
                 if len(ranges) > 1:
                     suffix = f" y{y0:g}" + suffix
-                made.setdefault(b, []).append(asm.add_block(
-                    builder, span_group, prism(poly, cuts[k], cuts[k + 1]), group=span_group,
-                    name=name + suffix, density=densities.get(span_group, density),
-                    kind=kind))
+                shapes = [prism(poly, cuts[k], cuts[k + 1]) for poly in parts]
+                common = dict(group=span_group, name=name + suffix,
+                              density=densities.get(span_group, density), kind=kind)
+                made.setdefault(b, []).append(
+                    asm.add_block(builder, span_group, shapes[0], **common) if len(shapes) == 1
+                    else asm.add_cluster(builder, span_group, shapes, **common))
         free_count += kind == BodyKind.FREE
     return asm, made
 
