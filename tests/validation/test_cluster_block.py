@@ -20,7 +20,8 @@ closed forms of rigid-body statics and dynamics.
   tests/validation/test_incline3d.py's "rotated gravity"): acceleration g (sin a - mu cos a)
   (Coulomb friction, closed form), velocity within 1e-3 of a_s t at every step after the
   fifth (the requirement of issue 18).
-Both dimensions are built (2D: polygons; 3D: polyhedra), the 3D ones run.
+Mass properties in 2D (polygons, per metre of depth) and 3D (polyhedra); statics, sliding
+and overturning run in 3D, overturning also in 2D.
 """
 
 import math
