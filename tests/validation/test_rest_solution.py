@@ -142,3 +142,22 @@ def test_wall_carried_by_a_moving_ground_rests_on_it():
     relative = (state.body_q[:, :2] - model.body_q0[:, :2]) - (
         state.body_q[ground, :2] - model.body_q0[ground, :2])
     assert np.abs(relative[free]).max() < 1e-9
+
+
+def test_a_wall_rests_the_same_with_the_kept_factorization_analysis(monkeypatch):
+    """The Newton systems are factorized with an analysis kept per pattern
+    (saxum.solver.block_cholesky): a 6 x 4 wall's first-step rest solution by the Newton
+    iterations (no load path) passes rest_check's checks, and a second search on the same
+    contacts, with the analysis kept from the first, gives the same impulses and velocities
+    bit for bit."""
+    from saxum.solver import block_cholesky
+
+    monkeypatch.setattr(block_cholesky, "_analyses", [])
+    model = running_bond_wall(courses=6, bricks=4, friction=0.6)
+    first = first_step(model)
+    check(first, model, True)
+    assert len(block_cholesky._analyses) == 1
+    kept = block_cholesky._analyses[0][2]
+    again = first_step(model)
+    assert block_cholesky._analyses[0][2] is kept
+    assert np.array_equal(again.impulse, first.impulse) and np.array_equal(again.v, first.v)
