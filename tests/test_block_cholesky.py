@@ -1,7 +1,7 @@
 """The block Cholesky factorization of the rest solution's Newton systems
 (saxum.solver.block_cholesky): solutions against numpy's dense solve, the analysis kept for a
-pattern and made anew for another, and the fall-back to SuperLU's LU (the rest solution found with it:
-tests/validation/test_rest_solution.py)."""
+pattern and made anew for another, and the fall-back to SuperLU's LU (the rest solution found
+with it: tests/validation/test_rest_solution.py)."""
 
 import numpy as np
 import pytest

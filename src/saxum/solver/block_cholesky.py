@@ -28,8 +28,7 @@ import numpy as np
 __all__ = ["BlockCholesky", "analyse"]
 
 _KEPT = 4
-"""Analyses kept, the latest first (the patterns of the anchors of load following that a wall
-at rest goes back to)."""
+"""Analyses kept, the latest first (a few patterns that an assembly at rest goes back to)."""
 
 
 class Analysis:
@@ -48,12 +47,11 @@ _analyses: list[tuple[np.ndarray, np.ndarray, Analysis]] = []
 
 def analyse(bptr: np.ndarray, blocks: np.ndarray) -> Analysis:
     """The analysis of a symmetric block pattern (block CSC: column c's block rows
-    blocks[bptr[c]:bptr[c + 1]], the diagonal among them), the kept one for a pattern seen
-    among the last _KEPT."""
-    for k, (kept_ptr, kept_blocks, analysis) in enumerate(_analyses):
+    blocks[bptr[c]:bptr[c + 1]], the diagonal among them), the kept one for a pattern among
+    the last _KEPT analysed (kept for the process: the result is the same bit for bit with or
+    without it)."""
+    for kept_ptr, kept_blocks, analysis in _analyses:
         if np.array_equal(kept_ptr, bptr) and np.array_equal(kept_blocks, blocks):
-            if k:
-                _analyses.insert(0, _analyses.pop(k))
             return analysis
     new = _order(bptr, blocks)
     analysis = Analysis(new, *_symbolic(bptr, blocks, new))
