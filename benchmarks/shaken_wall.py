@@ -11,7 +11,8 @@ gravity set before each step), so positions are relative to the base.
 
 Per case and engine: time per step (mean, median; the first step apart; and the CPU time of
 the stepping thread per step, mean, which a loaded machine changes less), saxum's NLGS sweeps
-per step and steps at the sweep cap, rest solutions looked for and found, the final
+per step and steps at the sweep cap, rest solutions looked for and found, the CPU time spent
+looking for them [s] and their factorizations (first step included), the final
 displacement relative to the base (largest horizontal displacement of any brick, and the mean
 over the bottom course), the largest rotation. Every case runs in its own subprocess, the
 engines interleaved --repeats times (the median run by mean time per step is reported): on a
@@ -93,6 +94,7 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
     solver = {"nlgs": sx.NLGS, "hybrid": sx.Hybrid}[kind](
         tolerance=tolerance, **({"criterion": criterion} if criterion else {}),
         **({"refine": refine} if refine is not None else {}))
+    rest = _time_rest_solutions()
     sim = sx.Simulation(model, dt=dt, solver=solver)
     state = sim.initial_state()
     q0 = state.body_q.copy()
@@ -128,6 +130,8 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "not_converged": int((~log.converged).sum()),
         "rest_attempts": getattr(solver, "rest_attempts", None),
         "rest_solutions": getattr(solver, "rest_solutions", None),
+        "rest_cpu_s": rest["cpu"],
+        "factorizations": rest["factorizations"],
         "finished_by": {name: int((log.solver == k).sum())
                         for k, name in enumerate(sx.solver.SOLVER_NAMES)},
         "largest_error": float(log.error.max()),
@@ -140,6 +144,30 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "top_displacement_m": float(dx[np.argmax(q0[free, 1])]),
         "largest_rotation_rad": float(np.abs(state.body_q[free, 2] - q0[free, 2]).max()),
     }
+
+
+def _time_rest_solutions() -> dict:
+    """Time the rest solutions that NLGS looks for (CPU time of this thread, wrapping
+    saxum.solver.nlgs.rest_solution) and count their factorizations (equilibrium._factorize),
+    summed into the returned dict, whichever saxum runs."""
+    from saxum.solver import equilibrium, nlgs
+
+    totals = {"cpu": 0.0, "factorizations": 0}
+    rest_solution, factorize = nlgs.rest_solution, equilibrium._factorize
+
+    def timed(*args, **kwargs):
+        start = time.thread_time()
+        try:
+            return rest_solution(*args, **kwargs)
+        finally:
+            totals["cpu"] += time.thread_time() - start
+
+    def counted(*args):
+        totals["factorizations"] += 1
+        return factorize(*args)
+
+    nlgs.rest_solution, equilibrium._factorize = timed, counted
+    return totals
 
 
 def worker_pymunk(amplitude_g: float, duration: float, dt: float, iterations: int | None) -> dict:
@@ -269,7 +297,8 @@ def main(argv: list[str] | None = None) -> int:
           f"median over {args.repeats} interleaved runs")
     print(f"{'A/g':>5} {'engine':>16} {'ms/step':>8} {'median':>7} {'/rest':>6} {'/pm100':>7} "
           f"{'cpu ms':>7} {'/rest':>6} {'median':>7} {'/rest':>6} "
-          f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'largest dx':>11} {'bottom dx':>10}")
+          f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'rest s':>6} {'fact':>5} "
+          f"{'largest dx':>11} {'bottom dx':>10}")
     table = []
     for a in amplitudes:
         for name, _ in engines:
@@ -303,7 +332,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{a:>5g} {name:>16} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
                   f"{ratio:>6} {pm:>7} {cpu * 1e3:>7.3f} {row['cpu_over_at_rest']:>6.2f} "
                   f"{cpu_median * 1e3:>7.3f} {row['median_cpu_over_at_rest']:>6.2f} "
-                  f"{sweeps:>7} {capped:>6} {found:>10} "
+                  f"{sweeps:>7} {capped:>6} {found:>10} {r.get('rest_cpu_s', math.nan):>6.3f} "
+                  f"{r.get('factorizations', -1):>5} "
                   f"{r['largest_displacement_m'] * 1e3:>8.3g} mm "
                   f"{r['bottom_course_displacement_m'] * 1e3:>7.3g} mm")
     result = {"command": " ".join([Path(sys.executable).name, *sys.argv]),
