@@ -110,28 +110,14 @@ class BlockCholesky:
 def _symbolic(bptr, blocks, new):
     """(lptr, lrow, amap) of Analysis for the pattern (bptr, blocks) in the order new."""
     n = new.shape[0]
-    # the rows below the diagonal of each column of P A P^T
-    aptr = np.zeros(n + 1, dtype=np.int64)
-    for c in range(n):
-        for t in range(bptr[c], bptr[c + 1]):
-            if new[blocks[t]] > new[c]:
-                aptr[new[c] + 1] += 1
-    for k in range(n):
-        aptr[k + 1] += aptr[k]
-    arow = np.empty(aptr[n], dtype=np.int64)
-    fill = aptr[:n].copy()
-    for c in range(n):
-        for t in range(bptr[c], bptr[c + 1]):
-            i = new[blocks[t]]
-            if i > new[c]:
-                arow[fill[new[c]]] = i
-                fill[new[c]] += 1
+    old = np.empty(n, dtype=np.int64)  # the body in each place of P A P^T
+    old[new] = np.arange(n)
     # L's columns in order: the diagonal, then A's rows and the children's rows, sorted
     child = np.full(n, -1, dtype=np.int64)  # first child of each column
     sibling = np.full(n, -1, dtype=np.int64)  # next child of the same parent
     mark = np.full(n, -1, dtype=np.int64)
     lptr = np.zeros(n + 1, dtype=np.int64)
-    lrow = np.empty(2 * (aptr[n] + n), dtype=np.int64)
+    lrow = np.empty(bptr[n] + n, dtype=np.int64)
     for k in range(n):
         at = lptr[k]
         if at + n - k > lrow.shape[0]:  # room for the longest column k can have
@@ -141,10 +127,13 @@ def _symbolic(bptr, blocks, new):
         lrow[at] = k
         mark[k] = k
         at += 1
-        for t in range(aptr[k], aptr[k + 1]):
-            mark[arow[t]] = k
-            lrow[at] = arow[t]
-            at += 1
+        body = old[k]
+        for t in range(bptr[body], bptr[body + 1]):  # A's rows below the diagonal
+            i = new[blocks[t]]
+            if i > k and mark[i] != k:
+                mark[i] = k
+                lrow[at] = i
+                at += 1
         c = child[k]
         while c >= 0:
             for t in range(lptr[c] + 1, lptr[c + 1]):
