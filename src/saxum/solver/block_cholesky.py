@@ -54,7 +54,8 @@ def analyse(bptr: np.ndarray, blocks: np.ndarray) -> Analysis:
         if np.array_equal(kept_ptr, bptr) and np.array_equal(kept_blocks, blocks):
             return analysis
     new = _order(bptr, blocks)
-    analysis = Analysis(new, *_symbolic(bptr, blocks, new))
+    lptr, lrow, amap = _symbolic(bptr, blocks, new)
+    analysis = Analysis(new, lptr, lrow[: lptr[-1]], amap)
     _analyses.insert(0, (bptr.copy(), blocks.copy(), analysis))
     del _analyses[_KEPT:]
     return analysis
@@ -108,21 +109,27 @@ class BlockCholesky:
 
 @nb.njit(cache=True)
 def _symbolic(bptr, blocks, new):
-    """(lptr, lrow, amap) of Analysis for the pattern (bptr, blocks) in the order new."""
+    """(lptr, lrow, amap) of Analysis for the pattern (bptr, blocks) in the order new, lrow
+    with room to spare after lptr[-1]. Loops rather than numpy's fancy indexing, slices and
+    sort, which took seconds more to compile."""
     n = new.shape[0]
     old = np.empty(n, dtype=np.int64)  # the body in each place of P A P^T
-    old[new] = np.arange(n)
+    for body in range(n):
+        old[new[body]] = body
     # L's columns in order: the diagonal, then A's rows and the children's rows, sorted
-    child = np.full(n, -1, dtype=np.int64)  # first child of each column
-    sibling = np.full(n, -1, dtype=np.int64)  # next child of the same parent
-    mark = np.full(n, -1, dtype=np.int64)
+    child = np.empty(n, dtype=np.int64)  # first child of each column (-1: none)
+    sibling = np.empty(n, dtype=np.int64)  # next child of the same parent
+    mark = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        child[k] = sibling[k] = mark[k] = -1
     lptr = np.zeros(n + 1, dtype=np.int64)
     lrow = np.empty(bptr[n] + n, dtype=np.int64)
     for k in range(n):
         at = lptr[k]
         if at + n - k > lrow.shape[0]:  # room for the longest column k can have
             grown = np.empty(max(2 * lrow.shape[0], at + n - k), dtype=np.int64)
-            grown[:at] = lrow[:at]
+            for t in range(at):
+                grown[t] = lrow[t]
             lrow = grown
         lrow[at] = k
         mark[k] = k
@@ -143,20 +150,25 @@ def _symbolic(bptr, blocks, new):
                     lrow[at] = i
                     at += 1
             c = sibling[c]
-        lrow[lptr[k] + 1: at].sort()
+        for t in range(lptr[k] + 2, at):  # insertion sort: short columns, no sort to compile
+            i = lrow[t]
+            u = t
+            while lrow[u - 1] > i:
+                lrow[u] = lrow[u - 1]
+                u -= 1
+            lrow[u] = i
         lptr[k + 1] = at
         if at > lptr[k] + 1:  # the parent: the first row below the diagonal
             parent = lrow[lptr[k] + 1]
             sibling[k] = child[parent]
             child[parent] = k
-    lrow = lrow[: lptr[n]].copy()
-    amap = np.full(bptr[n], -1, dtype=np.int64)
-    for c in range(n):
-        j = new[c]
-        for t in range(bptr[c], bptr[c + 1]):
-            i = new[blocks[t]]
-            if i >= j:
-                amap[t] = lptr[j] + np.searchsorted(lrow[lptr[j]: lptr[j + 1]], i)
+    amap = np.empty(bptr[n], dtype=np.int64)
+    for j in range(n):
+        for t in range(lptr[j], lptr[j + 1]):
+            mark[lrow[t]] = t  # where each row is in column j
+        body = old[j]
+        for t in range(bptr[body], bptr[body + 1]):
+            amap[t] = mark[new[blocks[t]]] if new[blocks[t]] >= j else -1
     return lptr, lrow, amap
 
 
@@ -166,7 +178,10 @@ def _numeric(lptr, lrow, amap, bptr, data, indptr, values):
     that is not positive."""
     n = lptr.shape[0] - 1
     size = values.shape[1]
-    values[:] = 0.0
+    for p in range(values.shape[0]):
+        for r in range(size):
+            for e in range(size):
+                values[p, r, e] = 0.0
     for c in range(n):
         base = indptr[size * c]
         per = indptr[size * c + 1] - base
@@ -189,8 +204,10 @@ def _left_looking(lptr, lrow, values, size):
     """L's blocks in place of P A P^T's lower blocks (values); False at a pivot that is not
     positive."""
     n = lptr.shape[0] - 1
-    head = np.full(n, -1, dtype=np.int64)  # the columns whose next row is k, linked by nxt
-    nxt = np.full(n, -1, dtype=np.int64)
+    head = np.empty(n, dtype=np.int64)  # the columns whose next row is k, linked by nxt
+    nxt = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        head[k] = nxt[k] = -1
     cursor = np.zeros(n, dtype=np.int64)  # each column's block in the row being factorized
     pos = np.zeros(n, dtype=np.int64)  # where each row is in the column being factorized
     for k in range(n):
@@ -252,7 +269,8 @@ def _solve(lptr, lrow, new, values, rhs, out):
     size = values.shape[1]
     y = np.empty((n, size))
     for b in range(n):
-        y[new[b]] = rhs[b]
+        for e in range(size):
+            y[new[b], e] = rhs[b, e]
     for k in range(n):
         d = lptr[k]
         for e in range(size):
@@ -282,4 +300,5 @@ def _solve(lptr, lrow, new, values, rhs, out):
                 acc -= values[d, f, e] * y[k, f]
             y[k, e] = acc / values[d, e, e]
     for b in range(n):
-        out[b] = y[new[b]]
+        for e in range(size):
+            out[b, e] = y[new[b], e]
