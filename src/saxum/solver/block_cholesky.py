@@ -16,7 +16,7 @@ Here:
 - numeric factorization, column by column (left-looking): column k is updated by each earlier
   column j with a block in row k, L_ik -= L_ij L_kj^T, found through linked lists of the
   columns by their next row (A. George and J. W. H. Liu, "Computer Solution of Large Sparse
-  Positive Definite Systems", Prentice-Hall 1981, sec. 5.4), then divided by the Cholesky
+  Positive Definite Systems", Prentice-Hall 1981), then divided by the Cholesky
   factor of its diagonal block; dense d x d blocks throughout.
 """
 

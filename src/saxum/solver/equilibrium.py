@@ -33,8 +33,9 @@ Then
 by the infeasible-start Newton method (Boyd and Vandenberghe, sec. 10.3): each step solves the
 KKT system through its Schur complement G P^-1 G^T (P the Hessian, 2 x 2 or 3 x 3 per
 contact), a body-space sparse matrix with a 3 x 3 (2D) or 6 x 6 (3D) block for each free body
-and each pair of free bodies in closed contact (scipy's SuperLU), and moves towards G x = f as
-far as the cones allow (0.99 of the way to the nearest cone's boundary). It stops at the first
+and each pair of free bodies in closed contact (a block Cholesky factorization whose analysis
+is kept per pattern: saxum.solver.block_cholesky), and moves towards G x = f as far as the
+cones allow (0.99 of the way to the nearest cone's boundary). It stops at the first
 x inside every cone with G x = f to round-off: any such x is a rest solution, and the barrier
 keeps it strictly inside every cone, so that Gauss-Seidel keeps it as it is (every contact
 sticks with a margin). Which of the many rest solutions of a statically indeterminate assembly
@@ -233,8 +234,9 @@ def _factorize(bptr, blocks, data, indices, indptr, dof):
     """A factor of the symmetric positive definite Newton system (CSC, _pattern's) with a
     solve(rhs) method, None if singular: the block Cholesky factor with the analysis of the
     pattern, kept while the closed contacts do not change (saxum.solver.block_cholesky: a
-    quarter of the time of SuperLU's LU on the 512-brick wall), or where that meets a pivot
-    that is not positive (a system singular to round-off), SuperLU's LU as before it."""
+    fifth of SuperLU's time on the 512-brick wall's systems, benchmarks/rest_factorization.py),
+    or SuperLU's LU as before it where that meets a pivot that is not positive (a system
+    singular to round-off)."""
     from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import splu
 
