@@ -1,5 +1,6 @@
 """Sparse Cholesky factorization L L^T = P A P^T of a symmetric positive definite matrix A made
-of d x d blocks, one block row and column per body (d: a body's dof), whose analysis (the
+of d x d blocks, one block row and column per body (d: a rigid body's dof, 3 in 2D, 6 in
+3D), whose analysis (the
 order P and the pattern of L) is kept for the next matrix with the same pattern.
 
 The rest solution's Newton matrices (saxum.solver.equilibrium) change their values from one
@@ -91,7 +92,10 @@ class BlockCholesky:
         """The factor of A given by its scalar CSC data and indptr (block (r, c) of A's pattern
         at data[indptr[size c] + size (its place in column c) + dc * per + dr], per: column
         c's scalar rows; saxum.solver.equilibrium._pattern), None where a pivot is not
-        positive (A not positive definite to round-off)."""
+        positive (A not positive definite to round-off). size: 3 or 6 (2D and 3D rigid
+        bodies: _numeric compiles its loops for these two)."""
+        if size not in (3, 6):
+            raise ValueError(f"block size {size}: 3 or 6 (a rigid body's dof)")
         a = analysis
         values = np.empty((len(a.lrow), size, size))
         if not _numeric(a.lptr, a.lrow, a.amap, bptr, data, indptr, values):
