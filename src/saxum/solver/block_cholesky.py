@@ -1,7 +1,7 @@
 """Sparse Cholesky factorization L L^T = P A P^T of a symmetric positive definite matrix A made
 of d x d blocks, one block row and column per body (d: a rigid body's dof, 3 in 2D, 6 in
-3D), whose analysis (the
-order P and the pattern of L) is kept for the next matrix with the same pattern.
+3D), whose analysis (the order P and the pattern of L) is kept for the next matrix with the
+same pattern.
 
 The rest solution's Newton matrices (saxum.solver.equilibrium) change their values from one
 Newton iteration, and one step, to the next, and keep their pattern as long as the closed
