@@ -11,7 +11,7 @@ import pytest
 import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
-from saxum.solver.nlgs import body_domains, partition_contacts_2d
+from saxum.solver.nlgs import body_domains, partition_contacts
 from saxum.structures import running_bond_wall
 
 
@@ -47,7 +47,7 @@ def test_partition_separates_free_bodies():
     domain, n = body_domains(free, 4)
     assert n == 4 and np.all(domain[~free] == -1)
     assert np.ptp(np.bincount(domain[free])) <= 1  # of as many bodies as can be
-    order, groups = partition_contacts_2d(c.candidate, c.antagonist, active, c.count,
+    order, groups = partition_contacts(c.candidate, c.antagonist, active, c.count,
                                           domain, n)
     assert len(groups) == 2 * n + 1 and groups[0] == 0 and np.all(np.diff(groups) >= 0)
     assert np.array_equal(np.sort(order), np.flatnonzero(active[:c.count]))
