@@ -8,6 +8,7 @@ import dataclasses
 import numba
 import numpy as np
 import pytest
+from results_check import same_runs
 
 import saxum as sx
 from saxum.ground import harmonic
@@ -27,16 +28,6 @@ def _run(model, threads, domains, duration):
     return sim, state
 
 
-def _same(run1, run2):
-    """The two runs' positions, velocities, impulses and sweeps, bit for bit."""
-    (sim1, s1), (sim2, s2) = run1, run2
-    assert np.array_equal(s1.body_q, s2.body_q)
-    assert np.array_equal(s1.body_v, s2.body_v)
-    assert np.array_equal(s1.contacts.impulse[:s1.contacts.count],
-                          s2.contacts.impulse[:s2.contacts.count])
-    assert np.array_equal(sim1.log.iterations, sim2.log.iterations)
-
-
 def test_shaken_3d_wall_same_bits_with_one_and_two_threads():
     """An L wall of 8 courses (81 blocks) on a base shaken at 0.7 g (2 Hz) across and along
     it, 0.04 s: with four domains (both phases of cuts) the same bits on 1 and 2 threads; with
@@ -44,9 +35,9 @@ def test_shaken_3d_wall_same_bits_with_one_and_two_threads():
     load = harmonic(0.7 * 9.81, 0.5, 1.0, direction=(0.6, 0.8, 0.0)).inertial_load()
     model = dataclasses.replace(wall3d(courses=8, length=1.5, return_length=1.0),
                                 accelerations=(load,))
-    _same(_run(model, 1, 4, 0.04), _run(model, 2, 4, 0.04))
+    same_runs(_run(model, 1, 4, 0.04), _run(model, 2, 4, 0.04))
     serial = _run(model, None, None, 0.04)
-    _same(serial, _run(model, 1, 1, 0.04))
+    same_runs(serial, _run(model, 1, 1, 0.04))
     assert not serial[0].problem.parallel and np.all(serial[0].log.converged)
 
 
@@ -60,4 +51,4 @@ def test_parallel_3d_kernels_are_the_serial_ones():
     assert runs[0][1].contacts.count > 2 * 4096
     assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
     assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 512
-    _same(*runs)
+    same_runs(*runs)

@@ -1152,14 +1152,21 @@ def _pack_range_3d(lo, hi, base, order, cand, ant, h_cand, h_ant, delassus, bias
     """The rows, bodies and impulses of the dry contacts order[lo:hi] of nlgs_3d_domains, as
     _pack_range_2d's."""
     for i in range(lo, hi):
-        a = order[i]
-        _pack_3d(rows[i], h_cand, h_ant, delassus, bias, friction, a)
-        c = cand[a]
-        b = ant[a]
-        own[0, i] = c if ghost[c] < 0 else base + ghost[c]
-        own[1, i] = b if ghost[b] < 0 else base + ghost[b]
-        for r in range(3):
-            own_impulse[i, r] = impulse[a, r]
+        _pack_3d(rows[i], h_cand, h_ant, delassus, bias, friction, order[i])
+        _own_contact(i, order[i], base, cand, ant, impulse, ghost, own, own_impulse)
+
+
+@nb.njit(inline="always")
+def _own_contact(i, a, base, cand, ant, impulse, ghost, own, own_impulse):
+    """Contact a as packed row i of a sweep by domains: its bodies into own[:, i], a fixed
+    one as its group's copy (row base + its rank, ghost), and its impulse into
+    own_impulse[i]."""
+    c = cand[a]
+    b = ant[a]
+    own[0, i] = c if ghost[c] < 0 else base + ghost[c]
+    own[1, i] = b if ghost[b] < 0 else base + ghost[b]
+    for r in range(impulse.shape[1]):
+        own_impulse[i, r] = impulse[a, r]
 
 
 @nb.njit(cache=True)
