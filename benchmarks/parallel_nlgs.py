@@ -7,8 +7,8 @@ Cases (dt 1e-3 s, saxum.NLGS, domains left to their default: the machine's cores
 walls of 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080
 bricks) at rest, and 50 x 40 (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its
 base); with --3d, L walls of saxum.structures.wall3d (0.25 x 0.12 x 0.065 m bricks, the same
-material): 40 courses of two 12 m legs (3840 bricks) at rest, and 30 courses of two 8 m legs
-(1920 bricks) on a base shaken at 0.7 g, 2 Hz, along (0.6, 0.8, 0) (3D: nlgs_3d_domains,
+material): 40 courses of two 12 m legs (3840 bricks) at rest, and 20 courses of two 6 m legs
+(960 bricks) on a base shaken at 0.7 g, 2 Hz, along (0.6, 0.8, 0) (3D: nlgs_3d_domains,
 polyhedron_contacts_parallel and the parallel 3D assembly). Per case and variant, interleaved
 --repeats times, after `warm` steps of that simulation (the kernels compiled before on a small
 one): wall time (time.perf_counter) and CPU time (time.process_time: all threads; omp's threads
@@ -63,8 +63,8 @@ CASES = {"rest 160x100": (lambda: _wall((160, 100), 0.0), lambda: _wall((4, 3), 
          "shaken 50x40": (lambda: _wall((50, 40), 0.7), lambda: _wall((4, 3), 0.7), 150)}
 CASES_3D = {"3D rest L 40x12": (lambda: _wall3d(40, 12.0, 0.0),
                                 lambda: _wall3d(4, 1.0, 0.0), 5),
-            "3D shaken L 30x8": (lambda: _wall3d(30, 8.0, 0.7),
-                                 lambda: _wall3d(4, 1.0, 0.7), 60)}
+            "3D shaken L 20x6": (lambda: _wall3d(20, 6.0, 0.7),
+                                 lambda: _wall3d(4, 1.0, 0.7), 40)}
 """name: (model, small model that compiles the kernels, steps before the timed ones: at 0.7 g
 the 2D wall slides from about 0.1 s on; the 3D L wall's leg across the motion rocks and
 leans from a few hundredths of a second on)"""
