@@ -79,7 +79,7 @@ class Simulation:
         self._threads = getattr(solver, "threads", None)
         """numba's threads for the step's parallel kernels (the solver's setting; None: one,
         the serial kernels)."""
-        self.problem.parallel = self._threads is not None and model.dim == 2
+        self.problem.parallel = self._threads is not None
         self.detector = detector_for(model, detection)
         self.detector.parallel = self.problem.parallel
         self.projection = PositionProjection(model, self.detector.interpenetration)
