@@ -138,8 +138,12 @@ def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, weight)
     of a deformable block (saxum.detection.fe_nodes._nearest_facet in 3D): outside the
     largest signed distance over all triangles, g and the facet the largest over those into
     which the point projects (within tie), ties broken by the normal most opposed to the
-    point's own outward direction (mx, my, mz); weight [3] gets the barycentric coordinates
-    of the projection on the chosen facet (clamped to the triangle). Facet -1: none."""
+    point's own outward direction (mx, my, mz) and, between triangles equally opposed
+    (within 1e-3: coplanar ones, turned against each other by the strain), by the first, so
+    that a node built on a corner of coplanar triangles keeps its triangle, and its contact
+    its key (the warm start and the joint laws' state go by key), from step to step; weight
+    [3] gets the barycentric coordinates of the projection on the chosen facet (clamped to
+    the triangle). Facet -1: none."""
     best = -1
     g = -1e300
     g_onto = -1e300
@@ -157,7 +161,7 @@ def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, weight)
         if da < -tie or db < -tie or dc < -tie:
             continue
         dot = nx * mx + ny * my + nz * mz
-        if d > g_onto + tie or (d >= g_onto - tie and dot < facing):
+        if d > g_onto + tie or (d >= g_onto - tie and dot < facing - 1e-3):
             g_onto = d
             best = f
             facing = dot
