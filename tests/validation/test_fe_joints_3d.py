@@ -9,7 +9,7 @@ the node, saxum.detection.fe_nodes3d), so the joint's areas A sum to its face's 
 import math
 
 import numpy as np
-from test_joint_direct_shear import C, G_II, MU, SIGMA, force_on
+from test_joint_direct_shear import G_II, MU, SIGMA, C, force_on
 from test_joint_pull_off import box
 
 import saxum as sx
