@@ -1,8 +1,9 @@
 """Joint laws on 3D deformable (FE) blocks (saxum.laws with saxum.bodies.fe, fe3d): the
-direct shear of a cohesive joint and a block on an elastic joint, the rigid blocks' closed
-forms (test_joint_direct_shear.py, test_elastic_joint.py) with a deformable block on the
-joint. A node's contact stands for its tributary area (a third of each boundary triangle at
-the node, saxum.detection.fe_nodes3d), so the joint's areas A sum to its face's area.
+direct shear of a cohesive joint, a block on an elastic joint and one sliding on a viscous
+joint, the rigid blocks' closed forms (test_joint_direct_shear.py, test_elastic_joint.py,
+test_viscous_friction.py) with a deformable block on the joint. A node's contact stands for
+its tributary area (a third of each boundary triangle at the node, saxum.detection.
+fe_nodes3d), so the joint's areas A sum to its face's area.
 (The pull-off: test_fe_joint_pull_off.py.)
 """
 
@@ -11,6 +12,8 @@ import math
 import numpy as np
 from test_joint_direct_shear import G_II, MU, SIGMA, C, force_on
 from test_joint_pull_off import box
+from test_viscous_friction import MU as MU_VISCOUS
+from test_viscous_friction import SLOPE, G
 
 import saxum as sx
 from saxum.fe import Elastic
@@ -115,3 +118,41 @@ def test_elastic_joint_under_a_deformable_block():
     assert len(crossing) == 5
     period = np.diff(crossing).mean()
     assert abs(period * omega / (2.0 * math.pi) - 1.0) < 0.005
+
+
+def test_viscous_friction_on_a_deformable_block():
+    """A deformable block (0.4 x 0.4 x 0.2 m, 3 x 3 nodes on the joint) sliding from rest on
+    a viscous-frictional joint (VISCOUS_COULOMB) under test_viscous_friction's tilted gravity
+    reaches its terminal velocity as a first-order linear ODE: v(t) = v_inf (1 - exp(-t /
+    tau)), v_inf = m g (sin a - mu cos a) / (eta A), tau = m / (eta A); v is the block's
+    centre-of-mass velocity sum m_i v_i / m over its nodes.
+
+    Tolerance 1 % of v_inf at every step, test_viscous_friction's: the implicit viscous
+    stress errs by about h / tau = 4e-3 of v_inf here, and the block's elastic vibration on
+    its node contacts adds to its mean velocity (measured 0.27 % in all with the stiffness
+    damping beta = 1e-5 s, 0.7 % undamped)."""
+    h, tau = 2.0e-4, 0.05  # [s]
+    b = sx.ModelBuilder(gravity=(G * math.sin(SLOPE), 0.0, -G * math.cos(SLOPE)), dim=3)
+    b.add_block(box(-0.5, 3.0, -0.5, 1.0, -0.2, 0.0), kind=sx.BodyKind.FIXED, group="plane")
+    damped = Elastic(1.0e10, 0.2, 2000.0, damping=(0.0, 1.0e-5))
+    b.add_block(box(0.0, 0.4, 0.0, 0.4, 0.0, 0.2), material=damped, mesh_size=0.2,
+                group="block")
+    mass, area = 2000.0 * 0.4 * 0.4 * 0.2, 0.16  # [kg], [m^2]
+    eta = mass / (tau * area)  # [Pa s/m]
+    b.set_law("block", "plane", sx.ContactLaw(friction=MU_VISCOUS, eta=eta,
+                                              kind=sx.LawKind.VISCOUS_COULOMB))
+    for pair in (("plane", "plane"), ("block", "block")):
+        b.set_law(*pair, sx.ContactLaw(friction=MU_VISCOUS))
+    sim = sx.Simulation(b.finalize(), dt=h)
+    state = sim.initial_state()
+    node_mass = sim.fe.blocks.node_mass
+    v_inf = mass * G * (math.sin(SLOPE) - MU_VISCOUS * math.cos(SLOPE)) / (eta * area)
+    errors = []
+    sim.step(state)
+    c = state.contacts
+    assert abs(c.area[: c.count].sum() / area - 1.0) < 1e-12  # round-off only
+    for _ in range(round(2.5 * tau / h)):
+        v = node_mass @ state.node_v[:, 0] / node_mass.sum()
+        errors.append(abs(v - v_inf * (1.0 - math.exp(-state.time / tau))))
+        sim.step(state)
+    assert max(errors) < 0.01 * v_inf
