@@ -376,10 +376,7 @@ class NLGS(ContactSolver):
                 self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
                 c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
                 np.repeat(b.node_mass[:, None], b.dim, axis=1), kind.v_free, kind.v,
-                np.empty_like(kind.v))
-        if problem.model.dim == 2:
-            args += (problem.law_map,)
-        args += (self.tolerance,)
+                np.empty_like(kind.v), problem.law_map, self.tolerance)
         # the sticking start is written for dry contacts: those with joint laws sweep alone
         sticking = self.rest_after > 0 and not getattr(problem, "joint_laws", False)
         first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
