@@ -1,21 +1,24 @@
 """Benchmark: one step on 1 and 2 numba threads (issue 16), stage by stage: the serial step
-(solver threads None: nlgs_2d and the serial kernels) against the parallel one (threads 1 and 2:
-NLGS by domains, saxum.solver.nlgs.nlgs_2d_domains, and the parallel assembly and end gaps of
-saxum.solver.problem), in one process.
+(solver threads None: nlgs_2d or nlgs_3d and the serial kernels) against the parallel one
+(threads 1 and 2: NLGS by domains, saxum.solver.nlgs.nlgs_2d_domains or nlgs_3d_domains, and the
+parallel detection, assembly and, in 2D, end gaps), in one process.
 
 Cases (dt 1e-3 s, saxum.NLGS, domains left to their default: the machine's cores): running-bond
 walls of 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080
 bricks) at rest, and 50 x 40 (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its
-base); and a 3D wall of saxum.structures.wall3d at rest (3D runs the serial kernels whatever
-the threads: 1 -> 2 threads shows it). Per case and variant, interleaved --repeats times,
-after `warm` steps of that simulation (the kernels compiled before on a small one): wall time
-(time.perf_counter) and CPU time (time.process_time: all threads; omp's threads spin while
-they wait, CPU time that is not work) per step of detection, the warm start (Contacts.
-warm_start_from), assembly, the solve, the end gaps and the whole step, medians over the
-repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit for
-bit. On a shared machine only ratios from one run mean anything.
+base); with --3d, L walls of saxum.structures.wall3d (0.25 x 0.12 x 0.065 m bricks, the same
+material): 40 courses of two 12 m legs (3840 bricks) at rest, and 20 courses of two 6 m legs
+(960 bricks) on a base shaken at 0.7 g, 2 Hz, along (0.6, 0.8, 0) (3D: nlgs_3d_domains,
+polyhedron_contacts_parallel and the parallel 3D assembly). Per case and variant, interleaved
+--repeats times, after `warm` steps of that simulation (the kernels compiled before on a small
+one): wall time (time.perf_counter) and CPU time (time.process_time: all threads; omp's threads
+spin while they wait, CPU time that is not work) per step of detection, the warm start
+(Contacts.warm_start_from), assembly, the solve, the end gaps and the whole step, medians over
+the repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit
+for bit. On a shared machine only ratios from one run mean anything.
 
-    python benchmarks/parallel_nlgs.py                               # all cases
+    python benchmarks/parallel_nlgs.py                               # all 2D cases
+    python benchmarks/parallel_nlgs.py --3d --repeats 2              # the 3D cases
     python benchmarks/parallel_nlgs.py --cases "rest 160x100" --steps 10 --repeats 1
     NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
 """
@@ -45,12 +48,26 @@ def _wall(size, amplitude_g):
     return model
 
 
+def _wall3d(courses, length, amplitude_g):
+    """An L wall of saxum.structures.wall3d, two legs `length` [m] long, on a base shaken
+    at amplitude_g (2 Hz) along (0.6, 0.8, 0): across the one leg, along the other."""
+    model = wall3d(courses=courses, length=length, return_length=length)
+    if amplitude_g > 0.0:
+        load = harmonic(amplitude_g * 9.81, 0.5, 4.0,
+                        direction=(0.6, 0.8, 0.0)).inertial_load()
+        model = dataclasses.replace(model, accelerations=(load,))
+    return model
+
+
 CASES = {"rest 160x100": (lambda: _wall((160, 100), 0.0), lambda: _wall((4, 3), 0.0), 5),
-         "shaken 50x40": (lambda: _wall((50, 40), 0.7), lambda: _wall((4, 3), 0.7), 150),
-         "3D wall3d 20x4": (lambda: wall3d(courses=20, length=4.0),
-                            lambda: wall3d(courses=2, length=1.0), 5)}
+         "shaken 50x40": (lambda: _wall((50, 40), 0.7), lambda: _wall((4, 3), 0.7), 150)}
+CASES_3D = {"3D rest L 40x12": (lambda: _wall3d(40, 12.0, 0.0),
+                                lambda: _wall3d(4, 1.0, 0.0), 5),
+            "3D shaken L 20x6": (lambda: _wall3d(20, 6.0, 0.7),
+                                 lambda: _wall3d(4, 1.0, 0.7), 40)}
 """name: (model, small model that compiles the kernels, steps before the timed ones: at 0.7 g
-the wall slides from about 0.1 s on)"""
+the 2D wall slides from about 0.1 s on; the 3D L wall's leg across the motion rocks and
+leans from a few hundredths of a second on)"""
 VARIANTS = {"serial": None, "1 thread": 1, "2 threads": 2}
 STAGES = ("detection", "warm start", "assembly", "solve", "end gaps", "step")
 
@@ -96,12 +113,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--cases", default=",".join(CASES), help="comma-separated names")
+    parser.add_argument("--cases", default=None,
+                        help="comma-separated names (default: all 2D cases, or with --3d "
+                             "all 3D ones)")
+    parser.add_argument("--3d", dest="three", action="store_true",
+                        help="the 3D cases (CASES_3D)")
     args = parser.parse_args()
+    cases = CASES_3D if args.three else CASES
     print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}; load average "
           f"{os.getloadavg()[0]:.1f} at the start", flush=True)
-    for name in args.cases.split(","):
-        build, small, warm = CASES[name]
+    for name in (args.cases or ",".join(cases)).split(","):
+        build, small, warm = {**CASES, **CASES_3D}[name]
         model = build()
         for threads in VARIANTS.values():  # compile (or load) every kernel first
             _run(small(), threads, 1, 1)

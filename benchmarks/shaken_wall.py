@@ -11,14 +11,16 @@ gravity set before each step), so positions are relative to the base.
 
 Per case and engine: time per step (mean, median; the first step apart; and the CPU time of
 the stepping thread per step, mean, which a loaded machine changes less), saxum's NLGS sweeps
-per step and steps at the sweep cap, rest solutions looked for and found, the final
+per step and steps at the sweep cap, rest solutions looked for and found, the CPU time spent
+looking for them [s] and their factorizations (first step included), the final
 displacement relative to the base (largest horizontal displacement of any brick, and the mean
 over the bottom course), the largest rotation. Every case runs in its own subprocess, the
 engines interleaved --repeats times (the median run by mean time per step is reported): on a
 shared machine only ratios measured in one run mean anything. --main PATH also runs saxum from
 another source tree (e.g. /work/main/src, PYTHONPATH) in the same interleaved loop. --solvers
 nlgs,hybrid runs saxum with each (saxum.NLGS, saxum.Hybrid), --tolerance 1e-6,1e-7 each
-solver with each tolerance; saxum's displacements are also sampled every 0.025 s (the JSON's
+solver with each tolerance (and --refine 0,10 with each
+refinement, NLGS.refine); saxum's displacements are also sampled every 0.025 s (the JSON's
 "history"), and its sweeps and convergence are kept per step.
 
     python benchmarks/shaken_wall.py                            # 0, 0.3 g, 2 s, 3 repeats
@@ -26,6 +28,8 @@ solver with each tolerance; saxum's displacements are also sampled every 0.025 s
     python benchmarks/shaken_wall.py --main /work/main/src --amplitudes 0,0.3
     python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --solvers nlgs,hybrid
     python benchmarks/shaken_wall.py --amplitudes 0,0.7 --duration 0.5 --tolerance 1e-6,1e-7,1e-8
+    python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --duration 0.5 --skip-pymunk \
+        --refine 0,10 --main /work/main/src
     python benchmarks/shaken_wall.py --amplitudes 0,0.3,0.7 --duration 0.5 --skip-pymunk \
         --solvers nlgs,nlgs:quad --tolerance 1e-6,1e-4
 """
@@ -68,7 +72,7 @@ def _motion(amplitude_g: float, duration: float):
 
 
 def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: str = "nlgs",
-                 tolerance: float = 1e-6) -> dict:
+                 tolerance: float = 1e-6, refine: float | None = None) -> dict:
     import dataclasses
 
     import numpy as np
@@ -88,7 +92,9 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         warm.step(state)
     kind, _, criterion = solver_name.partition(":")  # "nlgs:quad": NLGS(criterion="quad")
     solver = {"nlgs": sx.NLGS, "hybrid": sx.Hybrid}[kind](
-        tolerance=tolerance, **({"criterion": criterion} if criterion else {}))
+        tolerance=tolerance, **({"criterion": criterion} if criterion else {}),
+        **({"refine": refine} if refine is not None else {}))
+    rest = _time_rest_solutions()
     sim = sx.Simulation(model, dt=dt, solver=solver)
     state = sim.initial_state()
     q0 = state.body_q.copy()
@@ -112,6 +118,7 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "saxum": sx.__file__,
         "solver": solver_name,
         "tolerance": tolerance,
+        "refine": getattr(solver, "refine", None),
         "steps": steps,
         "step_time_s": _stats(times[1:].tolist()),
         "step_cpu_s": _stats(cpu[1:].tolist()),
@@ -123,6 +130,8 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "not_converged": int((~log.converged).sum()),
         "rest_attempts": getattr(solver, "rest_attempts", None),
         "rest_solutions": getattr(solver, "rest_solutions", None),
+        "rest_cpu_s": rest["cpu"],
+        "factorizations": rest["factorizations"],
         "finished_by": {name: int((log.solver == k).sum())
                         for k, name in enumerate(sx.solver.SOLVER_NAMES)},
         "largest_error": float(log.error.max()),
@@ -135,6 +144,30 @@ def worker_saxum(amplitude_g: float, duration: float, dt: float, solver_name: st
         "top_displacement_m": float(dx[np.argmax(q0[free, 1])]),
         "largest_rotation_rad": float(np.abs(state.body_q[free, 2] - q0[free, 2]).max()),
     }
+
+
+def _time_rest_solutions() -> dict:
+    """Time the rest solutions that NLGS looks for (CPU time of this thread, wrapping
+    saxum.solver.nlgs.rest_solution) and count their factorizations (equilibrium._factorize),
+    summed into the returned dict, whichever saxum runs."""
+    from saxum.solver import equilibrium, nlgs
+
+    totals = {"cpu": 0.0, "factorizations": 0}
+    rest_solution, factorize = nlgs.rest_solution, equilibrium._factorize
+
+    def timed(*args, **kwargs):
+        start = time.thread_time()
+        try:
+            return rest_solution(*args, **kwargs)
+        finally:
+            totals["cpu"] += time.thread_time() - start
+
+    def counted(*args):
+        totals["factorizations"] += 1
+        return factorize(*args)
+
+    nlgs.rest_solution, equilibrium._factorize = timed, counted
+    return totals
 
 
 def worker_pymunk(amplitude_g: float, duration: float, dt: float, iterations: int | None) -> dict:
@@ -212,6 +245,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="saxum's solver tolerances, comma-separated: each solver runs "
                              "with each (engine name @tolerance where more than one; "
                              "default 1e-6)")
+    parser.add_argument("--refine", default=None,
+                        help="saxum's solver refine values (NLGS.refine), comma-separated: "
+                             "each solver runs with each (engine name /rREFINE where more "
+                             "than one; default: the solver's)")
     parser.add_argument("--skip-pymunk", action="store_true")
     parser.add_argument("--json", type=Path, default=DEFAULT_JSON)
     parser.add_argument("--worker", choices=sorted(WORKERS), help=argparse.SUPPRESS)
@@ -227,15 +264,17 @@ def main(argv: list[str] | None = None) -> int:
     amplitudes = [float(a) for a in args.amplitudes.split(",")]
     solvers = args.solvers.split(",")
     tolerances = [float(t) for t in args.tolerance.split(",")]
+    refines = [None] if args.refine is None else [float(r) for r in args.refine.split(",")]
 
-    def named(base, s, tol):
+    def named(base, s, tol, refine):
         name = base if s == "nlgs" else f"{base}-{s}"
-        return name if len(tolerances) == 1 else f"{name}@{tol:g}"
+        name = name if len(tolerances) == 1 else f"{name}@{tol:g}"
+        return name if len(refines) == 1 else f"{name}/r{refine:g}"
 
-    engines = [(named("saxum", s, t), (None, s, t)) for s in solvers for t in tolerances]
+    variants = [(s, t, r) for s in solvers for t in tolerances for r in refines]
+    engines = [(named("saxum", *v), (None, *v)) for v in variants]
     if args.main:
-        engines += [(named("saxum-main", s, t), (args.main, s, t))
-                    for s in solvers for t in tolerances]
+        engines += [(named("saxum-main", *v), (args.main, *v)) for v in variants]
     if not args.skip_pymunk:
         engines += [("pymunk", None), ("pymunk-100", 100)]
     runs = {(a, e): [] for a in amplitudes for e, _ in engines}
@@ -245,8 +284,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"run {k + 1}/{args.repeats}: {name}, A = {a:g} g ...", flush=True)
                 if name.startswith("saxum"):
                     src = extra[0] or os.environ.get("PYTHONPATH")
-                    r = _spawn("saxum", [a, args.duration, args.dt, extra[1], extra[2]],
-                               src)
+                    r = _spawn("saxum", [a, args.duration, args.dt, *extra[1:]], src)
                 else:
                     r = _spawn("pymunk", [a, args.duration, args.dt, extra], None)
                 runs[(a, name)].append(r)
@@ -259,7 +297,8 @@ def main(argv: list[str] | None = None) -> int:
           f"median over {args.repeats} interleaved runs")
     print(f"{'A/g':>5} {'engine':>16} {'ms/step':>8} {'median':>7} {'/rest':>6} {'/pm100':>7} "
           f"{'cpu ms':>7} {'/rest':>6} {'median':>7} {'/rest':>6} "
-          f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'largest dx':>11} {'bottom dx':>10}")
+          f"{'sweeps':>7} {'capped':>6} {'rest found':>10} {'rest s':>6} {'fact':>5} "
+          f"{'largest dx':>11} {'bottom dx':>10}")
     table = []
     for a in amplitudes:
         for name, _ in engines:
@@ -293,7 +332,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{a:>5g} {name:>16} {t * 1e3:>8.3f} {row['median_ms_per_step']:>7.3f} "
                   f"{ratio:>6} {pm:>7} {cpu * 1e3:>7.3f} {row['cpu_over_at_rest']:>6.2f} "
                   f"{cpu_median * 1e3:>7.3f} {row['median_cpu_over_at_rest']:>6.2f} "
-                  f"{sweeps:>7} {capped:>6} {found:>10} "
+                  f"{sweeps:>7} {capped:>6} {found:>10} {r.get('rest_cpu_s', math.nan):>6.3f} "
+                  f"{r.get('factorizations', -1):>5} "
                   f"{r['largest_displacement_m'] * 1e3:>8.3g} mm "
                   f"{r['bottom_course_displacement_m'] * 1e3:>7.3g} mm")
     result = {"command": " ".join([Path(sys.executable).name, *sys.argv]),

@@ -79,7 +79,7 @@ class Simulation:
         self._threads = getattr(solver, "threads", None)
         """numba's threads for the step's parallel kernels (the solver's setting; None: one,
         the serial kernels)."""
-        self.problem.parallel = self._threads is not None and model.dim == 2
+        self.problem.parallel = self._threads is not None
         self.detector = detector_for(model, detection)
         self.detector.parallel = self.problem.parallel
         self.projection = PositionProjection(model, self.detector.interpenetration)
@@ -92,11 +92,6 @@ class Simulation:
             if not isinstance(self.solver, NLGS):
                 raise InputError("a model with deformable blocks is solved by NLGS only; "
                                  "use solver.kind = \"nlgs\" (the default for them)")
-            if self.problem.joint_laws and model.dim == 3:
-                raise InputError("joint laws (elastic, viscous, cohesive) in a 3D model with "
-                                 "deformable blocks are not supported yet (2D models are): "
-                                 "use dry laws (signorini_coulomb, gap_signorini_coulomb, "
-                                 "restitution_coulomb)")
             _log.info("deformable blocks: the rest solution, load following and the position "
                       "projection are skipped (they are written for rigid blocks)")
         if self.problem.joint_laws and not isinstance(self.solver, NLGS):

@@ -142,3 +142,29 @@ def test_wall_carried_by_a_moving_ground_rests_on_it():
     relative = (state.body_q[:, :2] - model.body_q0[:, :2]) - (
         state.body_q[ground, :2] - model.body_q0[ground, :2])
     assert np.abs(relative[free]).max() < 1e-9
+
+
+def test_a_wall_rests_the_same_with_the_kept_factorization_analysis(monkeypatch):
+    """The Newton systems are factorized with an analysis kept per pattern
+    (saxum.solver.block_cholesky): a 6 x 4 wall's first-step rest solution by the Newton
+    iterations (no load path) passes rest_check's checks, and a second search on the same
+    contacts, with the analysis kept from the first, gives the same impulses and velocities
+    bit for bit; with SuperLU's LU instead (saxum before), the same checks pass and the
+    impulses agree to 1e-10 of the largest (the balance the solver accepts,
+    equilibrium._FEASIBLE: the same Newton steps, other round-off; observed 1e-15)."""
+    from saxum.solver import block_cholesky
+
+    monkeypatch.setattr(block_cholesky, "_analyses", [])
+    model = running_bond_wall(courses=6, bricks=4, friction=0.6)
+    first = first_step(model)
+    check(first, model, True)
+    assert len(block_cholesky._analyses) == 1
+    kept = block_cholesky._analyses[0][2]
+    again = first_step(model)
+    assert block_cholesky._analyses[0][2] is kept
+    assert np.array_equal(again.impulse, first.impulse) and np.array_equal(again.v, first.v)
+    monkeypatch.setattr(block_cholesky.BlockCholesky, "factorize",
+                        classmethod(lambda cls, *args: None))  # equilibrium._factorize's LU
+    lu = first_step(model)
+    check(lu, model, True)
+    assert np.abs(lu.impulse - first.impulse).max() <= 1e-10 * np.abs(first.impulse).max()

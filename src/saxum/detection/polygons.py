@@ -328,16 +328,19 @@ def polygon_contacts_parallel(
     for k in range(blocks):
         start[k + 1] += start[k]
     for k in nb.prange(blocks):
-        _copy_rows(slots * k * _PAIR_BLOCK, start[k], start[k + 1] - start[k],
-                   s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
-                   candidate, antagonist, key, law, point, frame, gap, area)
+        copy_rows(slots * k * _PAIR_BLOCK, start[k], start[k + 1] - start[k],
+                  s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
+                  candidate, antagonist, key, law, point, frame, gap, area)
     return start[blocks], reused.sum()
 
 
 @nb.njit(cache=True)
-def _copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap,
-               s_area, candidate, antagonist, key, law, point, frame, gap, area):
-    """Rows src .. src + n - 1 of the s_* arrays into rows dst .. dst + n - 1 of the others."""
+def copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap,
+              s_area, candidate, antagonist, key, law, point, frame, gap, area):
+    """Rows src .. src + n - 1 of the s_* arrays into rows dst .. dst + n - 1 of the others
+    (2D or 3D: the parallel narrow phases, polygon_contacts_parallel and
+    saxum.detection.polyhedra.polyhedron_contacts_parallel)."""
+    dim = point.shape[1]
     for i in range(n):
         a = src + i
         c = dst + i
@@ -345,12 +348,10 @@ def _copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_
         antagonist[c] = s_antagonist[a]
         key[c] = s_key[a]
         law[c] = s_law[a]
-        point[c, 0] = s_point[a, 0]
-        point[c, 1] = s_point[a, 1]
-        frame[c, 0, 0] = s_frame[a, 0, 0]
-        frame[c, 0, 1] = s_frame[a, 0, 1]
-        frame[c, 1, 0] = s_frame[a, 1, 0]
-        frame[c, 1, 1] = s_frame[a, 1, 1]
+        for r in range(dim):
+            point[c, r] = s_point[a, r]
+            for d in range(dim):
+                frame[c, r, d] = s_frame[a, r, d]
         gap[c] = s_gap[a]
         area[c] = s_area[a]
 

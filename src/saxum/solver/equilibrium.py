@@ -33,8 +33,9 @@ Then
 by the infeasible-start Newton method (Boyd and Vandenberghe, sec. 10.3): each step solves the
 KKT system through its Schur complement G P^-1 G^T (P the Hessian, 2 x 2 or 3 x 3 per
 contact), a body-space sparse matrix with a 3 x 3 (2D) or 6 x 6 (3D) block for each free body
-and each pair of free bodies in closed contact (scipy's SuperLU), and moves towards G x = f as
-far as the cones allow (0.99 of the way to the nearest cone's boundary). It stops at the first
+and each pair of free bodies in closed contact (a block Cholesky factorization whose analysis
+is kept per pattern: saxum.solver.block_cholesky), and moves towards G x = f as far as the
+cones allow (0.99 of the way to the nearest cone's boundary). It stops at the first
 x inside every cone with G x = f to round-off: any such x is a rest solution, and the barrier
 keeps it strictly inside every cone, so that Gauss-Seidel keeps it as it is (every contact
 sticks with a margin). Which of the many rest solutions of a statically indeterminate assembly
@@ -61,6 +62,7 @@ import numba as nb
 import numpy as np
 
 from ..linalg3 import solve3
+from .block_cholesky import BlockCholesky, analyse
 
 __all__ = ["LoadResponse", "rest_hypothesis", "rest_solution"]
 
@@ -118,13 +120,13 @@ class LoadResponse:
         c = problem.contacts
         if self.lu is None:
             nfree, dof = change.shape
-            indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, self.closed,
-                                                        self.slot, nfree, dof)
+            indptr, indices, where, diagonal, bptr, blocks = _pattern(
+                c.candidate, c.antagonist, self.closed, self.slot, nfree, dof)
             data = np.zeros(len(indices))
             _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
                            self.closed, self.slot, self.b, self.x, self.scale, where, diagonal,
                            indptr, np.zeros((nfree, dof)), data)
-            self.lu = _factorize(data, indices, indptr, dof * nfree)
+            self.lu = _factorize(bptr, blocks, data, indices, indptr, dof)
             if self.lu is None:
                 self.clear()
                 return None
@@ -179,8 +181,8 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
                     response.x, response.b = _start(closed, problem.friction, trial, force,
                                                      margin)[:2]
                 return True
-    indptr, indices, where, diagonal = _pattern(c.candidate, c.antagonist, closed, slot, nfree,
-                                                dof)
+    indptr, indices, where, diagonal, bptr, blocks = _pattern(c.candidate, c.antagonist, closed,
+                                                              slot, nfree, dof)
     x, b, scale = _start(closed, problem.friction, impulse, force, margin)
     data = np.zeros(len(indices))
     rhs = np.empty((nfree, dof))
@@ -197,7 +199,7 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
             break
         _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant, closed, slot,
                        b, x, scale, where, diagonal, indptr, rhs, data)
-        lu = _factorize(data, indices, indptr, dof * nfree)
+        lu = _factorize(bptr, blocks, data, indices, indptr, dof)
         if lu is None:  # singular: a free body's motion that no contact resists
             return False
         nu = lu.solve(rhs.reshape(-1)).reshape(nfree, dof)
@@ -228,11 +230,20 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     return True
 
 
-def _factorize(data, indices, indptr, size):
-    """SuperLU of the symmetric positive definite Newton system (CSC), None if singular."""
+def _factorize(bptr, blocks, data, indices, indptr, dof):
+    """A factor of the symmetric positive definite Newton system (CSC, _pattern's) with a
+    solve(rhs) method, None if singular: the block Cholesky factor with the analysis of the
+    pattern, kept while the closed contacts do not change (saxum.solver.block_cholesky: a
+    fifth of SuperLU's time on the 512-brick wall's systems, benchmarks/rest_factorization.py),
+    or SuperLU's LU as before it where that meets a pivot that is not positive (a system
+    singular to round-off)."""
     from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import splu
 
+    factor = BlockCholesky.factorize(analyse(bptr, blocks), bptr, data, indptr, dof)
+    if factor is not None:
+        return factor
+    size = len(indptr) - 1
     try:
         # a symmetric fill-reducing order, no pivoting
         return splu(csc_matrix((data, indices, indptr), shape=(size, size)),
@@ -560,7 +571,8 @@ def _pattern(cand, ant, closed, slot, nfree, size):
     position in the data array of each closed contact's blocks (cand, cand), (ant, cand),
     (cand, ant), (ant, ant) (-1 where a body is not free; entry (dr, dc) of a block at
     position + dc * size * (blocks in its column) + dr), position of each free body's diagonal
-    block)."""
+    block, and the pattern of blocks: block column c's rows blocks[bptr[c]:bptr[c + 1]],
+    sorted)."""
     m = closed.shape[0]
     # block rows of each block column: the body itself and the bodies it touches (in contact
     # order, repeated for each contact)
@@ -641,7 +653,7 @@ def _pattern(cand, ant, closed, slot, nfree, size):
         while blocks[blk] != col:
             blk += 1
         diagonal[col] = indptr[size * col] + size * (blk - bptr[col])
-    return indptr, indices, where, diagonal
+    return indptr, indices, where, diagonal, bptr, blocks
 
 
 @nb.njit(cache=True)

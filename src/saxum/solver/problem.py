@@ -14,7 +14,7 @@ import numba as nb
 import numpy as np
 
 from .. import bodies
-from ..bodies import rigid2d
+from ..bodies import rigid2d, rigid3d
 from ..contacts import Contacts
 from ..laws import SMOOTH_KINDS, LawKind
 from ..model import Model
@@ -40,8 +40,8 @@ class ContactProblem:
         """The deformable body kind (saxum.bodies.fe.FEKind) when the model has deformable
         blocks: their contacts' rows, Delassus blocks and node velocities."""
         self.parallel = False
-        """Assemble and take the end gaps on numba's threads (2D rigid blocks; the same
-        numbers bit for bit): Simulation sets it where the solver's threads are set."""
+        """Assemble on numba's threads (and in 2D take the end gaps; the same numbers bit
+        for bit): Simulation sets it where the solver's threads are set."""
         self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())
         """Whether some law is a joint law (saxum.solver.laws_local): then law_map is filled."""
         self._allocate(64)
@@ -99,12 +99,19 @@ class ContactProblem:
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         else:
-            self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
-                            self.h_cand, self.h_ant)
-            _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
-                      m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
-                      m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
-                      self.friction, self.active)
+            if self.parallel and m.dim == 3:
+                _rows_3d_parallel(q, c.candidate, c.antagonist, c.point, c.frame, c.gap,
+                                  c.law, k, self.h_cand, self.h_ant, m.body_inv_mass,
+                                  v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
+                                  theta, closed_gap, self.delassus, self.bias, self.friction,
+                                  self.active)
+            else:
+                self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
+                                self.h_cand, self.h_ant)
+                _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
+                          m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
+                          m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
+                          self.friction, self.active)
             _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
                    m.body_inv_mass, c.impulse, v)
             if self.fe is not None:
@@ -189,6 +196,24 @@ def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_
                                   h_theta)
 
 
+@nb.njit(parallel=True, cache=True)
+def _rows_3d_parallel(q, cand, ant, point, frame, gap, law, count, h_cand, h_ant, inv_mass,
+                      v_begin, law_kind, law_friction, law_restitution, h, theta, closed_gap,
+                      delassus, bias, friction, active):
+    """rigid3d.contact_jacobians and _assemble by blocks of _BLOCK contacts on numba's
+    threads: the same numbers bit for bit (each contact's rows are its own; the warm start,
+    _apply, stays in the contacts' order)."""
+    for k in nb.prange(-(-count // _BLOCK)):
+        lo = k * _BLOCK
+        hi = min(count, lo + _BLOCK)
+        rigid3d.contact_jacobians(q, cand[lo:hi], ant[lo:hi], point[lo:hi], frame[lo:hi],
+                                  gap[lo:hi], hi - lo, h_cand[lo:hi], h_ant[lo:hi])
+        _assemble(cand[lo:hi], ant[lo:hi], law[lo:hi], gap[lo:hi], hi - lo, h_cand[lo:hi],
+                  h_ant[lo:hi], inv_mass, v_begin, law_kind, law_friction, law_restitution, h,
+                  theta, closed_gap, delassus[lo:hi], bias[lo:hi], friction[lo:hi],
+                  active[lo:hi])
+
+
 @nb.njit(cache=True)
 def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
     """v += M^-1 H R (the warm start); inactive contacts' R = 0."""
@@ -222,7 +247,8 @@ def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
 
 
 _BLOCK = 4096
-"""Contacts per block of the parallel kernels (_assemble_2d_parallel, _end_gaps_2d_parallel)."""
+"""Contacts per block of the parallel kernels (_assemble_2d_parallel, _end_gaps_2d_parallel,
+_rows_3d_parallel)."""
 
 
 @nb.njit(parallel=True, cache=True)
