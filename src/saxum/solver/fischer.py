@@ -79,20 +79,16 @@ docs/method.md), where more iterations cost ~0.2 s each on 770 contacts for noth
 _LEAST = 1e-14
 """Least Levenberg-Marquardt lambda relative to J^T J's largest diagonal entry."""
 _START = 1e-2
-"""First smoothing eps of smoothing_newton relative to the mean size |(x, y)| / sqrt(contacts)
-of the Fischer-Burmeister variables at its start: on the small shaken L wall's capped steps
-(docs/method.md) 1e-2 and 1e-1 end at the same solutions, 1e-3 leaves the path sooner."""
-_SHRINK = 4.0
-"""Largest factor by which smoothing_newton divides eps from one level to the next; after a
-level that fails it takes the square root of the factor (4, 2, 1.41, ...)."""
-_QUICK = 3
-"""A level on the path after at most this many factorizations squares the reduction factor
-again (up to _SHRINK)."""
-_FOLD = 1.05
-"""Factor below which smoothing_newton stops: the path of the smoothed solutions turns back
-in eps there (a fold: the shaken L wall's onset steps, docs/method.md)."""
-_LEVEL = 10
-"""Newton iterations at most per level of eps; a level ends where ||phi_eps|| <= _CLOSE eps."""
+"""First smoothing eps of smoothing_newton relative to the mean size |(r, y)| / sqrt(contacts)
+of the impulses and the scaled velocities y = rho u at its start (the shaken L wall's steps,
+docs/method.md: from 1e-3 the path is lost sooner)."""
+_SHRINK = 2.0
+"""Factor by which smoothing_newton divides eps from one level to the next: on the small
+shaken L wall's seven capped steps 2 with _LEVEL 20 reaches 1e-6 on all of them in 61-118
+factorizations; 4, or 10 iterations per level, leave some of them above after 150-400."""
+_LEVEL = 20
+"""Newton iterations at most per level of eps; a level ends where ||phi_eps|| <= _CLOSE eps,
+or earlier where the line search finds no step (the next level goes on from its iterate)."""
 _CLOSE = 0.1
 """A level's iterate is on the path where ||phi_eps|| <= this times eps."""
 _FLOOR = 1e-14
@@ -237,20 +233,19 @@ def smoothing_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
                      max_solves: int = 150) -> ConicResult:
     """Smoothing Newton on the 3D problem u = W r + q (FCLIB order) from r0 (zero if None):
     Newton on the smoothed function phi_eps (fischer_burmeister's smoothing) for eps = eps_0,
-    eps_0 / 4, ..., each level from the last level's iterate, following the path of the
-    smoothed problems' solutions to eps -> 0 (L. Qi, D. Sun, G. Zhou, "A new look at
-    smoothing Newton methods for nonlinear complementarity problems and box constrained
-    variational inequalities", Math. Program. 87, 2000; for second-order cones Fukushima, Luo
-    & Tseng 2002). Where a level does not reach the path (_LEVEL iterations) it is redone from
-    the last level that did, with the square root of the reduction factor. For eps > 0 phi_eps
-    has no kink and its Jacobian is regular where the unsmoothed one is not: where
+    eps_0 / 2, ..., each level from the last level's iterate (on the path or not), following
+    the path of the smoothed problems' solutions to eps -> 0 (L. Qi, D. Sun, G. Zhou, "A new
+    look at smoothing Newton methods for nonlinear complementarity problems and box
+    constrained variational inequalities", Math. Program. 87, 2000; for second-order cones
+    Fukushima, Luo & Tseng 2002). For eps > 0 phi_eps has no kink and its Jacobian is
+    regular where the unsmoothed one is not: where
     Fischer-Burmeister Newton stops at a stationary point of its merit, a contact loaded
     (r_N > 0) with a small opening velocity (u_N > 0) has d phi / d r_N ~ (rho u_N / r_N)^2,
     and the step that unloads it is not seen; eps of the size of r_N makes it seen
     (docs/method.md). Stops where the natural-map error ||F_nat|| / ||q|| is <= tolerance
-    (checked at every iterate), after max_solves LU factorizations, or where the factor falls
-    under _FOLD (after a level reached in at most _QUICK factorizations it is squared again, up to
-_SHRINK). Returns the iterate of least natural-map error (ConicResult: iterations, the
+    (checked at every iterate), after max_solves LU factorizations, or after a level in which
+    no step decreases ||phi_eps|| (the path is lost: the shaken L wall's onset steps,
+    docs/method.md). Returns the iterate of least natural-map error (ConicResult: iterations, the
     levels; interior_iterations, the LU factorizations)."""
     import scipy.sparse as sp
 
@@ -262,28 +257,20 @@ _SHRINK). Returns the iterate of least natural-map error (ConicResult: iteration
     rho = 1.0 / np.maximum(w.diagonal().reshape(-1, 3).max(axis=1), 1e-300)
     r = np.zeros(q.size) if r0 is None else np.array(r0, dtype=np.float64)
     best, best_r = natural_map_error(w, q, mu, r, 3), r
-    x = r.reshape(-1, 3).copy()
-    x[:, 0] *= mu
-    y = (rho[:, None] * (w @ r + q).reshape(-1, 3))
-    smoothing = _START * float(np.sqrt(np.sum(x * x) + np.sum(y * y)) / np.sqrt(mu.size))
-    shrink, levels, solves = _SHRINK, 0, 0
-    while best > tolerance and solves < max_solves and shrink >= _FOLD and smoothing > 0.0:
-        trial, on_path, iterates, factored = _level(r, w, q, mu, rho, smoothing)
+    y = rho[:, None] * (w @ r + q).reshape(-1, 3)
+    smoothing = _START * float(np.sqrt(r @ r + np.sum(y * y)) / np.sqrt(mu.size))
+    levels = solves = 0
+    moved = True
+    while best > tolerance and solves < max_solves and moved:
+        r, on_path, iterates, factored = _level(r, w, q, mu, rho, smoothing)
         levels += 1
         solves += factored
+        moved = on_path or bool(iterates)
         for iterate in iterates:
             error = natural_map_error(w, q, mu, iterate, 3)
             if error < best:
                 best, best_r = error, iterate
-        if on_path:
-            r = trial
-            smoothing /= shrink
-            if factored <= _QUICK:  # an easy level: back toward the largest reduction
-                shrink = min(shrink * shrink, _SHRINK)
-        else:  # back to the last level on the path, a smaller reduction
-            smoothing *= shrink
-            shrink = np.sqrt(shrink)
-            smoothing /= shrink
+        smoothing /= _SHRINK
     return ConicResult(best_r, levels, solves, best)
 
 
