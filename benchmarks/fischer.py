@@ -6,7 +6,8 @@ above the tolerance (benchmarks/capped_steps.py --save) from NLGS's iterate.
     python benchmarks/capped_steps.py --save /tmp/capped.npz       # the shaken 3D L wall
     python benchmarks/fischer.py --steps /tmp/capped.npz --tolerance 1e-6 --iterations 20
     python benchmarks/fischer.py --steps /tmp/capped.npz --diagnose 0 --sigma 1e-2 --iterations 60
-    python benchmarks/fischer.py --steps /tmp/capped.npz --smoothing --tolerance 1e-6 --iterations 150
+    python benchmarks/fischer.py --steps /tmp/capped.npz --smoothing --tolerance 1e-6 \
+        --iterations 150
 
 Prints per problem the natural-map error ||F_nat(r)|| / ||q|| reached (Acary, Bremond & Huber
 2018), the iterations and the wall-clock time (time.perf_counter, one solve). With --steps,
