@@ -39,6 +39,11 @@ a full step. The linear algebra is
 sparse: per-contact 3x3 blocks of d phi / dr and d phi / du times W (scipy.sparse), solved by
 SuperLU. The iterate of least natural-map error is returned.
 
+Smoothing Newton (smoothing_newton): Newton on the smoothed function phi_eps(x, y) = x + y -
+(x∘x + y∘y + 2 eps^2 e)^(1/2) for a decreasing eps, where the merit above has stationary
+points that are not solutions (rank-deficient W at the onset of sliding; docs/method.md, "The
+shaken 3D L wall", (e)); J is then factored by a sparse LU of J itself, not J^T J.
+
 2D problems (spacedim 2: [normal, tangent]) are solved as 3D ones with a second tangent of
 W = 1 (its row and column otherwise zero) and q = 0: there u_T2 = r_T2, which every solution
 has zero (sliding, r_T = -c u_T with c > 0 gives r_T2 = -c r_T2; sticking, u_T = 0), so the

@@ -25,7 +25,11 @@ crawling (_CRAWL), Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's 
 where the natural-map error of its result is within the tolerance (the step ends converged,
 finished by "newton", reporting that error); it dominates the others there (docs/method.md:
 the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
-and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries. In
+and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries; then,
+on every 3D attempt (whether or not that one ran), smoothing Newton from NLGS's iterate
+(saxum.solver.fischer.smoothing_newton, at most _SMOOTHING_SOLVES factorizations), kept the
+same way (finished by "smoothing"): it follows the smoothed problems' solutions past the
+stationary points where Fischer-Burmeister Newton and NLGS crawl (docs/method.md). In
 2D, the conic fixed point from NLGS's iterate, judged by one NLGS sweep from its result: it is
 kept, and NLGS sweeps on from it with the sweeps left, only where that sweep converged or its
 error (the relative change NLGS reports) is below half NLGS's last sweep's; then semismooth
