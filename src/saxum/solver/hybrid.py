@@ -85,10 +85,10 @@ steps above the tolerance it brings those it solves under 1e-6 in 1 to 7 (0.8-4.
 contacts, a loaded machine), and the others only halfway in 20 (9-47 s each); it stops earlier
 where its merit stalls (saxum.solver.fischer)."""
 _SMOOTHING_SOLVES = 150
-"""LU factorizations at most per smoothing Newton attempt (3D, after Fischer-Burmeister
-Newton): on the small shaken L wall's seven capped steps it reaches 1e-6 in 58-125 (0.7-1.9 s
-on 280 contacts); on the 3D L wall's onset steps it stops at a fold of its path after 50-154
-(2-9 s on 770 contacts, docs/method.md)."""
+"""LU factorizations at most per smoothing Newton attempt (3D): on the small shaken L wall's
+seven capped steps it reaches 1e-6 in 61-118 (0.7-1.9 s of CPU on 280 contacts); on the 3D L
+wall's first onset step (19, 770 contacts) it uses all 150 (9.8 s of CPU) without a better
+iterate (docs/method.md)."""
 _REACH = 3.0
 """In 3D, Fischer-Burmeister Newton runs only where NLGS's iterate is within this factor of
 the tolerance by the natural map: on the shaken 3D L wall's 38 steps above it (NLGS's iterate
