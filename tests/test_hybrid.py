@@ -137,38 +137,35 @@ def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch, tm
 
 
 @pytest.mark.parametrize("smoothing", [True, False])
-def test_a_3d_step_nlgs_does_not_solve(monkeypatch, smoothing):
+def test_a_3d_step_nlgs_does_not_solve(smoothing):
     """A small 3D L wall (4 courses, walls 1.0 and 0.75 m long, 29 bricks) under 0.7 g: its
     14th step is the first whose problem NLGS does not solve (cap; the friction threshold of
     docs/method.md, with 3-4 contact points per face pair), its iterate at a natural-map error
     of 1.6e-5 with NLGS crawling, beyond where Fischer-Burmeister Newton from it has reached
-    a solution (saxum.solver.hybrid's _REACH): the hybrid tries smoothing Newton only, which
-    reaches the tolerance by the natural map: the step ends converged, finished by smoothing
-    Newton, reporting the natural-map error of the exported step problem
+    a solution (saxum.solver.hybrid's _REACH). With Hybrid.smoothing the hybrid tries smoothing
+    Newton only, which reaches the tolerance by the natural map: the step ends converged,
+    finished by smoothing Newton, reporting the natural-map error of the exported step problem
     (saxum.fclib.step_problem, 3D; relative tolerance 1e-12: the same sums in another order).
-    With smoothing Newton given no factorization (patched) the step ends not converged and
-    reports the natural-map error of its impulses, as the run's warning says. The steps
+    Without it (the default) the hybrid tries nothing there and the step ends not converged,
+    reporting the natural-map error of its impulses, as the run's warning says. The steps
     before it converged and report none."""
     import dataclasses
 
     from saxum.fclib import step_problem
-    from saxum.solver import hybrid
     from saxum.structures import wall3d
 
-    if not smoothing:
-        monkeypatch.setattr(hybrid, "_SMOOTHING_SOLVES", 0)
     model = wall3d(courses=4, length=1.0, return_length=0.75)
     g = float(np.linalg.norm(model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
     # without NLGS's refinement (NLGS.refine), whose more exact steps lead elsewhere
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0, smoothing=smoothing))
     state = sim.initial_state()
     if smoothing:
         sim.run(state, 0.014)
     else:
         with pytest.warns(sx.SolverWarning, match="natural-map error of their impulses up to"):
             sim.run(state, 0.014)
-    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == 1
+    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == int(smoothing)
     exported = step_problem(sim, state)
     expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
     assert math.isclose(sim.log.natural_map[13], expected, rel_tol=1e-12)
