@@ -26,9 +26,10 @@ where the natural-map error of its result is within the tolerance (the step ends
 finished by "newton", reporting that error); it dominates the others there (docs/method.md:
 the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
 and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries; then,
-on every 3D attempt (whether or not that one ran), smoothing Newton from NLGS's iterate
+where Hybrid.smoothing (off by default), on every 3D attempt (whether or not that one ran, so
+also where NLGS crawls far from the tolerance), smoothing Newton from NLGS's iterate
 (saxum.solver.fischer.smoothing_newton, at most _SMOOTHING_SOLVES factorizations), kept the
-same way (finished by "smoothing"; Hybrid.smoothing, off by default): it follows the smoothed problems' solutions past the
+same way (finished by "smoothing"): it follows the smoothed problems' solutions past the
 stationary points where Fischer-Burmeister Newton and NLGS crawl (docs/method.md). In
 2D, the conic fixed point from NLGS's iterate, judged by one NLGS sweep from its result: it is
 kept, and NLGS sweeps on from it with the sweeps left, only where that sweep converged or its
@@ -169,7 +170,8 @@ class Hybrid(ContactSolver):
     converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit);
     smoothing: in 3D, smoothing Newton on every attempt after Fischer-Burmeister Newton (off
     by default: on the small shaken L wall it finishes the steps NLGS leaves above the
-    tolerance, on the big one's first 100 steps 1 of 26 at twice the CPU time, docs/method.md)."""
+    tolerance; on the big one's first 100 steps it finished one, yet as many steps ended above
+    the tolerance as without it, 25, at 1.9 times the CPU time: docs/method.md)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -327,8 +329,8 @@ class Hybrid(ContactSolver):
 
     def _attempt(self, problem, local, impulse, v_free, v, error: float, hopeful: bool):
         """In 3D, Fischer-Burmeister Newton from NLGS's iterate (where `hopeful`: _hopeful),
-        then smoothing Newton from it (Hybrid.smoothing), each kept where the natural-map error of its result is
-        <= the tolerance; in 2D the conic fixed point from NLGS's
+        then smoothing Newton from it (Hybrid.smoothing), each kept where the natural-map error
+        of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
         iterate, then semismooth Newton on Alart-Curnier's function from zero impulses, each
         judged by one NLGS sweep from its result. `local`: the step's assembled
         problem. Returns (report, rejected): Fischer-Burmeister Newton's (its natural-map error
