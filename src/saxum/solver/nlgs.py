@@ -504,10 +504,18 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     last = 2 * ndomains - 1          # [even, last), [last, last + 1)
     n = v.shape[0]
     nfixed = (vx.shape[0] - n) // (2 * ndomains)
-    for g in nb.prange(2 * ndomains):
-        _pack_range_2d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
-                       h_ant, delassus, bias, friction, impulse, ghost, rows, own,
-                       own_impulse)
+    # by blocks of rows, not by groups: the domains' groups are most of the rows
+    for k in nb.prange(-(-order.shape[0] // _ROW_BLOCK)):
+        lo = k * _ROW_BLOCK
+        hi = min(order.shape[0], lo + _ROW_BLOCK)
+        g = 0
+        while lo < hi:
+            while groups[g + 1] <= lo:
+                g += 1
+            end = min(hi, groups[g + 1])
+            _pack_range_2d(lo, end, n + g * nfixed, order, cand, ant, h_cand, h_ant, delassus,
+                           bias, friction, impulse, ghost, rows, own, own_impulse)
+            lo = end
     packed = order.shape[0]
     if joints is not None:
         packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
@@ -553,14 +561,18 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         error = _parallel_change(v_own, v_prev, v_free, mass, sums)
         if error <= tolerance:
             break
-    for g in nb.prange(2 * ndomains):
-        for i in range(groups[g], groups[g + 1]):
+    for k in nb.prange(-(-order.shape[0] // _ROW_BLOCK)):
+        for i in range(k * _ROW_BLOCK, min(order.shape[0], (k + 1) * _ROW_BLOCK)):
             impulse[order[i], 0] = own_impulse[i, 0]
             impulse[order[i], 1] = own_impulse[i, 1]
     for b in nb.prange(n):
         for d in range(3):
             v[b, d] = vx[b, d]
     return it, error
+
+
+_ROW_BLOCK = 4096
+"""Packed rows per block of nlgs_2d_domains' packing and of its impulses' copy back."""
 
 
 @nb.njit(cache=True)
@@ -631,22 +643,28 @@ def body_domains(free: np.ndarray, domains: int | None) -> tuple[np.ndarray, int
     return domain, n
 
 
-@nb.njit(cache=True)
+@nb.njit(parallel=True, cache=True)
 def _same_pairs(cand, ant, active, count, pairs):
     """Whether the first `count` contacts' candidates, antagonists and active flags are those
-    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there."""
-    same = count == pairs.shape[1] or pairs[0, count] == -1
-    for a in range(count):
-        if not same:
-            break
-        same = pairs[0, a] == cand[a] and pairs[1, a] == ant[a] and pairs[2, a] == active[a]
-    if same:
+    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there. By
+    blocks of _ROW_BLOCK contacts on numba's threads."""
+    blocks = -(-count // _ROW_BLOCK)
+    differ = np.zeros(blocks, dtype=np.bool_)
+    for k in nb.prange(blocks):
+        for a in range(k * _ROW_BLOCK, min(count, (k + 1) * _ROW_BLOCK)):
+            if pairs[0, a] != cand[a] or pairs[1, a] != ant[a] or pairs[2, a] != active[a]:
+                differ[k] = True
+                break
+    if (count == pairs.shape[1] or pairs[0, count] == -1) and not differ.any():
         return True
-    pairs[:, :] = -1
-    for a in range(count):
-        pairs[0, a] = cand[a]
-        pairs[1, a] = ant[a]
-        pairs[2, a] = active[a]
+    for k in nb.prange(-(-pairs.shape[1] // _ROW_BLOCK)):
+        for a in range(k * _ROW_BLOCK, min(pairs.shape[1], (k + 1) * _ROW_BLOCK)):
+            if a < count:
+                pairs[0, a] = cand[a]
+                pairs[1, a] = ant[a]
+                pairs[2, a] = active[a]
+            else:
+                pairs[0, a] = pairs[1, a] = pairs[2, a] = -1
     return False
 
 
