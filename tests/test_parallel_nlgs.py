@@ -102,7 +102,7 @@ def test_parallel_kernels_are_the_serial_ones():
     and end gaps, the serial step bit for bit."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has one thread here")
-    model = running_bond_wall(courses=40, bricks=50)
+    model = running_bond_wall(courses=40, bricks=50, brick_height=0.065)
     q0 = model.body_q0.copy()
     free = model.body_kind == sx.BodyKind.FREE
     q0[free, 1] += 0.06 * np.minimum(q0[free, 1], 4 * 0.065)
