@@ -172,7 +172,8 @@ class NLGS(ContactSolver):
         self._pairs = np.full((3, 0), -1)
         """The active contacts' candidates, antagonists and flags of the last partition."""
         self._partitioned = None
-        """partition_contacts_2d's (order, groups) for _pairs: _partition."""
+        """partition_contacts_2d's (order, groups) and change_runs_2d's (runs, run_start) for
+        _pairs: _partition."""
         self._own = (np.empty((0, 18)), np.empty((2, 0), dtype=np.int64), np.empty((0, 2)),
                      np.empty((0, 3)))
         """nlgs_2d_domains' work memory (rows, own, own_impulse, vx)."""
@@ -320,9 +321,10 @@ class NLGS(ContactSolver):
             self._pairs = np.full((3, max(count, 2 * self._pairs.shape[1])), -1)
             self._partitioned = None
         if not _same_pairs(cand, ant, active, count, self._pairs) or self._partitioned is None:
-            self._partitioned = partition_contacts_2d(cand, ant, active, count,
-                                                      *self._domains[:2])
-        order, groups = self._partitioned
+            order, groups = partition_contacts_2d(cand, ant, active, count, *self._domains[:2])
+            self._partitioned = (order, groups,
+                                 *change_runs_2d(cand, ant, order, groups, *self._domains[:2]))
+        order, groups, runs, run_start = self._partitioned
         domain, n, ghost, inv_mass_x = self._domains
         rows, own, own_impulse, vx = self._own
         if len(rows) < len(order) or vx.shape != inv_mass_x.shape:
@@ -330,7 +332,7 @@ class NLGS(ContactSolver):
             self._own = rows, own, own_impulse, vx = (
                 np.empty((size, 18)), np.empty((2, size), dtype=np.int64),
                 np.empty((size, 2)), np.empty_like(inv_mass_x))
-        return order, groups, ghost, rows, own, own_impulse, vx, inv_mass_x
+        return order, groups, runs, run_start, ghost, rows, own, own_impulse, vx, inv_mass_x
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
@@ -479,8 +481,8 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 @nb.njit(parallel=True, cache=True)
 def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
-                    groups, ghost, rows, own, own_impulse, vx, inv_mass_x, tolerance,
-                    max_iterations, relaxation):
+                    groups, runs, run_start, ghost, rows, own, own_impulse, vx, inv_mass_x,
+                    tolerance, max_iterations, relaxation):
     """nlgs_2d with its dry contacts swept domain by domain (partition_contacts_2d): the
     domains' own contacts in parallel (numba threads), then the contacts across the even cuts
     between domains in parallel, then those across the odd cuts, then the rest; each group's
@@ -489,13 +491,17 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     nlgs_2d's): the groups swept together write the velocities of disjoint free bodies, and
     each group has its own copy of the fixed bodies' velocities (which a push changes by
     0 x dR: read by all, written by each into its own), so the result is the same bit for bit
-    whatever the number of threads; the error's sums go by fixed blocks of bodies
-    (_parallel_change). One domain gives nlgs_2d's order and arithmetic. The joints are
-    swept after, in order, as nlgs_2d does.
+    whatever the number of threads. The error's sums go by the runs of bodies of
+    change_runs_2d: each domain's own, in the parallel region that swept it, right after
+    its sweep, then the others (the bodies of the contacts across the cuts), added in that
+    order; with joints, by fixed blocks of bodies after them (_parallel_change). One domain
+    gives nlgs_2d's order and arithmetic. The joints are swept after, in order, as nlgs_2d
+    does.
 
-    order, groups from partition_contacts_2d; ghost [int] per body: -1 for a free body, a
-    fixed one's rank among the fixed ones (nfixed in all), whose copy for group g is row
-    n + g nfixed + rank of vx (n bodies) and of inv_mass_x (inv_mass, then zeros). Work
+    order, groups from partition_contacts_2d, runs and run_start from change_runs_2d;
+    ghost [int] per body: -1 for a free body, a fixed one's rank among the fixed ones (nfixed
+    in all), whose copy for group g is row n + g nfixed + rank of vx (n bodies) and of
+    inv_mass_x (inv_mass, then zeros). Work
     memory: rows (at least len(order) x 18), own (int64, 2 x len(order): candidates,
     antagonists as rows of vx) and own_impulse (len(order) x 2), the dry contacts' in the
     sweep's order; vx (as inv_mass_x)."""
@@ -531,6 +537,7 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
                     vx[n + g * nfixed + ghost[b], d] = v[b, d]
     v_own = vx[:n]
     sums = np.empty((-(-n // _SUM_BODIES), 3))
+    run_sums = np.empty((ndomains + 1, 3))
     error = np.inf
     it = 0
     _parallel_change(v_own, v_prev, v_free, mass, sums)
@@ -539,6 +546,9 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         for g in nb.prange(ndomains):
             _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse, inv_mass_x,
                             relaxation)
+            if joints is None:
+                run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
+                    runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
         if even - ndomains > 1:
             for g in nb.prange(ndomains, even):
                 _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse,
@@ -558,7 +568,17 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         if joints is not None:
             _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
                             relaxation, None)
-        error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+            error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+        else:
+            run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = _runs_change(
+                runs, run_start[ndomains], run_start[ndomains + 1], v_own, v_prev, v_free,
+                mass)
+            num = den = size = 0.0
+            for k in range(ndomains + 1):
+                num += run_sums[k, 0]
+                den += run_sums[k, 1]
+                size += run_sums[k, 2]
+            error = change_ratio(num, den, size)
         if error <= tolerance:
             break
     for k in nb.prange(-(-order.shape[0] // _ROW_BLOCK)):
@@ -573,6 +593,18 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
 
 _ROW_BLOCK = 4096
 """Packed rows per block of nlgs_2d_domains' packing and of its impulses' copy back."""
+
+
+@nb.njit(inline="always")
+def _runs_change(runs, lo, hi, v, v_prev, v_free, mass):
+    """change_sums (from zero) over the runs of bodies runs[lo:hi] (change_runs_2d), in
+    order."""
+    num = den = size = 0.0
+    for r in range(lo, hi):
+        b, e = runs[r, 0], runs[r, 1]
+        num, den, size = change_sums(v[b:e], v_prev[b:e], v_free[b:e], mass[b:e], num, den,
+                                     size)
+    return num, den, size
 
 
 @nb.njit(cache=True)
@@ -707,6 +739,44 @@ def partition_contacts_2d(cand, ant, active, count, domain, ndomains):
             order[fill[group[a]]] = a
             fill[group[a]] += 1
     return order, size
+
+
+@nb.njit(cache=True)
+def change_runs_2d(cand, ant, order, groups, domain, ndomains):
+    """Where nlgs_2d_domains sums its error: domain d's free bodies (body_domains) that no
+    contact across a cut touches (partition_contacts_2d's order, groups), right after the
+    sweep of d, and the other free bodies after the cuts. Returns (runs, run_start): runs
+    (int64, r x 2) of consecutive bodies [b, e), those of domain d runs[run_start[d]:
+    run_start[d + 1]] and the others runs[run_start[ndomains]:run_start[ndomains + 1]], each
+    in the bodies' order; a function of the contacts and the domains, not of the threads."""
+    n = domain.shape[0]
+    where = domain.copy()  # -1: fixed, in no run
+    for i in range(groups[ndomains], groups[2 * ndomains]):
+        for b in (cand[order[i]], ant[order[i]]):
+            if where[b] >= 0:
+                where[b] = ndomains
+    run_start = np.zeros(ndomains + 2, dtype=np.int64)
+    runs = np.empty((0, 2), dtype=np.int64)
+    for fill in range(2):  # count the runs, then write them
+        at = run_start[:-1].copy()
+        b = 0
+        while b < n:
+            e = b + 1
+            while e < n and where[e] == where[b]:
+                e += 1
+            if where[b] >= 0:
+                if fill:
+                    runs[at[where[b]], 0] = b
+                    runs[at[where[b]], 1] = e
+                    at[where[b]] += 1
+                else:
+                    run_start[where[b] + 1] += 1
+            b = e
+        if not fill:
+            for k in range(ndomains + 1):
+                run_start[k + 1] += run_start[k]
+            runs = np.empty((run_start[-1], 2), dtype=np.int64)
+    return runs, run_start
 
 
 @nb.njit(inline="always")
