@@ -26,6 +26,7 @@ machine changes far less than the wall time.
 
     python benchmarks/parallel_nlgs.py                               # all cases
     python benchmarks/parallel_nlgs.py --cases "rest 160x100" --steps 10 --repeats 1
+    python benchmarks/parallel_nlgs.py --cases "shaken 50x40" --warm 110 --steps 3
     NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
 """
 
@@ -134,11 +135,14 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=20)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--cases", default=",".join(CASES), help="comma-separated names")
+    parser.add_argument("--warm", type=int, default=None,
+                        help="steps before the timed ones (default: the case's)")
     args = parser.parse_args()
     print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}; load average "
           f"{os.getloadavg()[0]:.1f} at the start", flush=True)
     for name in args.cases.split(","):
         build, small, warm = CASES[name]
+        warm = warm if args.warm is None else args.warm
         model = build()
         for threads in VARIANTS.values():  # compile (or load) every kernel first
             _run(small(), threads, 1, 1)
