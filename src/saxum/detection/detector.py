@@ -12,7 +12,7 @@ from ..bodies.rigid2d import world_geometry, world_geometry_range
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model, Shape
-from .broadphase import bounding_boxes, grid_pairs, sort_pairs
+from .broadphase import bounding_boxes, grid_pairs, grid_pairs_parallel, sort_pairs
 from .fe_nodes import node_contacts
 from .fe_nodes3d import node_contacts_3d
 from .polygons import PAIR_BLOCK, polygon_contacts, polygon_contacts_parallel
@@ -161,11 +161,14 @@ class Detector:
         self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
         """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
         self.parallel = False
-        """Run the world geometry and the narrow phase of a 2D model on numba's threads
-        (_geometry_parallel, polygon_contacts_parallel: the same contacts bit for bit):
+        """Run the world geometry, the broad phase and the narrow phase of a 2D model on
+        numba's threads (_geometry_parallel, grid_pairs_parallel, polygon_contacts_parallel:
+        the same contacts bit for bit):
         Simulation sets it where the solver's threads are set."""
         self._scratch = Contacts(model.dim)
         """The parallel narrow phase's rows per block of pairs."""
+        self._pair_scratch = np.empty((0, 2), dtype=np.int32)
+        """The parallel broad phase's pairs per block of bodies (grid_pairs_parallel)."""
         self._block_start = np.zeros(1, dtype=np.int64)
         """Where the parallel narrow phase's blocks of pairs began their contacts last time."""
         self._in_place = False
@@ -305,8 +308,14 @@ class Detector:
         bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.widest_alert + self.margin),
                        self._lo, self._hi)
         while True:
-            count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
-                               self._pairs)
+            if self.parallel:
+                if len(self._pair_scratch) != len(self._pairs):
+                    self._pair_scratch = np.empty_like(self._pairs)
+                count = grid_pairs_parallel(self._lo, self._hi, self._mobile, self._large,
+                                            self._cell, self._pairs, self._pair_scratch)
+            else:
+                count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
+                                   self._pairs)
             if count <= len(self._pairs):
                 break
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
