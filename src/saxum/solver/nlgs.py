@@ -510,10 +510,12 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     last = 2 * ndomains - 1          # [even, last), [last, last + 1)
     n = v.shape[0]
     nfixed = (vx.shape[0] - n) // (2 * ndomains)
-    # by blocks of rows, not by groups: the domains' groups are most of the rows
-    for k in nb.prange(-(-order.shape[0] // _ROW_BLOCK)):
-        lo = k * _ROW_BLOCK
-        hi = min(order.shape[0], lo + _ROW_BLOCK)
+    # one parallel region: the rows by blocks (not by groups: the domains' groups are most
+    # of the rows) and, in as many blocks, the bodies' vx = v (with the fixed ones' copies)
+    # and v_prev = v
+    blocks = max(1, -(-order.shape[0] // _ROW_BLOCK))
+    for k in nb.prange(blocks):
+        lo, hi = _share(k, blocks, order.shape[0])
         g = 0
         while lo < hi:
             while groups[g + 1] <= lo:
@@ -522,25 +524,25 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
             _pack_range_2d(lo, end, n + g * nfixed, order, cand, ant, h_cand, h_ant, delassus,
                            bias, friction, impulse, ghost, rows, own, own_impulse)
             lo = end
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(3):
+                vx[b, d] = v_prev[b, d] = v[b, d]
+            if ghost[b] >= 0:
+                for g in range(2 * ndomains):
+                    for d in range(3):
+                        vx[n + g * nfixed + ghost[b], d] = v[b, d]
     packed = order.shape[0]
     if joints is not None:
         packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
                                   law_map)
     if packed == 0:
         return 0, 0.0
-    for b in nb.prange(n):
-        for d in range(3):
-            vx[b, d] = v[b, d]
-        if ghost[b] >= 0:
-            for g in range(2 * ndomains):
-                for d in range(3):
-                    vx[n + g * nfixed + ghost[b], d] = v[b, d]
     v_own = vx[:n]
     sums = np.empty((-(-n // _SUM_BODIES), 3))
     run_sums = np.empty((ndomains + 1, 3))
     error = np.inf
     it = 0
-    _parallel_change(v_own, v_prev, v_free, mass, sums)
     while it < max_iterations:
         it += 1
         for g in nb.prange(ndomains):
@@ -581,18 +583,27 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
             error = change_ratio(num, den, size)
         if error <= tolerance:
             break
-    for k in nb.prange(-(-order.shape[0] // _ROW_BLOCK)):
-        for i in range(k * _ROW_BLOCK, min(order.shape[0], (k + 1) * _ROW_BLOCK)):
+    for k in nb.prange(blocks):  # back, in one parallel region as well
+        lo, hi = _share(k, blocks, order.shape[0])
+        for i in range(lo, hi):
             impulse[order[i], 0] = own_impulse[i, 0]
             impulse[order[i], 1] = own_impulse[i, 1]
-    for b in nb.prange(n):
-        for d in range(3):
-            v[b, d] = vx[b, d]
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(3):
+                v[b, d] = vx[b, d]
     return it, error
 
 
 _ROW_BLOCK = 4096
-"""Packed rows per block of nlgs_2d_domains' packing and of its impulses' copy back."""
+"""Packed rows per block (at most) of nlgs_2d_domains' packing and of its impulses' copy
+back."""
+
+
+@nb.njit(inline="always")
+def _share(k, blocks, size):
+    """Block k's range [lo, hi) of `blocks` nearly equal blocks of range(size)."""
+    return k * size // blocks, (k + 1) * size // blocks
 
 
 @nb.njit(inline="always")
