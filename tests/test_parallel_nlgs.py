@@ -112,7 +112,7 @@ def test_parallel_kernels_are_the_serial_ones():
         sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
         state = sim.initial_state()
         counts = []
-        sim.run(state, 0.05, callback=lambda s, r: counts.append(s.contacts.count))
+        sim.run(state, 0.05, callback=lambda s, r, found=counts: found.append(s.contacts.count))
         runs.append((sim, state))
     assert runs[0][1].contacts.count > 2 * 4096
     assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
