@@ -91,11 +91,14 @@ class ContactProblem:
         self.v_begin = v_begin
         c = contacts
         if self._written_out:
-            kernel = _assemble_2d_parallel if self.parallel else _assemble_2d
-            kernel(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,
-                   m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
-                   theta, closed_gap, c.impulse, v, self.h_cand, self.h_ant, self.delassus,
-                   self.bias, self.friction, self.active)
+            args = (q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,
+                    m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution,
+                    h, theta, closed_gap, c.impulse, v, self.h_cand, self.h_ant,
+                    self.delassus, self.bias, self.friction, self.active)
+            if self.parallel:
+                _assemble_2d_parallel(*args, nb.get_num_threads())
+            else:
+                _assemble_2d(*args)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         else:
@@ -254,18 +257,39 @@ _rows_3d_parallel)."""
 @nb.njit(parallel=True, cache=True)
 def _assemble_2d_parallel(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
                           law_kind, law_friction, law_restitution, h, theta, closed_gap,
-                          impulse, v, h_cand, h_ant, delassus, bias, friction, active):
+                          impulse, v, h_cand, h_ant, delassus, bias, friction, active, runs):
     """_assemble_2d on numba's threads, the same numbers bit for bit: the contacts' rows by
-    blocks in parallel (each contact's own), then the warm start in their order (it adds
-    into the bodies' velocities, each body's impulses in the serial order)."""
+    blocks in parallel (each contact's own), then the warm start by `runs` runs of bodies
+    (the threads) in parallel, each run's pushes in the contacts' order (so each body's sum
+    in the serial order, whatever the runs)."""
     for k in nb.prange(-(-count // _BLOCK)):
         _contact_rows_range_2d(k * _BLOCK, min(count, (k + 1) * _BLOCK), q, cand, ant, point,
                                frame, gap, law, inv_mass, v_begin, law_kind, law_friction,
                                law_restitution, h * theta, closed_gap, impulse, h_cand, h_ant,
                                delassus, bias, friction, active)
+    for k in nb.prange(runs):
+        _warm_start_bodies_2d(k * v.shape[0] // runs, (k + 1) * v.shape[0] // runs, count,
+                              cand, ant, active, inv_mass, impulse, v, h_cand, h_ant)
+
+
+@nb.njit(cache=True)
+def _warm_start_bodies_2d(lo, hi, count, cand, ant, active, inv_mass, impulse, v, h_cand,
+                          h_ant):
+    """_warm_start_2d of the active contacts, in their order, into the velocities of the
+    bodies lo .. hi - 1 only (each body's terms as _warm_start_2d's)."""
     for a in range(count):
-        if active[a]:
-            _warm_start_2d(a, cand, ant, inv_mass, impulse, v, h_cand, h_ant)
+        if not active[a]:
+            continue
+        rt = impulse[a, 0]
+        rn = impulse[a, 1]
+        c = cand[a]
+        if lo <= c < hi:
+            for d in range(3):
+                v[c, d] += inv_mass[c, d] * (h_cand[a, 0, d] * rt + h_cand[a, 1, d] * rn)
+        b = ant[a]
+        if lo <= b < hi:
+            for d in range(3):
+                v[b, d] += inv_mass[b, d] * (h_ant[a, 0, d] * rt + h_ant[a, 1, d] * rn)
 
 
 @nb.njit(cache=True)
