@@ -13,6 +13,8 @@ Heyman's 0.106, J. Heyman, Int. J. Mech. Sci. 11 (1969) 363-385), so both must s
 one of t/R = 0.09 must not (the control that shows the run long enough to tell).
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -109,3 +111,35 @@ def test_imported_example_gives_the_original_verdict(tmp_path, name):
         assert expected  # t/R = 0.09 < 0.1075: the crown falls
     else:
         assert expected == set()  # the 3D wall, the vault (t/R = 0.15) and the arch stand
+
+
+ARCH_2D = Path(__file__).parents[1] / "data" / "lmgc90" / "arch2d"
+"""LMGC90's RIGID_2D/arche_plein_ceintre_2D as a DATBOX: examples/lmgc90_arch.py's arch (the
+example's numbers: 11 voussoirs, joints open by pi/100, IQS_CLB_g0 between voussoirs, IQS_CLB
+on the JONCx foundation, alert pi/100 m) written by export_lmgc90 in LMGC90's fixed columns."""
+
+
+def test_lmgc90_arch_with_open_joints_stands_under_its_g0_law(tmp_path):
+    """LMGC90's verdict for its arch: it stands (its command.py runs 100 steps of 1e-3 s; the
+    _g0 law makes the joints, open by pi/100, act as closed). Imported through the scenario
+    path, the crown goes down less than SETTLED (measured 0.1 um); the same scenario with
+    the _g0 key removed (IQS_CLB between voussoirs) is the control: its crown falls (49 mm,
+    free fall for 0.1 s)."""
+    imported = import_lmgc90(ARCH_2D)
+    assert all(law.initial_gap for (a, b), law in imported.laws.items() if a == b)
+    assert not any("_g0" in str(item) for item in imported.untranslated)
+    scenario = tmp_path / "arch.toml"
+    imported.write_scenario(scenario, duration=0.1, dt=1e-3)
+    text = scenario.read_text(encoding="utf-8")
+    assert text.count("initial_gap = true") == 1
+    plain = tmp_path / "plain.toml"
+    plain.write_text(text.replace("initial_gap = true", ""), encoding="utf-8")
+    crown = "voussoir 6"
+    drops = []
+    for path in (scenario, plain):
+        sim = load_scenario(path).build_simulation()
+        state = sim.initial_state()
+        sim.run(state, 0.1)
+        b = sim.model.body(crown)
+        drops.append(float(sim.model.body_q0[b, 1] - state.body_q[b, 1]))
+    assert drops[0] < SETTLED < drops[1]
