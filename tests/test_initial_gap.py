@@ -15,6 +15,7 @@ from saxum.runner import run_scenario
 from saxum.scenario import load_scenario, parse_scenario
 
 ARCH_2D = Path(__file__).parent / "data" / "lmgc90" / "arch2d"
+ARCH = Path(__file__).parents[1] / "examples" / "arch.toml"
 
 
 def test_initial_gap_is_carried_by_contact_key():
@@ -41,27 +42,13 @@ def test_initial_gap_only_for_the_signorini_laws(kind):
 
 
 def test_scenario_key():
-    text = """
-[structure]
-type = "semicircular_arch"
-radius = 1.0
-thickness = 0.15
-voussoirs = 9
-[[laws]]
-groups = ["voussoir", "voussoir"]
-friction = 0.6
-kind = "signorini_coulomb"
-initial_gap = true
-[[laws]]
-groups = ["voussoir", "support"]
-friction = 0.6
-[output]
-duration = 0.1
-"""
+    text = ARCH.read_text(encoding="utf-8").replace(
+        'groups = ["voussoir", "voussoir"]\n',
+        'groups = ["voussoir", "voussoir"]\nkind = "signorini_coulomb"\ninitial_gap = true\n')
     model = parse_scenario(text).build_model()
-    laws = {model.group_names[i]: model.laws[model.group_law[i, model.group_names.index(
-        "voussoir")]] for i in range(len(model.group_names))}
-    assert laws["voussoir"].initial_gap and not laws["support"].initial_gap
+    voussoir, support = (model.group_names.index(g) for g in ("voussoir", "support"))
+    assert model.laws[model.group_law[voussoir, voussoir]].initial_gap
+    assert not model.laws[model.group_law[voussoir, support]].initial_gap
     assert model.law_initial_gap.tolist().count(True) == 1
     with pytest.raises(InputError, match="initial_gap"):
         parse_scenario(text.replace('kind = "signorini_coulomb"',
