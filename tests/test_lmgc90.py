@@ -20,6 +20,7 @@ from saxum import NO_CONTACT, BodyKind, ContactLaw, DetectionSettings, LawKind, 
 from saxum.cli import main
 from saxum.errors import InputError, OverlapError
 from saxum.lmgc90 import OVERLAP_TOLERANCE, export_lmgc90, import_lmgc90
+from saxum.lmgc90.vlocrloc import read_vloc_rloc
 from saxum.scenario import load_scenario, parse_scenario
 
 DATA = Path(__file__).parent / "data" / "lmgc90"
@@ -210,6 +211,22 @@ def test_g0_laws_round_trip(tmp_path):
     _same_models(model, back.model(), 1e-12)
     back.write_scenario(tmp_path / "model.toml")
     _same_models(model, load_scenario(tmp_path / "model.toml").build_model(), 1e-12)
+    # a state's Vloc_Rloc.INI: each contact of a _g0 law ends with LMGC90's internal
+    # variables, a '#' line naming them and their values (g_ref = g0 last, 7 digits)
+    sim = Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.01)
+    export_lmgc90(model, tmp_path / "STATE", state=state, dt=1e-3)
+    lines = (tmp_path / "STATE" / "Vloc_Rloc.INI").read_text().splitlines()
+    names = [k for k, line in enumerate(lines) if line.startswith("#")]
+    c = state.contacts
+    assert len(names) == c.count and c.count > 0
+    iqs = [lines[k] for k in names].count("#g_ref         ")
+    assert iqs == int(np.count_nonzero(c.law[:c.count] == model.group_law[0, 1]))
+    values = [float(lines[k + 1].split()[-1].replace("D", "E")) for k in names]
+    np.testing.assert_allclose(values, c.initial_gap[:c.count], rtol=5e-8, atol=0.0)
+    assert max(values) > 0.005  # the 1 cm gap between the stones
+    assert len(read_vloc_rloc(tmp_path / "STATE" / "Vloc_Rloc.INI")) == c.count
 
 
 def test_scenario_from_import_runs_like_the_python_model(tmp_path):
