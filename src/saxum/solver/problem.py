@@ -44,6 +44,10 @@ class ContactProblem:
         numbers bit for bit): Simulation sets it where the solver's threads are set."""
         self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())
         """Whether some law is a joint law (saxum.solver.laws_local): then law_map is filled."""
+        self._initial_gaps = bool(model.law_initial_gap.any())
+        """Whether some law is a _g0 law (saxum.laws): its contacts' b_n are taken again from
+        g - g0 after the assembly (a pass of their own, which costs models without them
+        nothing)."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -92,17 +96,16 @@ class ContactProblem:
         c = contacts
         if self._written_out:
             kernel = _assemble_2d_parallel if self.parallel else _assemble_2d
-            kernel(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.initial_gap, c.law,
-                   k, m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution,
-                   h, theta, closed_gap, c.impulse, v, self.h_cand, self.h_ant, self.delassus,
+            kernel(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,
+                   m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
+                   theta, closed_gap, c.impulse, v, self.h_cand, self.h_ant, self.delassus,
                    self.bias, self.friction, self.active)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         else:
             self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
                             self.h_cand, self.h_ant)
-            _assemble(c.candidate, c.antagonist, c.law, c.gap, c.initial_gap, k, self.h_cand,
-                      self.h_ant,
+            _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
                       m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
                       m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
                       self.friction, self.active)
@@ -110,6 +113,9 @@ class ContactProblem:
                    m.body_inv_mass, c.impulse, v)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
+        if self._initial_gaps:
+            _initial_gap_bias(c.law, c.gap, c.initial_gap, k, m.law_kind, m.law_initial_gap,
+                              closed_gap, h * theta, self.bias)
         if self.joint_laws:
             self.local_velocities(v_begin, self.u_begin, begin=True)
             law_terms(c.law, c.gap, c.area, c.slip, c.damage, c.history, k, self.u_begin,
@@ -155,7 +161,7 @@ def _local_velocity(h_cand, h_ant, a, r, c, b, v):
 @nb.njit(inline="always")
 def _law(kind, restitution, gap, un_begin, closed_gap, h_theta):
     """(active, b_n [m/s]) of a contact with gap g [m] under a law of `kind` (a _g0 law's
-    g - g0, saxum.laws); un_begin [m/s] is U_n at the start of the step (used by
+    g - g0: _initial_gap_bias); un_begin [m/s] is U_n at the start of the step (used by
     restitution only)."""
     if kind == _RESTITUTION:
         return gap <= closed_gap, restitution * min(un_begin, 0.0)
@@ -169,9 +175,9 @@ def _law(kind, restitution, gap, un_begin, closed_gap, h_theta):
 
 
 @nb.njit(cache=True)
-def _assemble(cand, ant, law, gap, initial_gap, count, h_cand, h_ant, inv_mass, v_begin,
-              law_kind, law_friction, law_restitution, h, theta, closed_gap, delassus, bias,
-              friction, active):
+def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_kind,
+              law_friction, law_restitution, h, theta, closed_gap, delassus, bias, friction,
+              active):
     dim = h_cand.shape[1]
     h_theta = h * theta
     for a in range(count):
@@ -187,8 +193,19 @@ def _assemble(cand, ant, law, gap, initial_gap, count, h_cand, h_ant, inv_mass, 
         kind = law_kind[law[a]]
         friction[a] = law_friction[law[a]]
         un = _local_velocity(h_cand, h_ant, a, 1, c, b, v_begin) if kind == _RESTITUTION else 0.0
-        active[a], bias[a] = _law(kind, law_restitution[law[a]], gap[a] - initial_gap[a], un,
-                                  closed_gap, h_theta)
+        active[a], bias[a] = _law(kind, law_restitution[law[a]], gap[a], un, closed_gap,
+                                  h_theta)
+
+
+@nb.njit(cache=True)
+def _initial_gap_bias(law, gap, initial_gap, count, law_kind, law_initial_gap, closed_gap,
+                      h_theta, bias):
+    """b_n [m/s] of the _g0 laws' contacts: _law on g - g0 [m] (the Signorini laws, always
+    active, so the assembly's active flags and warm start stand)."""
+    for a in range(count):
+        if law_initial_gap[law[a]]:
+            bias[a] = _law(law_kind[law[a]], 0.0, gap[a] - initial_gap[a], 0.0, closed_gap,
+                           h_theta)[1]
 
 
 @nb.njit(cache=True)
@@ -211,16 +228,15 @@ def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
 
 
 @nb.njit(cache=True)
-def _assemble_2d(q, cand, ant, point, frame, gap, initial_gap, law, count, inv_mass, v_begin,
-                 law_kind, law_friction, law_restitution, h, theta, closed_gap, impulse, v,
-                 h_cand, h_ant, delassus, bias, friction, active):
+def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin, law_kind,
+                 law_friction, law_restitution, h, theta, closed_gap, impulse, v, h_cand, h_ant,
+                 delassus, bias, friction, active):
     """rigid2d.contact_jacobians, _assemble and _apply in one pass, written out for 3 dof, in
     the same order of operations (the same numbers bit for bit)."""
     for a in range(count):
-        if _contact_rows_2d(a, q, cand, ant, point, frame, gap, initial_gap, law, inv_mass,
-                            v_begin, law_kind, law_friction, law_restitution, h * theta,
-                            closed_gap, impulse, h_cand, h_ant, delassus, bias, friction,
-                            active):
+        if _contact_rows_2d(a, q, cand, ant, point, frame, gap, law, inv_mass, v_begin,
+                            law_kind, law_friction, law_restitution, h * theta, closed_gap,
+                            impulse, h_cand, h_ant, delassus, bias, friction, active):
             _warm_start_2d(a, cand, ant, inv_mass, impulse, v, h_cand, h_ant)
 
 
@@ -229,40 +245,38 @@ _BLOCK = 4096
 
 
 @nb.njit(parallel=True, cache=True)
-def _assemble_2d_parallel(q, cand, ant, point, frame, gap, initial_gap, law, count, inv_mass,
-                          v_begin, law_kind, law_friction, law_restitution, h, theta,
-                          closed_gap, impulse, v, h_cand, h_ant, delassus, bias, friction,
-                          active):
+def _assemble_2d_parallel(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
+                          law_kind, law_friction, law_restitution, h, theta, closed_gap,
+                          impulse, v, h_cand, h_ant, delassus, bias, friction, active):
     """_assemble_2d on numba's threads, the same numbers bit for bit: the contacts' rows by
     blocks in parallel (each contact's own), then the warm start in their order (it adds
     into the bodies' velocities, each body's impulses in the serial order)."""
     for k in nb.prange(-(-count // _BLOCK)):
         _contact_rows_range_2d(k * _BLOCK, min(count, (k + 1) * _BLOCK), q, cand, ant, point,
-                               frame, gap, initial_gap, law, inv_mass, v_begin, law_kind,
-                               law_friction, law_restitution, h * theta, closed_gap, impulse,
-                               h_cand, h_ant, delassus, bias, friction, active)
+                               frame, gap, law, inv_mass, v_begin, law_kind, law_friction,
+                               law_restitution, h * theta, closed_gap, impulse, h_cand, h_ant,
+                               delassus, bias, friction, active)
     for a in range(count):
         if active[a]:
             _warm_start_2d(a, cand, ant, inv_mass, impulse, v, h_cand, h_ant)
 
 
 @nb.njit(cache=True)
-def _contact_rows_range_2d(lo, hi, q, cand, ant, point, frame, gap, initial_gap, law,
-                           inv_mass, v_begin, law_kind, law_friction, law_restitution, h_theta,
-                           closed_gap, impulse, h_cand, h_ant, delassus, bias, friction,
-                           active):
+def _contact_rows_range_2d(lo, hi, q, cand, ant, point, frame, gap, law, inv_mass, v_begin,
+                           law_kind, law_friction, law_restitution, h_theta, closed_gap,
+                           impulse, h_cand, h_ant, delassus, bias, friction, active):
     """_contact_rows_2d of the contacts lo .. hi - 1: a function of its own, which a parallel
     region calls (its loop compiles as a serial one's)."""
     for a in range(lo, hi):
-        _contact_rows_2d(a, q, cand, ant, point, frame, gap, initial_gap, law, inv_mass,
-                         v_begin, law_kind, law_friction, law_restitution, h_theta, closed_gap,
-                         impulse, h_cand, h_ant, delassus, bias, friction, active)
+        _contact_rows_2d(a, q, cand, ant, point, frame, gap, law, inv_mass, v_begin, law_kind,
+                         law_friction, law_restitution, h_theta, closed_gap, impulse, h_cand,
+                         h_ant, delassus, bias, friction, active)
 
 
 @nb.njit(inline="always")
-def _contact_rows_2d(a, q, cand, ant, point, frame, gap, initial_gap, law, inv_mass, v_begin,
-                     law_kind, law_friction, law_restitution, h_theta, closed_gap, impulse,
-                     h_cand, h_ant, delassus, bias, friction, active):
+def _contact_rows_2d(a, q, cand, ant, point, frame, gap, law, inv_mass, v_begin, law_kind,
+                     law_friction, law_restitution, h_theta, closed_gap, impulse, h_cand,
+                     h_ant, delassus, bias, friction, active):
     """Contact a's rows of H*, W, mu, b_n and active flag (_assemble_2d); an inactive one's
     impulse set to 0. Returns whether it is active."""
     c = cand[a]
@@ -314,8 +328,7 @@ def _contact_rows_2d(a, q, cand, ant, point, frame, gap, initial_gap, law, inv_m
         un = 0.0 + (nx * v_begin[c, 0] + -nx * v_begin[b, 0])
         un += ny * v_begin[c, 1] + -ny * v_begin[b, 1]
         un += cn * v_begin[c, 2] + an * v_begin[b, 2]
-    on, bias[a] = _law(kind, law_restitution[law[a]], gap[a] - initial_gap[a], un, closed_gap,
-                       h_theta)
+    on, bias[a] = _law(kind, law_restitution[law[a]], gap[a], un, closed_gap, h_theta)
     active[a] = on
     if not on:
         impulse[a, 0] = 0.0
