@@ -44,6 +44,10 @@ class ContactProblem:
         for bit): Simulation sets it where the solver's threads are set."""
         self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())
         """Whether some law is a joint law (saxum.solver.laws_local): then law_map is filled."""
+        self._initial_gaps = bool(model.law_initial_gap.any())
+        """Whether some law is a _g0 law (saxum.laws): its contacts' b_n are taken again from
+        g - g0 after the assembly (a pass of their own, which costs models without them
+        nothing)."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -119,6 +123,9 @@ class ContactProblem:
                    m.body_inv_mass, c.impulse, v)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
+        if self._initial_gaps:
+            _initial_gap_bias(c.law, c.gap, c.initial_gap, k, m.law_kind, m.law_initial_gap,
+                              closed_gap, h * theta, self.bias)
         if self.joint_laws:
             self.local_velocities(v_begin, self.u_begin, begin=True)
             law_terms(c.law, c.gap, c.area, c.slip, c.damage, c.history, k, self.u_begin,
@@ -163,8 +170,9 @@ def _local_velocity(h_cand, h_ant, a, r, c, b, v):
 
 @nb.njit(inline="always")
 def _law(kind, restitution, gap, un_begin, closed_gap, h_theta):
-    """(active, b_n [m/s]) of a contact with gap g [m] under a law of `kind`; un_begin [m/s]
-    is U_n at the start of the step (used by restitution only)."""
+    """(active, b_n [m/s]) of a contact with gap g [m] under a law of `kind` (a _g0 law's
+    g - g0: _initial_gap_bias); un_begin [m/s] is U_n at the start of the step (used by
+    restitution only)."""
     if kind == _RESTITUTION:
         return gap <= closed_gap, restitution * min(un_begin, 0.0)
     # Signorini and gap-based: an open contact may close exactly by the end of the step
@@ -215,6 +223,17 @@ def _rows_3d_parallel(q, cand, ant, point, frame, gap, law, count, h_cand, h_ant
                   h_ant[lo:hi], inv_mass, v_begin, law_kind, law_friction, law_restitution, h,
                   theta, closed_gap, delassus[lo:hi], bias[lo:hi], friction[lo:hi],
                   active[lo:hi])
+
+
+@nb.njit(cache=True)
+def _initial_gap_bias(law, gap, initial_gap, count, law_kind, law_initial_gap, closed_gap,
+                      h_theta, bias):
+    """b_n [m/s] of the _g0 laws' contacts: _law on g - g0 [m] (the Signorini laws, always
+    active, so the assembly's active flags and warm start stand)."""
+    for a in range(count):
+        if law_initial_gap[law[a]]:
+            bias[a] = _law(law_kind[law[a]], 0.0, gap[a] - initial_gap[a], 0.0, closed_gap,
+                           h_theta)[1]
 
 
 @nb.njit(cache=True)
