@@ -17,9 +17,19 @@ spin while they wait, CPU time that is not work) per step of detection, the warm
 the repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit
 for bit. On a shared machine only ratios from one run mean anything.
 
+Thread-time accounting (Linux: /proc/self/task/*/schedstat, each thread's time on a CPU and
+its time waiting for one): per step, the stepping thread's CPU time, the busiest other
+thread's and all of theirs. Under NUMBA_THREADING_LAYER=workqueue the stepping thread runs
+the serial parts and sleeps in the parallel regions while numba's threads run them (omp's
+threads spin instead, so use workqueue for this), so the stepping thread's time plus the
+busiest worker's estimates the step's time on idle cores: a lower bound (it leaves out the
+wake-ups and assumes the work of each region shared as the totals are), which a loaded
+machine changes far less than the wall time.
+
     python benchmarks/parallel_nlgs.py                               # all 2D cases
     python benchmarks/parallel_nlgs.py --3d --repeats 2              # the 3D cases
     python benchmarks/parallel_nlgs.py --cases "rest 160x100" --steps 10 --repeats 1
+    python benchmarks/parallel_nlgs.py --cases "shaken 50x40" --warm 110 --steps 3
     NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
 """
 
@@ -28,6 +38,7 @@ import collections
 import dataclasses
 import os
 import statistics
+import threading
 import time
 
 import numba
@@ -86,8 +97,32 @@ def _timed(owner, name, label, sums):
     return inner
 
 
+def _thread_times():
+    """{thread id: (ns on a CPU, ns waiting for one)} of this process's threads (Linux; {}
+    elsewhere)."""
+    times = {}
+    try:
+        for tid in os.listdir("/proc/self/task"):
+            with open(f"/proc/self/task/{tid}/schedstat") as f:
+                times[int(tid)] = np.array(f.read().split()[:2], dtype=float)
+    except OSError:
+        return {}
+    return times
+
+
+def _accounting(before, after, steps):
+    """(stepping thread's CPU, busiest other thread's, all other threads', stepping
+    thread's wait for a CPU) [s] per step between two _thread_times."""
+    main = threading.get_native_id()
+    spent = {t: (after[t] - before.get(t, 0.0)) * 1e-9 / steps for t in after}
+    mine = spent.pop(main, np.zeros(2))
+    others = [x[0] for x in spent.values()]
+    return np.array([mine[0], max(others, default=0.0), sum(others), mine[1]])
+
+
 def _run(model, threads, warm, steps):
-    """({stage: (wall s, CPU s) per step}, sweeps per step, final positions)."""
+    """({stage: (wall s, CPU s) per step, "threads": _accounting}, sweeps per step, final
+    positions)."""
     sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads))
     state = sim.initial_state()
     for _ in range(warm):
@@ -100,13 +135,16 @@ def _run(model, threads, warm, steps):
                                (sim, "step", "step")):
         _timed(owner, name, label, sums)
     carry = _timed(Contacts, "warm_start_from", "warm start", sums)
+    before = _thread_times()
     try:
         for _ in range(steps):
             sim.step(state)
     finally:
         Contacts.warm_start_from = carry
+    threads_spent = _accounting(before, _thread_times(), steps)
     sweeps = float(np.mean(sim.log.iterations[warm:]))
-    return {k: sums[k] / steps for k in STAGES}, sweeps, state.body_q.copy()
+    return ({**{k: sums[k] / steps for k in STAGES}, "threads": threads_spent}, sweeps,
+            state.body_q.copy())
 
 
 def main() -> None:
@@ -118,12 +156,15 @@ def main() -> None:
                              "all 3D ones)")
     parser.add_argument("--3d", dest="three", action="store_true",
                         help="the 3D cases (CASES_3D)")
+    parser.add_argument("--warm", type=int, default=None,
+                        help="steps before the timed ones (default: the case's)")
     args = parser.parse_args()
     cases = CASES_3D if args.three else CASES
     print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}; load average "
           f"{os.getloadavg()[0]:.1f} at the start", flush=True)
     for name in (args.cases or ",".join(cases)).split(","):
         build, small, warm = {**CASES, **CASES_3D}[name]
+        warm = warm if args.warm is None else args.warm
         model = build()
         for threads in VARIANTS.values():  # compile (or load) every kernel first
             _run(small(), threads, 1, 1)
@@ -150,6 +191,16 @@ def main() -> None:
                             ("serial", "1 thread")):
             cells = " | ".join(f"{med[top][k][0] / med[bottom][k][0]:.2f}" for k in STAGES)
             print(f"| speed-up {top} / {bottom} (wall) | {cells} | |")
+        print("\n| thread times per step [ms] | stepping thread | busiest other | all others "
+              "| stepping + busiest | speed-up over serial (estimate) | stepping thread's "
+              "wait for a CPU |\n|---|---|---|---|---|---|---|")
+        spent = {label: np.median([x[0]["threads"] for x in r], axis=0)
+                 for label, r in rows.items()}
+        serial = spent["serial"][0] + spent["serial"][1]
+        for label, (mine, busiest, others, wait) in spent.items():
+            print(f"| {label} | {1e3 * mine:.2f} | {1e3 * busiest:.2f} | {1e3 * others:.2f} | "
+                  f"{1e3 * (mine + busiest):.2f} | {serial / (mine + busiest):.2f} | "
+                  f"{1e3 * wait:.2f} |")
         print(flush=True)
     print(f"threading layer: {numba.threading_layer()}")
 

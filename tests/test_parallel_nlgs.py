@@ -85,22 +85,32 @@ def test_bad_settings():
 
 
 def test_parallel_kernels_are_the_serial_ones():
-    """A 40 x 40 wall at rest (about 9 600 contacts: three blocks of
-    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polygons._PAIR_BLOCK) on 2
-    threads with one domain: parallel narrow phase, assembly and end gaps, the serial step
-    bit for bit."""
+    """A 40 x 50 wall (over 10 000 contacts: three blocks of saxum.solver.problem._BLOCK,
+    and of pairs of saxum.detection.polygons.PAIR_BLOCK) whose first four courses are 6 % of
+    their height apart, so that they fall and land on each other one after the other, on 2
+    threads with one domain: parallel narrow phase (in place where its blocks found as many
+    contacts as in the step before, copied from scratch rows where they did not), assembly
+    and end gaps, the serial step bit for bit."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has one thread here")
-    model = running_bond_wall(courses=40, bricks=40)
+    model = running_bond_wall(courses=40, bricks=50, brick_height=0.065)
+    q0 = model.body_q0.copy()
+    free = model.body_kind == sx.BodyKind.FREE
+    q0[free, 1] += 0.06 * np.minimum(q0[free, 1], 4 * 0.065)
+    model = dataclasses.replace(model, body_q0=q0)
     runs = []
     for threads, domains in ((None, None), (2, 1)):
         sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
         state = sim.initial_state()
-        sim.run(state, 0.005)
+        counts = []
+        sim.run(state, 0.05, callback=lambda s, r, found=counts: found.append(s.contacts.count))
         runs.append((sim, state))
     assert runs[0][1].contacts.count > 2 * 4096
     assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
-    assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 2048
+    detector = runs[1][0].detector
+    assert detector.parallel and detector.pair_count > 2 * 2048
+    assert np.count_nonzero(np.diff(counts)) >= 2  # contacts found as courses land
+    assert 0 < detector.in_place_count < len(counts) - 1  # in place, and not
     same_runs(*runs)
     assert np.array_equal(runs[0][0].problem.gap_end, runs[1][0].problem.gap_end)
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)

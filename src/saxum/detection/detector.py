@@ -17,10 +17,10 @@ from ..bodies.rigid2d import contactor_coordinates, world_geometry, world_geomet
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model, Shape
-from .broadphase import bounding_boxes, grid_pairs, sort_pairs
+from .broadphase import bounding_boxes, grid_pairs, grid_pairs_parallel, sort_pairs
 from .fe_nodes import node_contacts
 from .fe_nodes3d import facet_planes, node_contacts_3d
-from .polygons import polygon_contacts, polygon_contacts_parallel
+from .polygons import PAIR_BLOCK, polygon_contacts, polygon_contacts_parallel
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts, polyhedron_contacts_parallel
 from .round import round_contacts
 
@@ -189,12 +189,21 @@ class Detector:
         self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
         """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
         self.parallel = False
-        """Run the world geometry and the narrow phase on numba's threads (_geometry_parallel,
-        polygon_contacts_parallel; in 3D _geometry_parallel_3d, polyhedron_contacts_parallel:
-        the same contacts bit for bit): Simulation sets it where the solver's threads are
-        set."""
+        """Run the world geometry, the broad phase (2D) and the narrow phase on numba's threads
+        (_geometry_parallel, grid_pairs_parallel, polygon_contacts_parallel; in 3D
+        _geometry_parallel_3d, polyhedron_contacts_parallel: the same contacts bit for bit):
+        Simulation sets it where the solver's threads are set."""
         self._scratch = Contacts(model.dim)
         """The parallel narrow phase's rows per block of pairs."""
+        self._pair_scratch = np.empty((0, 2), dtype=np.int32)
+        """The parallel broad phase's pairs per block of bodies (grid_pairs_parallel)."""
+        self._block_start = np.zeros(1, dtype=np.int64)
+        """Where the parallel narrow phase's blocks of pairs began their contacts last time."""
+        self._in_place = False
+        """Whether the last parallel narrow phase found as many contacts per block as the one
+        before it: the next tries writing its blocks in place (polygon_contacts_parallel)."""
+        self.in_place_count = 0
+        """Parallel narrow phases that wrote their blocks in place (no copy)."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
         self._round_room = (2 + model.max_vertices if (model.body_shape == Shape.CAPSULE).any()
@@ -247,19 +256,25 @@ class Detector:
                          + self._round_room * len(self._round_pairs))
         out = (contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
                contacts.point, contacts.frame, contacts.gap, contacts.area)
-        kernel = polygon_contacts
+        args = (self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
+                m.contactor_vertex_start, self._group, m.group_law,
+                m.law_points if self.slots > 2 else None, self.slots, self.alert,
+                self.law_alert, self._body_alert, self.reference_bias, m.max_vertices, q,
+                self._radius, *self._contactor_motion(), refresh, self._faces, self._slack)
         if self.parallel:
             self._scratch.reserve(self.slots * self.pair_count)
             s = self._scratch
-            kernel = polygon_contacts_parallel
-            out += (s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
-        contacts.count, self.kept_faces = kernel(
-            self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
-            m.contactor_vertex_start, self._group, m.group_law,
-            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
-            self._body_alert, self.reference_bias, m.max_vertices, q, self._radius,
-            *self._contactor_motion(), refresh, self._faces,
-            self._slack, *out)
+            blocks = -(-self.pair_count // PAIR_BLOCK)
+            if len(self._block_start) != blocks + 1:
+                self._block_start = np.zeros(blocks + 1, dtype=np.int64)
+                self._in_place = False
+            tried = self._in_place
+            contacts.count, self.kept_faces, self._in_place = polygon_contacts_parallel(
+                *args, self._block_start, tried, *out,
+                s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
+            self.in_place_count += tried and self._in_place
+        else:
+            contacts.count, self.kept_faces = polygon_contacts(*args, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0
@@ -339,8 +354,14 @@ class Detector:
         bounding_boxes(self._wv, m.contactor_vertex_start,
                        0.5 * (self.widest_alert + self.margin), self._lo, self._hi)
         while True:
-            count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
-                               self._pairs)
+            if self.parallel:
+                if len(self._pair_scratch) != len(self._pairs):
+                    self._pair_scratch = np.empty_like(self._pairs)
+                count = grid_pairs_parallel(self._lo, self._hi, self._mobile, self._large,
+                                            self._cell, self._pairs, self._pair_scratch)
+            else:
+                count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
+                                   self._pairs)
             if count <= len(self._pairs):
                 break
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
@@ -409,6 +430,7 @@ class Detector:
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
         self._faces[:, 0] = 0  # no kept choice: the full test until the next broad phase
+        self._in_place = False
         self.pair_count = count
         self._q_ref[:] = saved["q_ref"]
         self._since_refresh = int(saved["since_refresh"])

@@ -173,7 +173,8 @@ class NLGS(ContactSolver):
         self._pairs = np.full((3, 0), -1)
         """The active contacts' candidates, antagonists and flags of the last partition."""
         self._partitioned = None
-        """partition_contacts's (order, groups) for _pairs: _partition."""
+        """partition_contacts's (order, groups) and in 2D change_runs_2d's (runs, run_start)
+        for _pairs: _partition."""
         self._own = (np.empty((0, 18)), np.empty((2, 0), dtype=np.int64), np.empty((0, 2)),
                      np.empty((0, 3)))
         """nlgs_2d_domains' (nlgs_3d_domains') work memory (rows, own, own_impulse, vx)."""
@@ -321,9 +322,12 @@ class NLGS(ContactSolver):
             self._pairs = np.full((3, max(count, 2 * self._pairs.shape[1])), -1)
             self._partitioned = None
         if not _same_pairs(cand, ant, active, count, self._pairs) or self._partitioned is None:
-            self._partitioned = partition_contacts(cand, ant, active, count,
-                                                      *self._domains[:2])
-        order, groups = self._partitioned
+            order, groups = partition_contacts(cand, ant, active, count, *self._domains[:2])
+            # nlgs_3d_domains sums its error serially: no runs
+            runs = (change_runs_2d(cand, ant, order, groups, *self._domains[:2])
+                    if model.dim == 2 else ())
+            self._partitioned = (order, groups, runs)
+        order, groups, runs = self._partitioned
         domain, n, ghost, inv_mass_x = self._domains
         rows, own, own_impulse, vx = self._own
         if (len(rows) < len(order) or vx.shape != inv_mass_x.shape
@@ -332,7 +336,7 @@ class NLGS(ContactSolver):
             self._own = rows, own, own_impulse, vx = (
                 np.empty((size, width)), np.empty((2, size), dtype=np.int64),
                 np.empty((size, model.dim)), np.empty_like(inv_mass_x))
-        return order, groups, ghost, rows, own, own_impulse, vx, inv_mass_x
+        return order, groups, *runs, ghost, rows, own, own_impulse, vx, inv_mass_x
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
@@ -478,8 +482,8 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 @nb.njit(parallel=True, cache=True)
 def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
-                    groups, ghost, rows, own, own_impulse, vx, inv_mass_x, tolerance,
-                    max_iterations, relaxation):
+                    groups, runs, run_start, ghost, rows, own, own_impulse, vx, inv_mass_x,
+                    tolerance, max_iterations, relaxation):
     """nlgs_2d with its dry contacts swept domain by domain (partition_contacts): the
     domains' own contacts in parallel (numba threads), then the contacts across the even cuts
     between domains in parallel, then those across the odd cuts, then the rest; each group's
@@ -488,13 +492,17 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     nlgs_2d's): the groups swept together write the velocities of disjoint free bodies, and
     each group has its own copy of the fixed bodies' velocities (which a push changes by
     0 x dR: read by all, written by each into its own), so the result is the same bit for bit
-    whatever the number of threads; the error's sums go by fixed blocks of bodies
-    (_parallel_change). One domain gives nlgs_2d's order and arithmetic. The joints are
-    swept after, in order, as nlgs_2d does.
+    whatever the number of threads. The error's sums go by the runs of bodies of
+    change_runs_2d: each domain's own, in the parallel region that swept it, right after
+    its sweep, then the others (the bodies of the contacts across the cuts), added in that
+    order; with joints, by fixed blocks of bodies after them (_parallel_change). One domain
+    gives nlgs_2d's order and arithmetic. The joints are swept after, in order, as nlgs_2d
+    does.
 
-    order, groups from partition_contacts; ghost [int] per body: -1 for a free body, a
-    fixed one's rank among the fixed ones (nfixed in all), whose copy for group g is row
-    n + g nfixed + rank of vx (n bodies) and of inv_mass_x (inv_mass, then zeros). Work
+    order, groups from partition_contacts, runs and run_start from change_runs_2d;
+    ghost [int] per body: -1 for a free body, a fixed one's rank among the fixed ones (nfixed
+    in all), whose copy for group g is row n + g nfixed + rank of vx (n bodies) and of
+    inv_mass_x (inv_mass, then zeros). Work
     memory: rows (at least len(order) x 18), own (int64, 2 x len(order): candidates,
     antagonists as rows of vx) and own_impulse (len(order) x 2), the dry contacts' in the
     sweep's order; vx (as inv_mass_x)."""
@@ -503,33 +511,47 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     last = 2 * ndomains - 1          # [even, last), [last, last + 1)
     n = v.shape[0]
     nfixed = (vx.shape[0] - n) // (2 * ndomains)
-    for g in nb.prange(2 * ndomains):
-        _pack_range_2d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
-                       h_ant, delassus, bias, friction, impulse, ghost, rows, own,
-                       own_impulse)
+    # one parallel region: the rows by blocks (not by groups: the domains' groups are most
+    # of the rows) and, in as many blocks, the bodies' vx = v (with the fixed ones' copies)
+    # and v_prev = v
+    blocks = max(1, -(-order.shape[0] // _ROW_BLOCK))
+    for k in nb.prange(blocks):
+        lo, hi = _share(k, blocks, order.shape[0])
+        g = 0
+        while lo < hi:
+            while groups[g + 1] <= lo:
+                g += 1
+            end = min(hi, groups[g + 1])
+            _pack_range_2d(lo, end, n + g * nfixed, order, cand, ant, h_cand, h_ant, delassus,
+                           bias, friction, impulse, ghost, rows, own, own_impulse)
+            lo = end
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(3):
+                vx[b, d] = v_prev[b, d] = v[b, d]
+            if ghost[b] >= 0:
+                for g in range(2 * ndomains):
+                    for d in range(3):
+                        vx[n + g * nfixed + ghost[b], d] = v[b, d]
     packed = order.shape[0]
     if joints is not None:
         packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
                                   law_map)
     if packed == 0:
         return 0, 0.0
-    for b in nb.prange(n):
-        for d in range(3):
-            vx[b, d] = v[b, d]
-        if ghost[b] >= 0:
-            for g in range(2 * ndomains):
-                for d in range(3):
-                    vx[n + g * nfixed + ghost[b], d] = v[b, d]
     v_own = vx[:n]
     sums = np.empty((-(-n // _SUM_BODIES), 3))
+    run_sums = np.empty((ndomains + 1, 3))
     error = np.inf
     it = 0
-    _parallel_change(v_own, v_prev, v_free, mass, sums)
     while it < max_iterations:
         it += 1
         for g in nb.prange(ndomains):
             _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse, inv_mass_x,
                             relaxation)
+            if joints is None:
+                run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
+                    runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
         if even - ndomains > 1:
             for g in nb.prange(ndomains, even):
                 _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse,
@@ -549,17 +571,52 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         if joints is not None:
             _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
                             relaxation, None)
-        error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+            error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+        else:
+            run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = _runs_change(
+                runs, run_start[ndomains], run_start[ndomains + 1], v_own, v_prev, v_free,
+                mass)
+            num = den = size = 0.0
+            for k in range(ndomains + 1):
+                num += run_sums[k, 0]
+                den += run_sums[k, 1]
+                size += run_sums[k, 2]
+            error = change_ratio(num, den, size)
         if error <= tolerance:
             break
-    for g in nb.prange(2 * ndomains):
-        for i in range(groups[g], groups[g + 1]):
+    for k in nb.prange(blocks):  # back, in one parallel region as well
+        lo, hi = _share(k, blocks, order.shape[0])
+        for i in range(lo, hi):
             impulse[order[i], 0] = own_impulse[i, 0]
             impulse[order[i], 1] = own_impulse[i, 1]
-    for b in nb.prange(n):
-        for d in range(3):
-            v[b, d] = vx[b, d]
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(3):
+                v[b, d] = vx[b, d]
     return it, error
+
+
+_ROW_BLOCK = 4096
+"""Packed rows per block (at most) of nlgs_2d_domains' packing and of its impulses' copy
+back."""
+
+
+@nb.njit(inline="always")
+def _share(k, blocks, size):
+    """Block k's range [lo, hi) of `blocks` nearly equal blocks of range(size)."""
+    return k * size // blocks, (k + 1) * size // blocks
+
+
+@nb.njit(inline="always")
+def _runs_change(runs, lo, hi, v, v_prev, v_free, mass):
+    """change_sums (from zero) over the runs of bodies runs[lo:hi] (change_runs_2d), in
+    order."""
+    num = den = size = 0.0
+    for r in range(lo, hi):
+        b, e = runs[r, 0], runs[r, 1]
+        num, den, size = change_sums(v[b:e], v_prev[b:e], v_free[b:e], mass[b:e], num, den,
+                                     size)
+    return num, den, size
 
 
 @nb.njit(cache=True)
@@ -590,9 +647,11 @@ def _sweep_range_2d(lo, hi, own, rows, v, impulse, inv_mass, relaxation):
         _update_dry_2d(i, cand, ant, rows[i], v, impulse, inv_mass, relaxation, None)
 
 
-_SUM_BODIES = 2048
+_SUM_BODIES = 256
 """Bodies per block of _parallel_change's sums: a fixed number, so that the sums and the
-error do not depend on the threads."""
+error do not depend on the threads; small enough that a wall of a few thousand blocks,
+whose sweeps are short, has its sums on every thread (at 2048, the 2025-brick wall's were
+one block, on one thread, every sweep)."""
 
 
 @nb.njit(parallel=True, cache=True)
@@ -630,22 +689,28 @@ def body_domains(free: np.ndarray, domains: int | None) -> tuple[np.ndarray, int
     return domain, n
 
 
-@nb.njit(cache=True)
+@nb.njit(parallel=True, cache=True)
 def _same_pairs(cand, ant, active, count, pairs):
     """Whether the first `count` contacts' candidates, antagonists and active flags are those
-    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there."""
-    same = count == pairs.shape[1] or pairs[0, count] == -1
-    for a in range(count):
-        if not same:
-            break
-        same = pairs[0, a] == cand[a] and pairs[1, a] == ant[a] and pairs[2, a] == active[a]
-    if same:
+    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there. By
+    blocks of _ROW_BLOCK contacts on numba's threads."""
+    blocks = -(-count // _ROW_BLOCK)
+    differ = np.zeros(blocks, dtype=np.bool_)
+    for k in nb.prange(blocks):
+        for a in range(k * _ROW_BLOCK, min(count, (k + 1) * _ROW_BLOCK)):
+            if pairs[0, a] != cand[a] or pairs[1, a] != ant[a] or pairs[2, a] != active[a]:
+                differ[k] = True
+                break
+    if (count == pairs.shape[1] or pairs[0, count] == -1) and not differ.any():
         return True
-    pairs[:, :] = -1
-    for a in range(count):
-        pairs[0, a] = cand[a]
-        pairs[1, a] = ant[a]
-        pairs[2, a] = active[a]
+    for k in nb.prange(-(-pairs.shape[1] // _ROW_BLOCK)):
+        for a in range(k * _ROW_BLOCK, min(pairs.shape[1], (k + 1) * _ROW_BLOCK)):
+            if a < count:
+                pairs[0, a] = cand[a]
+                pairs[1, a] = ant[a]
+                pairs[2, a] = active[a]
+            else:
+                pairs[0, a] = pairs[1, a] = pairs[2, a] = -1
     return False
 
 
@@ -686,6 +751,44 @@ def partition_contacts(cand, ant, active, count, domain, ndomains):
             order[fill[group[a]]] = a
             fill[group[a]] += 1
     return order, size
+
+
+@nb.njit(cache=True)
+def change_runs_2d(cand, ant, order, groups, domain, ndomains):
+    """Where nlgs_2d_domains sums its error: domain d's free bodies (body_domains) that no
+    contact across a cut touches (partition_contacts's order, groups), right after the
+    sweep of d, and the other free bodies after the cuts. Returns (runs, run_start): runs
+    (int64, r x 2) of consecutive bodies [b, e), those of domain d runs[run_start[d]:
+    run_start[d + 1]] and the others runs[run_start[ndomains]:run_start[ndomains + 1]], each
+    in the bodies' order; a function of the contacts and the domains, not of the threads."""
+    n = domain.shape[0]
+    where = domain.copy()  # -1: fixed, in no run
+    for i in range(groups[ndomains], groups[2 * ndomains]):
+        for b in (cand[order[i]], ant[order[i]]):
+            if where[b] >= 0:
+                where[b] = ndomains
+    run_start = np.zeros(ndomains + 2, dtype=np.int64)
+    runs = np.empty((0, 2), dtype=np.int64)
+    for fill in range(2):  # count the runs, then write them
+        at = run_start[:-1].copy()
+        b = 0
+        while b < n:
+            e = b + 1
+            while e < n and where[e] == where[b]:
+                e += 1
+            if where[b] >= 0:
+                if fill:
+                    runs[at[where[b]], 0] = b
+                    runs[at[where[b]], 1] = e
+                    at[where[b]] += 1
+                else:
+                    run_start[where[b] + 1] += 1
+            b = e
+        if not fill:
+            for k in range(ndomains + 1):
+                run_start[k + 1] += run_start[k]
+            runs = np.empty((run_start[-1], 2), dtype=np.int64)
+    return runs, run_start
 
 
 @nb.njit(inline="always")
