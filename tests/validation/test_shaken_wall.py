@@ -122,8 +122,9 @@ def test_512_brick_wall_slides_as_one_body_at_a_tight_tolerance(solver):
     0.212 s) and into the stick after it, NLGS at tolerance 1e-7 without refinement, and the
     default solver (the hybrid: NLGS at 1e-6 with refinement, the onset of the slide and the
     steps after it refined towards 1e-7, NLGS.refine): every step converges, and every brick
-    ends within 1e-3 of the peak slip (4.1 um) of Newmark's u(t) and within as much of every other brick. The wall moves as one
-    body (module doc), so the spread is solver error, whose own bound is that of the
+    ends within 1e-3 of the peak slip (4.1 um) of Newmark's u(t) and within as much of every
+    other brick. The wall moves as one body (module doc), so the spread is solver error,
+    whose own bound is that of the
     stick-slip transitions, (A - mu g) h^2 ~ 1e-6 m each (module doc). Measured without
     refinement (refine=0): at 1e-7 the bricks end 1.7 um apart and at most 1.0 um from u(t);
     at 1e-6, 20 um apart and up to 12.8 um from u(t) (each step leaves the courses'
