@@ -423,8 +423,8 @@ sliding), whose Gauss-Seidel factor rho is near 1, so whose stop at the toleranc
 most, tol / (1 - rho). The 0.7 g wall's two onsets took 692 and 440 sweeps after steps of 8
 (BENCHMARKS.md, "Refinement"); steps in motion that keep working take 30-145 on the
 collapsing arch of benchmarks/convergence.py and 40-150, growing, on its shaken stack, whose
-one slow step after a cheap one took 161 (refined, the stack took 1.1-1.7 times the sweeps
-for the same motion)."""
+one slow step after a cheap one took 161 (where rules that refined its steps took 1.07-1.85
+times the sweeps for the same motion: BENCHMARKS.md)."""
 _CARRY_SWEEPS = 20
 """Sweeps within which the steps after an onset converge while they carry its error on (a
 steady slide: 1 to 13 sweeps a step on the 0.7 g wall); a step that takes more does work of
