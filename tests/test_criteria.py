@@ -16,9 +16,8 @@ from saxum.structures import semicircular_arch
 def _arch_run(criterion: str, tolerance: float, duration: float):
     model = semicircular_arch(radius=1.0, thickness=0.15, voussoirs=15, density=2000.0,
                               friction=0.6)
-    # the criteria alone: without NLGS's refinement of the steps that converge quickly
     sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(tolerance=tolerance,
-                                                       criterion=criterion, refine=0))
+                                                       criterion=criterion))
     state = sim.initial_state()
     sim.run(state, duration)
     free = model.body_kind == sx.BodyKind.FREE

@@ -157,8 +157,7 @@ def test_a_3d_step_nlgs_does_not_solve(smoothing):
     model = wall3d(courses=4, length=1.0, return_length=0.75)
     g = float(np.linalg.norm(model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
-    # without NLGS's refinement (NLGS.refine), whose more exact steps lead elsewhere
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0, smoothing=smoothing))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(smoothing=smoothing))
     state = sim.initial_state()
     if smoothing:
         sim.run(state, 0.014)
@@ -236,9 +235,7 @@ def test_stalled_steps_say_so_and_the_hybrid_finishes_them():
     model = wall(courses=10, bricks=2, bond="stack")
     g = float(np.hypot(*model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0)),))
-    # without NLGS's refinement (NLGS.refine): with it, steps 3-5 are refined (1010 sweeps
-    # each instead of 10-16) and the hybrid's attempts on steps 7 and 8 are then rejected
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(refine=0))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS())
     with pytest.warns(sx.SolverWarning) as caught:
         sim.run(sim.initial_state(), 0.008)
     log = sim.log

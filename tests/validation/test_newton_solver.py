@@ -89,10 +89,7 @@ def test_hybrid_solves_the_stalled_step_of_the_shaken_stack():
     docs/method.md), semismooth Newton from zero impulses solves it (natural-map error 2e-9)
     and one NLGS sweep confirms it."""
     logs = []
-    # without NLGS's refinement (NLGS.refine): with it the stack's steps 3-5 are refined, and
-    # on the steps that then reach the cap the hybrid's attempts are rejected
-    # (docs/method.md, "Refinement")
-    for solver in (sx.NLGS(refine=0), sx.Hybrid(refine=0)):
+    for solver in (sx.NLGS(), sx.Hybrid()):
         sim = sx.Simulation(_shaken_stack(), dt=1e-3, solver=solver)
         state = sim.initial_state()
         with warnings.catch_warnings():

@@ -61,7 +61,7 @@ from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
 from .fischer import fischer_burmeister_newton, smoothing_newton
 from .newton import alart_curnier_newton
-from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, check_refinement, refine_step
+from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, Refinement, check_refinement
 from .problem import ContactProblem
 
 __all__ = ["ConicSolver", "Hybrid"]
@@ -130,7 +130,8 @@ class ConicSolver(ContactSolver):
         """Fixed-point iterations done, in all."""
         self.natural_map_error = math.nan
         """The conic solution's natural-map error on the last solve."""
-        self._nlgs = NLGS(self.tolerance, self.confirm, self.relaxation, rest_after=0)
+        self._nlgs = NLGS(self.tolerance, self.confirm, self.relaxation, rest_after=0,
+                          refine=0.0)
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -180,7 +181,7 @@ class Hybrid(ContactSolver):
     window: int = 100
     threads: int | None = None
     domains: int | None = None
-    refine: float = 0.0
+    refine: float = 10.0
     refine_sweeps: int = 1000
     smoothing: bool = False
 
@@ -210,13 +211,16 @@ class Hybrid(ContactSolver):
         """Semismooth Newton iterations done (Fischer-Burmeister and Alart-Curnier), in all."""
         self._failures = 0
         self._wait = 0
+        self._refinement = Refinement()
 
     def forget(self) -> None:
         self._first.forget()  # the other never follows loads (rest_after 0)
         self._failures = self._wait = 0  # the back-off, which decides where to switch
+        self._refinement = Refinement()
 
     def carries_state(self) -> bool:
-        return self._first.carries_state() or self._failures > 0 or self._wait > 0
+        return (self._first.carries_state() or self._failures > 0 or self._wait > 0
+                or (self.refine > 1.0 and not self._refinement.fresh()))
 
     @property
     def rest_attempts(self) -> int:
@@ -233,6 +237,9 @@ class Hybrid(ContactSolver):
         if self.rest_after > 0 and problem.count > 0:
             first += max(self.rest_after, -(-_REST_WORK // problem.count))
         self._first.max_iterations = min(first, self.max_iterations)
+        own = getattr(problem, "v_begin", None) is not None  # not a projection's
+        if own:
+            self._refinement.start(problem, impulse)
         report = self._first.solve(problem, impulse, v_free, v)
         done = report.iterations  # sweeps on the path kept (the cap counts these)
         judging = 0  # the sweeps that judged iterates NLGS did not keep
@@ -275,13 +282,14 @@ class Hybrid(ContactSolver):
             done += report.iterations
             if report.iterations == self.window:
                 errors.append(report.error)
-        if report.converged and solver == "nlgs" and not checked:
+        if own:
             # NLGS's refinement (NLGS.solve), only where NLGS converged by itself
-            more, error = refine_step(self, lambda target, count: self._sweep_to(
-                problem, impulse, v_free, v, target, count), done, report.error)
+            more, error = self._refinement.step(self, lambda target, count: self._sweep_to(
+                problem, impulse, v_free, v, target, count), done, report.error,
+                report.converged and solver == "nlgs" and not checked)
             done += more
             report = replace(report, error=error)
-            if error > self.tolerance:  # the refinement's last sweep changed more
+            if more and error > self.tolerance:  # the refinement's last sweep changed more
                 self._more.max_iterations = self.max_iterations - done
                 report = self._more.solve(problem, impulse, v_free, v)
                 done += report.iterations

@@ -109,15 +109,17 @@ class NLGS(ContactSolver):
     Deformable models ignore both. criterion: the error compared with the tolerance,
     "delassus" (saxum's, module doc) or LMGC90's "quad", "maxm", "qm/16" (_check_error,
     docs/criteria.md; rigid blocks, swept in the serial order whatever threads says).
-    refine [-]: a rigid step that converged in at most refine_sweeps sweeps sweeps on towards
-    tolerance / refine, for at most refine_sweeps more (0 or 1: off, the default; 10 for models
-    that slide: docs/method.md, "Refinement"); it is still converged at the tolerance, and a
+    refine [-]: a rigid step that is an onset (it converged from a warm start in 200 to
+    refine_sweeps sweeps) or follows one, each step since within 20 sweeps, sweeps on towards
+    tolerance / refine, for at most refine_sweeps more (the default 10; 0 or 1: off;
+    Refinement, docs/method.md, "Refinement"); it is still converged at the tolerance, and a
     refinement whose last sweep changed more than the tolerance sweeps on to it. Why: a step
     stopped at the criterion leaves velocity errors up to tol / (1 - rho) (module doc), which
     the next steps damp where the assembly is at rest but not where it slides with every joint
-    at mu N (docs/method.md, "A sliding wall"), where they add up from step to step; the cheap
-    steps of a slide reach tolerance / 10 in a few dozen sweeps, while the slow ones (the onset
-    of a slide, thousands of sweeps) are left at the tolerance."""
+    at mu N (docs/method.md, "A sliding wall"): there the steps after an onset converge in a
+    sweep or a few and carry its error on, adding their own. Steps that do work of their own
+    (a collapsing arch: 30-145 sweeps) are not refined: their accuracy is overtaken by the
+    motion, and refining them cost 1.2-1.9 times the sweeps for nothing."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -127,7 +129,7 @@ class NLGS(ContactSolver):
     threads: int | None = None
     criterion: str = "delassus"
     domains: int | None = None
-    refine: float = 0.0
+    refine: float = 10.0
     refine_sweeps: int = 1000
 
     def __post_init__(self) -> None:
@@ -159,6 +161,7 @@ class NLGS(ContactSolver):
         self._inv_mass = None
         self._mass = np.empty((0, 0))
         self._following = LoadFollowing()
+        self._refinement = Refinement()
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
@@ -181,13 +184,14 @@ class NLGS(ContactSolver):
 
     def forget(self) -> None:
         self._following.clear()
+        self._refinement = Refinement()
         self._sticking_failed = False
         self._rest_backoff = 0
         self._rest_found = False
 
     def carries_state(self) -> bool:
         return (self._following.holds() or self._sticking_failed or self._rest_backoff != 0
-                or self._rest_found)
+                or self._rest_found or (self.refine > 1.0 and not self._refinement.fresh()))
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -234,8 +238,10 @@ class NLGS(ContactSolver):
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
         rest_after = 0 if joints else self.rest_after
-        follow = (self.follow_loads and rest_after > 0
-                  and getattr(problem, "v_begin", None) is not None)
+        own = getattr(problem, "v_begin", None) is not None
+        if own:
+            self._refinement.start(problem, impulse)
+        follow = self.follow_loads and rest_after > 0 and own
         followed = follow and self._following.start(problem, impulse, v_free, v,
                                                      self.tolerance)
         first = self.max_iterations
@@ -288,12 +294,12 @@ class NLGS(ContactSolver):
             self._rest_backoff = 0
         # a rest solution serves later steps as an anchor: only where the loads are followed
         self._rest_found = follow and found and converged
-        if converged:
+        if own:
             # class doc (refine): the errors of a sliding assembly's steps add up
-            more, error = refine_step(self, lambda target, count: sweep(
-                *args[:-1], target, count, self.relaxation), iterations, error)
+            more, error = self._refinement.step(self, lambda target, count: sweep(
+                *args[:-1], target, count, self.relaxation), iterations, error, converged)
             iterations += more
-            if error > self.tolerance:  # the refinement's last sweep changed more
+            if more and error > self.tolerance:  # the refinement's last sweep changed more
                 more, error, trend = self._sweeps(sweep, args, self.max_iterations - iterations)
                 iterations += more
                 converged = error <= self.tolerance
@@ -413,21 +419,64 @@ def check_refinement(solver) -> None:
         raise InputError(f"solver.refine_sweeps must be >= 0, got {solver.refine_sweeps}")
 
 
-def refine_step(solver, sweeps, iterations: int, error: float) -> tuple[int, float]:
-    """The refinement of a step of `solver` (NLGS, Hybrid: NLGS's doc, refine) that converged
-    after `iterations` sweeps with `error`: sweeps(tolerance, count), which runs at most count
-    sweeps, stopping at tolerance, and returns (sweeps done, error), towards tolerance /
-    refine for at most refine_sweeps. Returns (sweeps done, error); (0, error) for a step
-    already there, or one that took more than refine_sweeps. (A stop where the error falls
-    slowly was tried: on the 0.7 g wall of benchmarks/shaken_wall.py it cut the slide's
-    refinement short, and the steps after it cost 1.5 to 6 times as many sweeps.)"""
-    if not (solver.refine > 1.0 and error > solver.tolerance / solver.refine
-            and 0 < iterations <= solver.refine_sweeps):
-        return 0, error
-    budget = min(solver.refine_sweeps, solver.max_iterations - iterations)
-    if budget <= 0:
-        return 0, error
-    return sweeps(solver.tolerance / solver.refine, budget)
+_ONSET_SWEEPS = 200
+"""Sweeps from a warm start, after a step that converged within _CARRY_SWEEPS, that make a
+step an onset for the refinement (NLGS.refine): a change of the contacts' states (sticking to
+sliding), whose Gauss-Seidel factor rho is near 1, so whose stop at the tolerance leaves the
+most, tol / (1 - rho). The 0.7 g wall's two onsets took 692 and 440 sweeps after steps of 8
+(BENCHMARKS.md, "Refinement"); steps in motion that keep working take 30-145 on the
+collapsing arch of benchmarks/convergence.py and 40-150, growing, on its shaken stack, whose
+one slow step after a cheap one took 161 (where rules that refined its steps took 1.07-1.85
+times the sweeps for the same motion: BENCHMARKS.md)."""
+_CARRY_SWEEPS = 20
+"""Sweeps within which the steps after an onset converge while they carry its error on (a
+steady slide: 1 to 13 sweeps a step on the 0.7 g wall); a step that takes more does work of
+its own, and ends the refinement until the next onset."""
+
+
+class Refinement:
+    """The refinement of a solver's steps (NLGS, Hybrid: NLGS's doc, refine): where a step is
+    an onset (_ONSET_SWEEPS) or one of the steps that follow it within _CARRY_SWEEPS sweeps
+    each, it sweeps on towards tolerance / refine for at most refine_sweeps. A new (or
+    forgotten) one starts as after a cheap onset: a checkpoint inside a slide does not end
+    its refinement; a cold start (zero impulses) is never an onset, as its sweeps measure the
+    distance from zero, not the problem."""
+
+    def __init__(self) -> None:
+        self.carrying = True
+        """Whether the steps since the last onset all converged within _CARRY_SWEEPS..."""
+        self.cheap = True
+        """... and whether the last step did."""
+        self._cold = False
+
+    def fresh(self) -> bool:
+        """Whether the next steps are refined as a new Refinement's would be."""
+        return self.carrying and self.cheap
+
+    def start(self, problem, impulse: np.ndarray) -> None:
+        """Before a step's sweeps: whether it starts cold (impulses all zero)."""
+        self._cold = not impulse[: problem.count].any()
+
+    def step(self, solver, sweeps, iterations: int, error: float,
+             converged: bool) -> tuple[int, float]:
+        """After a step of `solver` that took `iterations` sweeps to `error`: the refinement,
+        sweeps(tolerance, count), which runs at most count sweeps, stopping at tolerance,
+        and returns (sweeps done, error). Returns (sweeps done, error); (0, error) where the
+        step is not refined or is already there. (A stop where the error falls slowly was
+        tried: on the 0.7 g wall of benchmarks/shaken_wall.py it cut the slide's refinement
+        short, and the steps after it cost 1.5 to 6 times as many sweeps.)"""
+        cheap = converged and iterations <= _CARRY_SWEEPS
+        onset = (converged and self.cheap and not self._cold
+                 and _ONSET_SWEEPS <= iterations <= solver.refine_sweeps)
+        self.carrying = onset or (self.carrying and cheap)
+        self.cheap = cheap
+        if not (self.carrying and solver.refine > 1.0
+                and error > solver.tolerance / solver.refine):
+            return 0, error
+        budget = min(solver.refine_sweeps, solver.max_iterations - iterations)
+        if budget <= 0:
+            return 0, error
+        return sweeps(solver.tolerance / solver.refine, budget)
 
 
 _FE_FIRST = 5
