@@ -77,7 +77,7 @@ import numpy as np
 from .errors import InputError
 
 __all__ = ["MAX_LAW_POINTS", "NO_CONTACT", "SMOOTH_KINDS", "ContactLaw", "LawKind", "NoContact",
-           "Parameter", "undamped_springs"]
+           "Parameter"]
 
 MAX_LAW_POINTS = 15
 """Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""
