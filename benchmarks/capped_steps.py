@@ -6,6 +6,7 @@ solvers tried on them (docs/method.md, "The shaken 3D L wall").
     python benchmarks/capped_steps.py --small --solve 1        # the 29-brick L wall, 0.02 s
     python benchmarks/capped_steps.py --save /tmp/capped.npz   # keep them (benchmarks/fischer.py)
     python benchmarks/capped_steps.py --load /tmp/capped.npz --existence 10
+    python benchmarks/capped_steps.py --small --save-first tests/data/small_l_wall_step14.npz
 
 Runs the case (benchmarks/convergence.py's CASES; --small: the 4-course L wall of walls 1.0
 and 0.75 m under 0.7 g, tests/test_hybrid.py's) with NLGS alone and keeps the assembled
@@ -67,7 +68,8 @@ class _Keeping(sx.ContactSolver):
         if not report.converged:
             local = assemble_local(problem, v_free)
             self.kept.append({"step": self.steps, "w": local.w, "q": local.q, "mu": local.mu,
-                              "r": local.impulses(impulse), "error": report.error})
+                              "r": local.impulses(impulse), "error": report.error,
+                              "hstar": local.hstar, "inv_mass": local.inv_mass})
         return report
 
 
@@ -136,6 +138,16 @@ def _save(path: Path, kept: list[dict]) -> None:
     np.savez_compressed(path, count=len(kept), **arrays)
 
 
+def _save_first(path: Path, kept: list[dict]) -> None:
+    """The first kept problem by its factors W = H* M^-1 H*^T (CSR H*, M^-1), q, mu and NLGS's
+    iterate r: ten times smaller than W (tests/data/small_l_wall_step14.npz)."""
+    k = kept[0]
+    h = sp.csr_matrix(k["hstar"])
+    np.savez_compressed(path, h_data=h.data, h_indices=h.indices, h_indptr=h.indptr,
+                        h_shape=np.array(h.shape), inv_mass=k["inv_mass"], q=k["q"],
+                        mu=k["mu"], r=k["r"], step=k["step"])
+
+
 def load_kept(path: Path) -> list[dict]:
     """The problems _save wrote: dicts with step, w, q, mu, r, error."""
     data = np.load(path)
@@ -168,6 +180,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="the steps of an earlier --save (3D) instead of a run")
     parser.add_argument("--save", type=Path, default=None,
                         help="write the kept problems (W, q, mu, NLGS's iterate) to this .npz")
+    parser.add_argument("--save-first", type=Path, default=None,
+                        help="write the first kept problem as H*, M^-1, q, mu, r to this .npz")
     args = parser.parse_args(argv)
     if args.small:
         model, duration = _small(), 0.02
@@ -185,6 +199,8 @@ def main(argv: list[str] | None = None) -> int:
             sim.run(sim.initial_state(), duration)
     if args.save is not None:
         _save(args.save, keeping.kept)
+    if args.save_first is not None and keeping.kept:
+        _save_first(args.save_first, keeping.kept)
     natural = np.array([natural_map_error(k["w"], k["q"], k["mu"], k["r"], 3)
                         for k in keeping.kept])
     criterion = np.array([k["error"] for k in keeping.kept])

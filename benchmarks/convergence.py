@@ -186,13 +186,14 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
     moved = np.linalg.norm(state.body_q[free, :model.dim] - model.body_q0[free, :model.dim],
                            axis=1)
     threshold = getattr(solver, "rest_after", 0) or None
-    finished = np.bincount(np.asarray(log.solver), minlength=3)
+    finished = np.bincount(np.asarray(log.solver), minlength=4)
     out = {
         "case": name,
         "solver": solver_name,
         "finished_nlgs": int(finished[0]),
         "finished_conic": int(finished[1]),
         "finished_newton": int(finished[2]),
+        "finished_smoothing": int(finished[3]),
         "error_max": float(np.max(log.error)),
         # the natural-map error of the steps that ended above the tolerance, where the solver
         # measured it (saxum.solver.Hybrid; nan for NLGS alone or a saxum without it)
@@ -471,7 +472,8 @@ def _print(r: dict) -> None:
     rest = (f"rest solutions {r['rest_solutions']}/{r['rest_attempts']}"
             if r["rest_attempts"] is not None else "no rest solution")
     print(f"{r['case']} [{r['solver']}: steps finished by NLGS {r['finished_nlgs']}, by the "
-          f"conic solver {r['finished_conic']}, by Newton {r['finished_newton']}; largest error "
+          f"conic solver {r['finished_conic']}, by Newton {r['finished_newton']}, by smoothing "
+          f"Newton {r['finished_smoothing']}; largest error "
           f"{r['error_max']:.2g}, largest natural-map error of a step not converged "
           f"{r['natural_map_max']:.2g}]: "
           f"{r['bodies']} bodies, {r['contacts_min']}..{r['contacts_max']} "

@@ -1,22 +1,35 @@
 """Benchmark: one step on 1 and 2 numba threads (issue 16), stage by stage: the serial step
-(solver threads None: nlgs_2d and the serial kernels) against the parallel one (threads 1 and 2:
-NLGS by domains, saxum.solver.nlgs.nlgs_2d_domains, and the parallel assembly and end gaps of
-saxum.solver.problem), in one process.
+(solver threads None: nlgs_2d or nlgs_3d and the serial kernels) against the parallel one
+(threads 1 and 2: NLGS by domains, saxum.solver.nlgs.nlgs_2d_domains or nlgs_3d_domains, and the
+parallel detection, assembly and, in 2D, end gaps), in one process.
 
 Cases (dt 1e-3 s, saxum.NLGS, domains left to their default: the machine's cores): running-bond
 walls of 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080
 bricks) at rest, and 50 x 40 (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its
-base); and a 3D wall of saxum.structures.wall3d at rest (3D runs the serial kernels whatever
-the threads: 1 -> 2 threads shows it). Per case and variant, interleaved --repeats times,
-after `warm` steps of that simulation (the kernels compiled before on a small one): wall time
-(time.perf_counter) and CPU time (time.process_time: all threads; omp's threads spin while
-they wait, CPU time that is not work) per step of detection, the warm start (Contacts.
-warm_start_from), assembly, the solve, the end gaps and the whole step, medians over the
-repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit for
-bit. On a shared machine only ratios from one run mean anything.
+base); with --3d, L walls of saxum.structures.wall3d (0.25 x 0.12 x 0.065 m bricks, the same
+material): 40 courses of two 12 m legs (3840 bricks) at rest, and 20 courses of two 6 m legs
+(960 bricks) on a base shaken at 0.7 g, 2 Hz, along (0.6, 0.8, 0) (3D: nlgs_3d_domains,
+polyhedron_contacts_parallel and the parallel 3D assembly). Per case and variant, interleaved
+--repeats times, after `warm` steps of that simulation (the kernels compiled before on a small
+one): wall time (time.perf_counter) and CPU time (time.process_time: all threads; omp's threads
+spin while they wait, CPU time that is not work) per step of detection, the warm start
+(Contacts.warm_start_from), assembly, the solve, the end gaps and the whole step, medians over
+the repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit
+for bit. On a shared machine only ratios from one run mean anything.
 
-    python benchmarks/parallel_nlgs.py                               # all cases
+Thread-time accounting (Linux: /proc/self/task/*/schedstat, each thread's time on a CPU and
+its time waiting for one): per step, the stepping thread's CPU time, the busiest other
+thread's and all of theirs. Under NUMBA_THREADING_LAYER=workqueue the stepping thread runs
+the serial parts and sleeps in the parallel regions while numba's threads run them (omp's
+threads spin instead, so use workqueue for this), so the stepping thread's time plus the
+busiest worker's estimates the step's time on idle cores: a lower bound (it leaves out the
+wake-ups and assumes the work of each region shared as the totals are), which a loaded
+machine changes far less than the wall time.
+
+    python benchmarks/parallel_nlgs.py                               # all 2D cases
+    python benchmarks/parallel_nlgs.py --3d --repeats 2              # the 3D cases
     python benchmarks/parallel_nlgs.py --cases "rest 160x100" --steps 10 --repeats 1
+    python benchmarks/parallel_nlgs.py --cases "shaken 50x40" --warm 110 --steps 3
     NUMBA_THREADING_LAYER=workqueue python benchmarks/parallel_nlgs.py
 """
 
@@ -25,6 +38,7 @@ import collections
 import dataclasses
 import os
 import statistics
+import threading
 import time
 
 import numba
@@ -45,12 +59,26 @@ def _wall(size, amplitude_g):
     return model
 
 
+def _wall3d(courses, length, amplitude_g):
+    """An L wall of saxum.structures.wall3d, two legs `length` [m] long, on a base shaken
+    at amplitude_g (2 Hz) along (0.6, 0.8, 0): across the one leg, along the other."""
+    model = wall3d(courses=courses, length=length, return_length=length)
+    if amplitude_g > 0.0:
+        load = harmonic(amplitude_g * 9.81, 0.5, 4.0,
+                        direction=(0.6, 0.8, 0.0)).inertial_load()
+        model = dataclasses.replace(model, accelerations=(load,))
+    return model
+
+
 CASES = {"rest 160x100": (lambda: _wall((160, 100), 0.0), lambda: _wall((4, 3), 0.0), 5),
-         "shaken 50x40": (lambda: _wall((50, 40), 0.7), lambda: _wall((4, 3), 0.7), 150),
-         "3D wall3d 20x4": (lambda: wall3d(courses=20, length=4.0),
-                            lambda: wall3d(courses=2, length=1.0), 5)}
+         "shaken 50x40": (lambda: _wall((50, 40), 0.7), lambda: _wall((4, 3), 0.7), 150)}
+CASES_3D = {"3D rest L 40x12": (lambda: _wall3d(40, 12.0, 0.0),
+                                lambda: _wall3d(4, 1.0, 0.0), 5),
+            "3D shaken L 20x6": (lambda: _wall3d(20, 6.0, 0.7),
+                                 lambda: _wall3d(4, 1.0, 0.7), 40)}
 """name: (model, small model that compiles the kernels, steps before the timed ones: at 0.7 g
-the wall slides from about 0.1 s on)"""
+the 2D wall slides from about 0.1 s on; the 3D L wall's leg across the motion rocks and
+leans from a few hundredths of a second on)"""
 VARIANTS = {"serial": None, "1 thread": 1, "2 threads": 2}
 STAGES = ("detection", "warm start", "assembly", "solve", "end gaps", "step")
 
@@ -69,8 +97,32 @@ def _timed(owner, name, label, sums):
     return inner
 
 
+def _thread_times():
+    """{thread id: (ns on a CPU, ns waiting for one)} of this process's threads (Linux; {}
+    elsewhere)."""
+    times = {}
+    try:
+        for tid in os.listdir("/proc/self/task"):
+            with open(f"/proc/self/task/{tid}/schedstat") as f:
+                times[int(tid)] = np.array(f.read().split()[:2], dtype=float)
+    except OSError:
+        return {}
+    return times
+
+
+def _accounting(before, after, steps):
+    """(stepping thread's CPU, busiest other thread's, all other threads', stepping
+    thread's wait for a CPU) [s] per step between two _thread_times."""
+    main = threading.get_native_id()
+    spent = {t: (after[t] - before.get(t, 0.0)) * 1e-9 / steps for t in after}
+    mine = spent.pop(main, np.zeros(2))
+    others = [x[0] for x in spent.values()]
+    return np.array([mine[0], max(others, default=0.0), sum(others), mine[1]])
+
+
 def _run(model, threads, warm, steps):
-    """({stage: (wall s, CPU s) per step}, sweeps per step, final positions)."""
+    """({stage: (wall s, CPU s) per step, "threads": _accounting}, sweeps per step, final
+    positions)."""
     sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads))
     state = sim.initial_state()
     for _ in range(warm):
@@ -83,25 +135,36 @@ def _run(model, threads, warm, steps):
                                (sim, "step", "step")):
         _timed(owner, name, label, sums)
     carry = _timed(Contacts, "warm_start_from", "warm start", sums)
+    before = _thread_times()
     try:
         for _ in range(steps):
             sim.step(state)
     finally:
         Contacts.warm_start_from = carry
+    threads_spent = _accounting(before, _thread_times(), steps)
     sweeps = float(np.mean(sim.log.iterations[warm:]))
-    return {k: sums[k] / steps for k in STAGES}, sweeps, state.body_q.copy()
+    return ({**{k: sums[k] / steps for k in STAGES}, "threads": threads_spent}, sweeps,
+            state.body_q.copy())
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--cases", default=",".join(CASES), help="comma-separated names")
+    parser.add_argument("--cases", default=None,
+                        help="comma-separated names (default: all 2D cases, or with --3d "
+                             "all 3D ones)")
+    parser.add_argument("--3d", dest="three", action="store_true",
+                        help="the 3D cases (CASES_3D)")
+    parser.add_argument("--warm", type=int, default=None,
+                        help="steps before the timed ones (default: the case's)")
     args = parser.parse_args()
+    cases = CASES_3D if args.three else CASES
     print(f"numba threads available: {numba.config.NUMBA_NUM_THREADS}; load average "
           f"{os.getloadavg()[0]:.1f} at the start", flush=True)
-    for name in args.cases.split(","):
-        build, small, warm = CASES[name]
+    for name in (args.cases or ",".join(cases)).split(","):
+        build, small, warm = {**CASES, **CASES_3D}[name]
+        warm = warm if args.warm is None else args.warm
         model = build()
         for threads in VARIANTS.values():  # compile (or load) every kernel first
             _run(small(), threads, 1, 1)
@@ -128,6 +191,16 @@ def main() -> None:
                             ("serial", "1 thread")):
             cells = " | ".join(f"{med[top][k][0] / med[bottom][k][0]:.2f}" for k in STAGES)
             print(f"| speed-up {top} / {bottom} (wall) | {cells} | |")
+        print("\n| thread times per step [ms] | stepping thread | busiest other | all others "
+              "| stepping + busiest | speed-up over serial (estimate) | stepping thread's "
+              "wait for a CPU |\n|---|---|---|---|---|---|---|")
+        spent = {label: np.median([x[0]["threads"] for x in r], axis=0)
+                 for label, r in rows.items()}
+        serial = spent["serial"][0] + spent["serial"][1]
+        for label, (mine, busiest, others, wait) in spent.items():
+            print(f"| {label} | {1e3 * mine:.2f} | {1e3 * busiest:.2f} | {1e3 * others:.2f} | "
+                  f"{1e3 * (mine + busiest):.2f} | {serial / (mine + busiest):.2f} | "
+                  f"{1e3 * wait:.2f} |")
         print(flush=True)
     print(f"threading layer: {numba.threading_layer()}")
 

@@ -1,6 +1,7 @@
 """Helpers shared by the tests of runs, resumes and results files: start `saxum` in a
 subprocess, wait for its first frames, and compare two results files bit for bit (two runs of
-the same scenario on this machine: a resumed run and the run in one go)."""
+the same scenario on this machine: a resumed run and the run in one go), or two simulations'
+end states (the step on 1 and 2 threads)."""
 
 import signal
 import subprocess
@@ -64,3 +65,14 @@ def same_results(a_path, b_path, *, checkpoints: bool = False) -> None:
             assert np.array_equal(a.histories[name], b.histories[name]), name
         if checkpoints:
             assert np.array_equal(a.checkpoint_steps, b.checkpoint_steps)
+
+
+def same_runs(run1, run2) -> None:
+    """Two runs, each (Simulation, State) after the same steps: their positions, velocities,
+    impulses and sweeps, bit for bit."""
+    (sim1, s1), (sim2, s2) = run1, run2
+    assert np.array_equal(s1.body_q, s2.body_q)
+    assert np.array_equal(s1.body_v, s2.body_v)
+    assert np.array_equal(s1.contacts.impulse[:s1.contacts.count],
+                          s2.contacts.impulse[:s2.contacts.count])
+    assert np.array_equal(sim1.log.iterations, sim2.log.iterations)

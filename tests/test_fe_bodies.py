@@ -179,6 +179,20 @@ PIER_3D = PIER.replace('type = "pier"', 'type = "pier_3d"\ndepth = 0.3').replace
     "height = 0.6", "course_height = 0.3").replace("mesh_size = 0.075", "mesh_size = 0.15")
 """The pier in 3D: two courses of two blocks each, split across x and across y in turn."""
 
+PIER_3D_MORTAR = PIER_3D.replace("friction = 0.6", """friction = 0.6
+    kind = "cohesive"
+    k_n = 1e11
+    k_t = 1e11
+    f_t = 5e4
+    cohesion = 1e5
+    g_i = 5.0
+    g_ii = 10.0""").replace("[solver]", "[loads]\nload_factor_rate = 25.0\n\n[solver]")
+"""The 3D pier with mortar joints (saxum.laws COHESIVE) under a sideways load growing at
+25 g/s: its joints start to crack between the middle checkpoint (0.04 s) and the end. k_n
+keeps the joints' closure under the blocks' weight (~1e-7 m) well within detection's tie (1e-3
+of the alert): a node at a rim pressed deeper would be taken for a contact on the side face
+(docs/scenario.md)."""
+
 
 def _check_rigid_motions(model, x, v, body_v):
     """The deformable blocks' rows of a results file's body_v [frames, blocks, dof] are, in
@@ -209,11 +223,13 @@ def _check_rigid_motions(model, x, v, body_v):
         assert np.abs(body_v[:, b, d:] - spin).max() * 0.3 < scale  # 0.3 m: a block's size
 
 
-@pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
+@pytest.mark.parametrize("text", [PIER, PIER_3D, PIER_3D_MORTAR],
+                         ids=["2d", "3d", "3d-mortar"])
 def test_results_and_restart_are_bit_identical(tmp_path, text):
     """A run of two deformable courses on the ground writes the nodes and the contact sides in
     its frames and checkpoints; restarting from a checkpoint in the middle gives the last
-    frame bit for bit (two runs on this machine, as tests/results_check.py compares)."""
+    frame bit for bit (two runs on this machine, as tests/results_check.py compares); with
+    mortar joints, the joints' damage too, which grows after the checkpoint."""
     from saxum.results import Results
     from saxum.runner import run_scenario
     from saxum.scenario import parse_scenario
@@ -228,6 +244,7 @@ def test_results_and_restart_are_bit_identical(tmp_path, text):
         contacts = r.contacts(r.frame_count - 1)
         assert (contacts["side_kind"][:, 0] == 1).all()  # every contact has a node candidate
         saved = r.checkpoint(int(np.flatnonzero(r.checkpoint_steps == 40)[0]))
+        assert (contacts["damage"].max() > 0.0) == ("cohesive" in text)
         x, v, body_v = r.node_x[:], r.node_v[:], r.body_v[:, model.fe.body]
     _check_rigid_motions(model, x, v, body_v)
     sim = scenario.build_simulation()
@@ -268,7 +285,8 @@ def test_info_finds_the_collapse_of_a_deformable_block(tmp_path, capsys):
     assert "sliding joint between ground and pier c1" in out
 
 
-@pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
+@pytest.mark.parametrize("text", [PIER, PIER_3D, PIER_3D_MORTAR],
+                         ids=["2d", "3d", "3d-mortar"])
 def test_stresses_in_results_and_paraview_export(tmp_path, text):
     """Results.stresses gives the cell stresses of the stored nodes (the same as the run's
     own blocks give for them), the piers are compressed on average, and the ParaView export

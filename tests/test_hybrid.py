@@ -59,7 +59,7 @@ def test_hybrid_tries_the_conic_solver_at_the_cap():
     sim, state, report = _first_step(sx.Hybrid(rest_after=0))
     assert report.converged and report.iterations == 5001
     assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("conic")
-    assert sim.solver.finished == {"nlgs": 0, "conic": 1, "newton": 0}
+    assert sim.solver.finished == {"nlgs": 0, "conic": 1, "newton": 0, "smoothing": 0}
     assert np.abs(state.body_v).max() < 1e-9 < np.abs(nlgs_state.body_v).max()
     assert "finished by the conic solver at 1 step(s)" in sim.log.summary()
 
@@ -136,16 +136,19 @@ def test_a_step_above_the_tolerance_says_how_far_from_a_solution(monkeypatch, tm
     assert math.isnan(sim.log.natural_map[-1])
 
 
-def test_a_3d_step_above_the_tolerance_says_how_far_from_a_solution():
+@pytest.mark.parametrize("smoothing", [True, False])
+def test_a_3d_step_nlgs_does_not_solve(smoothing):
     """A small 3D L wall (4 courses, walls 1.0 and 0.75 m long, 29 bricks) under 0.7 g: its
     14th step is the first whose problem NLGS does not solve (cap; the friction threshold of
     docs/method.md, with 3-4 contact points per face pair), its iterate at a natural-map error
     of 1.6e-5 with NLGS crawling, beyond where Fischer-Burmeister Newton from it has reached
-    a solution (saxum.solver.hybrid's _REACH): the hybrid tries nothing there. The step ends
-    not converged and reports the natural-map error of its impulses, that of the
-    exported step problem (saxum.fclib.step_problem, 3D; relative tolerance 1e-12: the same
-    sums in another order), as the run's warning says; the steps before it converged and
-    report none."""
+    a solution (saxum.solver.hybrid's _REACH). With Hybrid.smoothing the hybrid tries smoothing
+    Newton only, which reaches the tolerance by the natural map: the step ends converged,
+    finished by smoothing Newton, reporting the natural-map error of the exported step problem
+    (saxum.fclib.step_problem, 3D; relative tolerance 1e-12: the same sums in another order).
+    Without it (the default) the hybrid tries nothing there and the step ends not converged,
+    reporting the natural-map error of its impulses, as the run's warning says. The steps
+    before it converged and report none."""
     import dataclasses
 
     from saxum.fclib import step_problem
@@ -155,16 +158,24 @@ def test_a_3d_step_above_the_tolerance_says_how_far_from_a_solution():
     g = float(np.linalg.norm(model.gravity))
     model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0, 0.0)),))
     # without NLGS's refinement (NLGS.refine), whose more exact steps lead elsewhere
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0))
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.Hybrid(refine=0, smoothing=smoothing))
     state = sim.initial_state()
-    with pytest.warns(sx.SolverWarning, match="natural-map error of their impulses up to"):
+    if smoothing:
         sim.run(state, 0.014)
-    assert np.flatnonzero(~sim.log.converged).tolist() == [13]  # step 14
-    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == 0
+    else:
+        with pytest.warns(sx.SolverWarning, match="natural-map error of their impulses up to"):
+            sim.run(state, 0.014)
+    assert np.isnan(sim.log.natural_map[:13]).all() and sim.solver.attempts == int(smoothing)
     exported = step_problem(sim, state)
     expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
     assert math.isclose(sim.log.natural_map[13], expected, rel_tol=1e-12)
-    assert expected > sim.log.error[13]  # NLGS's criterion understates the distance here
+    if smoothing:
+        assert sim.log.converged.all() and expected <= sim.solver.tolerance
+        assert sim.log.solver[13] == sx.solver.SOLVER_NAMES.index("smoothing")
+        assert math.isclose(sim.log.error[13], expected, rel_tol=1e-12)
+    else:
+        assert np.flatnonzero(~sim.log.converged).tolist() == [13]  # step 14
+        assert expected > sim.log.error[13]  # NLGS's criterion understates the distance here
 
 
 def test_hybrid_is_nlgs_where_nlgs_converges():
@@ -207,7 +218,7 @@ def test_3d_hybrid_switches_to_fischer_burmeister_newton_at_the_cap():
     assert not nlgs.converged and nlgs.outcome == STEP_OUTCOMES.index("out of sweeps")
     assert report.converged and report.iterations == 20
     assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("newton")
-    assert sim.solver.finished == {"nlgs": 0, "conic": 0, "newton": 1}
+    assert sim.solver.finished == {"nlgs": 0, "conic": 0, "newton": 1, "smoothing": 0}
     exported = step_problem(sim, state)
     expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
     assert expected <= sim.solver.tolerance

@@ -5,7 +5,8 @@ The DATBOX folders under tests/data/lmgc90 were written for these tests in LMGC9
 ground block, with a partly driven brick, a brick 1 um into the one below (DOF.INI), a
 colour without see-tables and a Vloc_Rloc.INI; `block3d`, a POLYR block turned a quarter
 turn about z (DOF.INI's frame) 2 um into a PLANx ground; `column2d`, five DISKx grains (radius
-0.05 m, a leaning column of four and one beside it) on a fixed JONCx ground.
+0.05 m, a leaning column of four and one beside it) on a fixed JONCx ground; `arch2d`,
+LMGC90's arch example with its IQS_CLB_g0 joints (tests/validation/test_lmgc90_examples.py).
 """
 
 import shutil
@@ -19,6 +20,7 @@ from saxum import NO_CONTACT, BodyKind, ContactLaw, DetectionSettings, LawKind, 
 from saxum.cli import main
 from saxum.errors import InputError, OverlapError
 from saxum.lmgc90 import OVERLAP_TOLERANCE, export_lmgc90, import_lmgc90
+from saxum.lmgc90.vlocrloc import read_vloc_rloc
 from saxum.scenario import load_scenario, parse_scenario
 
 DATA = Path(__file__).parent / "data" / "lmgc90"
@@ -143,6 +145,7 @@ def _same_models(a, b, tol):
             if la >= 0:
                 x, y = a.laws[la], b.laws[lb]
                 assert x.kind == y.kind and y.alert is not None  # LMGC90: one per see-table
+                assert x.initial_gap == y.initial_gap  # a _g0 law
                 if x.alert is not None:
                     assert y.alert == pytest.approx(x.alert, rel=1e-15)
                 assert (y.friction, y.restitution) == pytest.approx(
@@ -187,6 +190,43 @@ duration = 0.1
     text = (tmp_path / "cols" / "BODIES.DAT").read_text()
     assert " NO6xx      1                coo1=" in text
     _same_models(model, import_lmgc90(tmp_path / "cols").model(), 1e-7)
+
+
+def test_g0_laws_round_trip(tmp_path):
+    """ContactLaw.initial_gap is written as LMGC90's _g0 law and read back as it, through
+    the scenario too, and is not listed as untranslated."""
+    b = sx.ModelBuilder()
+    b.add_block([(-1, -0.1), (1, -0.1), (1, 0), (-1, 0)], kind=BodyKind.FIXED, group="ground")
+    b.add_block([(0, 0.002), (0.2, 0.002), (0.2, 0.4), (0, 0.4)], density=2000.0, group="stone")
+    b.add_block([(0, 0.41), (0.2, 0.41), (0.2, 0.6), (0, 0.6)], density=2000.0, group="stone")
+    b.set_law("stone", "ground", ContactLaw(friction=0.6, kind=LawKind.SIGNORINI_COULOMB,
+                                            initial_gap=True, alert=0.02))
+    b.set_law("stone", "stone", ContactLaw(friction=0.5, initial_gap=True, alert=0.02))
+    model = b.finalize()
+    export_lmgc90(model, tmp_path / "DATBOX", precision="full")
+    tact = (tmp_path / "DATBOX" / "TACT_BEHAV.DAT").read_text()
+    assert "IQS_CLB_g0" in tact and "GAP_SGR_CLB_g0" in tact
+    back = import_lmgc90(tmp_path / "DATBOX")
+    assert not back.untranslated
+    _same_models(model, back.model(), 1e-12)
+    back.write_scenario(tmp_path / "model.toml")
+    _same_models(model, load_scenario(tmp_path / "model.toml").build_model(), 1e-12)
+    # a state's Vloc_Rloc.INI: each contact of a _g0 law ends with LMGC90's internal
+    # variables, a '#' line naming them and their values (g_ref = g0 last, 7 digits)
+    sim = Simulation(model, dt=1e-3)
+    state = sim.initial_state()
+    sim.run(state, 0.01)
+    export_lmgc90(model, tmp_path / "STATE", state=state, dt=1e-3)
+    lines = (tmp_path / "STATE" / "Vloc_Rloc.INI").read_text().splitlines()
+    names = [k for k, line in enumerate(lines) if line.startswith("#")]
+    c = state.contacts
+    assert len(names) == c.count and c.count > 0
+    iqs = [lines[k] for k in names].count("#g_ref         ")
+    assert iqs == int(np.count_nonzero(c.law[:c.count] == model.group_law[0, 1]))
+    values = [float(lines[k + 1].split()[-1].replace("D", "E")) for k in names]
+    np.testing.assert_allclose(values, c.initial_gap[:c.count], rtol=5e-8, atol=0.0)
+    assert max(values) > 0.005  # the 1 cm gap between the stones
+    assert len(read_vloc_rloc(tmp_path / "STATE" / "Vloc_Rloc.INI")) == c.count
 
 
 def test_scenario_from_import_runs_like_the_python_model(tmp_path):

@@ -7,11 +7,12 @@ import dataclasses
 import numba
 import numpy as np
 import pytest
+from results_check import same_runs
 
 import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
-from saxum.solver.nlgs import body_domains, partition_contacts_2d
+from saxum.solver.nlgs import body_domains, partition_contacts
 from saxum.structures import running_bond_wall
 
 
@@ -27,16 +28,6 @@ def _shaken_wall(threads, domains=None):
     return sim, state
 
 
-def _same(run1, run2):
-    """The two runs' positions, velocities, impulses and sweeps, bit for bit."""
-    (sim1, s1), (sim2, s2) = run1, run2
-    assert np.array_equal(s1.body_q, s2.body_q)
-    assert np.array_equal(s1.body_v, s2.body_v)
-    assert np.array_equal(s1.contacts.impulse[:s1.contacts.count],
-                          s2.contacts.impulse[:s2.contacts.count])
-    assert np.array_equal(sim1.log.iterations, sim2.log.iterations)
-
-
 def test_partition_separates_free_bodies():
     sim, state = _shaken_wall(None)
     c = state.contacts
@@ -47,7 +38,7 @@ def test_partition_separates_free_bodies():
     domain, n = body_domains(free, 4)
     assert n == 4 and np.all(domain[~free] == -1)
     assert np.ptp(np.bincount(domain[free])) <= 1  # of as many bodies as can be
-    order, groups = partition_contacts_2d(c.candidate, c.antagonist, active, c.count,
+    order, groups = partition_contacts(c.candidate, c.antagonist, active, c.count,
                                           domain, n)
     assert len(groups) == 2 * n + 1 and groups[0] == 0 and np.all(np.diff(groups) >= 0)
     assert np.array_equal(np.sort(order), np.flatnonzero(active[:c.count]))
@@ -73,8 +64,8 @@ def test_same_bits_with_one_and_two_threads():
         pytest.skip("numba has one thread here")
     try:
         # four domains: both phases of cuts, one of them with two cuts in parallel
-        _same(_shaken_wall(1, domains=4), _shaken_wall(2, domains=4))
-        _same(_shaken_wall(1, domains=2), _shaken_wall(2, domains=2))
+        same_runs(_shaken_wall(1, domains=4), _shaken_wall(2, domains=4))
+        same_runs(_shaken_wall(1, domains=2), _shaken_wall(2, domains=2))
     finally:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
 
@@ -82,7 +73,7 @@ def test_same_bits_with_one_and_two_threads():
 def test_one_domain_is_the_serial_sweep():
     """One domain: nlgs_2d's order and arithmetic (its fixed ground's copy apart)."""
     run = _shaken_wall(1, domains=1)
-    _same(_shaken_wall(None), run)
+    same_runs(_shaken_wall(None), run)
     assert np.all(run[0].log.converged)
 
 
@@ -94,22 +85,32 @@ def test_bad_settings():
 
 
 def test_parallel_kernels_are_the_serial_ones():
-    """A 40 x 40 wall at rest (about 9 600 contacts: three blocks of
-    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polygons._PAIR_BLOCK) on 2
-    threads with one domain: parallel narrow phase, assembly and end gaps, the serial step
-    bit for bit."""
+    """A 40 x 50 wall (over 10 000 contacts: three blocks of saxum.solver.problem._BLOCK,
+    and of pairs of saxum.detection.polygons.PAIR_BLOCK) whose first four courses are 6 % of
+    their height apart, so that they fall and land on each other one after the other, on 2
+    threads with one domain: parallel narrow phase (in place where its blocks found as many
+    contacts as in the step before, copied from scratch rows where they did not), assembly
+    and end gaps, the serial step bit for bit."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has one thread here")
-    model = running_bond_wall(courses=40, bricks=40)
+    model = running_bond_wall(courses=40, bricks=50, brick_height=0.065)
+    q0 = model.body_q0.copy()
+    free = model.body_kind == sx.BodyKind.FREE
+    q0[free, 1] += 0.06 * np.minimum(q0[free, 1], 4 * 0.065)
+    model = dataclasses.replace(model, body_q0=q0)
     runs = []
     for threads, domains in ((None, None), (2, 1)):
         sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
         state = sim.initial_state()
-        sim.run(state, 0.005)
+        counts = []
+        sim.run(state, 0.05, callback=lambda s, r, found=counts: found.append(s.contacts.count))
         runs.append((sim, state))
     assert runs[0][1].contacts.count > 2 * 4096
     assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
-    assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 2048
-    _same(*runs)
+    detector = runs[1][0].detector
+    assert detector.parallel and detector.pair_count > 2 * 2048
+    assert np.count_nonzero(np.diff(counts)) >= 2  # contacts found as courses land
+    assert 0 < detector.in_place_count < len(counts) - 1  # in place, and not
+    same_runs(*runs)
     assert np.array_equal(runs[0][0].problem.gap_end, runs[1][0].problem.gap_end)
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)

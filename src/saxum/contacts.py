@@ -8,8 +8,8 @@ A side is a rigid body or nodes of a deformable block (`side_kind`, design-defor
 joints.md section 3).
 `key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
 of the common segment), so that the solver can start from the previous impulses and the joint
-laws keep their state (slip, damage, history: saxum.laws). Detection writes contacts in
-increasing key order, which makes matching a linear merge.
+laws keep their state (slip, damage, history: saxum.laws) and the _g0 laws their initial gap.
+Detection writes contacts in increasing key order, which makes matching a linear merge.
 """
 
 import numba as nb
@@ -71,6 +71,10 @@ class Contacts:
         self.history = np.zeros(capacity)
         """Largest scaled opening kappa reached by a COHESIVE joint [-] (saxum.laws), shape
         [capacity]; 0 for other laws."""
+        self.initial_gap = np.zeros(capacity)
+        """g0 of a _g0 law [m] (ContactLaw.initial_gap): its gap at the first step of the run
+        (Simulation.step), shape [capacity]; 0 for other laws and for contacts that appeared
+        later."""
 
     def reserve(self, capacity: int) -> None:
         """Make room for `capacity` contacts; existing rows are kept."""
@@ -84,7 +88,8 @@ class Contacts:
     @staticmethod
     def _fields() -> tuple[str, ...]:
         return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse",
-                "area", "side_kind", "side_node", "side_weight", "slip", "damage", "history")
+                "area", "side_kind", "side_node", "side_weight", "slip", "damage", "history",
+                "initial_gap")
 
     def copy(self) -> "Contacts":
         """A deep copy of the valid rows."""
@@ -96,17 +101,18 @@ class Contacts:
 
     def warm_start_from(self, previous: "Contacts", law_kind: np.ndarray | None = None, *,
                         parallel: bool = False) -> int:
-        """Copy the impulses and the joint state (slip, damage, history) of persisting
-        contacts (same key) from `previous`; returns how many. A new contact starts with
-        zero impulse and slip, and, under a COHESIVE law (law_kind: Model.law_kind), fully
-        damaged: a joint that was not bonded at the start does not bond later. parallel: by
-        blocks of contacts on numba's threads (_carry_parallel, the same rows)."""
+        """Copy the impulses, the joint state (slip, damage, history) and the initial gap of
+        persisting contacts (same key) from `previous`; returns how many. A new contact starts
+        with zero impulse, slip and initial gap, and, under a COHESIVE law (law_kind:
+        Model.law_kind), fully damaged: a joint that was not bonded at the start does not bond
+        later. parallel: by blocks of contacts on numba's threads (_carry_parallel, the same
+        rows)."""
         n, m = self.count, previous.count
         return (_carry_parallel if parallel else _carry)(
             self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
             self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
-            self.history[:n], previous.history[:m], self.law[:n],
-            _NO_LAWS if law_kind is None else law_kind,
+            self.history[:n], previous.history[:m], self.initial_gap[:n],
+            previous.initial_gap[:m], self.law[:n], _NO_LAWS if law_kind is None else law_kind,
         )
 
 
@@ -116,11 +122,12 @@ _NO_LAWS = np.zeros(0, dtype=np.int8)
 
 @nb.njit(cache=True)
 def _carry(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage, history,
-           old_history, law, law_kind):
+           old_history, initial_gap, old_initial_gap, law, law_kind):
     """Merge of two key lists that detection writes in increasing order: O(count), no sort;
     rows of a key found in old_key are copied, the others reset (module doc)."""
     return _carry_range(0, key.shape[0], 0, key, old_key, impulse, old_impulse, slip,
-                        old_slip, damage, old_damage, history, old_history, law, law_kind)
+                        old_slip, damage, old_damage, history, old_history, initial_gap,
+                        old_initial_gap, law, law_kind)
 
 
 _CARRY_BLOCK = 4096
@@ -129,7 +136,7 @@ _CARRY_BLOCK = 4096
 
 @nb.njit(parallel=True, cache=True)
 def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage,
-                    history, old_history, law, law_kind):
+                    history, old_history, initial_gap, old_initial_gap, law, law_kind):
     """_carry by blocks of contacts on numba's threads, the same rows: each block's merge
     starts at the first old key not below its first key (a bisection)."""
     hits = np.zeros(-(-key.shape[0] // _CARRY_BLOCK), dtype=np.int64)
@@ -138,14 +145,14 @@ def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, 
         hi = min(key.shape[0], lo + _CARRY_BLOCK)
         first = np.searchsorted(old_key, key[lo])
         hits[b] = _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip,
-                               old_slip, damage, old_damage, history, old_history, law,
-                               law_kind)
+                               old_slip, damage, old_damage, history, old_history,
+                               initial_gap, old_initial_gap, law, law_kind)
     return hits.sum()
 
 
 @nb.njit(inline="always")
 def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_slip, damage,
-                 old_damage, history, old_history, law, law_kind):
+                 old_damage, history, old_history, initial_gap, old_initial_gap, law, law_kind):
     """_carry's merge for the rows lo .. hi - 1, from old_key[first] on (no old key before it
     is at least key[lo]); returns the rows found."""
     hits = 0
@@ -161,6 +168,7 @@ def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_sl
                 slip[a, r] = old_slip[k, r]
             damage[a] = old_damage[k]
             history[a] = old_history[k]
+            initial_gap[a] = old_initial_gap[k]
             hits += 1
         else:
             for r in range(impulse.shape[1]):
@@ -170,4 +178,5 @@ def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_sl
             cracked = law_kind.shape[0] > 0 and law_kind[law[a]] == _COHESIVE
             damage[a] = 1.0 if cracked else 0.0
             history[a] = 0.0
+            initial_gap[a] = 0.0
     return hits

@@ -18,6 +18,18 @@ CMAME 177, 1999; names after LMGC90's families):
   adding a separation velocity. (A gap target b_n = g / (theta h) in the velocity problem, as
   NSCD.md writes the law, makes impacts rebound as if elastic when theta = 1/2.)
 
+The _g0 variants of these two (`ContactLaw.initial_gap`, LMGC90's IQS_CLB_g0 and
+GAP_SGR_CLB_g0) write the condition on g - g0, g0 a contact's gap [m] at the first step of a
+run, kept by the contact from step to step (saxum.contacts), so that a joint open at the
+start acts as closed: a structure drawn with open joints (LMGC90's arches, joints open by an
+angle) stands as if they were closed, with no block moved to close them. As LMGC90's nlgs
+(mod_nlgs.f90, mod_nlgs_3D.f90, read for their definitions): for SIGNORINI_COULOMB
+g0 = max(g, 0) (an initial interpenetration is not kept) and b_n = max(g - g0, 0) / (theta h);
+for GAP_SIGNORINI_COULOMB g0 = g, signed (an initial interpenetration is kept; LMGC90 2D's
+definition, its 3D one takes max(g, 0) unless told to manage interpenetrations), and the
+projection is onto g >= g0. Contacts that appear after the first step get g0 = 0: the plain
+law (LMGC90 keeps g0 only where its solver first met the contact, on its first step).
+
 Joint laws in stresses (per unit of the contact's `area` A [m^2; 2D: m per metre of depth];
 parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_local):
 
@@ -76,8 +88,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MAX_LAW_POINTS", "NO_CONTACT", "SMOOTH_KINDS", "ContactLaw", "LawKind", "NoContact",
-           "Parameter"]
+__all__ = ["INITIAL_GAP_KINDS", "MAX_LAW_POINTS", "NO_CONTACT", "SMOOTH_KINDS", "ContactLaw",
+           "LawKind", "NoContact", "Parameter"]
 
 MAX_LAW_POINTS = 15
 """Most points a 2D face-to-face contact may get (`ContactLaw.points`): seven Simpson panels."""
@@ -115,6 +127,9 @@ class Parameter(IntEnum):
     """Mode II fracture energy G_II [J/m^2] (COHESIVE)."""
 
 
+INITIAL_GAP_KINDS = (LawKind.SIGNORINI_COULOMB, LawKind.GAP_SIGNORINI_COULOMB)
+"""Laws with a _g0 variant (ContactLaw.initial_gap)."""
+
 SMOOTH_KINDS = (LawKind.ELASTIC, LawKind.VISCOUS_COULOMB, LawKind.COHESIVE)
 """Laws that the local problem modifies (saxum.solver.laws_local); the others are dry."""
 
@@ -147,6 +162,9 @@ class ContactLaw:
     pairs of blocks closer than this become contacts; None: the detector's
     (DetectionSettings.alert).
 
+    initial_gap (SIGNORINI_COULOMB and GAP_SIGNORINI_COULOMB only): the _g0 variant, the
+    condition written on g - g0, g0 each contact's gap at the first step (module doc).
+
     bond_at [s] (COHESIVE only): when the joints bond. 0 (default): the joints closed at the
     start; t > 0: those closed at time t (after a settling phase, during which the law's
     contacts are Coulomb contacts of the gap law), saxum.simulation.Simulation.step.
@@ -168,6 +186,7 @@ class ContactLaw:
     points: int = 2
     alert: float | None = None
     bond_at: float = 0.0
+    initial_gap: bool = False
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.friction) and self.friction >= 0.0):
@@ -196,6 +215,10 @@ class ContactLaw:
         if self.bond_at > 0.0 and self.kind != LawKind.COHESIVE:
             raise InputError(f"{self.name or 'a contact law'}: bond_at={self.bond_at} is for "
                              f"COHESIVE laws (joints that bond), not {self.kind.name}; drop it")
+        if self.initial_gap and self.kind not in INITIAL_GAP_KINDS:
+            raise InputError(f"{self.name or 'a contact law'}: initial_gap (a _g0 law) is for "
+                             "signorini_coulomb and gap_signorini_coulomb, not "
+                             f"{self.kind.name.lower()}; drop it")
         self._check_parameters()
 
     @property

@@ -151,6 +151,8 @@ class Model:
     law_parameter: np.ndarray
     """Joint law parameters, columns saxum.laws.Parameter (k_n, k_t [Pa/m], c_n, eta [Pa s/m],
     f_t, cohesion [Pa], G_I, G_II [J/m^2]), shape [law_count, len(Parameter)], float64."""
+    law_initial_gap: np.ndarray
+    """The _g0 laws (ContactLaw.initial_gap), shape [law_count], bool."""
     gravity: np.ndarray
     """Gravitational acceleration [m/s^2], shape [2], float64."""
     accelerations: tuple[TimeVector, ...] = ()
@@ -773,6 +775,7 @@ class ModelBuilder:
             law_points=np.array([law.points for law in laws], dtype=np.int32),
             law_parameter=np.array([law.parameters for law in laws],
                                    dtype=np.float64).reshape(len(laws), len(Parameter)),
+            law_initial_gap=np.array([law.initial_gap for law in laws], dtype=np.bool_),
             gravity=self._gravity.copy(),
             accelerations=tuple(self._accelerations),
             forces=tuple(self._forces),

@@ -62,7 +62,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
-        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
+        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, f1, f1, i32_1, i8_1),
         "detection.broadphase.grid_pairs": (f2, f2, b1, b1, F, i32_2),
         "solver.problem._assemble_2d": (f2, i32_1, i32_1, f2, f3, f1, i32_1, I, f2, f2, i8_1,
                                         f1, f1, F, F, F, f2, f2, f3, f3, f3, f1, f1, b1),
@@ -72,7 +72,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         "detection.detector._motion_since": (f2, f2, f1, f1, f1),
         "detection.broadphase.bounding_boxes": (f2, i32_1, F, f2, f2),
         "integrator.diagonal_free_velocity": (f2, f2, f2, F, f2),
-        "solver.projection._projection_targets": (i32_1, f1, I, i8_1, f2, F, f1, b1),
+        "solver.projection._projection_targets": (i32_1, f1, f1, I, i8_1, f2, F, f1, b1),
         "bodies.rigid2d.update_positions": (f2, f2, f2, F, F),
     }, 3: {
         # a 3D run's kernels, the rest solution's too (benchmarks/first_run.py's 3D arch and
@@ -93,7 +93,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
         "bodies.rigid3d.gyroscopic_torques": (f2, f2, f2, f2, F, f2),
         "integrator.diagonal_free_velocity": (f2, f2, f2, F, f2),
         "bodies.rigid3d.predict_positions": (f2, f2, F, f2),
-        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, i32_1, i8_1),
+        "contacts._carry": (i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, f1, f1, i32_1, i8_1),
         "bodies.rigid3d.contact_jacobians": (f2, i32_1, i32_1, f2, f3, f1, I, f3, f3),
         "solver.problem._assemble": (i32_1, i32_1, i32_1, f1, I, f3, f3, f2, f2, i8_1, f1, f1, F,
                                      F, F, f3, f1, f1, b1),

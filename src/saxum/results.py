@@ -10,14 +10,16 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
     /model/...             body_name, body_kind, body_group, group_names, body_mass [kg/m],
                            body_inertia [kg m^2/m], body_q0, body_vertex_start, vertex_local [m],
                            law_kind, law_friction, law_restitution, law_parameter (SI units,
-                           columns saxum.laws.Parameter), group_law, gravity [m/s^2];
+                           columns saxum.laws.Parameter), law_initial_gap (the _g0 laws),
+                           group_law, gravity [m/s^2];
                            3D also body_face_start, face_vertex_start, face_vertex (faces);
                            with discs (spheres) body_shape, body_round_radius [m]
     /frames/...            one row per output time: time [s], step, body_q, body_v,
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
                            impulse, area [m^2/m; 3D: m^2] (saxum.contacts.Contacts.area),
-                           slip [m], damage [-], history [-] (the joint laws' state)}
+                           slip [m], damage [-], history [-] (the joint laws' state),
+                           initial_gap [m] (the _g0 laws' g0, saxum.laws)}
     /steps/...             one row per time step: the StepReport fields (saxum.steplog)
     /histories/...         one row per time step for the chosen blocks (attrs body: their
                            indices): time [s], step, body_q, body_v (shape [steps, blocks, 3])
@@ -95,9 +97,11 @@ _CONTACT_FIELDS = {
     "slip": (np.float64, lambda d: (d - 1,), "m"),
     "damage": (np.float64, lambda d: (), "-"),
     "history": (np.float64, lambda d: (), "-"),
+    "initial_gap": (np.float64, lambda d: (), "m"),
 }
 """Contact fields in frames and checkpoints; files written before `area` (or the joint laws'
-`slip`, `damage`, `history`) existed lack them, and are read and resumed without them."""
+`slip`, `damage`, `history`, or the _g0 laws' `initial_gap`) existed lack them, and are read
+and resumed without them."""
 _FE_CONTACT_FIELDS = {
     "side_kind": (np.int8, lambda d: (2,), "-"),
     "side_node": (np.int32, lambda d: (2, d), "-"),
@@ -722,7 +726,7 @@ def _write_model(g: h5py.Group, model) -> None:
               ("body_inertia", "kg m^2" + per_depth), ("body_q0", _UNITS[model.dim][0]),
               ("body_vertex_start", "-"), ("vertex_local", "m"), ("law_kind", "-"),
               ("law_friction", "-"), ("law_restitution", "-"), ("law_parameter", "SI"),
-              ("group_law", "-"),
+              ("law_initial_gap", "-"), ("group_law", "-"),
               ("gravity", "m/s^2")]
     if model.dim == 3:
         fields += [("body_face_start", "-"), ("face_vertex_start", "-"), ("face_vertex", "-"),

@@ -693,6 +693,9 @@ class LawSpec(_Strict):
     bond_at: NonNegative = 0.0
     """When the joints bond [s] (cohesive; ContactLaw.bond_at): 0, those closed at the start;
     later, those closed then, after a settling phase as Coulomb contacts."""
+    initial_gap: bool = False
+    """The _g0 variant (signorini_coulomb, gap_signorini_coulomb; ContactLaw.initial_gap,
+    LMGC90's IQS_CLB_g0, GAP_SGR_CLB_g0): joints open at the start act as closed."""
 
     @model_validator(mode="after")
     def _groups_or_joint(self) -> LawSpec:
@@ -719,7 +722,8 @@ class LawSpec(_Strict):
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
                           g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points,
-                          alert=self.alert, bond_at=self.bond_at)
+                          alert=self.alert, bond_at=self.bond_at,
+                          initial_gap=self.initial_gap)
 
 
 _LAW_KINDS = {"viscous": "VISCOUS_COULOMB"}

@@ -1,7 +1,8 @@
 """The time loop: a fixed sequence of named stages per step (NSCD.md, Moreau-Jean):
 
     forces -> free velocity -> driven velocities -> predicted configuration -> detection
-    -> warm start (and the joint laws' state) -> local problem -> contact solve
+    -> warm start (and the joint laws' state; the _g0 laws' initial gaps, set on the first
+    step) -> local problem -> contact solve
     -> joint state (slip, damage: saxum.solver.laws_local) -> position update
     -> projection (gap-based law) -> report
 
@@ -108,7 +109,7 @@ class Simulation:
         self._threads = getattr(solver, "threads", None)
         """numba's threads for the step's parallel kernels (the solver's setting; None: one,
         the serial kernels)."""
-        self.problem.parallel = self._threads is not None and model.dim == 2
+        self.problem.parallel = self._threads is not None
         self.detector = detector_for(model, detection)
         self.detector.parallel = self.problem.parallel
         self.projection = PositionProjection(model, self.detector.interpenetration)
@@ -121,11 +122,6 @@ class Simulation:
             if not isinstance(self.solver, NLGS):
                 raise InputError("a model with deformable blocks is solved by NLGS only; "
                                  "use solver.kind = \"nlgs\" (the default for them)")
-            if self.problem.joint_laws and model.dim == 3:
-                raise InputError("joint laws (elastic, viscous, cohesive) in a 3D model with "
-                                 "deformable blocks are not supported yet (2D models are): "
-                                 "use dry laws (signorini_coulomb, gap_signorini_coulomb, "
-                                 "restitution_coulomb)")
             _log.info("deformable blocks: the rest solution, load following and the position "
                       "projection are skipped (they are written for rigid blocks)")
         if self.problem.joint_laws and not isinstance(self.solver, NLGS):
@@ -147,6 +143,10 @@ class Simulation:
                                   if k == LawKind.COHESIVE else -1.0
                                   for law, k in zip(model.laws, model.law_kind, strict=True)])
         """Per law: when its joints bond [s] (ContactLaw.bond_at; -1: not a cohesive law)."""
+        self._signed_g0 = model.law_initial_gap & (model.law_kind
+                                                   == LawKind.GAP_SIGNORINI_COULOMB)
+        """Per law: a _g0 law whose g0 is the signed gap (GAP_SGR_CLB_g0; the others' g0 is
+        max(g, 0), saxum.laws)."""
 
     def _check_step(self) -> None:
         g = float(np.linalg.norm(self.model.gravity))
@@ -311,6 +311,8 @@ class Simulation:
         else:
             self.detector.detect(self._q_pred, contacts, fe.x_pred)
         contacts.warm_start_from(state.contacts, m.law_kind, parallel=self.problem.parallel)
+        if state.step == 0 and m.law_initial_gap.any():
+            self._initial_gaps(contacts)
         problem = self.problem
         problem.assemble(contacts, self._q_pred, state.body_v, h, theta,
                          self.detector.closed_gap, self._v)
@@ -364,6 +366,16 @@ class Simulation:
                             rate, lost, damaged)
         self.log.append(report)
         return report
+
+    def _initial_gaps(self, contacts: Contacts) -> None:
+        """Set g0 [m] of the _g0 laws' contacts from their gaps on the first step's predicted
+        configuration, as LMGC90 does on its first step (saxum.laws); 0 for the others."""
+        n = contacts.count
+        law = contacts.law[:n]
+        gap = contacts.gap[:n]
+        contacts.initial_gap[:n] = np.where(
+            self._signed_g0[law], gap,
+            np.where(self.model.law_initial_gap[law], np.maximum(gap, 0.0), 0.0))
 
     def run(self, state: State, duration: float, *, callback=None) -> StepLog:
         """Step `state` for `duration` [s] (rounded to whole steps). callback(state, report) is

@@ -50,10 +50,11 @@ def _shear(t: float) -> float:
     return RATE * max(t - PRESS, 0.0)
 
 
-def _force_on(body: int, c) -> np.ndarray:
-    """The contacts' force on `body` in world axes [N/m; 3D: N]: R / h in the frames."""
+def force_on(body: int, c, h: float = H) -> np.ndarray:
+    """The contacts' force on `body` in world axes [N/m; 3D: N]: R / h in the frames, h the
+    step [s]."""
     n = c.count
-    world = np.einsum("ar,ard->ad", c.impulse[:n], c.frame[:n]) / H
+    world = np.einsum("ar,ard->ad", c.impulse[:n], c.frame[:n]) / h
     sign = np.where(c.candidate[:n] == body, 1.0, np.where(c.antagonist[:n] == body, -1.0, 0.0))
     return sign @ world
 
@@ -88,7 +89,7 @@ def test_direct_shear_peak_residual_and_mode_two_energy(dim):
     for _ in range(30_000):
         sim.step(state)
         c = state.contacts
-        on_slab = _force_on(slab, c)
+        on_slab = force_on(slab, c)
         shear.append(-on_slab[0])
         normal.append(on_slab[dim - 1])
         slip.append(state.body_q[slab, 0] - x0)

@@ -283,7 +283,7 @@ class FEKind:
                            m.law_restitution, problem.v_begin, self.v_begin, problem.bias)
 
     def local_velocities(self, problem, v: np.ndarray, out: np.ndarray, begin: bool) -> None:
-        """ContactProblem.local_velocities for problems with FE sides (2D): U [m/s] from the
+        """ContactProblem.local_velocities for problems with FE sides: U [m/s] from the
         bodies' v and the nodes' velocities, those at the start of the step with begin, else
         the solve's."""
         c = problem.contacts

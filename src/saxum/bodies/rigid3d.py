@@ -38,6 +38,7 @@ __all__ = [
     "predict_positions",
     "update_positions",
     "world_geometry",
+    "world_geometry_range",
 ]
 
 _NEWTON = 30  # cap of the midpoint solve per body (converges in 2-4 steps for h |omega| << 1)
@@ -65,7 +66,15 @@ def _rotate(r, lx, ly, lz):
 def world_geometry(q, vertex_start, vertex_local, face_start, normal_local, wv, wn):
     """wv[k] = x_b + R_b vertex_local[k] [m] for every vertex k of every body b, and
     wn[f] = R_b normal_local[f] for its faces (the rotation computed once per body)."""
-    for b in range(q.shape[0]):
+    world_geometry_range(0, q.shape[0], q, vertex_start, vertex_local, face_start,
+                         normal_local, wv, wn)
+
+
+@nb.njit(inline="always")
+def world_geometry_range(lo, hi, q, vertex_start, vertex_local, face_start, normal_local, wv,
+                         wn):
+    """world_geometry of the bodies lo .. hi - 1 (a parallel region calls it on blocks)."""
+    for b in range(lo, hi):
         r = _rotation(q, b)
         for k in range(vertex_start[b], vertex_start[b + 1]):
             x, y, z = _rotate(r, vertex_local[k, 0], vertex_local[k, 1], vertex_local[k, 2])

@@ -12,7 +12,7 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = ["bounding_boxes", "grid_pairs", "sort_pairs"]
+__all__ = ["bounding_boxes", "grid_pairs", "grid_pairs_parallel", "sort_pairs"]
 
 
 @nb.njit(cache=True)
@@ -57,11 +57,59 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
     exceed len(out): the caller then enlarges out and calls again.
     """
     n = lo.shape[0]
-    cap = out.shape[0]
     i0 = np.zeros((n, 3), np.int64)
     i1 = np.zeros((n, 3), np.int64)
+    entries = _cells(0, n, lo, hi, large, cell, i0, i1)
+    start, e_body, e_cell, mask = _grid(large, i0, i1, entries)
+    count = _small_pairs(0, n, lo, hi, mobile, large, i0, i1, start, e_body, e_cell, mask,
+                         out)
+    return _large_pairs(lo, hi, mobile, large, out, count)
+
+
+_GRID_BODIES = 2048
+"""Bodies per block of grid_pairs_parallel."""
+
+
+@nb.njit(parallel=True, cache=True)
+def grid_pairs_parallel(lo, hi, mobile, large, cell, out, scratch):
+    """grid_pairs on numba's threads, the same pairs in the same order: the bodies' cells by
+    blocks of _GRID_BODIES bodies in parallel, the grid filled in the bodies' order (one
+    thread), each block's pairs into its own share of the rows of scratch (as long as out)
+    in parallel, copied in the blocks' order into out, then the large bodies' pairs.
+    Returns as grid_pairs: more than len(out) where out or a block's share of scratch is
+    short (the caller then enlarges both to twice that and calls again)."""
+    n = lo.shape[0]
+    blocks = -(-n // _GRID_BODIES)
+    i0 = np.zeros((n, 3), np.int64)
+    i1 = np.zeros((n, 3), np.int64)
+    found = np.zeros(blocks, np.int64)
+    for k in nb.prange(blocks):
+        found[k] = _cells(k * _GRID_BODIES, min(n, (k + 1) * _GRID_BODIES), lo, hi, large,
+                          cell, i0, i1)
+    start, e_body, e_cell, mask = _grid(large, i0, i1, found.sum())
+    room = scratch.shape[0] // blocks
+    for k in nb.prange(blocks):
+        found[k] = _small_pairs(k * _GRID_BODIES, min(n, (k + 1) * _GRID_BODIES), lo, hi,
+                                mobile, large, i0, i1, start, e_body, e_cell, mask,
+                                scratch[k * room:(k + 1) * room])
+    if found.max() > room:  # blocks x the most is more than len(scratch) == len(out)
+        return blocks * found.max()
+    first = np.zeros(blocks + 1, np.int64)
+    for k in range(blocks):
+        first[k + 1] = first[k] + found[k]
+    for k in nb.prange(blocks):
+        for p in range(found[k]):
+            out[first[k] + p, 0] = scratch[k * room + p, 0]
+            out[first[k] + p, 1] = scratch[k * room + p, 1]
+    return _large_pairs(lo, hi, mobile, large, out, first[blocks])
+
+
+@nb.njit(inline="always")
+def _cells(b0, b1, lo, hi, large, cell, i0, i1):
+    """The first and last cells i0, i1 of the small bodies b0 .. b1 - 1; returns how many
+    cells they cover in all."""
     entries = 0
-    for b in range(n):
+    for b in range(b0, b1):
         if large[b]:
             continue
         for d in range(lo.shape[1]):
@@ -69,6 +117,14 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
             i1[b, d] = _cell(hi[b, d], cell)
         entries += (i1[b, 0] - i0[b, 0] + 1) * (i1[b, 1] - i0[b, 1] + 1) * (i1[b, 2] - i0[b, 2]
                                                                             + 1)
+    return entries
+
+
+@nb.njit(inline="always")
+def _grid(large, i0, i1, entries):
+    """The hashed grid of the small bodies' cells, in the bodies' order: (start, e_body,
+    e_cell, mask), bucket k's entries start[k] .. start[k + 1] - 1."""
+    n = large.shape[0]
     size = 1
     while size < 2 * entries:
         size *= 2
@@ -96,9 +152,16 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
                         e_cell[k, 1] = iy
                         e_cell[k, 2] = iz
                         fill[_bucket(ix, iy, iz, mask)] += 1
+    return start, e_body, e_cell, mask
 
+
+@nb.njit(inline="always")
+def _small_pairs(b0, b1, lo, hi, mobile, large, i0, i1, start, e_body, e_cell, mask, out):
+    """The pairs (i, j > i) of the small bodies i = b0 .. b1 - 1 into out (as many as fit);
+    returns how many."""
+    cap = out.shape[0]
     count = 0
-    for i in range(n):
+    for i in range(b0, b1):
         if large[i]:
             continue
         for ix in range(i0[i, 0], i1[i, 0] + 1):
@@ -120,6 +183,15 @@ def grid_pairs(lo, hi, mobile, large, cell, out):
                                 out[count, 0] = i
                                 out[count, 1] = j
                             count += 1
+    return count
+
+
+@nb.njit(inline="always")
+def _large_pairs(lo, hi, mobile, large, out, count):
+    """The pairs of the large bodies, each against every body (directly), into out from row
+    count on (as many as fit); returns count plus how many."""
+    cap = out.shape[0]
+    n = lo.shape[0]
     for i in range(n):
         if not large[i]:
             continue

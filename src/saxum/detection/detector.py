@@ -12,11 +12,11 @@ from ..bodies.rigid2d import world_geometry, world_geometry_range
 from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model, Shape
-from .broadphase import bounding_boxes, grid_pairs, sort_pairs
+from .broadphase import bounding_boxes, grid_pairs, grid_pairs_parallel, sort_pairs
 from .fe_nodes import node_contacts
-from .fe_nodes3d import node_contacts_3d
-from .polygons import polygon_contacts, polygon_contacts_parallel
-from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts
+from .fe_nodes3d import facet_planes, node_contacts_3d
+from .polygons import PAIR_BLOCK, polygon_contacts, polygon_contacts_parallel
+from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts, polyhedron_contacts_parallel
 from .round import round_contacts
 
 __all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]
@@ -161,11 +161,21 @@ class Detector:
         self._no_contact = bool((model.group_law[mobile_groups] < 0).any())
         """Some group of free blocks has a NO_CONTACT pair: the broad phase drops its pairs."""
         self.parallel = False
-        """Run the world geometry and the narrow phase of a 2D model on numba's threads
-        (_geometry_parallel, polygon_contacts_parallel: the same contacts bit for bit):
+        """Run the world geometry, the broad phase (2D) and the narrow phase on numba's threads
+        (_geometry_parallel, grid_pairs_parallel, polygon_contacts_parallel; in 3D
+        _geometry_parallel_3d, polyhedron_contacts_parallel: the same contacts bit for bit):
         Simulation sets it where the solver's threads are set."""
         self._scratch = Contacts(model.dim)
         """The parallel narrow phase's rows per block of pairs."""
+        self._pair_scratch = np.empty((0, 2), dtype=np.int32)
+        """The parallel broad phase's pairs per block of bodies (grid_pairs_parallel)."""
+        self._block_start = np.zeros(1, dtype=np.int64)
+        """Where the parallel narrow phase's blocks of pairs began their contacts last time."""
+        self._in_place = False
+        """Whether the last parallel narrow phase found as many contacts per block as the one
+        before it: the next tries writing its blocks in place (polygon_contacts_parallel)."""
+        self.in_place_count = 0
+        """Parallel narrow phases that wrote their blocks in place (no copy)."""
         self.slots = max(2, int(model.law_points.max(initial=2)))
         """Keys per pair of faces: the most points a face contact of the model's laws has."""
         self._round_room = (2 + model.max_vertices if (model.body_shape == Shape.CAPSULE).any()
@@ -177,28 +187,24 @@ class Detector:
         """Fill `contacts` (impulses untouched) with the contacts of configuration q and, for
         deformable blocks, node positions node_x [m] (default: the reference ones)."""
         self._node_x = node_x
-        if self.parallel:  # 2D (Simulation)
-            m = self.model
-            moved = _geometry_parallel(q, self._q_ref, m.body_radius, self._motion,
-                                       self._turn, m.body_vertex_start, m.vertex_local,
-                                       m.edge_normal_local, self._wv, self._wn)
-        else:
-            self._world_geometry(q)
-            moved = self._motion_since_refresh(q)
+        moved = self._geometry(q)
         refresh = self._since_refresh >= self.refresh_every or moved > 0.5 * self.margin
         if refresh:
             self._refresh(q)
         self._since_refresh += 1
         self._narrow_phase(q, contacts, refresh)
 
-    def _world_geometry(self, q: np.ndarray) -> None:
-        """World coordinates of what the narrow phase needs, for configuration q."""
+    def _geometry(self, q: np.ndarray) -> float:
+        """World coordinates of what the narrow phase needs, for configuration q (on numba's
+        threads where parallel); returns an upper bound of the displacement of any point
+        since the last broad phase [m]."""
         m = self.model
+        if self.parallel:
+            return _geometry_parallel(q, self._q_ref, m.body_radius, self._motion, self._turn,
+                                      m.body_vertex_start, m.vertex_local,
+                                      m.edge_normal_local, self._wv, self._wn)
         world_geometry(q, m.body_vertex_start, m.vertex_local, m.edge_normal_local, self._wv,
                        self._wn)
-
-    def _motion_since_refresh(self, q: np.ndarray) -> float:
-        """Upper bound of the displacement of any point since the last broad phase [m]."""
         return _motion_since(q, self._q_ref, self.model.body_radius, self._motion, self._turn)
 
     def _narrow_phase(self, q: np.ndarray, contacts: Contacts, refresh: bool) -> None:
@@ -208,19 +214,25 @@ class Detector:
                          + self._round_room * len(self._round_pairs))
         out = (contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
                contacts.point, contacts.frame, contacts.gap, contacts.area)
-        kernel = polygon_contacts
+        args = (self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
+                m.body_vertex_start, m.body_group, m.group_law,
+                m.law_points if self.slots > 2 else None, self.slots, self.alert,
+                self.law_alert, self._body_alert, self.reference_bias, m.max_vertices, q,
+                m.body_radius, self._motion, self._turn, refresh, self._faces, self._slack)
         if self.parallel:
             self._scratch.reserve(self.slots * self.pair_count)
             s = self._scratch
-            kernel = polygon_contacts_parallel
-            out += (s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
-        contacts.count, self.kept_faces = kernel(
-            self._pairs, self.pair_count, self._wv, self._wn, m.edge_length,
-            m.body_vertex_start, m.body_group, m.group_law,
-            m.law_points if self.slots > 2 else None, self.slots, self.alert, self.law_alert,
-            self._body_alert, self.reference_bias,
-            m.max_vertices, q, m.body_radius, self._motion, self._turn, refresh, self._faces,
-            self._slack, *out)
+            blocks = -(-self.pair_count // PAIR_BLOCK)
+            if len(self._block_start) != blocks + 1:
+                self._block_start = np.zeros(blocks + 1, dtype=np.int64)
+                self._in_place = False
+            tried = self._in_place
+            contacts.count, self.kept_faces, self._in_place = polygon_contacts_parallel(
+                *args, self._block_start, tried, *out,
+                s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
+            self.in_place_count += tried and self._in_place
+        else:
+            contacts.count, self.kept_faces = polygon_contacts(*args, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
         contacts.side_kind[: contacts.count] = 0
@@ -292,8 +304,14 @@ class Detector:
         bounding_boxes(self._wv, m.body_vertex_start, 0.5 * (self.widest_alert + self.margin),
                        self._lo, self._hi)
         while True:
-            count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
-                               self._pairs)
+            if self.parallel:
+                if len(self._pair_scratch) != len(self._pairs):
+                    self._pair_scratch = np.empty_like(self._pairs)
+                count = grid_pairs_parallel(self._lo, self._hi, self._mobile, self._large,
+                                            self._cell, self._pairs, self._pair_scratch)
+            else:
+                count = grid_pairs(self._lo, self._hi, self._mobile, self._large, self._cell,
+                                   self._pairs)
             if count <= len(self._pairs):
                 break
             self._pairs = np.empty((2 * count, 2), dtype=np.int32)
@@ -357,6 +375,7 @@ class Detector:
             self._faces = np.zeros((len(self._pairs), 3), dtype=np.int32)
             self._slack = np.zeros((len(self._pairs), 2))
         self._faces[:, 0] = 0  # no kept choice: the full test until the next broad phase
+        self._in_place = False
         self.pair_count = count
         self._q_ref[:] = saved["q_ref"]
         self._since_refresh = int(saved["since_refresh"])
@@ -400,8 +419,29 @@ class Detector:
 def _largest_motion_3d(q, q_ref, radius):
     """Upper bound of the displacement of any point of any body since q_ref [m]: the centre's
     displacement plus the rotation angle 2 acos |q . q_ref| times the body's radius."""
+    return _motion_range_3d(0, q.shape[0], q, q_ref, radius)
+
+
+@nb.njit(parallel=True, cache=True)
+def _geometry_parallel_3d(q, vertex_start, vertex_local, face_start, normal_local, wv, wn,
+                          q_ref, radius):
+    """rigid3d.world_geometry and _largest_motion_3d by blocks of bodies on numba's threads,
+    as _geometry_parallel (the same numbers); returns the largest motion [m]."""
+    worst = np.zeros(-(-q.shape[0] // _BODY_BLOCK))
+    for k in nb.prange(worst.shape[0]):
+        lo = k * _BODY_BLOCK
+        hi = min(q.shape[0], lo + _BODY_BLOCK)
+        rigid3d.world_geometry_range(lo, hi, q, vertex_start, vertex_local, face_start,
+                                     normal_local, wv, wn)
+        worst[k] = _motion_range_3d(lo, hi, q, q_ref, radius)
+    return worst.max()
+
+
+@nb.njit(inline="always")
+def _motion_range_3d(lo, hi, q, q_ref, radius):
+    """_largest_motion_3d of the bodies lo .. hi - 1."""
     worst = 0.0
-    for b in range(q.shape[0]):
+    for b in range(lo, hi):
         d = math.sqrt((q[b, 0] - q_ref[b, 0]) ** 2 + (q[b, 1] - q_ref[b, 1]) ** 2
                       + (q[b, 2] - q_ref[b, 2]) ** 2)
         dot = abs(q[b, 3] * q_ref[b, 3] + q[b, 4] * q_ref[b, 4] + q[b, 5] * q_ref[b, 5]
@@ -424,6 +464,9 @@ class PolyhedronDetector(Detector):
         self._axes0 = None
         """Deformable blocks: the principal axes of their body rows at the start [n_fe, 3,
         3], which their body rows' quaternions turn (saxum.bodies.fe3d.principal_axes)."""
+        self._facet_plane = None
+        """Deformable blocks: each boundary triangle's flat side (fe_nodes3d.facet_planes), set
+        with _axes0."""
         if self._round_room > 1:  # a capsule's two ends, a polyhedron's edges and vertices
             self._round_room = 2 + self._max_edges + model.max_vertices
         features = self._max_faces + self._max_edges
@@ -435,13 +478,14 @@ class PolyhedronDetector(Detector):
                 "use blocks with fewer faces"
             )
 
-    def _world_geometry(self, q: np.ndarray) -> None:
+    def _geometry(self, q: np.ndarray) -> float:
         m = self.model
-        rigid3d.world_geometry(q, m.body_vertex_start, m.vertex_local, m.body_face_start,
-                               m.face_normal_local, self._wv, self._wn)
-
-    def _motion_since_refresh(self, q: np.ndarray) -> float:
-        return _largest_motion_3d(q, self._q_ref, self.model.body_radius)
+        args = (q, m.body_vertex_start, m.vertex_local, m.body_face_start, m.face_normal_local,
+                self._wv, self._wn)
+        if self.parallel:
+            return _geometry_parallel_3d(*args, self._q_ref, m.body_radius)
+        rigid3d.world_geometry(*args)
+        return _largest_motion_3d(q, self._q_ref, m.body_radius)
 
     def _round_key_base(self) -> int:
         m = self.model
@@ -453,15 +497,21 @@ class PolyhedronDetector(Detector):
         points = MAX_POINTS if self.slots == SLOTS else 2 * MAX_POINTS + 1
         contacts.reserve(points * self.pair_count
                          + self._round_room * len(self._round_pairs))
-        contacts.count = polyhedron_contacts(
-            self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
-            m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
-            m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points, self.slots,
-            self.alert, self.law_alert, self._body_alert, self.reference_bias, self._max_faces,
-            self._max_edges, self._max_face_vertices,
-            contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-            contacts.point, contacts.frame, contacts.gap, contacts.area,
-        )
+        args = (self._pairs, self.pair_count, q, self._wv, self._wn, m.body_vertex_start,
+                m.body_face_start, m.face_vertex_start, m.face_vertex, m.body_edge_start,
+                m.edge_vertex, m.edge_face, m.body_group, m.group_law, m.law_points,
+                self.slots, self.alert, self.law_alert, self._body_alert, self.reference_bias,
+                self._max_faces, self._max_edges, self._max_face_vertices)
+        out = (contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
+               contacts.point, contacts.frame, contacts.gap, contacts.area)
+        if self.parallel:
+            self._scratch.reserve(points * self.pair_count)
+            s = self._scratch
+            contacts.count = polyhedron_contacts_parallel(
+                *args, points, *out, s.candidate, s.antagonist, s.key, s.law, s.point,
+                s.frame, s.gap, s.area)
+        else:
+            contacts.count = polyhedron_contacts(*args, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
         if m.fe is not None:
@@ -476,6 +526,7 @@ class PolyhedronDetector(Detector):
         fe = m.fe
         if self._axes0 is None:
             self._axes0 = principal_axes(m.body_q0[fe.body])
+            self._facet_plane = facet_planes(fe.node_x0, fe.facet_node, fe.facet_start)
         key_base = self._round_key_base()
         if float(key_base) + float(len(node_x) + m.vertex_local.shape[0]) * float(
                 len(self._wn) + len(fe.facet_node)) + float(len(m.edge_vertex)) * float(
@@ -485,7 +536,8 @@ class PolyhedronDetector(Detector):
         return node_contacts_3d(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
             fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
-            self._wv, self._wn, m.body_face_start, m.face_vertex_start, m.face_vertex,
+            self._facet_plane, self._wv, self._wn, m.body_face_start, m.face_vertex_start,
+            m.face_vertex,
             m.body_vertex_start, m.body_edge_start, m.edge_vertex, m.edge_face,
             fe.edge_start, fe.edge_node, fe.edge_facet, m.body_group, m.group_law, self.alert,
             self.law_alert, self._body_alert, key_base, first,

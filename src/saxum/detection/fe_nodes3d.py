@@ -46,7 +46,27 @@ import numpy as np
 from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, rigid_side
 from .polyhedra import _write as _polyhedron_row
 
-__all__ = ["node_contacts_3d"]
+__all__ = ["facet_planes", "node_contacts_3d"]
+
+def facet_planes(node_x0: np.ndarray, facet_node: np.ndarray,
+                facet_start: np.ndarray) -> np.ndarray:
+    """Per boundary triangle, the first triangle of its block on the same plane in the
+    reference configuration node_x0 [m] (unit normals within 1e-6, offsets within 1e-9 of the
+    block's size): the flat side of the block it lies on, by which a node's contact on it is
+    keyed (node_contacts_3d), int64 [facets]."""
+    a, b, c = (node_x0[facet_node[:, k]] for k in range(3))
+    normal = np.cross(b - a, c - a)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    offset = np.einsum("fd,fd->f", normal, a)
+    side = np.arange(len(facet_node), dtype=np.int64)
+    for f0, f1 in zip(facet_start[:-1], facet_start[1:], strict=True):
+        n, d = normal[f0:f1], offset[f0:f1]
+        size = float(np.ptp(node_x0[facet_node[f0:f1]].reshape(-1, 3), axis=0).max())
+        same = ((np.abs(n[:, None] - n[None]).max(axis=2) < 1e-6)
+                & (np.abs(d[:, None] - d[None]) < 1e-9 * size))
+        side[f0:f1] = f0 + same.argmax(axis=1)  # the first True: the row's own at the latest
+    return side
+
 
 _FLAT = 1e-6
 """|m x n|^2 below which the normal m of a deformable block's triangle is n (1e-3 rad): the
@@ -138,8 +158,12 @@ def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, weight)
     of a deformable block (saxum.detection.fe_nodes._nearest_facet in 3D): outside the
     largest signed distance over all triangles, g and the facet the largest over those into
     which the point projects (within tie), ties broken by the normal most opposed to the
-    point's own outward direction (mx, my, mz); weight [3] gets the barycentric coordinates
-    of the projection on the chosen facet (clamped to the triangle). Facet -1: none."""
+    point's own outward direction (mx, my, mz) and, between triangles equally opposed
+    (within 1e-3: coplanar ones, turned against each other by the strain), by the first, so
+    that a node built on a corner of coplanar triangles keeps its triangle, and its contact
+    its key (the warm start and the joint laws' state go by key), from step to step; weight
+    [3] gets the barycentric coordinates of the projection on the chosen facet (clamped to
+    the triangle). Facet -1: none."""
     best = -1
     g = -1e300
     g_onto = -1e300
@@ -157,7 +181,7 @@ def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, weight)
         if da < -tie or db < -tie or dc < -tie:
             continue
         dot = nx * mx + ny * my + nz * mz
-        if d > g_onto + tie or (d >= g_onto - tie and dot < facing):
+        if d > g_onto + tie or (d >= g_onto - tie and dot < facing - 1e-3):
             g_onto = d
             best = f
             facing = dot
@@ -280,7 +304,8 @@ def _edge_contacts(count, fb, ob, f, law_index, pair_alert, wv, wn, body_edge_st
 
 @nb.njit(cache=True)
 def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
-                     boundary_node, node_side, facet_start, facet_node, wv, wn, face_start, fvs,
+                     boundary_node, node_side, facet_start, facet_node, facet_plane, wv, wn,
+                     face_start, fvs,
                      fv, body_vertex_start, body_edge_start, edge_vertex, edge_face,
                      fe_edge_start, fe_edge_node, fe_edge_facet, body_group, group_law, alert,
                      law_alert, body_alert, key_base, count,
@@ -290,7 +315,9 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     from row `count` on; returns the new count. axes0 [n_fe, 3, 3]: the principal axes of the
     blocks' body rows at the start (saxum.bodies.fe3d.principal_axes). Keys above key_base,
     distinct per (point, face): node p against face or facet e, key_base + p E + e' with e' =
-    e for a rigid face and F_r + e for a facet (F_r rigid faces, E = F_r + facets); a rigid
+    e for a rigid face and F_r + facet_plane[e] for a facet (F_r rigid faces, E = F_r +
+    facets; facet_planes: a node that strains or slips onto the next triangle of the same flat
+    side keeps its contact, with its warm start and a joint law's damage); a rigid
     vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays must
     have room for every boundary node and vertex of every pair; a rigid edge e against
     boundary edge k (_edge_contacts), key_base + (N + V) E + e E_k + k (V vertices, E_k
@@ -340,7 +367,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 ty = node_x[facet_node[e, 1], 1] - node_x[facet_node[e, 0], 1]
                 tz = node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2]
                 facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
-                face_key = faces + e
+                face_key = faces + facet_plane[e]
             candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * features + face_key, law_index, x, y, z, tx,
                    ty, tz, nx, ny, nz, g, _node_side_sum(node_side, p, r, nx, ny, nz)[0],

@@ -296,7 +296,7 @@ def polygon_contacts(
     return count, reused
 
 
-_PAIR_BLOCK = 2048
+PAIR_BLOCK = 2048
 """Pairs per block of polygon_contacts_parallel."""
 
 
@@ -304,40 +304,73 @@ _PAIR_BLOCK = 2048
 def polygon_contacts_parallel(
     pairs, npairs, wv, wn, edge_length, vertex_start, body_group, group_law, law_points,
     slots, alert, law_alert, body_alert, ref_tol, max_vertices, q, radius, motion, turn, record,
-    faces, slack,
+    faces, slack, start, in_place,
     candidate, antagonist, key, law, point, frame, gap, area,
     s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
 ):
     """polygon_contacts on numba's threads, the same contacts in the same order bit for bit:
-    blocks of _PAIR_BLOCK pairs in parallel, each block's contacts into its own rows of the
-    scratch arrays s_* (room for slots * npairs contacts: slots * its first pair on), then
-    copied in the blocks' order into the output arrays (room as polygon_contacts')."""
-    blocks = -(-npairs // _PAIR_BLOCK)
-    start = np.zeros(blocks + 1, dtype=np.int64)
+    blocks of PAIR_BLOCK pairs in parallel. start (int64, one more than the blocks): where
+    each block's contacts began in the last call; in_place: try writing each block's
+    contacts straight into the output arrays from there, which holds where every block
+    finds as many contacts as then (bodies at rest); otherwise, or
+    where one does not (its rows may have run into the next block's: all are written again),
+    each block's contacts go into its own rows of the scratch arrays s_* (room for slots *
+    npairs contacts: slots * its first pair on), then copied in the blocks' order into the
+    output arrays (room as polygon_contacts'). Returns (contacts, pairs that kept their
+    faces, whether every block found as many contacts as in start), with start updated."""
+    blocks = -(-npairs // PAIR_BLOCK)
+    found = np.zeros(blocks, dtype=np.int64)
     reused = np.zeros(blocks, dtype=np.int64)
+    if in_place:
+        for k in nb.prange(blocks):
+            lo = k * PAIR_BLOCK
+            hi = min(npairs, lo + PAIR_BLOCK)
+            r = start[k]
+            found[k], reused[k] = polygon_contacts(
+                pairs[lo:hi], hi - lo, wv, wn, edge_length, vertex_start, body_group,
+                group_law, law_points, slots, alert, law_alert, body_alert, ref_tol,
+                max_vertices, q, radius, motion, turn, record, faces[lo:hi], slack[lo:hi],
+                candidate[r:], antagonist[r:], key[r:], law[r:], point[r:], frame[r:], gap[r:],
+                area[r:])
+        if _same_sizes(found, start):
+            return start[blocks], reused.sum(), True
     for k in nb.prange(blocks):
-        lo = k * _PAIR_BLOCK
-        hi = min(npairs, lo + _PAIR_BLOCK)
+        lo = k * PAIR_BLOCK
+        hi = min(npairs, lo + PAIR_BLOCK)
         r = slots * lo
-        start[k + 1], reused[k] = polygon_contacts(
+        found[k], reused[k] = polygon_contacts(
             pairs[lo:hi], hi - lo, wv, wn, edge_length, vertex_start, body_group, group_law,
             law_points, slots, alert, law_alert, body_alert, ref_tol, max_vertices, q, radius,
             motion, turn, record, faces[lo:hi], slack[lo:hi], s_candidate[r:],
             s_antagonist[r:], s_key[r:], s_law[r:], s_point[r:], s_frame[r:], s_gap[r:],
             s_area[r:])
+    same = _same_sizes(found, start)
+    start[0] = 0
     for k in range(blocks):
-        start[k + 1] += start[k]
+        start[k + 1] = start[k] + found[k]
     for k in nb.prange(blocks):
-        _copy_rows(slots * k * _PAIR_BLOCK, start[k], start[k + 1] - start[k],
-                   s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
-                   candidate, antagonist, key, law, point, frame, gap, area)
-    return start[blocks], reused.sum()
+        copy_rows(slots * k * PAIR_BLOCK, start[k], found[k],
+                  s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
+                  candidate, antagonist, key, law, point, frame, gap, area)
+    return start[blocks], reused.sum(), same
 
 
 @nb.njit(cache=True)
-def _copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap,
-               s_area, candidate, antagonist, key, law, point, frame, gap, area):
-    """Rows src .. src + n - 1 of the s_* arrays into rows dst .. dst + n - 1 of the others."""
+def _same_sizes(found, start):
+    """Whether block k found start[k + 1] - start[k] contacts, for every k."""
+    for k in range(found.shape[0]):
+        if found[k] != start[k + 1] - start[k]:
+            return False
+    return True
+
+
+@nb.njit(cache=True)
+def copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap,
+              s_area, candidate, antagonist, key, law, point, frame, gap, area):
+    """Rows src .. src + n - 1 of the s_* arrays into rows dst .. dst + n - 1 of the others
+    (2D or 3D: the parallel narrow phases, polygon_contacts_parallel and
+    saxum.detection.polyhedra.polyhedron_contacts_parallel)."""
+    dim = point.shape[1]
     for i in range(n):
         a = src + i
         c = dst + i
@@ -345,12 +378,10 @@ def _copy_rows(src, dst, n, s_candidate, s_antagonist, s_key, s_law, s_point, s_
         antagonist[c] = s_antagonist[a]
         key[c] = s_key[a]
         law[c] = s_law[a]
-        point[c, 0] = s_point[a, 0]
-        point[c, 1] = s_point[a, 1]
-        frame[c, 0, 0] = s_frame[a, 0, 0]
-        frame[c, 0, 1] = s_frame[a, 0, 1]
-        frame[c, 1, 0] = s_frame[a, 1, 0]
-        frame[c, 1, 1] = s_frame[a, 1, 1]
+        for r in range(dim):
+            point[c, r] = s_point[a, r]
+            for d in range(dim):
+                frame[c, r, d] = s_frame[a, r, d]
         gap[c] = s_gap[a]
         area[c] = s_area[a]
 

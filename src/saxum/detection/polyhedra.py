@@ -66,9 +66,9 @@ import math
 import numba as nb
 import numpy as np
 
-from .polygons import alert_of_pair
+from .polygons import alert_of_pair, copy_rows
 
-__all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts"]
+__all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts", "polyhedron_contacts_parallel"]
 
 MAX_POINTS = 8
 """Contact points of one face-to-face contact, at most."""
@@ -377,6 +377,44 @@ def polyhedron_contacts(
         else:
             _share_area(face_area, picked, order, n, pu, pw, area, first)
     return count
+
+
+_PAIR_BLOCK = 512
+"""Pairs per block of polyhedron_contacts_parallel (a pair of polyhedra costs several times
+a pair of polygons)."""
+
+
+@nb.njit(parallel=True, cache=True)
+def polyhedron_contacts_parallel(
+    pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
+    edge_face, body_group, group_law, law_points, slots, alert, law_alert, body_alert, ref_tol,
+    max_faces, max_edges, max_face_vertices, room, candidate, antagonist, key, law, point,
+    frame, gap, area, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
+):
+    """polyhedron_contacts on numba's threads, the same contacts in the same order bit for bit,
+    as saxum.detection.polygons.polygon_contacts_parallel: blocks of _PAIR_BLOCK pairs in
+    parallel, each block's contacts into its own rows of the scratch arrays s_* (room per
+    pair, polyhedron_contacts' MAX_POINTS or 2 MAX_POINTS + 1: room * its first pair on),
+    then copied in the blocks' order into the output arrays."""
+    blocks = -(-npairs // _PAIR_BLOCK)
+    start = np.zeros(blocks + 1, dtype=np.int64)
+    for k in nb.prange(blocks):
+        lo = k * _PAIR_BLOCK
+        hi = min(npairs, lo + _PAIR_BLOCK)
+        r = room * lo
+        start[k + 1] = polyhedron_contacts(
+            pairs[lo:hi], hi - lo, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start,
+            edge_vertex, edge_face, body_group, group_law, law_points, slots, alert, law_alert,
+            body_alert, ref_tol, max_faces, max_edges, max_face_vertices, s_candidate[r:],
+            s_antagonist[r:], s_key[r:], s_law[r:], s_point[r:], s_frame[r:], s_gap[r:],
+            s_area[r:])
+    for k in range(blocks):
+        start[k + 1] += start[k]
+    for k in nb.prange(blocks):
+        copy_rows(room * k * _PAIR_BLOCK, start[k], start[k + 1] - start[k], s_candidate,
+                  s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area, candidate,
+                  antagonist, key, law, point, frame, gap, area)
+    return start[blocks]
 
 
 @nb.njit(inline="always")

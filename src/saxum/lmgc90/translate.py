@@ -20,7 +20,8 @@ and its imposed dofs are listed as not translated, as are imposed forces and evo
 
 Laws (TACT_BEHAV.DAT): IQS_CLB -> SIGNORINI_COULOMB, GAP_SGR_CLB -> GAP_SIGNORINI_COULOMB,
 RST_CLB -> RESTITUTION_COULOMB (rstn), each with the see-table's alert (ContactLaw.alert);
-the _g0 variants and the dynamic-static (_DS_) ones approximated and listed. A pair of colours
+IQS_CLB_g0 and GAP_SGR_CLB_g0 -> the same with ContactLaw.initial_gap (saxum.laws), the
+dynamic-static (_DS_) ones approximated and listed. A pair of colours
 without a see-table gets NO_CONTACT (LMGC90 never detects it). LMGC90's see-tables are
 ordered (candidate, antagonist), saxum's laws are per unordered pair: two see-tables of one
 pair with different laws are an error.
@@ -260,6 +261,8 @@ class Lmgc90Import:
             lines += [f'kind = "{law.kind.name.lower()}"', f"friction = {law.friction!r}"]
             if law.kind == LawKind.RESTITUTION_COULOMB:
                 lines += [f"restitution = {law.restitution!r}"]
+            if law.initial_gap:
+                lines += ["initial_gap = true  # a _g0 law"]
             lines += [f"alert = {law.alert!r}"]
         lines += ["", "[solver]", f"dt = {dt!r}"]
         if warm_start:
@@ -383,9 +386,6 @@ def _law(entry: LawEntry, alert: float, notes: list[Untranslated], problems: lis
         if mu is None:
             problems.append(f"{entry.where}: law {entry.name!r} ({entry.type}) has no fric=")
             return None
-    if entry.type.endswith("_g0"):
-        notes.append(Untranslated(f"law {entry.name!r} ({entry.type}): the initial gaps are "
-                                  "not subtracted (saxum's law without _g0)", entry.where))
     restitution = 0.0
     if kind == LawKind.RESTITUTION_COULOMB:
         restitution = v.get("rstn", 0.0)
@@ -395,7 +395,8 @@ def _law(entry: LawEntry, alert: float, notes: list[Untranslated], problems: lis
                                       entry.where))
     try:
         return ContactLaw(friction=mu, kind=kind, restitution=restitution, alert=alert,
-                          name=f"{entry.name} ({entry.where})")
+                          name=f"{entry.name} ({entry.where})",
+                          initial_gap=entry.type.endswith("_g0"))
     except InputError as err:
         problems.append(f"{entry.where}: law {entry.name!r}: {err}")
         return None

@@ -21,7 +21,12 @@ the frame, and rls/H first: values are read by their labels). The body line name
 candidate (cdbdy, its number, its contactor type) and the antagonist; between them a vertex
 number (`CDVER 3`; 3D: a bare number) or nothing, after them a segment (`ANSEG 2`) or
 nothing, then the status. Values are read in free format (`label
-value`), so files with more digits than LMGC90's columns are read too.
+value`), so files with more digits than LMGC90's columns are read too. A contact of a law with
+internal variables (LMGC90's _g0 laws: IQS_CLB_g0's g_ref, GAP_SGR_CLB_g0's taille_ele and
+g_ref, the initial gap g0) ends with a comment line naming them (`#`, which LMGC90's reader
+skips) and a line of their values, 15 characters each ((1X,D14.7), mod_PLPLx.f90's
+read_ini_Vloc_Rloc takes them after the point); the reader here ignores them (a run
+restarted from the file takes its g0 again, as LMGC90's does on its first step).
 """
 
 import re
@@ -31,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..laws import LawKind
 from .reader import Where, number
 
 __all__ = ["VlocEntry", "read_vloc_rloc", "write_vloc_rloc"]
@@ -144,6 +150,11 @@ _MODULES = {("POLYG", "POLYG"): "PLPLx", ("POLYG", "JONCx"): "PLJCx",
             ("DISKx", "JONCx"): "DKJCx", ("POLYR", "POLYR"): "PRPRx",
             ("SPHER", "POLYR"): "SPPRx", ("SPHER", "SPHER"): "SPSPx"}
 """LMGC90's contact module per (candidate, antagonist) contactor types."""
+_G0_INTERNALS = {LawKind.SIGNORINI_COULOMB: ("g_ref",),
+                 LawKind.GAP_SIGNORINI_COULOMB: ("taille_ele", "g_ref")}
+"""The internal variables LMGC90 keeps per contact of a _g0 law (mod_tact_behav.f90): g_ref,
+the initial gap g0 [m], and for GAP_SGR_CLB_g0 first the contact's length (0 for rigid
+contactors, which LMGC90 leaves it at)."""
 
 
 def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, contactor,
@@ -154,7 +165,8 @@ def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, conta
     as export_lmgc90 writes them, at coordinates q [m, rad]; `contactor(b)` gives body b's
     contactor type, `fmt` a number's text. A pair LMGC90 orders the other way (a disc is its
     candidate, a JONCx its antagonist) is written swapped: the opposite force on the other
-    body, n reversed (2D: t too; 3D: s = t x n, rt reversed)."""
+    body, n reversed (2D: t too; 3D: s = t x n, rt reversed). A contact of a _g0 law ends
+    with its internal variables (module doc)."""
     body = "RBDY2" if model.dim == 2 else "RBDY3"
     out = ["! File Vloc_Rloc (saxum export_lmgc90): rl/H, the impulses over the step, "
            "are mean forces [N]", f"$steps      0                time= {fmt(0.0)}"]
@@ -195,7 +207,14 @@ def write_vloc_rloc(path: Path, model, q: np.ndarray, contacts, dt: float, conta
         frames = [_row(*((f"{c}({j + 1})=", x) for j, x in enumerate([*frame[i], 0.0][:3])),
                        fmt=fmt) for i, c in enumerate("tns") if model.dim == 3 or c == "n"]
         # what the readers look for after gapTT: 2D n(1)= then coo1=, 3D coo1= then the frame
-        out += ([*frames, coo] if model.dim == 2 else [coo, *frames]) + [""]
+        out += ([*frames, coo] if model.dim == 2 else [coo, *frames])
+        law = model.laws[int(contacts.law[k])]
+        if law.initial_gap:
+            names = _G0_INTERNALS[law.kind]
+            values = [0.0] * (len(names) - 1) + [float(contacts.initial_gap[k])]
+            out += ["#" + " ".join(f"{name:<14s}" for name in names),
+                    "".join(f" {fmt(x)}" for x in values)]
+        out += [""]
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
 
 

@@ -9,10 +9,11 @@ the centre of mass, the vertices in the body frame (saxum's: world axes in 2D,
 the principal frame in 3D, whose rotation DOF.INI gives as the frame a, b, g). Fixed blocks
 have all their dofs imposed at 0 in DRV_DOF.DAT, driven ones at their velocity at t = 0
 (written as constant). Groups become colours (5 characters), densities RIGID bulk laws.
-Laws: SIGNORINI_COULOMB -> IQS_CLB, GAP_SIGNORINI_COULOMB -> GAP_SGR_CLB,
-RESTITUTION_COULOMB -> RST_CLB (rstt = 0), one see-table per pair of groups with a law (its
-alert, or `alert`) and pair of contactor types the groups have (a disc or sphere the
-candidate, as in LMGC90's DKPLx); NO_CONTACT pairs get none. Joint laws (elastic, viscous,
+Laws: SIGNORINI_COULOMB -> IQS_CLB, GAP_SIGNORINI_COULOMB -> GAP_SGR_CLB (with
+ContactLaw.initial_gap: IQS_CLB_g0, GAP_SGR_CLB_g0), RESTITUTION_COULOMB -> RST_CLB
+(rstt = 0), one see-table per pair of groups with a law (its alert, or `alert`) and pair of
+contactor types the groups have (a disc or sphere the candidate, as in LMGC90's DKPLx);
+NO_CONTACT pairs get none. Joint laws (elastic, viscous,
 cohesive) are refused: LMGC90's joint laws are written in other terms.
 
 precision "lmgc90" writes LMGC90's fixed columns (7 significant digits, what its Fortran
@@ -261,7 +262,8 @@ def _write_tact(path: Path, model: Model, colours: list[str], alert: float, fmt)
         params = f"fric={fmt(law.friction)}"
         if law.kind == LawKind.RESTITUTION_COULOMB:
             params = f"rstn={fmt(law.restitution)}  rstt={fmt(0.0)}  {params}"
-        out += ["$behav  lawty", f" {name}  {_LAW_TYPES[law.kind]:<30s}  {params}"]
+        lawty = _LAW_TYPES[law.kind] + ("_g0" if law.initial_gap else "")
+        out += ["$behav  lawty", f" {name}  {lawty:<30s}  {params}"]
     n = len(model.group_names)
     for i in range(n):
         for j in range(i, n):

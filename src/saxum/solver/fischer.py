@@ -39,6 +39,11 @@ a full step. The linear algebra is
 sparse: per-contact 3x3 blocks of d phi / dr and d phi / du times W (scipy.sparse), solved by
 SuperLU. The iterate of least natural-map error is returned.
 
+Smoothing Newton (smoothing_newton): Newton on the smoothed function phi_eps(x, y) = x + y -
+(x∘x + y∘y + 2 eps^2 e)^(1/2) for a decreasing eps, where the merit above has stationary
+points that are not solutions (rank-deficient W at the onset of sliding; docs/method.md, "The
+shaken 3D L wall", (e)); J is then factored by a sparse LU of J itself, not J^T J.
+
 2D problems (spacedim 2: [normal, tangent]) are solved as 3D ones with a second tangent of
 W = 1 (its row and column otherwise zero) and q = 0: there u_T2 = r_T2, which every solution
 has zero (sliding, r_T = -c u_T with c > 0 gives r_T2 = -c r_T2; sticking, u_T = 0), so the
@@ -58,7 +63,7 @@ from .residual import natural_map_error
 if TYPE_CHECKING:
     import scipy.sparse as sp
 
-__all__ = ["fischer_burmeister", "fischer_burmeister_newton"]
+__all__ = ["fischer_burmeister", "fischer_burmeister_newton", "smoothing_newton"]
 
 _ARMIJO = 1e-4
 """Sufficient decrease of the merit per unit step and unit directional derivative."""
@@ -78,6 +83,19 @@ stationary point of the merit that is not a solution (siconosdat_Capsules-i101-4
 docs/method.md), where more iterations cost ~0.2 s each on 770 contacts for nothing."""
 _LEAST = 1e-14
 """Least Levenberg-Marquardt lambda relative to J^T J's largest diagonal entry."""
+_START = 1e-2
+"""First smoothing eps of smoothing_newton relative to the mean size |(r, y)| / sqrt(contacts)
+of the impulses and the scaled velocities y = rho u at its start (the shaken L wall's steps,
+docs/method.md: from 1e-3 the path is lost sooner)."""
+_SHRINK = 2.0
+"""Factor by which smoothing_newton divides eps from one level to the next: on the small
+shaken L wall's seven capped steps 2 with _LEVEL 20 reaches 1e-6 on all of them in 61-118
+factorizations; 4, or 10 iterations per level, leave some of them above after 150-400."""
+_LEVEL = 20
+"""Newton iterations at most per level of eps; a level ends where ||phi_eps|| <= _CLOSE eps,
+or earlier where the line search finds no step (the next level goes on from its iterate)."""
+_CLOSE = 0.1
+"""A level's iterate is on the path where ||phi_eps|| <= this times eps."""
 _FLOOR = 1e-14
 """Least eigenvalue of x∘x + y∘y relative to the largest, in the Jacobian only: on the cone's
 boundary f'(lambda_1) is infinite while S L_x stays bounded (Chen, Chen, Tseng 2004)."""
@@ -92,10 +110,12 @@ def _arrow(z: np.ndarray) -> np.ndarray:
 
 
 def fischer_burmeister(r: np.ndarray, w: sp.csr_matrix, q: np.ndarray, mu: np.ndarray,
-                       rho: np.ndarray):
+                       rho: np.ndarray, smoothing: float = 0.0):
     """(phi, A, B): the Fischer-Burmeister function phi(r) of the module doc (flat, FCLIB
     order, 3D) and the blocks A = d phi / dr, B = d phi / du (contacts, 3, 3) of an element of
-    its generalized Jacobian, J = A + B W."""
+    its generalized Jacobian, J = A + B W. smoothing eps > 0 [N s]: the smoothed function
+    x + y - (x∘x + y∘y + 2 eps^2 e)^(1/2), e = (1, 0, 0) (Fukushima, Luo, Tseng 2002), smooth
+    everywhere, with the same formulas (w_0 raised by 2 eps^2)."""
     rr = r.reshape(-1, 3)
     uu = (w @ r + q).reshape(-1, 3)
     m = rr.shape[0]
@@ -107,7 +127,7 @@ def fischer_burmeister(r: np.ndarray, w: sp.csr_matrix, q: np.ndarray, mu: np.nd
     y = np.empty_like(uu)
     y[:, 0] = rho * (uu[:, 0] + mu * norm_ut)
     y[:, 1:] = (rho * mu)[:, None] * ut
-    w0 = np.einsum("ij,ij->i", x, x) + np.einsum("ij,ij->i", y, y)
+    w0 = np.einsum("ij,ij->i", x, x) + np.einsum("ij,ij->i", y, y) + 2.0 * smoothing**2
     wbar = 2.0 * (x[:, 0, None] * x[:, 1:] + y[:, 0, None] * y[:, 1:])
     norm_wbar = np.sqrt(np.einsum("ij,ij->i", wbar, wbar))
     e = np.zeros_like(wbar)
@@ -150,7 +170,7 @@ def fischer_burmeister(r: np.ndarray, w: sp.csr_matrix, q: np.ndarray, mu: np.nd
     frictionless = mu == 0.0
     if np.any(frictionless):
         rn, yn = rr[frictionless, 0], rho[frictionless] * uu[frictionless, 0]
-        hyp = np.hypot(rn, yn)
+        hyp = np.hypot(np.hypot(rn, yn), np.sqrt(2.0) * smoothing)
         safe = np.where(hyp > 0.0, hyp, 1.0)
         # at (0, 0) the element (1 - 1/sqrt 2, 1 - 1/sqrt 2) of the generalized Jacobian
         da = np.where(hyp > 0.0, 1.0 - rn / safe, 1.0 - np.sqrt(0.5))
@@ -179,6 +199,84 @@ def _lifted(w: sp.spmatrix, q: np.ndarray, r: np.ndarray):
     pad[3 * np.arange(m) + 2] = 1.0
     q3, r3 = lift @ q, lift @ r
     return (lift @ w @ lift.T + sp.diags(pad)).tocsr(), q3, r3, place
+
+
+def _level(r, w, q, mu, rho, smoothing: float):
+    """Newton on the smoothed function phi_eps (at most _LEVEL iterations, Armijo on
+    ||phi_eps||^2 / 2; the smoothed Jacobian is factored by a sparse LU of J itself): (r,
+    whether ||phi_eps|| <= _CLOSE eps, the iterates after the first, the LU factorizations)."""
+    import scipy.sparse.linalg as spla
+
+    phi, a_blocks, b_blocks = fischer_burmeister(r, w, q, mu, rho, smoothing)
+    merit = 0.5 * float(phi @ phi)
+    iterates = []
+    for solves in range(_LEVEL):
+        if np.sqrt(2.0 * merit) <= _CLOSE * smoothing:
+            return r, True, iterates, solves
+        jacobian = (_block_diagonal(a_blocks) + _block_diagonal(b_blocks) @ w).tocsc()
+        try:
+            direction = spla.splu(jacobian).solve(-phi)
+        except RuntimeError:  # "Factor is exactly singular"
+            return r, False, iterates, solves + 1
+        t = 1.0
+        for _ in range(_HALVINGS):
+            trial = r + t * direction
+            phi_trial, a_trial, b_trial = fischer_burmeister(trial, w, q, mu, rho, smoothing)
+            merit_trial = 0.5 * float(phi_trial @ phi_trial)
+            if merit_trial <= (1.0 - 2.0 * _ARMIJO * t) * merit:
+                break
+            t *= 0.5
+        else:
+            return r, False, iterates, solves + 1
+        r, phi, a_blocks, b_blocks, merit = trial, phi_trial, a_trial, b_trial, merit_trial
+        iterates.append(r)
+    return r, np.sqrt(2.0 * merit) <= _CLOSE * smoothing, iterates, _LEVEL
+
+
+def smoothing_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,
+                     r0: np.ndarray | None = None, tolerance: float = 1e-8,
+                     max_solves: int = 150) -> ConicResult:
+    """Smoothing Newton on the 3D problem u = W r + q (FCLIB order) from r0 (zero if None):
+    Newton on the smoothed function phi_eps (fischer_burmeister's smoothing) for eps = eps_0,
+    eps_0 / 2, ..., each level from the last level's iterate (on the path or not), following
+    the path of the smoothed problems' solutions to eps -> 0 (L. Qi, D. Sun, G. Zhou, "A new
+    look at smoothing Newton methods for nonlinear complementarity problems and box
+    constrained variational inequalities", Math. Program. 87, 2000; for second-order cones
+    Fukushima, Luo & Tseng 2002). For eps > 0 phi_eps has no kink and its Jacobian is
+    regular where the unsmoothed one is not: where
+    Fischer-Burmeister Newton stops at a stationary point of its merit, a contact loaded
+    (r_N > 0) with a small opening velocity (u_N > 0) has d phi / d r_N ~ (rho u_N / r_N)^2,
+    and the step that unloads it is not seen; eps of the size of r_N makes it seen
+    (docs/method.md). Stops where the natural-map error ||F_nat|| / ||q|| is <= tolerance
+    (checked at every iterate), after max_solves LU factorizations, or after a level in which
+    no step decreases ||phi_eps|| (the path is lost: the shaken L wall's onset steps,
+    docs/method.md). Returns the iterate of least natural-map error (ConicResult: iterations, the
+    levels; interior_iterations, the LU factorizations)."""
+    import scipy.sparse as sp
+
+    w = sp.csr_matrix(w, dtype=np.float64)
+    q = np.asarray(q, dtype=np.float64)
+    mu = np.asarray(mu, dtype=np.float64)
+    if q.size == 0:
+        return ConicResult(np.zeros(0), 0, 0, 0.0)
+    rho = 1.0 / np.maximum(w.diagonal().reshape(-1, 3).max(axis=1), 1e-300)
+    r = np.zeros(q.size) if r0 is None else np.array(r0, dtype=np.float64)
+    best, best_r = natural_map_error(w, q, mu, r, 3), r
+    y = rho[:, None] * (w @ r + q).reshape(-1, 3)
+    smoothing = _START * float(np.sqrt(r @ r + np.sum(y * y)) / np.sqrt(mu.size))
+    levels = solves = 0
+    moved = True
+    while best > tolerance and solves < max_solves and moved:
+        r, on_path, iterates, factored = _level(r, w, q, mu, rho, smoothing)
+        levels += 1
+        solves += factored
+        moved = on_path or bool(iterates)
+        for iterate in iterates:
+            error = natural_map_error(w, q, mu, iterate, 3)
+            if error < best:
+                best, best_r = error, iterate
+        smoothing /= _SHRINK
+    return ConicResult(best_r, levels, solves, best)
 
 
 def fischer_burmeister_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray,

@@ -25,7 +25,12 @@ crawling (_CRAWL), Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's 
 where the natural-map error of its result is within the tolerance (the step ends converged,
 finished by "newton", reporting that error); it dominates the others there (docs/method.md:
 the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
-and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries. In
+and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries; then,
+where Hybrid.smoothing (off by default), on every 3D attempt (whether or not that one ran, so
+also where NLGS crawls far from the tolerance), smoothing Newton from NLGS's iterate
+(saxum.solver.fischer.smoothing_newton, at most _SMOOTHING_SOLVES factorizations), kept the
+same way (finished by "smoothing"): it follows the smoothed problems' solutions past the
+stationary points where Fischer-Burmeister Newton and NLGS crawl (docs/method.md). In
 2D, the conic fixed point from NLGS's iterate, judged by one NLGS sweep from its result: it is
 kept, and NLGS sweeps on from it with the sweeps left, only where that sweep converged or its
 error (the relative change NLGS reports) is below half NLGS's last sweep's; then semismooth
@@ -54,7 +59,7 @@ from ..errors import InputError
 from .assembled import assemble_local
 from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
-from .fischer import fischer_burmeister_newton
+from .fischer import fischer_burmeister_newton, smoothing_newton
 from .newton import alart_curnier_newton
 from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, check_refinement, refine_step
 from .problem import ContactProblem
@@ -80,6 +85,11 @@ _FISCHER_ITERATIONS = 10
 steps above the tolerance it brings those it solves under 1e-6 in 1 to 7 (0.8-4.5 s on 685-771
 contacts, a loaded machine), and the others only halfway in 20 (9-47 s each); it stops earlier
 where its merit stalls (saxum.solver.fischer)."""
+_SMOOTHING_SOLVES = 150
+"""LU factorizations at most per smoothing Newton attempt (3D): on the small shaken L wall's
+seven capped steps it reaches 1e-6 in 61-118 (0.7-1.9 s of CPU on 280 contacts); on the 3D L
+wall's first onset step (19, 770 contacts) it uses all 150 (9.8 s of CPU) without a better
+iterate (docs/method.md)."""
 _REACH = 3.0
 """In 3D, Fischer-Burmeister Newton runs only where NLGS's iterate is within this factor of
 the tolerance by the natural map: on the shaken 3D L wall's 38 steps above it (NLGS's iterate
@@ -157,7 +167,11 @@ class Hybrid(ContactSolver):
     by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
     two measurements of the error, and the sweeps that judge a conic iterate; threads, domains,
     refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
-    converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit)."""
+    converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit);
+    smoothing: in 3D, smoothing Newton on every attempt after Fischer-Burmeister Newton (off
+    by default: on the small shaken L wall it finishes the steps NLGS leaves above the
+    tolerance; on the big one's first 100 steps it finished one, yet 25 steps ended above the
+    tolerance against the default's 24, at 1.4 times its CPU time: docs/method.md)."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -168,6 +182,7 @@ class Hybrid(ContactSolver):
     domains: int | None = None
     refine: float = 0.0
     refine_sweeps: int = 1000
+    smoothing: bool = False
 
     def __post_init__(self) -> None:
         check_refinement(self)
@@ -241,11 +256,12 @@ class Hybrid(ContactSolver):
                     # NLGS's iterate is a solution to the tolerance by the natural map
                     report = SolverReport(report.iterations, natural, True, "nlgs", natural)
                     break
-                if attempt and self._hopeful(problem, natural, errors):
+                hopeful = self._hopeful(problem, natural, errors)
+                if attempt and (hopeful or (self.smoothing and problem.model.dim == 3)):
                     attempted = True
                     self.attempts += 1
                     judged, wasted = self._attempt(problem, local, impulse, v_free, v,
-                                                   report.error)
+                                                   report.error, hopeful)
                     judging += wasted
                     if judged is not None:
                         report, solver = judged, judged.solver
@@ -311,9 +327,10 @@ class Hybrid(ContactSolver):
         return (problem.model.dim == 2 or natural <= _REACH * self.tolerance
                 or not rate > 1.0 - _CRAWL)
 
-    def _attempt(self, problem, local, impulse, v_free, v, error: float):
-        """In 3D, Fischer-Burmeister Newton from NLGS's iterate, kept where the natural-map
-        error of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
+    def _attempt(self, problem, local, impulse, v_free, v, error: float, hopeful: bool):
+        """In 3D, Fischer-Burmeister Newton from NLGS's iterate (where `hopeful`: _hopeful),
+        then smoothing Newton from it (Hybrid.smoothing), each kept where the natural-map error
+        of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
         iterate, then semismooth Newton on Alart-Curnier's function from zero impulses, each
         judged by one NLGS sweep from its result. `local`: the step's assembled
         problem. Returns (report, rejected): Fischer-Burmeister Newton's (its natural-map error
@@ -323,11 +340,15 @@ class Hybrid(ContactSolver):
         bit); rejected: the judging sweeps of the iterates not kept."""
         kept = impulse.copy(), v.copy()
         if problem.model.dim == 3:
-            natural = self._fischer(local, impulse, v_free, v)
-            if natural <= self.tolerance:
-                return SolverReport(0, natural, True, "newton", natural), 0
-            impulse[...] = kept[0]
-            v[...] = kept[1]
+            tries = (("newton", self._fischer),) if hopeful else ()
+            if self.smoothing:
+                tries += (("smoothing", self._smoothing),)
+            for name, candidate in tries:
+                natural = candidate(local, impulse, v_free, v)
+                if natural <= self.tolerance:
+                    return SolverReport(0, natural, True, name, natural), 0
+                impulse[...] = kept[0]
+                v[...] = kept[1]
             candidates = ()
         else:
             candidates = (("conic", self._conic.conic), ("newton", self._newton))
@@ -355,6 +376,16 @@ class Hybrid(ContactSolver):
                                            _NEWTON_TOLERANCE * self.tolerance,
                                            _FISCHER_ITERATIONS)
         self.newton_iterations += result.iterations
+        local.scatter(result.r, v_free, impulse, v)
+        return local.natural_map_error(impulse)
+
+    def _smoothing(self, local, impulse, v_free, v) -> float:
+        """Smoothing Newton (saxum.solver.fischer) from the current impulses on the step's
+        assembled problem `local`, to the tolerance; writes impulse and v, returns the
+        natural-map error of the impulses written."""
+        result = smoothing_newton(local.w, local.q, local.mu, local.impulses(impulse),
+                                  self.tolerance, _SMOOTHING_SOLVES)
+        self.newton_iterations += result.interior_iterations
         local.scatter(result.r, v_free, impulse, v)
         return local.natural_map_error(impulse)
 

@@ -79,8 +79,8 @@ benchmarks/rest_cost.py)."""
 
 
 _DOMAIN_BODIES = 256
-"""The fewest free bodies per domain of nlgs_2d_domains (body_domains): smaller domains would
-leave more of the contacts on their cuts."""
+"""The fewest free bodies per domain of nlgs_2d_domains, nlgs_3d_domains (body_domains):
+smaller domains would leave more of the contacts on their cuts."""
 
 
 _TREND_SWEEPS = 1000
@@ -98,14 +98,15 @@ class NLGS(ContactSolver):
     converged tries the rest solution (saxum.solver.equilibrium) and sweeps on from it if
     there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK); follow_loads: a
     step that follows steps which ended at rest starts from their rest solutions extrapolated
-    to its loads (saxum.solver.load_following). threads: None sweeps 2D rigid dry contacts
-    in nlgs_2d's order on one thread; a number n >= 1 (0: all cores) sweeps them domain by
-    domain on n threads (nlgs_2d_domains: `domains` runs of the blocks' order, the domains'
-    own contacts in parallel, then those across their cuts), the same bit for bit for every
-    n but not nlgs_2d's order, so not bit for bit the serial result. domains: how many
+    to its loads (saxum.solver.load_following). threads: None sweeps rigid dry contacts
+    in nlgs_2d's (nlgs_3d's) order on one thread; a number n >= 1 (0: all cores) sweeps them
+    domain by domain on n threads (nlgs_2d_domains, nlgs_3d_domains: `domains` runs of the
+    blocks' order, the domains' own contacts in parallel, then those across their cuts), the
+    same bit for bit for every n but not the serial order, so not bit for bit the serial
+    result. domains: how many
     (None: the machine's cores, numba's threads, but at most one per 256 free blocks), which
-    fixes that order: the same bits on machines of different cores where it is given. 3D
-    and deformable models ignore both. criterion: the error compared with the tolerance,
+    fixes that order: the same bits on machines of different cores where it is given.
+    Deformable models ignore both. criterion: the error compared with the tolerance,
     "delassus" (saxum's, module doc) or LMGC90's "quad", "maxm", "qm/16" (_check_error,
     docs/criteria.md; rigid blocks, swept in the serial order whatever threads says).
     refine [-]: a rigid step that converged in at most refine_sweeps sweeps sweeps on towards
@@ -167,15 +168,16 @@ class NLGS(ContactSolver):
         self._rest_found = False
         """Whether the last step found a rest solution (_REST_BACKOFF)."""
         self._domains = None
-        """body_domains' (domain, n), ghost and inv_mass_x (nlgs_2d_domains), of the model
-        solved."""
+        """body_domains' (domain, n), ghost and inv_mass_x (nlgs_2d_domains, nlgs_3d_domains),
+        of the model solved."""
         self._pairs = np.full((3, 0), -1)
         """The active contacts' candidates, antagonists and flags of the last partition."""
         self._partitioned = None
-        """partition_contacts_2d's (order, groups) for _pairs: _partition."""
+        """partition_contacts's (order, groups) and in 2D change_runs_2d's (runs, run_start)
+        for _pairs: _partition."""
         self._own = (np.empty((0, 18)), np.empty((2, 0), dtype=np.int64), np.empty((0, 2)),
                      np.empty((0, 3)))
-        """nlgs_2d_domains' work memory (rows, own, own_impulse, vx)."""
+        """nlgs_2d_domains' (nlgs_3d_domains') work memory (rows, own, own_impulse, vx)."""
 
     def forget(self) -> None:
         self._following.clear()
@@ -221,11 +223,11 @@ class NLGS(ContactSolver):
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
-        if dim == 2 and self.threads is not None and self._sums is None:
+        if self.threads is not None and self._sums is None:
             nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
-            sweep = nlgs_2d_domains
+            sweep = nlgs_3d_domains if dim == 3 else nlgs_2d_domains
             args += self._partition(problem.model, c.candidate, c.antagonist, active,
-                                    problem.count)
+                                    problem.count, width)
         else:
             args += (self._sums, CRITERIA.index(self.criterion))
         args += (self.tolerance,)
@@ -303,10 +305,10 @@ class NLGS(ContactSolver):
         (_REST_BACKOFF)."""
         self._rest_backoff = min(max(1, 2 * self._rest_backoff), _REST_BACKOFF)
 
-    def _partition(self, model, cand, ant, active, count) -> tuple:
-        """nlgs_2d_domains' arguments from order to inv_mass_x: the partition reused while
-        the active contacts' pairs have not changed (comparing them costs less than
-        partitioning them)."""
+    def _partition(self, model, cand, ant, active, count, width) -> tuple:
+        """nlgs_2d_domains' (nlgs_3d_domains') arguments from order to inv_mass_x, width the
+        length of a packed row: the partition reused while the active contacts' pairs have not
+        changed (comparing them costs less than partitioning them)."""
         if self._domains is None:
             inv_mass = model.body_inv_mass
             fixed = ~(inv_mass > 0.0).any(axis=1)
@@ -320,17 +322,21 @@ class NLGS(ContactSolver):
             self._pairs = np.full((3, max(count, 2 * self._pairs.shape[1])), -1)
             self._partitioned = None
         if not _same_pairs(cand, ant, active, count, self._pairs) or self._partitioned is None:
-            self._partitioned = partition_contacts_2d(cand, ant, active, count,
-                                                      *self._domains[:2])
-        order, groups = self._partitioned
+            order, groups = partition_contacts(cand, ant, active, count, *self._domains[:2])
+            # nlgs_3d_domains sums its error serially: no runs
+            runs = (change_runs_2d(cand, ant, order, groups, *self._domains[:2])
+                    if model.dim == 2 else ())
+            self._partitioned = (order, groups, runs)
+        order, groups, runs = self._partitioned
         domain, n, ghost, inv_mass_x = self._domains
         rows, own, own_impulse, vx = self._own
-        if len(rows) < len(order) or vx.shape != inv_mass_x.shape:
+        if (len(rows) < len(order) or vx.shape != inv_mass_x.shape
+                or rows.shape[1] != width):
             size = max(len(order), 2 * len(rows))
             self._own = rows, own, own_impulse, vx = (
-                np.empty((size, 18)), np.empty((2, size), dtype=np.int64),
-                np.empty((size, 2)), np.empty_like(inv_mass_x))
-        return order, groups, ghost, rows, own, own_impulse, vx, inv_mass_x
+                np.empty((size, width)), np.empty((2, size), dtype=np.int64),
+                np.empty((size, model.dim)), np.empty_like(inv_mass_x))
+        return order, groups, *runs, ghost, rows, own, own_impulse, vx, inv_mass_x
 
     def _sweeps(self, sweep, args, count: int):
         """The last `count` sweeps of a solve, of `sweep` (nlgs_2d, nlgs_3d) on `args`,
@@ -374,10 +380,7 @@ class NLGS(ContactSolver):
                 self._mass, v_free, v, self._v_prev, impulse, c.side_kind, c.side_node,
                 c.side_weight, b.node_block, b.node_start, b.inv_start, b.inv, kind.rotation,
                 np.repeat(b.node_mass[:, None], b.dim, axis=1), kind.v_free, kind.v,
-                np.empty_like(kind.v))
-        if problem.model.dim == 2:
-            args += (problem.law_map,)
-        args += (self.tolerance,)
+                np.empty_like(kind.v), problem.law_map, self.tolerance)
         # the sticking start is written for dry contacts: those with joint laws sweep alone
         sticking = self.rest_after > 0 and not getattr(problem, "joint_laws", False)
         first = (min(self.rest_after, _FE_FIRST, self.max_iterations) if sticking
@@ -479,9 +482,9 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 @nb.njit(parallel=True, cache=True)
 def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
-                    groups, ghost, rows, own, own_impulse, vx, inv_mass_x, tolerance,
-                    max_iterations, relaxation):
-    """nlgs_2d with its dry contacts swept domain by domain (partition_contacts_2d): the
+                    groups, runs, run_start, ghost, rows, own, own_impulse, vx, inv_mass_x,
+                    tolerance, max_iterations, relaxation):
+    """nlgs_2d with its dry contacts swept domain by domain (partition_contacts): the
     domains' own contacts in parallel (numba threads), then the contacts across the even cuts
     between domains in parallel, then those across the odd cuts, then the rest; each group's
     contacts in nlgs_2d's order, by nlgs_2d's serial loop (_sweep_range_2d) on rows packed
@@ -489,13 +492,17 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     nlgs_2d's): the groups swept together write the velocities of disjoint free bodies, and
     each group has its own copy of the fixed bodies' velocities (which a push changes by
     0 x dR: read by all, written by each into its own), so the result is the same bit for bit
-    whatever the number of threads; the error's sums go by fixed blocks of bodies
-    (_parallel_change). One domain gives nlgs_2d's order and arithmetic. The joints are
-    swept after, in order, as nlgs_2d does.
+    whatever the number of threads. The error's sums go by the runs of bodies of
+    change_runs_2d: each domain's own, in the parallel region that swept it, right after
+    its sweep, then the others (the bodies of the contacts across the cuts), added in that
+    order; with joints, by fixed blocks of bodies after them (_parallel_change). One domain
+    gives nlgs_2d's order and arithmetic. The joints are swept after, in order, as nlgs_2d
+    does.
 
-    order, groups from partition_contacts_2d; ghost [int] per body: -1 for a free body, a
-    fixed one's rank among the fixed ones (nfixed in all), whose copy for group g is row
-    n + g nfixed + rank of vx (n bodies) and of inv_mass_x (inv_mass, then zeros). Work
+    order, groups from partition_contacts, runs and run_start from change_runs_2d;
+    ghost [int] per body: -1 for a free body, a fixed one's rank among the fixed ones (nfixed
+    in all), whose copy for group g is row n + g nfixed + rank of vx (n bodies) and of
+    inv_mass_x (inv_mass, then zeros). Work
     memory: rows (at least len(order) x 18), own (int64, 2 x len(order): candidates,
     antagonists as rows of vx) and own_impulse (len(order) x 2), the dry contacts' in the
     sweep's order; vx (as inv_mass_x)."""
@@ -504,33 +511,47 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     last = 2 * ndomains - 1          # [even, last), [last, last + 1)
     n = v.shape[0]
     nfixed = (vx.shape[0] - n) // (2 * ndomains)
-    for g in nb.prange(2 * ndomains):
-        _pack_range_2d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
-                       h_ant, delassus, bias, friction, impulse, ghost, rows, own,
-                       own_impulse)
+    # one parallel region: the rows by blocks (not by groups: the domains' groups are most
+    # of the rows) and, in as many blocks, the bodies' vx = v (with the fixed ones' copies)
+    # and v_prev = v
+    blocks = max(1, -(-order.shape[0] // _ROW_BLOCK))
+    for k in nb.prange(blocks):
+        lo, hi = _share(k, blocks, order.shape[0])
+        g = 0
+        while lo < hi:
+            while groups[g + 1] <= lo:
+                g += 1
+            end = min(hi, groups[g + 1])
+            _pack_range_2d(lo, end, n + g * nfixed, order, cand, ant, h_cand, h_ant, delassus,
+                           bias, friction, impulse, ghost, rows, own, own_impulse)
+            lo = end
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(3):
+                vx[b, d] = v_prev[b, d] = v[b, d]
+            if ghost[b] >= 0:
+                for g in range(2 * ndomains):
+                    for d in range(3):
+                        vx[n + g * nfixed + ghost[b], d] = v[b, d]
     packed = order.shape[0]
     if joints is not None:
         packed += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
                                   law_map)
     if packed == 0:
         return 0, 0.0
-    for b in nb.prange(n):
-        for d in range(3):
-            vx[b, d] = v[b, d]
-        if ghost[b] >= 0:
-            for g in range(2 * ndomains):
-                for d in range(3):
-                    vx[n + g * nfixed + ghost[b], d] = v[b, d]
     v_own = vx[:n]
     sums = np.empty((-(-n // _SUM_BODIES), 3))
+    run_sums = np.empty((ndomains + 1, 3))
     error = np.inf
     it = 0
-    _parallel_change(v_own, v_prev, v_free, mass, sums)
     while it < max_iterations:
         it += 1
         for g in nb.prange(ndomains):
             _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse, inv_mass_x,
                             relaxation)
+            if joints is None:
+                run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
+                    runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
         if even - ndomains > 1:
             for g in nb.prange(ndomains, even):
                 _sweep_range_2d(groups[g], groups[g + 1], own, rows, vx, own_impulse,
@@ -550,17 +571,52 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         if joints is not None:
             _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
                             relaxation, None)
-        error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+            error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+        else:
+            run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = _runs_change(
+                runs, run_start[ndomains], run_start[ndomains + 1], v_own, v_prev, v_free,
+                mass)
+            num = den = size = 0.0
+            for k in range(ndomains + 1):
+                num += run_sums[k, 0]
+                den += run_sums[k, 1]
+                size += run_sums[k, 2]
+            error = change_ratio(num, den, size)
         if error <= tolerance:
             break
-    for g in nb.prange(2 * ndomains):
-        for i in range(groups[g], groups[g + 1]):
+    for k in nb.prange(blocks):  # back, in one parallel region as well
+        lo, hi = _share(k, blocks, order.shape[0])
+        for i in range(lo, hi):
             impulse[order[i], 0] = own_impulse[i, 0]
             impulse[order[i], 1] = own_impulse[i, 1]
-    for b in nb.prange(n):
-        for d in range(3):
-            v[b, d] = vx[b, d]
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(3):
+                v[b, d] = vx[b, d]
     return it, error
+
+
+_ROW_BLOCK = 4096
+"""Packed rows per block (at most) of nlgs_2d_domains' packing and of its impulses' copy
+back."""
+
+
+@nb.njit(inline="always")
+def _share(k, blocks, size):
+    """Block k's range [lo, hi) of `blocks` nearly equal blocks of range(size)."""
+    return k * size // blocks, (k + 1) * size // blocks
+
+
+@nb.njit(inline="always")
+def _runs_change(runs, lo, hi, v, v_prev, v_free, mass):
+    """change_sums (from zero) over the runs of bodies runs[lo:hi] (change_runs_2d), in
+    order."""
+    num = den = size = 0.0
+    for r in range(lo, hi):
+        b, e = runs[r, 0], runs[r, 1]
+        num, den, size = change_sums(v[b:e], v_prev[b:e], v_free[b:e], mass[b:e], num, den,
+                                     size)
+    return num, den, size
 
 
 @nb.njit(cache=True)
@@ -591,9 +647,11 @@ def _sweep_range_2d(lo, hi, own, rows, v, impulse, inv_mass, relaxation):
         _update_dry_2d(i, cand, ant, rows[i], v, impulse, inv_mass, relaxation, None)
 
 
-_SUM_BODIES = 2048
+_SUM_BODIES = 256
 """Bodies per block of _parallel_change's sums: a fixed number, so that the sums and the
-error do not depend on the threads."""
+error do not depend on the threads; small enough that a wall of a few thousand blocks,
+whose sweeps are short, has its sums on every thread (at 2048, the 2025-brick wall's were
+one block, on one thread, every sweep)."""
 
 
 @nb.njit(parallel=True, cache=True)
@@ -614,7 +672,7 @@ def _parallel_change(v, v_prev, v_free, mass, sums):
 
 
 def body_domains(free: np.ndarray, domains: int | None) -> tuple[np.ndarray, int]:
-    """The domains of partition_contacts_2d: the free bodies, in the model's order, cut into
+    """The domains of partition_contacts: the free bodies, in the model's order, cut into
     n runs of as many bodies, n = domains (at most one per free body), or where it is None
     the machine's cores (numba's threads) but at most one per _DOMAIN_BODIES free bodies (at
     least 1). The structures of saxum.structures number their blocks course by course, so a
@@ -631,35 +689,41 @@ def body_domains(free: np.ndarray, domains: int | None) -> tuple[np.ndarray, int
     return domain, n
 
 
-@nb.njit(cache=True)
+@nb.njit(parallel=True, cache=True)
 def _same_pairs(cand, ant, active, count, pairs):
     """Whether the first `count` contacts' candidates, antagonists and active flags are those
-    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there."""
-    same = count == pairs.shape[1] or pairs[0, count] == -1
-    for a in range(count):
-        if not same:
-            break
-        same = pairs[0, a] == cand[a] and pairs[1, a] == ant[a] and pairs[2, a] == active[a]
-    if same:
+    in pairs (3 x at least count, then -1 beyond count); if not, they are copied there. By
+    blocks of _ROW_BLOCK contacts on numba's threads."""
+    blocks = -(-count // _ROW_BLOCK)
+    differ = np.zeros(blocks, dtype=np.bool_)
+    for k in nb.prange(blocks):
+        for a in range(k * _ROW_BLOCK, min(count, (k + 1) * _ROW_BLOCK)):
+            if pairs[0, a] != cand[a] or pairs[1, a] != ant[a] or pairs[2, a] != active[a]:
+                differ[k] = True
+                break
+    if (count == pairs.shape[1] or pairs[0, count] == -1) and not differ.any():
         return True
-    pairs[:, :] = -1
-    for a in range(count):
-        pairs[0, a] = cand[a]
-        pairs[1, a] = ant[a]
-        pairs[2, a] = active[a]
+    for k in nb.prange(-(-pairs.shape[1] // _ROW_BLOCK)):
+        for a in range(k * _ROW_BLOCK, min(pairs.shape[1], (k + 1) * _ROW_BLOCK)):
+            if a < count:
+                pairs[0, a] = cand[a]
+                pairs[1, a] = ant[a]
+                pairs[2, a] = active[a]
+            else:
+                pairs[0, a] = pairs[1, a] = pairs[2, a] = -1
     return False
 
 
 @nb.njit(cache=True)
-def partition_contacts_2d(cand, ant, active, count, domain, ndomains):
-    """The groups of nlgs_2d_domains: the active dry contacts whose free bodies lie in one
-    domain d (body_domains) go to group d, those across the cut between domains d and d + 1
-    to group ndomains + d // 2 (d even) or ndomains + ndomains // 2 + d // 2 (d odd), the
-    others (across two cuts or more) to the last group, 2 ndomains - 1; each group keeps
-    nlgs_2d's order (last first). Groups of one phase share no free body: two domains do
-    not, and a cut's contacts have their free bodies in its two domains, which the other cuts
-    of its parity do not touch. Returns (order, groups): group g is
-    order[groups[g]:groups[g + 1]]; a function of the contacts and the domains, not of the
+def partition_contacts(cand, ant, active, count, domain, ndomains):
+    """The groups of nlgs_2d_domains and nlgs_3d_domains: the active dry contacts whose free
+    bodies lie in one domain d (body_domains) go to group d, those across the cut between
+    domains d and d + 1 to group ndomains + d // 2 (d even) or ndomains + ndomains // 2 + d // 2
+    (d odd), the others (across two cuts or more) to the last group, 2 ndomains - 1; each
+    group keeps the serial sweep's order (last first). Groups of one phase share no free
+    body: two domains do not, and a cut's contacts have their free bodies in its two
+    domains, which the other cuts of its parity do not touch. Returns (order, groups): group
+    g is order[groups[g]:groups[g + 1]]; a function of the contacts and the domains, not of the
     threads."""
     last = 2 * ndomains - 1
     group = np.empty(count, dtype=np.int64)
@@ -687,6 +751,44 @@ def partition_contacts_2d(cand, ant, active, count, domain, ndomains):
             order[fill[group[a]]] = a
             fill[group[a]] += 1
     return order, size
+
+
+@nb.njit(cache=True)
+def change_runs_2d(cand, ant, order, groups, domain, ndomains):
+    """Where nlgs_2d_domains sums its error: domain d's free bodies (body_domains) that no
+    contact across a cut touches (partition_contacts's order, groups), right after the
+    sweep of d, and the other free bodies after the cuts. Returns (runs, run_start): runs
+    (int64, r x 2) of consecutive bodies [b, e), those of domain d runs[run_start[d]:
+    run_start[d + 1]] and the others runs[run_start[ndomains]:run_start[ndomains + 1]], each
+    in the bodies' order; a function of the contacts and the domains, not of the threads."""
+    n = domain.shape[0]
+    where = domain.copy()  # -1: fixed, in no run
+    for i in range(groups[ndomains], groups[2 * ndomains]):
+        for b in (cand[order[i]], ant[order[i]]):
+            if where[b] >= 0:
+                where[b] = ndomains
+    run_start = np.zeros(ndomains + 2, dtype=np.int64)
+    runs = np.empty((0, 2), dtype=np.int64)
+    for fill in range(2):  # count the runs, then write them
+        at = run_start[:-1].copy()
+        b = 0
+        while b < n:
+            e = b + 1
+            while e < n and where[e] == where[b]:
+                e += 1
+            if where[b] >= 0:
+                if fill:
+                    runs[at[where[b]], 0] = b
+                    runs[at[where[b]], 1] = e
+                    at[where[b]] += 1
+                else:
+                    run_start[where[b] + 1] += 1
+            b = e
+        if not fill:
+            for k in range(ndomains + 1):
+                run_start[k + 1] += run_start[k]
+            runs = np.empty((run_start[-1], 2), dtype=np.int64)
+    return runs, run_start
 
 
 @nb.njit(inline="always")
@@ -926,9 +1028,7 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             nactive += 1
             _pack_3d(work[a], h_cand, h_ant, delassus, bias, friction, a)
     if joints is not None:
-        nactive += joints.shape[0]
-        for j in range(joints.shape[0]):
-            _pack_3d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j])
+        nactive += _pack_joints_3d(h_cand, h_ant, delassus, bias, friction, work, joints)
     if nactive == 0:
         return 0, 0.0
     u = np.empty(3)
@@ -945,29 +1045,11 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
             a = count - 1 - k
             if not active[a]:
                 continue
-            row = work[a]
-            _local_velocity_3d(a, cand, ant, row, v, impulse, u)
-            case, rr[0], rr[1], rr[2] = open_or_stick_3d(
-                row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34],
-                row[35], u[0], u[1], u[2], row[37])
-            if case < 0:  # a slide: the full solve, from the current impulse
-                for r in range(3):
-                    rr[r] = impulse[a, r]
-                solve_contact_3d(delassus[a], u, row[37], rr)
-            if sums is not None:
-                _check_sums_3d(sums, row, impulse[a], rr)
-            _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
+            _update_dry_3d(a, a, cand, ant, work[a], delassus, v, impulse, inv_mass,
+                           relaxation, sums, u, rr)
         if joints is not None:
-            for j in range(joints.shape[0]):
-                a = joints[j]
-                row = work[a]
-                _local_velocity_3d(a, cand, ant, row, v, impulse, u)
-                for r in range(3):  # the dry part's starting guess
-                    rr[r] = impulse[a, r]
-                law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
-                if sums is not None:
-                    _check_sums_3d(sums, row, impulse[a], rr)
-                _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
+            _joint_sweep_3d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation,
+                            sums, u, rr, wp)
         if sums is not None:
             error = _check_error(sums, criterion)
         else:
@@ -1065,3 +1147,164 @@ def _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr):
     impulse[a, 0] = rr[0]
     impulse[a, 1] = rr[1]
     impulse[a, 2] = rr[2]
+
+
+@nb.njit(inline="always")
+def _pack_joints_3d(h_cand, h_ant, delassus, bias, friction, work, joints):
+    """The joints' rows of `work` (nlgs_3d); returns how many."""
+    for j in range(joints.shape[0]):
+        _pack_3d(work[joints[j]], h_cand, h_ant, delassus, bias, friction, joints[j])
+    return joints.shape[0]
+
+
+@nb.njit(inline="always")
+def _update_dry_3d(a, da, cand, ant, row, delassus, v, impulse, inv_mass, relaxation, sums,
+                   u, rr):
+    """One single-contact update of a dry contact a (nlgs_3d), row its row of `work`,
+    delassus[da] its W (da: its index among the problem's contacts, a's in nlgs_3d); sums as
+    _update_dry_2d's; u, rr: 3-vectors, work memory."""
+    _local_velocity_3d(a, cand, ant, row, v, impulse, u)
+    case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+        row[27], row[28], row[29], row[30], row[31], row[32], row[33], row[34], row[35], u[0],
+        u[1], u[2], row[37])
+    if case < 0:  # a slide: the full solve, from the current impulse
+        for r in range(3):
+            rr[r] = impulse[a, r]
+        solve_contact_3d(delassus[da], u, row[37], rr)
+    if sums is not None:
+        _check_sums_3d(sums, row, impulse[a], rr)
+    _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
+
+
+@nb.njit(inline="always")
+def _joint_sweep_3d(cand, ant, v, impulse, work, joints, law_map, inv_mass, relaxation, sums,
+                    u, rr, wp):
+    """One sweep over the joints of nlgs_3d, in order; u, rr (3), wp (3 x 3): work memory."""
+    for j in range(joints.shape[0]):
+        a = joints[j]
+        row = work[a]
+        _local_velocity_3d(a, cand, ant, row, v, impulse, u)
+        for r in range(3):  # the dry part's starting guess
+            rr[r] = impulse[a, r]
+        law_solve_3d(law_map[a], u, row[36], row[37], wp, rr)
+        if sums is not None:
+            _check_sums_3d(sums, row, impulse[a], rr)
+        _push_3d(a, cand, ant, row, v, impulse, inv_mass, relaxation, rr)
+
+
+@nb.njit(parallel=True, cache=True)
+def nlgs_3d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
+                    inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
+                    groups, ghost, rows, own, own_impulse, vx, inv_mass_x, tolerance,
+                    max_iterations, relaxation):
+    """nlgs_3d with its dry contacts swept domain by domain, as nlgs_2d_domains sweeps
+    nlgs_2d's (the same partition, partition_contacts, the same phases and the same bits
+    whatever the number of threads): rows (at least len(order) x 38) and own_impulse
+    (len(order) x 3) in nlgs_3d's layout. One domain gives nlgs_3d's order and arithmetic."""
+    ngroups = groups.shape[0] - 1
+    ndomains = ngroups // 2
+    n = v.shape[0]
+    nfixed = (vx.shape[0] - n) // ngroups
+    for g in nb.prange(ngroups):
+        _pack_range_3d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
+                       h_ant, delassus, bias, friction, impulse, ghost, rows, own,
+                       own_impulse)
+    packed = order.shape[0]
+    if joints is not None:
+        packed += _pack_joints_3d(h_cand, h_ant, delassus, bias, friction, work, joints)
+    if packed == 0:
+        return 0, 0.0
+    _spread_fixed(v, vx, ghost, ngroups)
+    v_own = vx[:n]
+    # the phases' groups (partition_contacts): the domains, the even cuts, the odd cuts,
+    # the contacts across two cuts or more
+    phases = np.array([0, ndomains, ndomains + ndomains // 2, ngroups - 1, ngroups])
+    sums = np.empty((-(-n // _SUM_BODIES), 3))
+    u = np.empty(3)
+    rr = np.empty(3)
+    wp = np.empty((3, 3))
+    error = np.inf
+    it = 0
+    _parallel_change(v_own, v_prev, v_free, mass, sums)
+    while it < max_iterations:
+        it += 1
+        for p in range(4):
+            if phases[p + 1] - phases[p] > 1:
+                for g in nb.prange(phases[p], phases[p + 1]):
+                    _sweep_range_3d(groups[g], groups[g + 1], own, rows, order, delassus, vx,
+                                    own_impulse, inv_mass_x, relaxation)
+            elif phases[p + 1] > phases[p]:  # one group: no parallel region
+                _sweep_range_3d(groups[phases[p]], groups[phases[p + 1]], own, rows, order,
+                                delassus, vx, own_impulse, inv_mass_x, relaxation)
+        if joints is not None:
+            _joint_sweep_3d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
+                            relaxation, None, u, rr, wp)
+        error = _parallel_change(v_own, v_prev, v_free, mass, sums)
+        if error <= tolerance:
+            break
+    _gather_own(order, groups, own_impulse, impulse, v, vx)
+    return it, error
+
+
+@nb.njit(cache=True)
+def _pack_range_3d(lo, hi, base, order, cand, ant, h_cand, h_ant, delassus, bias, friction,
+                   impulse, ghost, rows, own, own_impulse):
+    """The rows, bodies and impulses of the dry contacts order[lo:hi] of nlgs_3d_domains, as
+    _pack_range_2d's."""
+    for i in range(lo, hi):
+        _pack_3d(rows[i], h_cand, h_ant, delassus, bias, friction, order[i])
+        _own_contact(i, order[i], base, cand, ant, impulse, ghost, own, own_impulse)
+
+
+@nb.njit(inline="always")
+def _own_contact(i, a, base, cand, ant, impulse, ghost, own, own_impulse):
+    """Contact a as packed row i of a sweep by domains: its bodies into own[:, i], a fixed
+    one as its group's copy (row base + its rank, ghost), and its impulse into
+    own_impulse[i]."""
+    c = cand[a]
+    b = ant[a]
+    own[0, i] = c if ghost[c] < 0 else base + ghost[c]
+    own[1, i] = b if ghost[b] < 0 else base + ghost[b]
+    for r in range(impulse.shape[1]):
+        own_impulse[i, r] = impulse[a, r]
+
+
+@nb.njit(cache=True)
+def _sweep_range_3d(lo, hi, own, rows, order, delassus, v, impulse, inv_mass, relaxation):
+    """Single-contact updates of the packed dry contacts lo .. hi - 1 in order
+    (nlgs_3d_domains), as nlgs_3d's loop (a function of its own as _sweep_range_2d)."""
+    cand = own[0]
+    ant = own[1]
+    u = np.empty(3)
+    rr = np.empty(3)
+    for i in range(lo, hi):
+        _update_dry_3d(i, order[i], cand, ant, rows[i], delassus, v, impulse, inv_mass,
+                       relaxation, None, u, rr)
+
+
+@nb.njit(parallel=True, cache=True)
+def _spread_fixed(v, vx, ghost, ngroups):
+    """vx = v on the first len(v) rows, and each fixed body's velocity (ghost[b] >= 0) into
+    its copy for each of ngroups groups (nlgs_3d_domains' vx)."""
+    n = v.shape[0]
+    nfixed = (vx.shape[0] - n) // ngroups
+    for b in nb.prange(n):
+        for d in range(v.shape[1]):
+            vx[b, d] = v[b, d]
+        if ghost[b] >= 0:
+            for g in range(ngroups):
+                for d in range(v.shape[1]):
+                    vx[n + g * nfixed + ghost[b], d] = v[b, d]
+
+
+@nb.njit(parallel=True, cache=True)
+def _gather_own(order, groups, own_impulse, impulse, v, vx):
+    """The end of a sweep by domains (nlgs_3d_domains): the packed impulses back to their
+    contacts, and v = vx's first len(v) rows."""
+    for g in nb.prange(groups.shape[0] - 1):
+        for i in range(groups[g], groups[g + 1]):
+            for r in range(impulse.shape[1]):
+                impulse[order[i], r] = own_impulse[i, r]
+    for b in nb.prange(v.shape[0]):
+        for d in range(v.shape[1]):
+            v[b, d] = vx[b, d]

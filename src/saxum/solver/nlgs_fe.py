@@ -14,9 +14,9 @@ the generic side kernels (loops of runtime length d over small work arrays) made
 sweeps 2x slower (17 against 7.5 to 9.3 CPU ms of sweeps per step on benchmarks/wall_fe.py
 --courses 6 --bricks 4, measured in one run). Models without deformable blocks never come
 here, so their sweeps are nlgs_2d's and nlgs_3d's, bit for bit. The convergence criterion is
-theirs with the nodes' lumped masses in the norm. In 2D a contact of a joint law (law_map
-flag != 0, saxum.solver.laws_local) is solved by law_solve_2d on its W', in the same sweep as
-the dry ones.
+theirs with the nodes' lumped masses in the norm. A contact of a joint law (law_map flag
+!= 0, saxum.solver.laws_local) is solved by law_solve_2d / law_solve_3d on its W', in the
+same sweep as the dry ones.
 """
 
 
@@ -24,7 +24,7 @@ import numba as nb
 import numpy as np
 
 from ..bodies.fe import side_push, side_velocity
-from .laws_local import law_solve_2d
+from .laws_local import law_solve_2d, law_solve_3d
 from .local2d import factorize_contact_2d, solve_factored_contact_2d
 from .local3d import open_or_stick_3d, solve_contact_3d
 from .velocity_change import change_ratio, change_sums
@@ -45,9 +45,10 @@ def _relative_change(v, v_prev, v_free, mass, node_v, node_prev, node_free, node
 def nlgs_fe_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, inv_mass,
                mass, v_free, v, v_prev, impulse, side_kind, side_node, side_weight, node_block,
                node_start, inv_start, inverse, rotation, node_mass, node_free, node_v,
-               node_prev, tolerance, max_iterations, relaxation):
+               node_prev, law_map, tolerance, max_iterations, relaxation):
     """NLGS sweeps (module doc) in 3D; returns (sweeps done, final error). Updates v, node_v
-    and impulse in place; v_prev and node_prev are work memory."""
+    and impulse in place; v_prev and node_prev are work memory; law_map [count, width] the
+    joint laws' rows (all flags 0 without them)."""
     d = delassus.shape[1]
     nactive = 0
     for a in range(count):
@@ -60,6 +61,7 @@ def nlgs_fe_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count
     f = np.empty(d)
     pl = np.empty(d)
     dv = np.empty(d)
+    wp = np.empty((d, d))
     error = np.inf
     it = 0
     _relative_change(v, v_prev, v_free, mass, node_v, node_prev, node_free, node_mass)
@@ -82,13 +84,18 @@ def nlgs_fe_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count
                     s += w[r, c] * impulse[a, c]
                 u[r] -= s
             u[1] += bias[a]
-            case, rr[0], rr[1], rr[2] = open_or_stick_3d(
-                w[0, 0], w[0, 1], w[0, 2], w[1, 0], w[1, 1], w[1, 2], w[2, 0], w[2, 1],
-                w[2, 2], u[0], u[1], u[2], friction[a])
-            if case < 0:  # a slide: the full solve, from the current impulse
+            if law_map[a, 0] != 0.0:  # a joint: its W', from the current impulse
                 for r in range(3):
                     rr[r] = impulse[a, r]
-                solve_contact_3d(w, u, friction[a], rr)
+                law_solve_3d(law_map[a], u, bias[a], friction[a], wp, rr)
+            else:
+                case, rr[0], rr[1], rr[2] = open_or_stick_3d(
+                    w[0, 0], w[0, 1], w[0, 2], w[1, 0], w[1, 1], w[1, 2], w[2, 0], w[2, 1],
+                    w[2, 2], u[0], u[1], u[2], friction[a])
+                if case < 0:  # a slide: the full solve, from the current impulse
+                    for r in range(3):
+                        rr[r] = impulse[a, r]
+                    solve_contact_3d(w, u, friction[a], rr)
             for r in range(d):
                 if relaxation != 1.0:
                     rr[r] = relaxation * rr[r] + (1.0 - relaxation) * impulse[a, r]

@@ -14,7 +14,7 @@ import numba as nb
 import numpy as np
 
 from .. import bodies
-from ..bodies import rigid2d
+from ..bodies import rigid2d, rigid3d
 from ..contacts import Contacts
 from ..laws import SMOOTH_KINDS, LawKind
 from ..model import Model
@@ -40,10 +40,14 @@ class ContactProblem:
         """The deformable body kind (saxum.bodies.fe.FEKind) when the model has deformable
         blocks: their contacts' rows, Delassus blocks and node velocities."""
         self.parallel = False
-        """Assemble and take the end gaps on numba's threads (2D rigid blocks; the same
-        numbers bit for bit): Simulation sets it where the solver's threads are set."""
+        """Assemble on numba's threads (and in 2D take the end gaps; the same numbers bit
+        for bit): Simulation sets it where the solver's threads are set."""
         self.joint_laws = bool(np.isin(model.law_kind, SMOOTH_KINDS).any())
         """Whether some law is a joint law (saxum.solver.laws_local): then law_map is filled."""
+        self._initial_gaps = bool(model.law_initial_gap.any())
+        """Whether some law is a _g0 law (saxum.laws): its contacts' b_n are taken again from
+        g - g0 after the assembly (a pass of their own, which costs models without them
+        nothing)."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -91,24 +95,37 @@ class ContactProblem:
         self.v_begin = v_begin
         c = contacts
         if self._written_out:
-            kernel = _assemble_2d_parallel if self.parallel else _assemble_2d
-            kernel(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,
-                   m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
-                   theta, closed_gap, c.impulse, v, self.h_cand, self.h_ant, self.delassus,
-                   self.bias, self.friction, self.active)
+            args = (q, c.candidate, c.antagonist, c.point, c.frame, c.gap, c.law, k,
+                    m.body_inv_mass, v_begin, m.law_kind, m.law_friction, m.law_restitution,
+                    h, theta, closed_gap, c.impulse, v, self.h_cand, self.h_ant,
+                    self.delassus, self.bias, self.friction, self.active)
+            if self.parallel:
+                _assemble_2d_parallel(*args, nb.get_num_threads())
+            else:
+                _assemble_2d(*args)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         else:
-            self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
-                            self.h_cand, self.h_ant)
-            _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
-                      m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
-                      m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
-                      self.friction, self.active)
+            if self.parallel and m.dim == 3:
+                _rows_3d_parallel(q, c.candidate, c.antagonist, c.point, c.frame, c.gap,
+                                  c.law, k, self.h_cand, self.h_ant, m.body_inv_mass,
+                                  v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
+                                  theta, closed_gap, self.delassus, self.bias, self.friction,
+                                  self.active)
+            else:
+                self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
+                                self.h_cand, self.h_ant)
+                _assemble(c.candidate, c.antagonist, c.law, c.gap, k, self.h_cand, self.h_ant,
+                          m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
+                          m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
+                          self.friction, self.active)
             _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
                    m.body_inv_mass, c.impulse, v)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
+        if self._initial_gaps:
+            _initial_gap_bias(c.law, c.gap, c.initial_gap, k, m.law_kind, m.law_initial_gap,
+                              closed_gap, h * theta, self.bias)
         if self.joint_laws:
             self.local_velocities(v_begin, self.u_begin, begin=True)
             law_terms(c.law, c.gap, c.area, c.slip, c.damage, c.history, k, self.u_begin,
@@ -153,8 +170,9 @@ def _local_velocity(h_cand, h_ant, a, r, c, b, v):
 
 @nb.njit(inline="always")
 def _law(kind, restitution, gap, un_begin, closed_gap, h_theta):
-    """(active, b_n [m/s]) of a contact with gap g [m] under a law of `kind`; un_begin [m/s]
-    is U_n at the start of the step (used by restitution only)."""
+    """(active, b_n [m/s]) of a contact with gap g [m] under a law of `kind` (a _g0 law's
+    g - g0: _initial_gap_bias); un_begin [m/s] is U_n at the start of the step (used by
+    restitution only)."""
     if kind == _RESTITUTION:
         return gap <= closed_gap, restitution * min(un_begin, 0.0)
     # Signorini and gap-based: an open contact may close exactly by the end of the step
@@ -187,6 +205,35 @@ def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_
         un = _local_velocity(h_cand, h_ant, a, 1, c, b, v_begin) if kind == _RESTITUTION else 0.0
         active[a], bias[a] = _law(kind, law_restitution[law[a]], gap[a], un, closed_gap,
                                   h_theta)
+
+
+@nb.njit(parallel=True, cache=True)
+def _rows_3d_parallel(q, cand, ant, point, frame, gap, law, count, h_cand, h_ant, inv_mass,
+                      v_begin, law_kind, law_friction, law_restitution, h, theta, closed_gap,
+                      delassus, bias, friction, active):
+    """rigid3d.contact_jacobians and _assemble by blocks of _BLOCK contacts on numba's
+    threads: the same numbers bit for bit (each contact's rows are its own; the warm start,
+    _apply, stays in the contacts' order)."""
+    for k in nb.prange(-(-count // _BLOCK)):
+        lo = k * _BLOCK
+        hi = min(count, lo + _BLOCK)
+        rigid3d.contact_jacobians(q, cand[lo:hi], ant[lo:hi], point[lo:hi], frame[lo:hi],
+                                  gap[lo:hi], hi - lo, h_cand[lo:hi], h_ant[lo:hi])
+        _assemble(cand[lo:hi], ant[lo:hi], law[lo:hi], gap[lo:hi], hi - lo, h_cand[lo:hi],
+                  h_ant[lo:hi], inv_mass, v_begin, law_kind, law_friction, law_restitution, h,
+                  theta, closed_gap, delassus[lo:hi], bias[lo:hi], friction[lo:hi],
+                  active[lo:hi])
+
+
+@nb.njit(cache=True)
+def _initial_gap_bias(law, gap, initial_gap, count, law_kind, law_initial_gap, closed_gap,
+                      h_theta, bias):
+    """b_n [m/s] of the _g0 laws' contacts: _law on g - g0 [m] (the Signorini laws, always
+    active, so the assembly's active flags and warm start stand)."""
+    for a in range(count):
+        if law_initial_gap[law[a]]:
+            bias[a] = _law(law_kind[law[a]], 0.0, gap[a] - initial_gap[a], 0.0, closed_gap,
+                           h_theta)[1]
 
 
 @nb.njit(cache=True)
@@ -222,24 +269,46 @@ def _assemble_2d(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
 
 
 _BLOCK = 4096
-"""Contacts per block of the parallel kernels (_assemble_2d_parallel, _end_gaps_2d_parallel)."""
+"""Contacts per block of the parallel kernels (_assemble_2d_parallel, _end_gaps_2d_parallel,
+_rows_3d_parallel)."""
 
 
 @nb.njit(parallel=True, cache=True)
 def _assemble_2d_parallel(q, cand, ant, point, frame, gap, law, count, inv_mass, v_begin,
                           law_kind, law_friction, law_restitution, h, theta, closed_gap,
-                          impulse, v, h_cand, h_ant, delassus, bias, friction, active):
+                          impulse, v, h_cand, h_ant, delassus, bias, friction, active, runs):
     """_assemble_2d on numba's threads, the same numbers bit for bit: the contacts' rows by
-    blocks in parallel (each contact's own), then the warm start in their order (it adds
-    into the bodies' velocities, each body's impulses in the serial order)."""
+    blocks in parallel (each contact's own), then the warm start by `runs` runs of bodies
+    (the threads) in parallel, each run's pushes in the contacts' order (so each body's sum
+    in the serial order, whatever the runs)."""
     for k in nb.prange(-(-count // _BLOCK)):
         _contact_rows_range_2d(k * _BLOCK, min(count, (k + 1) * _BLOCK), q, cand, ant, point,
                                frame, gap, law, inv_mass, v_begin, law_kind, law_friction,
                                law_restitution, h * theta, closed_gap, impulse, h_cand, h_ant,
                                delassus, bias, friction, active)
+    for k in nb.prange(runs):
+        _warm_start_bodies_2d(k * v.shape[0] // runs, (k + 1) * v.shape[0] // runs, count,
+                              cand, ant, active, inv_mass, impulse, v, h_cand, h_ant)
+
+
+@nb.njit(cache=True)
+def _warm_start_bodies_2d(lo, hi, count, cand, ant, active, inv_mass, impulse, v, h_cand,
+                          h_ant):
+    """_warm_start_2d of the active contacts, in their order, into the velocities of the
+    bodies lo .. hi - 1 only (each body's terms as _warm_start_2d's)."""
     for a in range(count):
-        if active[a]:
-            _warm_start_2d(a, cand, ant, inv_mass, impulse, v, h_cand, h_ant)
+        if not active[a]:
+            continue
+        rt = impulse[a, 0]
+        rn = impulse[a, 1]
+        c = cand[a]
+        if lo <= c < hi:
+            for d in range(3):
+                v[c, d] += inv_mass[c, d] * (h_cand[a, 0, d] * rt + h_cand[a, 1, d] * rn)
+        b = ant[a]
+        if lo <= b < hi:
+            for d in range(3):
+                v[b, d] += inv_mass[b, d] * (h_ant[a, 0, d] * rt + h_ant[a, 1, d] * rn)
 
 
 @nb.njit(cache=True)

@@ -6,8 +6,9 @@ With theta = 1/2 an inelastic impact leaves the end-of-step interpenetration (1 
 velocity, as a gap target b_n = g / (theta h) in the velocity problem does, makes impacts
 rebound as if elastic. Instead, after the step, the end-of-step gaps g+ = g + theta h U_n+ of
 the contacts under the gap-based law are estimated and, where one is below -tolerance, the
-positions are projected back onto g >= 0: find the frictionless impulses P and the
-pseudo-velocity w = M^-1 H P [m/s, rad/s] with
+positions are projected back onto g >= 0 (a _g0 law's onto g >= g0, saxum.laws, with g+ - g0
+for g+ below): find the frictionless impulses P and the pseudo-velocity w = M^-1 H P
+[m/s, rad/s] with
     g+ / h + U_n(w) >= 0,   P_n >= 0,   (g+ / h + U_n(w)) P_n = 0,
 and set q+ <- q+ + h w. The velocities are left as they are, so the projection neither adds nor
 removes kinetic energy (V. Acary, "Projected event-capturing time-stepping schemes for
@@ -58,6 +59,10 @@ class PositionProjection:
         self.tolerance = tolerance
         self.pseudo_velocity = np.zeros((model.body_count, model.dof))
         self._zero = np.zeros_like(self.pseudo_velocity)
+        self._shifted = bool((model.law_initial_gap
+                              & (model.law_kind == LawKind.GAP_SIGNORINI_COULOMB)).any())
+        """Some gap law is a _g0 law: its contacts' targets are g >= g0, which the step's
+        largest interpenetration (g >= 0) does not bound."""
         self._allocate(64)
 
     def _allocate(self, capacity: int) -> None:
@@ -74,14 +79,15 @@ class PositionProjection:
         returns the solver's report, or None when no projection was needed. The caller adds
         h * pseudo_velocity to the positions."""
         self.pseudo_velocity[:] = 0.0
-        if depth <= self.tolerance:
+        if depth <= self.tolerance and not self._shifted:
             return None
         k = problem.count
         if k > len(self._bias):
             self._allocate(max(k, 2 * len(self._bias)))
         c = problem.contacts
-        worst = _projection_targets(c.law, problem.gap_end, k, self.model.law_kind,
-                                    problem.law_map, h, self._bias, self._active)
+        worst = _projection_targets(c.law, problem.gap_end, c.initial_gap, k,
+                                    self.model.law_kind, problem.law_map, h, self._bias,
+                                    self._active)
         if worst <= self.tolerance:
             return None
         self._friction[:k] = 0.0
@@ -92,11 +98,12 @@ class PositionProjection:
 
 
 @nb.njit(cache=True)
-def _projection_targets(law, gap_end, count, law_kind, law_map, h, bias, active):
-    """bias = g+ / h [m/s] for gap-law contacts, which include the viscous joints' contact
-    part and the cohesive contacts that were never bonded (law_map flag 0: a bonded joint's
-    closure is its compliance's, saxum.solver.laws_local) (the others inactive); returns the
-    largest end-of-step interpenetration -g+ [m] among them (0 if none)."""
+def _projection_targets(law, gap_end, initial_gap, count, law_kind, law_map, h, bias, active):
+    """bias = (g+ - g0) / h [m/s] (g0: a _g0 law's initial gap, else 0) for gap-law contacts,
+    which include the viscous joints' contact part and the cohesive contacts that were never
+    bonded (law_map flag 0: a bonded joint's closure is its compliance's,
+    saxum.solver.laws_local) (the others inactive); returns the largest end-of-step
+    interpenetration g0 - g+ [m] among them (0 if none)."""
     worst = 0.0
     for a in range(count):
         kind = law_kind[law[a]]
@@ -105,6 +112,6 @@ def _projection_targets(law, gap_end, count, law_kind, law_map, h, bias, active)
         if not active[a]:
             bias[a] = 0.0
             continue
-        bias[a] = gap_end[a] / h
-        worst = max(worst, -gap_end[a])
+        bias[a] = (gap_end[a] - initial_gap[a]) / h
+        worst = max(worst, initial_gap[a] - gap_end[a])
     return worst

@@ -1,0 +1,54 @@
+"""The 3D step on threads (issue 16): NLGS by domains (saxum.solver.nlgs.nlgs_3d_domains), the
+parallel narrow phase (polyhedron_contacts_parallel), world geometry and assembly: the same
+result bit for bit with 1 and 2 numba threads, and with one domain the serial step's (the
+runs compared inside each test, one machine)."""
+
+import dataclasses
+
+import numba
+import numpy as np
+import pytest
+from results_check import same_runs
+
+import saxum as sx
+from saxum.ground import harmonic
+from saxum.structures import wall3d
+
+pytestmark = pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2,
+                                reason="numba has one thread here")
+
+
+def _run(model, threads, domains, duration):
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
+    state = sim.initial_state()
+    try:
+        sim.run(state, duration)
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    return sim, state
+
+
+def test_shaken_3d_wall_same_bits_with_one_and_two_threads():
+    """An L wall of 8 courses (81 blocks) on a base shaken at 0.7 g (2 Hz) across and along
+    it, 0.04 s: with four domains (both phases of cuts) the same bits on 1 and 2 threads; with
+    one domain, the serial sweep's order and arithmetic, so the serial run's bits."""
+    load = harmonic(0.7 * 9.81, 0.5, 1.0, direction=(0.6, 0.8, 0.0)).inertial_load()
+    model = dataclasses.replace(wall3d(courses=8, length=1.5, return_length=1.0),
+                                accelerations=(load,))
+    same_runs(_run(model, 1, 4, 0.04), _run(model, 2, 4, 0.04))
+    serial = _run(model, None, None, 0.04)
+    same_runs(serial, _run(model, 1, 1, 0.04))
+    assert not serial[0].problem.parallel and np.all(serial[0].log.converged)
+
+
+def test_parallel_3d_kernels_are_the_serial_ones():
+    """An L wall of about 900 blocks at rest (over 2 x 4096 contacts: three blocks of
+    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polyhedra._PAIR_BLOCK) on 2
+    threads with one domain: parallel world geometry, narrow phase and assembly, the serial
+    step bit for bit."""
+    model = wall3d(courses=20, length=6.0, return_length=6.0)
+    runs = [_run(model, threads, domains, 0.003) for threads, domains in ((None, None), (2, 1))]
+    assert runs[0][1].contacts.count > 2 * 4096
+    assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
+    assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 512
+    same_runs(*runs)
