@@ -56,7 +56,7 @@ def _theta_for(model: Model, theta: float | None) -> float:
     """theta as given, or by the rule of Simulation's doc; says which laws made it 1 (the run's
     log) or warns about theta = 1/2 given with them."""
     ringing = undamped_springs(model.laws)
-    names = ", ".join(law.name or law.kind.name for law in ringing)
+    names = ", ".join(dict.fromkeys(law.name or law.kind.name for law in ringing))
     if theta is None:
         if not ringing:
             return 0.5
