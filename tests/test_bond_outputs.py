@@ -43,7 +43,7 @@ def cracked(tmp_path_factory):
     sim = sx.Simulation(model, dt=DT)
     state = sim.initial_state()
     path = tmp_path_factory.mktemp("bonds") / "column.h5"
-    with ResultsWriter(path, model, dt=DT, theta=0.5) as w:
+    with ResultsWriter(path, model, dt=DT, theta=sim.integrator.theta) as w:
         w.write_frame(state)
         while not (state.contacts.damage[: state.contacts.count] >= 1.0).any():
             sim.step(state)
@@ -129,7 +129,7 @@ def test_3d_plot_colours_each_bond_point_with_a_legend(tmp_path):
     sim = sx.Simulation(model, dt=DT)
     state = sim.initial_state()
     path = tmp_path / "column3d.h5"
-    with ResultsWriter(path, model, dt=DT, theta=0.5) as w:
+    with ResultsWriter(path, model, dt=DT, theta=sim.integrator.theta) as w:
         while not (state.contacts.damage[: state.contacts.count] >= 1.0).any():
             sim.step(state)
             assert state.time < 0.05, "the base joint did not crack"

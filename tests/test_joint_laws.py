@@ -318,7 +318,8 @@ def test_bonds_lost_columns_are_written_and_older_files_read(tmp_path, monkeypat
         fields = [k for k in results._STEP_FIELDS if k not in ("bonds_lost", "damaged")]
         monkeypatch.setattr(results, "_STEP_FIELDS", fields)
         monkeypatch.setitem(results._ROWS, "steps", (tuple(fields), ()))
-    with results.ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-4, theta=0.5) as w:
+    with results.ResultsWriter(tmp_path / "r.h5", sim.model, dt=1e-4,
+                               theta=sim.integrator.theta) as w:
         w.log_step(report)
         w.write_frame(state)
     monkeypatch.undo()

@@ -44,6 +44,7 @@ _EXPORTS = {
     "Simulation": "simulation",
     "SimulationError": "errors",
     "SolverWarning": "errors",
+    "UndampedJointWarning": "errors",
     "State": "state",
     "STEP_OUTCOMES": "steplog",
     "StepLog": "steplog",

@@ -1,7 +1,7 @@
 """Errors raised on bad input. Each message names the block, parameter or pair at fault."""
 
 __all__ = ["InputError", "OverlapError", "ResultsDamageWarning", "ResultsWriteError",
-           "SimulationError", "SolverWarning", "plain"]
+           "SimulationError", "SolverWarning", "UndampedJointWarning", "plain"]
 
 
 class InputError(ValueError):
@@ -27,6 +27,11 @@ class ResultsDamageWarning(UserWarning):
 
 class SolverWarning(UserWarning):
     """The contact solver did not converge at some steps; the step log says which."""
+
+
+class UndampedJointWarning(UserWarning):
+    """theta = 1/2 was given for a model whose joint springs nothing damps: they will vibrate
+    for the whole run; the message names the laws and what to do."""
 
 
 def plain(value) -> str:

@@ -76,7 +76,8 @@ parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_loc
   contacts that appear later start fully damaged (a joint does not heal) and, having no
   mortar, are the gap law's rigid Coulomb contacts. No damping: a load applied at once sets
   a bonded assembly vibrating on its joints, which theta = 1/2 (energy-conserving for a
-  spring) keeps; quasi-static studies use theta = 1 or loads that rise smoothly.
+  spring) keeps; so a model with such joints (`undamped_springs`) steps with theta = 1 unless
+  told otherwise (saxum.simulation.Simulation), and theta = 1/2 given with them warns.
 """
 
 import math
@@ -249,6 +250,16 @@ class ContactLaw:
                         f"{getattr(self, strength):g} Pa and {stiffness} = "
                         f"{getattr(self, stiffness):g} Pa/m: the softening would snap back; "
                         f"use {g} >= {strength}^2 / (2 {stiffness}) = {least:.6g} J/m^2")
+
+
+def undamped_springs(laws) -> list[ContactLaw]:
+    """The joint laws with a spring that nothing damps: COHESIVE (its k_n and k_t), and
+    ELASTIC without a normal dashpot (c_n = 0) or with a tangential spring (k_t > 0, which has
+    none). Under theta = 1/2, which keeps a spring's energy, a load applied at once leaves
+    their joints vibrating for the whole run."""
+    return [law for law in laws if isinstance(law, ContactLaw) and (
+        law.kind == LawKind.COHESIVE
+        or (law.kind == LawKind.ELASTIC and (law.c_n == 0.0 or law.k_t > 0.0)))]
 
 
 @dataclass(frozen=True)

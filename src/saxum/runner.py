@@ -55,7 +55,7 @@ def run_scenario(scenario: Scenario, output: str | Path, *, quiet: bool = False,
     if scenario.solver.warm_start is not None:
         _warm_start(sim, state, scenario.solver.warm_start)
     writer = ResultsWriter(output, sim.model, dt=scenario.solver.dt,
-                           theta=scenario.solver.theta, scenario=scenario_text,
+                           theta=sim.integrator.theta, scenario=scenario_text,
                            scenario_json=scenario.model_dump_json(), version=__version__,
                            histories=scenario.output.history_bodies(sim.model),
                            ground=scenario.loads.ground_motion is not None,

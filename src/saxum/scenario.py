@@ -1017,17 +1017,19 @@ def _unit(direction, key: str, dim: int | None = None):
 
 
 class SolverSpec(_Strict):
-    """Moreau-Jean step dt [s] and theta [-]; NLGS tolerance [-], sweep cap, relaxation, sweeps
-    before a slow step tries the rest solution (0: never); kind: "hybrid" (NLGS that switches to
-    the conic fixed point or semismooth Newton where its error stalls or at the cap:
-    saxum.solver.Hybrid), or "nlgs" alone; None (the default): "hybrid", or "nlgs" for a
-    model with joint laws or deformable blocks, which only NLGS solves (saxum.solver.laws_local,
-    saxum.solver.nlgs_fe); threads: NLGS's and the step's (None: one, in the serial order;
-    n >= 1: the sweep by domains and the parallel kernels on n threads, 0 all cores), domains:
-    the sweep's (None: the machine's cores; saxum.solver.NLGS)."""
+    """Moreau-Jean step dt [s] and theta [-] (None, the default: 1/2, or 1 for a model with
+    joint springs that nothing damps: saxum.simulation.Simulation); NLGS tolerance [-], sweep
+    cap, relaxation, sweeps before a slow step tries the rest solution (0: never); kind:
+    "hybrid" (NLGS that switches to the conic fixed point or semismooth Newton where its
+    error stalls or at the cap: saxum.solver.Hybrid), or "nlgs" alone; None (the default):
+    "hybrid", or "nlgs" for a model with joint laws or deformable blocks, which only NLGS
+    solves (saxum.solver.laws_local, saxum.solver.nlgs_fe); threads: NLGS's and the step's
+    (None: one, in the serial order; n >= 1: the sweep by domains and the parallel kernels on
+    n threads, 0 all cores), domains: the sweep's (None: the machine's cores;
+    saxum.solver.NLGS)."""
 
     dt: Positive = 1e-3
-    theta: Annotated[Real, Field(ge=0.5, le=1.0)] = 0.5
+    theta: Annotated[Real, Field(ge=0.5, le=1.0)] | None = None
     tolerance: Positive = 1e-6
     max_iterations: Count = 5000
     relaxation: Annotated[Real, Field(gt=0.0, le=1.0)] = 1.0

@@ -23,9 +23,9 @@ from .bodies import rigid as rigid_kind
 from .bodies.fe import FEKind
 from .contacts import Contacts
 from .detection import DetectionSettings, detector_for
-from .errors import InputError, SimulationError, SolverWarning
+from .errors import InputError, SimulationError, SolverWarning, UndampedJointWarning
 from .integrator import MoreauJean
-from .laws import LawKind
+from .laws import LawKind, undamped_springs
 from .model import BodyKind, Model
 from .solver import (
     NLGS,
@@ -52,12 +52,40 @@ _OUTCOME = {(False, True): STEP_OUTCOMES.index("stalled"),
 stalled)."""
 
 
+def _theta_for(model: Model, theta: float | None) -> float:
+    """theta as given, or by the rule of Simulation's doc; says which laws made it 1 (the run's
+    log) or warns about theta = 1/2 given with them."""
+    ringing = undamped_springs(model.laws)
+    names = ", ".join(dict.fromkeys(law.name or law.kind.name for law in ringing))
+    if theta is None:
+        if not ringing:
+            return 0.5
+        _log.info(f"theta = 1 (not given): the joint laws {names} have springs that nothing "
+                  "damps, which theta = 1/2 would leave vibrating for the whole run under the "
+                  "loads applied at t = 0; give theta (solver.theta) to choose")
+        return 1.0
+    # 1/2 up to round-off: any theta above it damps a spring's vibration, if slowly
+    if ringing and theta - 0.5 < 1e-9:
+        warnings.warn(
+            f"theta = {theta:g} with the joint laws {names}, whose springs nothing damps: "
+            "theta = 1/2 keeps a spring's energy, so a load applied at once (the weight at "
+            "t = 0) leaves the joints vibrating for the whole run, and NLGS works at every "
+            "step (docs/method.md). Use theta = 1 (the default for such laws: leave theta "
+            "out), or for an elastic joint without k_t a normal damping c_n > 0, or apply the "
+            "loads gradually", UndampedJointWarning, stacklevel=3)
+    return theta
+
+
 class Simulation:
     """Steps a Model with Moreau-Jean time stepping and a contact solver (by default the
     hybrid: NLGS, and the conic fixed point where NLGS stalls; saxum.solver.Hybrid; NLGS for
     a model with joint laws, which only NLGS solves: saxum.solver.laws_local).
 
-    dt [s]: time step; theta [-]: Moreau-Jean parameter in [0.5, 1].
+    dt [s]: time step; theta [-]: Moreau-Jean parameter in [0.5, 1]; None (the default): 1/2,
+    which keeps the energy of free flight and of springs, or 1 for a model with joint springs
+    that nothing damps (saxum.laws.undamped_springs: cohesive joints, elastic ones without
+    c_n), which theta = 1/2 would leave vibrating for the whole run under a load applied at
+    once; theta = 1/2 given for such a model warns (UndampedJointWarning).
     Every step appends a StepReport to `self.log`.
     """
 
@@ -66,11 +94,12 @@ class Simulation:
         model: Model,
         *,
         dt: float,
-        theta: float = 0.5,
+        theta: float | None = None,
         solver: ContactSolver | None = None,
         detection: DetectionSettings | None = None,
     ) -> None:
         self.model = model
+        theta = _theta_for(model, theta)
         self.kinematics = rigid_kind(model.dim)
         self.integrator = MoreauJean(dt, theta)
         self.problem = ContactProblem(model)

@@ -10,6 +10,7 @@ fe_nodes3d), so the joint's areas A sum to its face's area.
 import math
 
 import numpy as np
+import pytest
 from test_joint_direct_shear import G_II, MU, SIGMA, C, force_on
 from test_joint_pull_off import box
 from test_viscous_friction import MU as MU_VISCOUS
@@ -106,7 +107,8 @@ def test_elastic_joint_under_a_deformable_block():
     assert abs(area / 0.25 - 1.0) < 1e-12  # the nodes' tributary areas: round-off only
     omega = math.sqrt(k_n * area / mass)
     h = 2.0 * math.pi / omega / 100.0
-    sim = sx.Simulation(model, dt=h)
+    with pytest.warns(sx.UndampedJointWarning):  # theta = 1/2 given: the trapezoid
+        sim = sx.Simulation(model, dt=h, theta=0.5)
     state = sim.initial_state()
     static = model.body_q0[block, 2] - mass * g / (k_n * area)
     y = np.empty(550)  # 5.5 periods

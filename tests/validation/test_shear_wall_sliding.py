@@ -22,6 +22,9 @@ lacks move the peak further (G_I 5 to 20 J/m^2: -3 % / +3 %; f_t 0.01 to 0.2 MPa
 forms it must respect as well: the peak exceeds the sliding load mu N (the bond carried part
 of it) and stays below the whole end joint's Mohr-Coulomb strength c L t + mu N (the end
 moment V H / 2 opens the joint's heel before the peak, so that strength is not reached).
+The crack pattern is not checked: this reduced model forms COMP2_4's stair-stepped diagonal,
+not COMP2_5's sliding on the top bed joint, which the brick-by-brick wall (588 s) shows
+(BENCHMARKS.md, "Masonry shear walls").
 """
 
 import numpy as np
