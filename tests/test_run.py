@@ -111,7 +111,11 @@ def test_ctrl_c_stops_cleanly_says_how_to_resume_and_resume_matches(tmp_path, on
     with Results(results) as r:
         assert r.status == "interrupted"
         stopped = r.step[-1]
-        assert r.checkpoint_steps[-1] == stopped  # a checkpoint where it stopped
+        # a checkpoint where it stopped, or, where the solver carries state from earlier steps
+        # (the collapse's steps end NLGS's refinement, saxum.solver.nlgs.Refinement, whose
+        # flags checkpoints do not hold), the last periodic one (checkpoint_interval 0.05 s:
+        # every 50 steps) before it: runner._advance's rule
+        assert r.checkpoint_steps[-1] in (stopped, stopped - stopped % 50)
     assert main(["resume", str(results), "--quiet"]) == 0
     same_results(results, one_go)
 
