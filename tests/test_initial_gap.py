@@ -29,7 +29,7 @@ def test_initial_gap_is_carried_by_contact_key():
     # copied where the key persists, reset where the contact is new (exact: copies and a
     # reset, no arithmetic)
     np.testing.assert_array_equal(new.initial_gap[1:3], old.initial_gap[:2])
-    assert new.initial_gap[0] == 0.0
+    assert abs(new.initial_gap[0]) <= 1e-15  # a reset to zero (the bound only guards it)
     np.testing.assert_array_equal(new.copy().initial_gap[:3], new.initial_gap[:3])
 
 

@@ -3,6 +3,7 @@ nothing damps (saxum.laws.undamped_springs), said in the run's log; theta = 1/2 
 such laws warns, naming them (UndampedJointWarning); the scenario's solver.theta follows."""
 
 import logging
+import math
 import warnings
 
 import pytest
@@ -36,9 +37,10 @@ def test_default_theta_is_one_for_undamped_joint_springs(law, theta, caplog):
     with caplog.at_level(logging.INFO, logger="saxum"), warnings.catch_warnings():
         warnings.simplefilter("error", sx.UndampedJointWarning)
         sim = sx.Simulation(_pair(law), dt=1e-4)
-    assert sim.integrator.theta == theta  # one of two stored constants, not a computed value
+    # one of two stored constants, not a computed value: 1e-12 only guards the rule
+    assert math.isclose(sim.integrator.theta, theta, abs_tol=1e-12)
     said = [r.getMessage() for r in caplog.records if "theta = 1 (not given)" in r.getMessage()]
-    assert len(said) == (theta == 1.0)
+    assert len(said) == int(theta > 0.75)  # the note only where the rule chose theta = 1
     if said:
         assert law.kind.name in said[0]
 
@@ -50,7 +52,7 @@ def test_theta_one_half_given_with_undamped_joint_springs_warns_with_the_law_and
     message = str(caught[0].message)
     assert "[[laws]] 0 (brick, ground)" in message
     assert "theta = 1" in message and "keeps a spring's energy" in message
-    assert sim.integrator.theta == 0.5  # as given
+    assert math.isclose(sim.integrator.theta, 0.5, abs_tol=1e-12)  # as given
     with warnings.catch_warnings():
         warnings.simplefilter("error", sx.UndampedJointWarning)
         sx.Simulation(_pair(law), dt=1e-4, theta=0.6)  # damps, if slowly: no warning
@@ -83,6 +85,6 @@ def test_scenario_theta_left_out_follows_the_rule_and_given_is_kept():
     with warnings.catch_warnings():
         warnings.simplefilter("error", sx.UndampedJointWarning)
         default = parse_scenario(SCENARIO).build_simulation()
-    assert default.integrator.theta == 1.0
+    assert math.isclose(default.integrator.theta, 1.0, abs_tol=1e-12)  # the rule's constant
     given = parse_scenario(SCENARIO.replace("[output]", "[solver]\ntheta = 0.7\n[output]"))
-    assert given.build_simulation().integrator.theta == 0.7
+    assert math.isclose(given.build_simulation().integrator.theta, 0.7, abs_tol=1e-12)
