@@ -58,7 +58,8 @@ def _oscillation(c_n: float, periods: float, dim: int = 2):
             sim = sx.Simulation(model, dt=h, theta=0.5)
     else:
         sim = sx.Simulation(model, dt=h)
-        assert abs(sim.integrator.theta - 0.5) <= 1e-12  # a damped elastic joint keeps theta's default
+        # a damped elastic joint keeps theta's default (a stored constant: the bound guards it)
+        assert abs(sim.integrator.theta - 0.5) <= 1e-12
     state = sim.initial_state()
     static = model.body_q0[block, dim - 1] - mass * G / (K_N * area)
     steps = round(periods * 200)
