@@ -22,8 +22,8 @@ class StepReport:
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
     position projection (0 when none was needed; saxum.solver.projection), the solver that
     finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
-    fixed point, 2 semismooth Newton, 3 smoothing Newton, the last three of
-    saxum.solver.hybrid), for a contact solve that
+    fixed point, 2 semismooth Newton, 3 smoothing Newton, 4 the proximal point, the last four
+    of saxum.solver.hybrid), for a contact solve that
     ended above its tolerance the natural-map error of its impulses [-]
     (saxum.solver.SolverReport.natural_map: how far from a solution; nan where not measured),
     how the step ended (index into STEP_OUTCOMES) and, where the contact solve did not
