@@ -112,6 +112,7 @@ class StepLog:
         bad = self.non_converged()
         conic = int(np.count_nonzero(self.solver == 1))
         newton = int(np.count_nonzero(self.solver == 2))
+        proximal = int(np.count_nonzero(self.solver == 4))
         return (
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
@@ -119,6 +120,7 @@ class StepLog:
             + natural_map_note(self.natural_map[~self.converged])
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
+            + (f", finished by the proximal point at {proximal} step(s)" if proximal else "")
             + bonds_note(self.step, self.bonds_lost)
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )

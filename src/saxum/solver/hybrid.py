@@ -23,7 +23,12 @@ it is within the tolerance the step ends there, converged, reporting that error 
 solvers. In 3D, where that error is within _REACH times the tolerance or NLGS's error was not
 crawling (_CRAWL), Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's iterate, kept
 where the natural-map error of its result is within the tolerance (the step ends converged,
-finished by "newton", reporting that error); it dominates the others there (docs/method.md:
+finished by "newton", reporting that error); then, where that error is within _PROXIMAL_REACH
+times the tolerance (whether NLGS crawled or not), the proximal point from NLGS's iterate
+(saxum.solver.newton.proximal_point, then Fischer-Burmeister Newton from its iterate), kept the
+same way (finished by "proximal"): its regularized subproblems move the impulses where the
+merit of Newton's line search does not let it go (docs/method.md, (f)); Fischer-Burmeister
+Newton dominates the others there (docs/method.md:
 the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
 and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries; then,
 where Hybrid.smoothing (off by default), on every 3D attempt (whether or not that one ran, so
@@ -171,8 +176,8 @@ class ConicSolver(ContactSolver):
 class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that,
     where NLGS stalls or at its cap, ends the step where NLGS's iterate is within the tolerance
-    by the natural map, else tries Fischer-Burmeister Newton (3D) or the conic fixed point and
-    Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
+    by the natural map, else tries Fischer-Burmeister Newton and the proximal point (3D) or
+    the conic fixed point and Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
     by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
     two measurements of the error, and the sweeps that judge a conic iterate; threads, domains,
     refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
@@ -349,7 +354,9 @@ class Hybrid(ContactSolver):
     def _attempt(self, problem, local, impulse, v_free, v, error: float, hopeful: bool,
                  near: bool):
         """In 3D, Fischer-Burmeister Newton from NLGS's iterate (where `hopeful`: _hopeful),
-        then smoothing Newton from it (Hybrid.smoothing), each kept where the natural-map error
+        then the proximal point from it (where `near`: within _PROXIMAL_REACH times the
+        tolerance), then smoothing Newton from it (Hybrid.smoothing), each kept where the
+        natural-map error
         of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
         iterate, then semismooth Newton on Alart-Curnier's function from zero impulses, each
         judged by one NLGS sweep from its result. `local`: the step's assembled
