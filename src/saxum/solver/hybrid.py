@@ -177,9 +177,10 @@ class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that,
     where NLGS stalls or at its cap, ends the step where NLGS's iterate is within the tolerance
     by the natural map, else tries Fischer-Burmeister Newton and the proximal point (3D) or
-    the conic fixed point and Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
-    by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
-    two measurements of the error, and the sweeps that judge a conic iterate; threads, domains,
+    the conic fixed point and Alart-Curnier Newton (2D), and keeps what they find only where it
+    is within the tolerance by the natural map or better by NLGS's own criterion (module doc);
+    window: sweeps between two measurements of the error, and the sweeps that judge a conic
+    iterate; threads, domains,
     refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
     converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit);
     smoothing: in 3D, smoothing Newton on every attempt after Fischer-Burmeister Newton (off
