@@ -418,13 +418,11 @@ class Hybrid(ContactSolver):
         result = proximal_point(local.w, local.q, local.mu, local.impulses(impulse),
                                 self.tolerance, _PROXIMAL_OUTER)
         self.newton_iterations += result.interior_iterations
-        if result.error > self.tolerance:
-            polished = fischer_burmeister_newton(local.w, local.q, local.mu, result.r,
-                                                 _NEWTON_TOLERANCE * self.tolerance,
-                                                 _FISCHER_ITERATIONS)
-            self.newton_iterations += polished.iterations
-            if polished.error < result.error:
-                result = polished
+        if result.error > self.tolerance:  # Newton returns its start where it does worse
+            result = fischer_burmeister_newton(local.w, local.q, local.mu, result.r,
+                                               _NEWTON_TOLERANCE * self.tolerance,
+                                               _FISCHER_ITERATIONS)
+            self.newton_iterations += result.iterations
         local.scatter(result.r, v_free, impulse, v)
         return local.natural_map_error(impulse)
 
