@@ -195,8 +195,8 @@ class Hybrid(ContactSolver):
     window: int = 100
     threads: int | None = None
     domains: int | None = None
-    refine: float = 10.0
-    refine_sweeps: int = 1000
+    refine: float = 100.0
+    refine_sweeps: int = 3000
     smoothing: bool = False
 
     def __post_init__(self) -> None:
