@@ -305,12 +305,13 @@ def _count_of(values: dict[str, float], keys: tuple[str, ...], least: int, where
     return int(value)
 
 
-def _triangle(values: dict[str, float], where: Where, vertices: int | None) -> list[int]:
+def _triangle(values: dict[str, float], where: Where, vertices: int | None,
+              what: str = "a triangle") -> list[int]:
     """The vertex numbers ver1..3 of a triangle line (from 1; at most `vertices`)."""
     ver = [values.get(f"ver{k}", math.nan) for k in (1, 2, 3)]
     top = math.inf if vertices is None else vertices
     if not all(math.isfinite(v) and 1 <= v <= top and v == int(v) for v in ver):
-        raise InputError(f"{where}: a triangle needs ver1= ver2= ver3=, vertex numbers from 1"
+        raise InputError(f"{where}: {what} needs ver1= ver2= ver3=, vertex numbers from 1"
                          + ("" if vertices is None else f" to {vertices}")
                          + f", found {', '.join(f'{v:g}' for v in ver)}")
     return [int(v) for v in ver]
@@ -345,7 +346,7 @@ def _read_patches(lines: _Lines, tact: Contactor) -> None:
             patch.vertices.append([values[f"coo{i}"] for i in (1, 2, 3)])
         for k in range(1, nf + 1):
             values, w = _patch_line(lines, tact, f"triangle {k} of {nf} of patch {p}")
-            patch.faces.append(_triangle(values, w, nv))
+            patch.faces.append(_triangle(values, w, nv, f"triangle {k} of {nf} of {what}"))
         tact.patches.append(patch)
     if _continues(lines.peek()):
         raise InputError(f"{lines.where()}: the POLYF of {tact.where} has {count} patches "
