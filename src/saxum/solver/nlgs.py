@@ -461,7 +461,9 @@ class Refinement:
 
     def start(self, problem, impulse: np.ndarray) -> None:
         """Before a step's sweeps: whether it starts cold (impulses all zero)."""
-        self._cold = not impulse[: problem.count].any()
+        # the first rows settle it after a warm start (numpy's any reads them all: ~40 us on
+        # a wall of 16 000 bricks)
+        self._cold = not (impulse[:64].any() or impulse[: problem.count].any())
 
     def step(self, solver, sweeps, iterations: int, error: float,
              converged: bool) -> tuple[int, float]:
