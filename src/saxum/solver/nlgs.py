@@ -574,52 +574,47 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
                                   law_map)
     if packed == 0 or max_iterations < 1:
         return 0, 0.0
+    nfixed = fixed.shape[0]
     # before the first sweep's region: the bodies that domains share (those of the cuts'
     # contacts, in run_start[ndomains]'s runs) and the fixed ones with their copies
     _copy_runs(runs, run_start[ndomains], run_start[ndomains + 1], v, vx, v_prev)
-    for k in range(fixed.shape[0]):
+    for k in range(nfixed):
         b = fixed[k]
         for d in range(3):
             vx[b, d] = v_prev[b, d] = v[b, d]
         for g in range(2 * ndomains):
             for d in range(3):
-                vx[n + g * fixed.shape[0] + k, d] = v[b, d]
+                vx[n + g * nfixed + k, d] = v[b, d]
     v_own = vx[:n]
     sums = np.empty((-(-n // _SUM_BODIES), 3))
     run_sums = np.empty((ndomains + 1, 3))
-    error = np.inf
-    it = 0
-    while it < max_iterations:
+    # the first sweep packs the rows (a region of its own: the sweeps' region below takes
+    # only the arrays they read)
+    for g in nb.prange(ndomains):
+        _copy_runs(runs, run_start[g], run_start[g + 1], v, vx, v_prev)
+        _first_sweep_2d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
+                        h_ant, delassus, bias, friction, ghost, rows, own, vx, impulse,
+                        inv_mass_x, relaxation)
+        if joints is None:
+            run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
+                runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
+    error = _after_domains_2d(True, cand, ant, h_cand, h_ant, delassus, bias, friction,
+                              inv_mass, mass, v_free, v_prev, impulse, work, joints, law_map,
+                              order, groups, runs, run_start, ghost, nfixed, rows, own, vx,
+                              inv_mass_x, relaxation, sums, run_sums)
+    it = 1
+    while not error <= tolerance and it < max_iterations:
         it += 1
-        first = it == 1
         for g in nb.prange(ndomains):
-            if first:
-                _copy_runs(runs, run_start[g], run_start[g + 1], v, vx, v_prev)
-            _sweep_group_2d(g, first, groups, order, cand, ant, h_cand, h_ant, delassus,
-                            bias, friction, ghost, fixed.shape[0], n, rows, own, vx, impulse,
+            _sweep_range_2d(groups[g], groups[g + 1], order, own, rows, vx, impulse,
                             inv_mass_x, relaxation)
             if joints is None:
                 run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
                     runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
-        _sweep_cuts_2d(first, groups, order, cand, ant, h_cand, h_ant, delassus, bias,
-                       friction, ghost, fixed.shape[0], n, rows, own, vx, impulse, inv_mass_x,
-                       relaxation)
-        if joints is not None:
-            _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
-                            relaxation, None)
-            error = _parallel_change(v_own, v_prev, v_free, mass, sums)
-        else:
-            run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = _runs_change(
-                runs, run_start[ndomains], run_start[ndomains + 1], v_own, v_prev, v_free,
-                mass)
-            num = den = size = 0.0
-            for k in range(ndomains + 1):
-                num += run_sums[k, 0]
-                den += run_sums[k, 1]
-                size += run_sums[k, 2]
-            error = change_ratio(num, den, size)
-        if error <= tolerance:
-            break
+        error = _after_domains_2d(False, cand, ant, h_cand, h_ant, delassus, bias, friction,
+                                  inv_mass, mass, v_free, v_prev, impulse, work, joints,
+                                  law_map, order, groups, runs, run_start, ghost, nfixed, rows,
+                                  own, vx, inv_mass_x, relaxation, sums, run_sums)
     blocks = max(1, -(-n // _ROW_BLOCK))
     for k in nb.prange(blocks):  # the velocities back
         lo, hi = _share(k, blocks, n)
@@ -659,6 +654,33 @@ def _runs_change(runs, lo, hi, v, v_prev, v_free, mass):
         num, den, size = change_sums(v[b:e], v_prev[b:e], v_free[b:e], mass[b:e], num, den,
                                      size)
     return num, den, size
+
+
+@nb.njit(inline="always")
+def _after_domains_2d(first, cand, ant, h_cand, h_ant, delassus, bias, friction, inv_mass, mass,
+                      v_free, v_prev, impulse, work, joints, law_map, order, groups, runs,
+                      run_start, ghost, nfixed, rows, own, vx, inv_mass_x, relaxation, sums,
+                      run_sums):
+    """The rest of a sweep of nlgs_2d_domains after the domains' own contacts (whose error
+    sums are in run_sums[:ndomains] without joints): the cuts (_sweep_cuts_2d), the joints,
+    and the sweep's error."""
+    ndomains = groups.shape[0] // 2
+    n = v_free.shape[0]
+    v_own = vx[:n]
+    _sweep_cuts_2d(first, groups, order, cand, ant, h_cand, h_ant, delassus, bias, friction,
+                   ghost, nfixed, n, rows, own, vx, impulse, inv_mass_x, relaxation)
+    if joints is not None:
+        _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass, relaxation,
+                        None)
+        return _parallel_change(v_own, v_prev, v_free, mass, sums)
+    run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = _runs_change(
+        runs, run_start[ndomains], run_start[ndomains + 1], v_own, v_prev, v_free, mass)
+    num = den = size = 0.0
+    for k in range(ndomains + 1):
+        num += run_sums[k, 0]
+        den += run_sums[k, 1]
+        size += run_sums[k, 2]
+    return change_ratio(num, den, size)
 
 
 @nb.njit(inline="always")
@@ -729,7 +751,7 @@ def _first_sweep_2d(lo, hi, base, order, cand, ant, h_cand, h_ant, delassus, bia
 
 @nb.njit(cache=True)
 def _sweep_range_2d(lo, hi, order, own, rows, v, impulse, inv_mass, relaxation):
-    """Single-contact updates of the packed dry contacts lo .. hi - 1 in order
+    """Single-contact updates of the dry contacts order[lo:hi] (rows lo .. hi - 1) in order
     (nlgs_2d_domains), as nlgs_2d's loop: a function of its own, so that the loop compiles
     as nlgs_2d's does whichever parallel region calls it."""
     cand = own[0]
