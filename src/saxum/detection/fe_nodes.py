@@ -44,7 +44,7 @@ from .polygons import _write as _polygon_row
 from .polygons import alert_of_pair
 
 __all__ = ["candidate_node", "facet_side", "flat_sides", "key_layout", "node_contacts",
-           "pair_sides", "prefer", "rigid_side"]
+           "pair_sides", "prefer", "rigid_side", "unit"]
 
 
 def flat_sides(node_x0: np.ndarray, facet_node: np.ndarray,
@@ -75,11 +75,21 @@ def flat_sides(node_x0: np.ndarray, facet_node: np.ndarray,
 @nb.njit(inline="always")
 def prefer(dot, d, facing, g, tie):
     """Whether a face at signed distance d [m] whose normal n has dot = n . m with the point's
-    outward direction m beats the best so far (facing, g): the face most opposed to m (by more
-    than 1e-3: two sides at a corner differ by ~1, the facets of one straight side, turned
-    against each other by the strain, by ~1e-4), then the nearest (by more than tie), then
-    the first (module doc)."""
+    outward unit direction m (unit) beats the best so far (facing, g): the face most opposed
+    to m (by more than 1e-3: two sides at a corner differ by ~1, the facets of one straight
+    side, turned against each other by the strain, by ~1e-4), then the nearest (by more than
+    tie), then the first (module doc)."""
     return dot < facing - 1e-3 or (dot <= facing + 1e-3 and d > g + tie)
+
+
+@nb.njit(inline="always")
+def unit(mx, my, mz):
+    """The direction (mx, my, mz) made unit (prefer's margin is on cosines); (0, 0, 0), no
+    direction, as it is."""
+    norm = math.sqrt(mx * mx + my * my + mz * mz)
+    if norm == 0.0:
+        return mx, my, mz
+    return mx / norm, my / norm, mz / norm
 
 
 @nb.njit(inline="always")
@@ -89,6 +99,7 @@ def _nearest_edge(x, y, mx, my, v0, v1, wv, wn, edge_length, tie, window):
     _nearest_facet: outside the largest signed distance, g and k those of the edge chosen
     (prefer) among the edges within `window` of it onto which the point projects (within
     tie). Edge -1: none."""
+    mx, my = unit(mx, my, 0.0)[:2]
     outside = -1e300
     for k in range(v0, v1):
         outside = max(outside, wn[k, 0] * (x - wv[k, 0]) + wn[k, 1] * (y - wv[k, 1]))
@@ -127,6 +138,7 @@ def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie, window):
     own outward direction (mx, my), (0, 0) for none, then by distance) among the facets
     within `window` [m] of outside onto which the point projects (xi in [0, 1] along it,
     within tie). Facet -1: none."""
+    mx, my = unit(mx, my, 0.0)[:2]
     outside = -1e300
     for f in range(f0, f1):
         ax, ay, nx, ny = _facet(node_x, facet_node, f)[:4]
@@ -292,7 +304,8 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
         for k in range(body_vertex_start[ob], body_vertex_start[ob + 1]):
             x = wv[k, 0]
             y = wv[k, 1]
-            outside, g, e, xi = _nearest_facet(x, y, 0.0, 0.0, facet_start[f],
+            # the corner's outward direction: from the polygon's centre of mass
+            outside, g, e, xi = _nearest_facet(x, y, x - q[ob, 0], y - q[ob, 1], facet_start[f],
                                                facet_start[f + 1], node_x, facet_node, tie,
                                                pair_alert)
             if e < 0 or outside > pair_alert:

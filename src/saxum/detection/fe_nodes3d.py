@@ -43,7 +43,7 @@ import math
 import numba as nb
 import numpy as np
 
-from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, prefer, rigid_side
+from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, prefer, rigid_side, unit
 from .polyhedra import _write as _polyhedron_row
 
 __all__ = ["node_contacts_3d"]
@@ -68,6 +68,7 @@ def _nearest_face(x, y, z, mx, my, mz, f0, f1, wv, wn, fvs, fv, tie, window):
     and the face those of the face chosen (fe_nodes.prefer, by the node's outward direction
     (mx, my, mz)) among the faces within `window` of outside into which the point projects
     (within tie). Face -1: none."""
+    mx, my, mz = unit(mx, my, mz)
     outside = -1e300
     for f in range(f0, f1):
         a = fv[fvs[f]]
@@ -155,6 +156,7 @@ def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, window,
     within `window` of outside into which the point projects (within tie); weight [3] gets
     the barycentric coordinates of the projection on it (clamped to the triangle). Facet -1:
     none."""
+    mx, my, mz = unit(mx, my, mz)
     outside = -1e300
     for f in range(f0, f1):
         nx, ny, nz = _triangle(node_x, facet_node, f)[:3]
@@ -381,9 +383,10 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             x = wv[k, 0]
             y = wv[k, 1]
             z = wv[k, 2]
-            outside, g, e = _nearest_facet(x, y, z, 0.0, 0.0, 0.0, facet_start[f],
-                                           facet_start[f + 1], node_x, facet_node, tie,
-                                           pair_alert, weight)
+            # the corner's outward direction: from the polyhedron's centre of mass
+            outside, g, e = _nearest_facet(x, y, z, x - q[ob, 0], y - q[ob, 1], z - q[ob, 2],
+                                           facet_start[f], facet_start[f + 1], node_x,
+                                           facet_node, tie, pair_alert, weight)
             if e < 0 or outside > pair_alert:
                 continue
             if weight[0] == 1.0 or weight[1] == 1.0 or weight[2] == 1.0:
