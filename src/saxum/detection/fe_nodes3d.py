@@ -7,14 +7,17 @@ face is a rigid polyhedron's face or a boundary triangle of a deformable block.
     deformable - deformable:  the boundary nodes of the block of lower index against the
                               other's triangles.
 
-For a point x outside a convex block, the largest signed distance to its faces' planes,
-g = max_f n_f . (x - a_f), is the distance to the nearest face when x projects into that face
-(a deformable block is taken as convex, as its undeformed shape is; among its coplanar
-triangles, the one x projects into); a point within `alert` of it becomes a contact on that
-face: frame (t, n, s) with n the face's outward normal, t along its first edge and s = t x n
-(saxum.detection.polyhedra's frame), point = x. A point that projects outside the face is left
-to the face's edges and corners (a rigid corner against a deformable block is a contact of
-its own, and so is a rigid edge crossing a boundary edge of a deformable block: below).
+A point's face is chosen as in 2D (saxum.detection.fe_nodes, module doc): among the faces
+within the alert distance of the largest signed distance to the faces' planes, outside =
+max_f n_f . (x - a_f), into which x projects, the one most opposed to the point's outward
+direction (fe_nodes.prefer), so that a node at the end of a pressed joint stays on the bed
+face; a point with outside within `alert` becomes a contact on that face: frame (t, n, s)
+with n the face's outward normal, t along its first edge and s = t x n
+(saxum.detection.polyhedra's frame), point = x, gap the face's n . (x - a). A point that
+projects into no such face is left to the faces' edges and corners (a rigid corner against a
+deformable block is a contact of its own, and so is a rigid edge crossing a boundary edge of
+a deformable block: below). A node's contact on a deformable block is keyed by the flat side
+its triangle lies on (fe_nodes.flat_sides).
 Sides: a node is side_node with weight 1; a triangle is its three nodes with the barycentric
 coordinates of the projection of x.
 
