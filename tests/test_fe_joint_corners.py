@@ -112,16 +112,16 @@ E_m = 0.1 GPa), k_t = k_n / 2.5, f_t 0.1 MPa, c = 2 f_t."""
 @pytest.mark.parametrize("text", [PIER, PIER_3D], ids=["2d", "3d"])
 def test_a_mortared_pier_keeps_its_bonds_under_load(text):
     """The pier of two courses (3D: two blocks each) in stone (E = 10 GPa) on mortar joints of
-    an ordinary stiffness (MORTAR) under ten times its weight (the stress at its base of a
-    pier ~6 m tall, 0.12 MPa: closures of 6e-6 and 1.2e-5 m, over detection's tie of 4.8e-6
-    m) and a small sideways load (0.06 g at the end): no contact cracks, none is lost, and
-    every contact keeps its key (a node at a joint's corner taken for a contact on the side
-    face would start cracked: 16 of the 3D pier's 46 did before the rule of
-    fe_nodes._nearest_facet)."""
+    an ordinary stiffness (MORTAR) under twenty times its weight (the stress of a pier ~12 m
+    tall: 0.12 MPa on the joint between the courses, a closure of 1.2e-5 m, twice
+    detection's tie, 1e-3 of the alert distance) and a small sideways load (0.06 g at the
+    end): no contact cracks, none is lost, and every contact keeps its key (a node at a
+    joint's corner taken for a contact on the side face would start cracked: 16 of the 3D
+    pier's 46 did before the rule of fe_nodes.prefer)."""
     from saxum.scenario import parse_scenario
 
     dim = 3 if "pier_3d" in text else 2
-    gravity = [0.0] * (dim - 1) + [-98.1]
+    gravity = [0.0] * (dim - 1) + [-20.0 * 9.81]
     text = (text.replace("friction = 0.6", MORTAR).replace("E = 1.0e7", "E = 1.0e10")
             .replace("[solver]", f"[loads]\ngravity = {gravity}\nload_factor_rate = 1.0\n\n"
                      "[solver]"))
@@ -129,12 +129,13 @@ def test_a_mortared_pier_keeps_its_bonds_under_load(text):
     state = sim.initial_state()
     sim.step(state)
     first = state.contacts.copy()
-    tie = 1e-3 * sim.detector.alert
     deepest = 0.0
     for _ in range(59):
         sim.step(state)
         c = state.contacts
-        assert np.array_equal(c.key[: c.count], first.key[: first.count])
-        assert (c.damage[: c.count] < 1.0).all()
-        deepest = min(deepest, c.gap[: c.count].min())
-    assert deepest < -2.0 * tie  # the joints close past the tie: the case in question
+        n = c.count
+        assert np.array_equal(c.key[:n], first.key[: first.count])
+        assert (c.damage[:n] < 1.0).all()
+        between = c.antagonist[:n] != 0  # the joints between the courses, not on the ground
+        deepest = min(deepest, c.gap[:n][between].min())
+    assert deepest < -1.5e-3 * sim.detector.alert  # past the tie: the case in question
