@@ -10,24 +10,23 @@ deformable block.
                               touching need no more).
 
 For a point x and a convex block (a deformable block is taken as convex, as its undeformed
-shape is), d_e = n_e . (x - a_e) is the signed distance to edge e's line, and outside =
-max_e d_e how far outside the block x is (the distance to the nearest edge where x projects
-onto it). A point with outside within `alert` becomes a contact on one edge, chosen among
-the edges within alert of outside (d_e >= outside - alert) onto which x projects (within tie
-= 1e-3 alert): the edge whose normal is most opposed to the point's outward direction m (a
-node's: the sum of its half edges' outward normals; a rigid vertex has none), then the
-nearest, then the first (prefer). Not the nearest alone: a node at the end of a joint, on
-the other block's corner, lies on that block's side line as well, so once the joint closes
-by more than tie (a compliant joint's sigma / k_n), the side (d = 0) is nearer than the bed
-(d = -closure), and a contact keyed to the side would start anew, cracked under a cohesive
-law; by m the node stays on the bed until the closure reaches the alert distance. The
-contact: frame (t, n) with n the edge's outward normal and t = (n_y, -n_x) as in
-saxum.detection.polygons, point = x, gap d_e. A point that projects onto no such edge is
-left to the corner there. Sides: a node is side_node with weight 1; a facet is its two nodes
-with the linear shape functions (1 - xi, xi) at the projection of x. A node's contact on a
-deformable block is keyed by the straight side its facet lies on (flat_sides), not by the
-facet, so that it keeps its key, and its joint law's state, when it strains or slips onto
-the next facet of that side.
+shape is), d_e = n_e . (x - a_e) is the signed distance to edge e's line, and outside = max_e
+d_e how far outside the block x is (the distance to the nearest edge where x projects onto it).
+A point with outside within `alert` becomes a contact on one edge, chosen among the edges
+within alert of outside (d_e >= outside - alert) onto which x projects (within tie = 1e-3
+alert): the edge whose normal is most opposed to the point's outward direction m (a node's: the
+sum of its half edges' outward normals; a rigid vertex's: from its polygon's centre of mass),
+then the nearest, then the first (prefer). Not the nearest alone: a node at the end of a joint,
+on the other block's corner, lies on that block's side line as well, so once the joint closes
+by more than tie (a compliant joint's sigma / k_n), the side (d = 0) is nearer than the bed (d
+= -closure), and a contact keyed to the side would start anew, cracked under a cohesive law; by
+m the node stays on the bed until the closure reaches the alert distance. The contact: frame
+(t, n) with n the edge's outward normal and t = (n_y, -n_x) as in saxum.detection.polygons,
+point = x, gap d_e. A point that projects onto no such edge is left to the corner there. Sides:
+a node is side_node with weight 1; a facet is its two nodes with the linear shape functions (1
+- xi, xi) at the projection of x. A node's contact on a deformable block is keyed by the
+straight side its facet lies on (flat_sides), not by the facet, so that it keeps its key, and
+its joint law's state, when it strains or slips onto the next facet of that side.
 
 Area: a node stands for the part of its tributary boundary (half of each adjacent boundary
 edge) that faces the edge, sum max(0, -n . s) over its two half edges s (outward normal times
