@@ -81,10 +81,11 @@ def test_a_pressed_joint_keeps_its_corner_nodes_on_the_bed_face(dim, lower):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_a_node_that_slips_onto_the_next_facet_keeps_its_key(dim):
-    """The upper deformable block slipped along the joint by 1.5 facets (0.15 m on a 0.1 m
-    mesh) and pressed into it: each of its nodes still over the lower block stands on another
-    facet of the same flat side, and keeps the key it had (the key goes by the side,
-    fe_nodes.flat_sides; by the facet, a node's joint law would start again, cracked)."""
+    """Two deformable blocks, the upper slipped along the joint by 1.5 facets (0.15 m on a 0.1
+    m mesh) and pressed into it: each node of the joint still under the other block's face
+    stands on another facet of the same flat side, and keeps the key it had (the key goes by
+    the side, fe_nodes.flat_sides; by the facet, a node's joint law would start again,
+    cracked)."""
     model, upper = _flush_pair(dim, "deformable")
     up = np.eye(dim)[-1]
     detector, key0, _, _ = _joint_contacts(model, upper, 0.0 * up)
