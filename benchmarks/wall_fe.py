@@ -8,6 +8,8 @@ contacts, and the setup (meshing, assembly, M~^-1) of the deformable wall.
 
 --pulse A: a horizontal acceleration A [m/s^2] of the whole model over the measured steps
 (a ground motion felt as inertial forces), after the first step at rest.
+--detect N: then N detections of the last state (Detector.detect, the node contacts'
+narrow phase among them) timed alone: CPU ms per detection.
 
 Bricks 0.4 x 0.2 m (half bricks at the ends of every other course), E = 10 GPa, nu = 0.2,
 2000 kg/m^3, Rayleigh beta = 1e-4 s, mesh 0.05 m; the wall stands on a fixed ground under its
@@ -55,9 +57,11 @@ def wall(courses: int, bricks: int, deformable: bool, dim: int = 2,
     return b.finalize()
 
 
-def run(model: sx.Model, steps: int) -> tuple[float, float, float, float, float, str]:
+def run(model: sx.Model, steps: int,
+        detections: int = 0) -> tuple[float, float, float, float, float, str]:
     """(setup [s], ms per step, sweeps per step, contacts at the end, CPU ms per step, the
-    sticking starts: steps that took one and their CPU ms each)."""
+    sticking starts: steps that took one and their CPU ms each, and CPU ms per detection of
+    the last state over `detections`)."""
     start = time.perf_counter()
     sim = Simulation(model, dt=1e-3)
     state = sim.initial_state()
@@ -85,6 +89,13 @@ def run(model: sx.Model, steps: int) -> tuple[float, float, float, float, float,
     starts = (f"sticking start in {sticking[0]} steps, taken in "
               f"{sim.solver.rest_solutions - (sim.solver.rest_attempts - sticking[0])} "
               f"({1e3 * sticking[1] / max(sticking[0], 1):.0f} CPU ms each)")
+    if detections:
+        probe = state.contacts.copy()
+        node_x = state.node_x if model.fe is not None else None
+        begin = time.process_time()
+        for _ in range(detections):
+            sim.detector.detect(state.body_q, probe, node_x)
+        starts += f", {1e3 * (time.process_time() - begin) / detections:.2f} CPU ms/detection"
     return (setup, 1e3 * elapsed / steps, sweeps, float(state.contacts.count),
             1e3 * cpu / steps, starts)
 
@@ -96,12 +107,13 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--dim", type=int, choices=(2, 3), default=2)
     parser.add_argument("--pulse", type=float, default=0.0)
+    parser.add_argument("--detect", type=int, default=0)
     args = parser.parse_args()
     for deformable in (False, True):
         start = time.perf_counter()
         model = wall(args.courses, args.bricks, deformable, args.dim, args.pulse)
         built = time.perf_counter() - start
-        setup, ms, sweeps, contacts, cpu, starts = run(model, args.steps)
+        setup, ms, sweeps, contacts, cpu, starts = run(model, args.steps, args.detect)
         nodes = model.fe.node_count if model.fe is not None else 0
         print(f"{'deformable' if deformable else 'rigid':>10}: {model.body_count - 1} bricks, "
               f"{nodes} nodes, model {built:.1f} s, simulation setup {setup:.1f} s, "

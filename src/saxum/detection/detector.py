@@ -18,8 +18,8 @@ from ..contacts import Contacts
 from ..errors import InputError, OverlapError
 from ..model import BodyKind, Model, Shape
 from .broadphase import bounding_boxes, grid_pairs, grid_pairs_parallel, sort_pairs
-from .fe_nodes import node_contacts
-from .fe_nodes3d import facet_planes, node_contacts_3d
+from .fe_nodes import flat_sides, node_contacts
+from .fe_nodes3d import node_contacts_3d
 from .polygons import PAIR_BLOCK, polygon_contacts, polygon_contacts_parallel
 from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts, polyhedron_contacts_parallel
 from .round import round_contacts
@@ -174,6 +174,10 @@ class Detector:
         self._fe_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a deformable block (saxum.detection.fe_nodes), split off the broad
         phase's list, which keeps the rigid pairs."""
+        self._flat_side = None if model.fe is None else flat_sides(
+            model.fe.node_x0, model.fe.facet_node, model.fe.facet_start)
+        """Deformable blocks: each boundary facet's straight side (fe_nodes.flat_sides), by
+        which the node contacts on it are keyed."""
         self._round_pairs = np.empty((0, 2), dtype=np.int32)
         """Pairs with a disc or sphere (saxum.detection.round), split off likewise."""
         if model.clustered and model.fe is not None:
@@ -342,12 +346,12 @@ class Detector:
         key_base = self._round_key_base()
         return node_contacts(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, node_x, fe.boundary_start,
-            fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._wv, self._wn,
-            m.edge_length, m.body_vertex_start, m.body_group, m.group_law, self.alert,
-            self.law_alert, self._body_alert, key_base,
-            first, contacts.candidate, contacts.antagonist, contacts.key, contacts.law,
-            contacts.point, contacts.frame, contacts.gap, contacts.area, contacts.side_kind,
-            contacts.side_node, contacts.side_weight)
+            fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node, self._flat_side,
+            self._wv, self._wn, m.edge_length, m.body_vertex_start, m.body_group, m.group_law,
+            self.alert, self.law_alert, self._body_alert, key_base, first, contacts.candidate,
+            contacts.antagonist, contacts.key, contacts.law, contacts.point, contacts.frame,
+            contacts.gap, contacts.area, contacts.side_kind, contacts.side_node,
+            contacts.side_weight)
 
     def _refresh(self, q: np.ndarray) -> None:
         m = self.model
@@ -519,9 +523,6 @@ class PolyhedronDetector(Detector):
         self._axes0 = None
         """Deformable blocks: the principal axes of their body rows at the start [n_fe, 3,
         3], which their body rows' quaternions turn (saxum.bodies.fe3d.principal_axes)."""
-        self._facet_plane = None
-        """Deformable blocks: each boundary triangle's flat side (fe_nodes3d.facet_planes), set
-        with _axes0."""
         if self._round_room > 1:  # a capsule's two ends, a polyhedron's edges and vertices
             self._round_room = 2 + self._max_edges + model.max_vertices
         features = self._max_faces + self._max_edges
@@ -582,7 +583,6 @@ class PolyhedronDetector(Detector):
         fe = m.fe
         if self._axes0 is None:
             self._axes0 = principal_axes(m.body_q0[fe.body])
-            self._facet_plane = facet_planes(fe.node_x0, fe.facet_node, fe.facet_start)
         key_base = self._round_key_base()
         if float(key_base) + float(len(node_x) + m.vertex_local.shape[0]) * float(
                 len(self._wn) + len(fe.facet_node)) + float(len(m.edge_vertex)) * float(
@@ -592,7 +592,7 @@ class PolyhedronDetector(Detector):
         return node_contacts_3d(
             self._fe_pairs, len(self._fe_pairs), fe.fe_index, q, self._axes0, node_x,
             fe.boundary_start, fe.boundary_node, fe.node_side, fe.facet_start, fe.facet_node,
-            self._facet_plane, self._wv, self._wn, m.body_face_start, m.face_vertex_start,
+            self._flat_side, self._wv, self._wn, m.body_face_start, m.face_vertex_start,
             m.face_vertex,
             m.body_vertex_start, m.body_edge_start, m.edge_vertex, m.edge_face,
             fe.edge_start, fe.edge_node, fe.edge_facet, m.body_group, m.group_law, self.alert,

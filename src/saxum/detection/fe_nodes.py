@@ -9,14 +9,24 @@ deformable block.
                               other's facets (one pass: conforming meshes of blocks built
                               touching need no more).
 
-For a point x outside a convex polygon, the largest signed distance to its edges' lines,
-g = max_e n_e . (x - a_e), is the distance to the nearest edge when x projects onto that
-edge (a deformable block is taken as convex, as its undeformed shape is; among its collinear
-facets, the one x projects onto); a point within
-`alert` of it becomes a contact on that edge: frame (t, n) with n the edge's outward normal
-and t = (n_y, -n_x) as in saxum.detection.polygons, point = x. A point beyond the edge's ends
-is left to the corner there. Sides: a node is side_node with weight 1; a facet is its two
-nodes with the linear shape functions (1 - xi, xi) at the projection of x.
+For a point x and a convex block (a deformable block is taken as convex, as its undeformed
+shape is), d_e = n_e . (x - a_e) is the signed distance to edge e's line, and outside = max_e
+d_e how far outside the block x is (the distance to the nearest edge where x projects onto it).
+A point with outside within `alert` becomes a contact on one edge, chosen among the edges
+within alert of outside (d_e >= outside - alert) onto which x projects (within tie = 1e-3
+alert): the edge whose normal is most opposed to the point's outward direction m (a node's: the
+sum of its half edges' outward normals; a rigid vertex's: from its polygon's centre of mass),
+then the nearest, then the first (prefer). Not the nearest alone: a node at the end of a joint,
+on the other block's corner, lies on that block's side line as well, so once the joint closes
+by more than tie (a compliant joint's sigma / k_n), the side (d = 0) is nearer than the bed (d
+= -closure), and a contact keyed to the side would start anew, cracked under a cohesive law; by
+m the node stays on the bed until the closure reaches the alert distance. The contact: frame
+(t, n) with n the edge's outward normal and t = (n_y, -n_x) as in saxum.detection.polygons,
+point = x, gap d_e. A point that projects onto no such edge is left to the corner there. Sides:
+a node is side_node with weight 1; a facet is its two nodes with the linear shape functions (1
+- xi, xi) at the projection of x. A node's contact on a deformable block is keyed by the
+straight side its facet lies on (flat_sides), not by the facet, so that it keeps its key, and
+its joint law's state, when it strains or slips onto the next facet of that side.
 
 Area: a node stands for the part of its tributary boundary (half of each adjacent boundary
 edge) that faces the edge, sum max(0, -n . s) over its two half edges s (outward normal times
@@ -32,28 +42,80 @@ import numpy as np
 from .polygons import _write as _polygon_row
 from .polygons import alert_of_pair
 
-__all__ = ["candidate_node", "facet_side", "key_layout", "node_contacts", "pair_sides",
-           "rigid_side"]
+__all__ = ["candidate_node", "facet_side", "flat_sides", "key_layout", "node_contacts",
+           "pair_sides", "prefer", "rigid_side", "unit"]
+
+
+def flat_sides(node_x0: np.ndarray, facet_node: np.ndarray,
+               facet_start: np.ndarray) -> np.ndarray:
+    """Per boundary facet (2D a segment, 3D a triangle), the first facet of its block on the
+    same line (plane) in the reference configuration node_x0 [m] (unit normals within 1e-6,
+    offsets within 1e-9 of the block's size): the straight (flat) side of the block it lies
+    on, by which a node's contact on it is keyed (node_contacts, node_contacts_3d), int64
+    [facets]."""
+    x = [node_x0[facet_node[:, k]] for k in range(facet_node.shape[1])]
+    if len(x) == 2:
+        normal = (x[1] - x[0])[:, ::-1] * np.array([1.0, -1.0])
+    else:
+        normal = np.cross(x[1] - x[0], x[2] - x[0])
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    offset = np.einsum("fd,fd->f", normal, x[0])
+    side = np.arange(len(facet_node), dtype=np.int64)
+    for f0, f1 in zip(facet_start[:-1], facet_start[1:], strict=True):
+        n, d = normal[f0:f1], offset[f0:f1]
+        size = float(np.ptp(node_x0[facet_node[f0:f1]].reshape(-1, node_x0.shape[1]),
+                            axis=0).max())
+        same = ((np.abs(n[:, None] - n[None]).max(axis=2) < 1e-6)
+                & (np.abs(d[:, None] - d[None]) < 1e-9 * size))
+        side[f0:f1] = f0 + same.argmax(axis=1)  # the first True: the row's own at the latest
+    return side
 
 
 @nb.njit(inline="always")
-def _nearest_edge(x, y, mx, my, v0, v1, wv, wn, tie):
-    """(largest signed distance g [m], its edge k) of point (x, y) over edges v0..v1 of a
-    rigid polygon (world vertices wv, outward normals wn); between edges at equal distances
-    (within tie: a node on the polygon's corner), the one whose normal is most opposed to
-    the node's outward direction (mx, my), as in _nearest_facet, so that the choice, and the
-    contact's key, do not follow round-off from step to step."""
+def prefer(dot, d, facing, g, tie):
+    """Whether a face at signed distance d [m] whose normal n has dot = n . m with the point's
+    outward unit direction m (unit) beats the best so far (facing, g): the face most opposed
+    to m (by more than 1e-3: two sides at a corner differ by ~1, the facets of one straight
+    side, turned against each other by the strain, by ~1e-4), then the nearest (by more than
+    tie), then the first (module doc)."""
+    return dot < facing - 1e-3 or (dot <= facing + 1e-3 and d > g + tie)
+
+
+@nb.njit(inline="always")
+def unit(mx, my, mz):
+    """The direction (mx, my, mz) made unit (prefer's margin is on cosines); (0, 0, 0), no
+    direction, as it is."""
+    norm = math.sqrt(mx * mx + my * my + mz * mz)
+    if norm == 0.0:
+        return mx, my, mz
+    return mx / norm, my / norm, mz / norm
+
+
+@nb.njit(inline="always")
+def _nearest_edge(x, y, mx, my, v0, v1, wv, wn, edge_length, tie, window):
+    """(outside [m], g [m], edge k) of point (x, y) against the edges v0..v1 of a rigid
+    polygon (world vertices wv, outward normals wn, lengths edge_length [m]), as
+    _nearest_facet: outside the largest signed distance, g and k those of the edge chosen
+    (prefer) among the edges within `window` of it onto which the point projects (within
+    tie). Edge -1: none."""
+    mx, my = unit(mx, my, 0.0)[:2]
+    outside = -1e300
+    for k in range(v0, v1):
+        outside = max(outside, wn[k, 0] * (x - wv[k, 0]) + wn[k, 1] * (y - wv[k, 1]))
     best = -1
     g = -1e300
-    facing = 0.0
+    facing = 1e300
     for k in range(v0, v1):
         d = wn[k, 0] * (x - wv[k, 0]) + wn[k, 1] * (y - wv[k, 1])
+        s = -wn[k, 1] * (x - wv[k, 0]) + wn[k, 0] * (y - wv[k, 1])  # along the edge, from a_k
+        if d < outside - window or not -tie <= s <= edge_length[k] + tie:
+            continue
         dot = wn[k, 0] * mx + wn[k, 1] * my
-        if d > g + tie or (d >= g - tie and dot < facing - 1e-3):
+        if prefer(dot, d, facing, g, tie):
             g = d
             best = k
             facing = dot
-    return g, best
+    return outside, g, best
 
 
 @nb.njit(inline="always")
@@ -68,37 +130,35 @@ def _facet(node_x, facet_node, f):
 
 
 @nb.njit(inline="always")
-def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie):
+def _nearest_facet(x, y, mx, my, f0, f1, node_x, facet_node, tie, window):
     """(outside [m], g [m], facet, xi) of point (x, y) against the boundary facets f0..f1 of a
-    deformable block, as _nearest_edge: outside the largest signed distance over all facets,
-    how far outside the block the point is; g and the facet the largest over those onto which
-    the point projects (xi in [0, 1] along it), since a block's boundary has runs of collinear
-    facets whose equal distances leave the choice to the projection. Between facets at equal
-    distances (within tie: a point at a corner), the one whose normal is most opposed to the
-    point's own outward direction (mx, my) (0, 0 for none), and between facets equally
-    opposed (within 1e-3: the facets of a straight side, turned against each other by the
-    strain, ~1e-4, where two sides at a corner differ by ~1), the first: a node built on the
-    common end of two collinear facets then keeps its facet, and its contact its key, from
-    step to step (the warm start goes by key). Facet -1: none."""
+    deformable block: outside the largest signed distance over all facets, how far outside
+    the block the point is; g and the facet those of the facet chosen (prefer: by the point's
+    own outward direction (mx, my), (0, 0) for none, then by distance) among the facets
+    within `window` [m] of outside onto which the point projects (xi in [0, 1] along it,
+    within tie). Facet -1: none."""
+    mx, my = unit(mx, my, 0.0)[:2]
+    outside = -1e300
+    for f in range(f0, f1):
+        ax, ay, nx, ny = _facet(node_x, facet_node, f)[:4]
+        outside = max(outside, nx * (x - ax) + ny * (y - ay))
     best = -1
     g = -1e300
-    g_onto = -1e300
-    facing = 0.0
+    facing = 1e300
     xi = 0.0
     for f in range(f0, f1):
         ax, ay, nx, ny, length = _facet(node_x, facet_node, f)
         d = nx * (x - ax) + ny * (y - ay)
-        g = max(g, d)
         s = -ny * (x - ax) + nx * (y - ay)
-        if not -tie <= s <= length + tie:
+        if d < outside - window or not -tie <= s <= length + tie:
             continue
         dot = nx * mx + ny * my
-        if d > g_onto + tie or (d >= g_onto - tie and dot < facing - 1e-3):
-            g_onto = d
+        if prefer(dot, d, facing, g, tie):
+            g = d
             best = f
             facing = dot
             xi = min(max(s / length, 0.0), 1.0)
-    return g, g_onto, best, xi
+    return outside, g, best, xi
 
 
 @nb.njit(inline="always")
@@ -178,18 +238,20 @@ def pair_sides(pairs, pr, fe_index, body_group, group_law, law_alert, body_alert
 
 @nb.njit(cache=True)
 def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, boundary_node,
-                  node_side, facet_start, facet_node, wv, wn, edge_length, body_vertex_start,
-                  body_group, group_law, alert, law_alert, body_alert, key_base, count, candidate,
-                  antagonist, key, law, point, frame, gap, area, side_kind, side_node,
-                  side_weight):
+                  node_side, facet_start, facet_node, flat_side, wv, wn, edge_length,
+                  body_vertex_start, body_group, group_law, alert, law_alert, body_alert,
+                  key_base, count, candidate, antagonist, key, law, point, frame, gap, area,
+                  side_kind, side_node, side_weight):
     """Append the contacts of the pairs (body i, body j) with a deformable block (module doc)
     from row `count` on; returns the new count. Keys are above key_base (every polygon
-    contact's key is below it), distinct per (point, edge): a node p against edge or facet e,
-    key_base + p * E + e' with e' = e for a rigid edge and V + e for a facet (V vertices, E =
-    V + facets); a rigid vertex k against facet e, key_base + N E + k F + e (N nodes, F
-    facets). The arrays must have room for every boundary node and vertex of every pair.
-    alert [m]: the detector's; law_alert, body_alert [m]: per law and body (Detector), which
-    a pair uses (alert_of_pair)."""
+    contact's key is below it), distinct per (point, side): a node p against edge or facet e,
+    key_base + p * E + e' with e' = e for a rigid edge and V + flat_side[e] for a facet (V
+    vertices, E = V + facets; flat_sides: a node that strains or slips onto the next facet of
+    the same straight side keeps its contact, with its warm start and a joint law's state); a
+    rigid vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays
+    must have room for every boundary node and vertex of every pair. alert [m]: the
+    detector's, and the window of the choice of a point's edge (module doc); law_alert,
+    body_alert [m]: per law and body (Detector), which a pair uses (alert_of_pair)."""
     vertices = wv.shape[0]
     facets = facet_node.shape[0]
     tie, edges, vertex_base = key_layout(alert, vertices, node_x.shape[0], facets, key_base)
@@ -209,28 +271,25 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
             mx = node_side[p, 0, 0] + node_side[p, 1, 0]
             my = node_side[p, 0, 1] + node_side[p, 1, 1]
             if rigid:
-                g, e = _nearest_edge(x, y, cf * mx - sf * my, sf * mx + cf * my,
-                                     body_vertex_start[ob], body_vertex_start[ob + 1], wv, wn,
-                                     tie)
-                if g > pair_alert:
+                outside, g, e = _nearest_edge(x, y, cf * mx - sf * my, sf * mx + cf * my,
+                                              body_vertex_start[ob], body_vertex_start[ob + 1],
+                                              wv, wn, edge_length, tie, pair_alert)
+                if e < 0 or outside > pair_alert:
                     continue
                 nx = wn[e, 0]
                 ny = wn[e, 1]
-                s = -ny * (x - wv[e, 0]) + nx * (y - wv[e, 1])  # along the edge, from a_e
-                if s < -tie or s > edge_length[e] + tie:
-                    continue
                 edge_key = e
             else:
                 outside, g, e, xi = _nearest_facet(x, y, cf * mx - sf * my, sf * mx + cf * my,
                                                    facet_start[o], facet_start[o + 1], node_x,
-                                                   facet_node, tie)
+                                                   facet_node, tie, pair_alert)
                 if e < 0 or outside > pair_alert:
                     continue
                 nx, ny = _facet(node_x, facet_node, e)[2:4]
                 weight[0] = 1.0 - xi
                 weight[1] = xi
                 facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
-                edge_key = vertices + e
+                edge_key = vertices + flat_side[e]
             if rigid:
                 rigid_side(count, 1, side_kind, side_node, side_weight)
             candidate_node(count, p, side_kind, side_node, side_weight)
@@ -244,8 +303,10 @@ def node_contacts(pairs, pair_count, fe_index, q, node_x, boundary_start, bounda
         for k in range(body_vertex_start[ob], body_vertex_start[ob + 1]):
             x = wv[k, 0]
             y = wv[k, 1]
-            outside, g, e, xi = _nearest_facet(x, y, 0.0, 0.0, facet_start[f],
-                                               facet_start[f + 1], node_x, facet_node, tie)
+            # the corner's outward direction: from the polygon's centre of mass
+            outside, g, e, xi = _nearest_facet(x, y, x - q[ob, 0], y - q[ob, 1], facet_start[f],
+                                               facet_start[f + 1], node_x, facet_node, tie,
+                                               pair_alert)
             if e < 0 or outside > pair_alert:
                 continue
             nx, ny, length = _facet(node_x, facet_node, e)[2:5]

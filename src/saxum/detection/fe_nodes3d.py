@@ -7,14 +7,17 @@ face is a rigid polyhedron's face or a boundary triangle of a deformable block.
     deformable - deformable:  the boundary nodes of the block of lower index against the
                               other's triangles.
 
-For a point x outside a convex block, the largest signed distance to its faces' planes,
-g = max_f n_f . (x - a_f), is the distance to the nearest face when x projects into that face
-(a deformable block is taken as convex, as its undeformed shape is; among its coplanar
-triangles, the one x projects into); a point within `alert` of it becomes a contact on that
-face: frame (t, n, s) with n the face's outward normal, t along its first edge and s = t x n
-(saxum.detection.polyhedra's frame), point = x. A point that projects outside the face is left
-to the face's edges and corners (a rigid corner against a deformable block is a contact of
-its own, and so is a rigid edge crossing a boundary edge of a deformable block: below).
+A point's face is chosen as in 2D (saxum.detection.fe_nodes, module doc): among the faces
+within the alert distance of the largest signed distance to the faces' planes, outside =
+max_f n_f . (x - a_f), into which x projects, the one most opposed to the point's outward
+direction (fe_nodes.prefer), so that a node at the end of a pressed joint stays on the bed
+face; a point with outside within `alert` becomes a contact on that face: frame (t, n, s)
+with n the face's outward normal, t along its first edge and s = t x n
+(saxum.detection.polyhedra's frame), point = x, gap the face's n . (x - a). A point that
+projects into no such face is left to the faces' edges and corners (a rigid corner against a
+deformable block is a contact of its own, and so is a rigid edge crossing a boundary edge of
+a deformable block: below). A node's contact on a deformable block is keyed by the flat side
+its triangle lies on (fe_nodes.flat_sides).
 Sides: a node is side_node with weight 1; a triangle is its three nodes with the barycentric
 coordinates of the projection of x.
 
@@ -43,29 +46,10 @@ import math
 import numba as nb
 import numpy as np
 
-from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, rigid_side
+from .fe_nodes import candidate_node, facet_side, key_layout, pair_sides, prefer, rigid_side, unit
 from .polyhedra import _write as _polyhedron_row
 
-__all__ = ["facet_planes", "node_contacts_3d"]
-
-def facet_planes(node_x0: np.ndarray, facet_node: np.ndarray,
-                facet_start: np.ndarray) -> np.ndarray:
-    """Per boundary triangle, the first triangle of its block on the same plane in the
-    reference configuration node_x0 [m] (unit normals within 1e-6, offsets within 1e-9 of the
-    block's size): the flat side of the block it lies on, by which a node's contact on it is
-    keyed (node_contacts_3d), int64 [facets]."""
-    a, b, c = (node_x0[facet_node[:, k]] for k in range(3))
-    normal = np.cross(b - a, c - a)
-    normal /= np.linalg.norm(normal, axis=1)[:, None]
-    offset = np.einsum("fd,fd->f", normal, a)
-    side = np.arange(len(facet_node), dtype=np.int64)
-    for f0, f1 in zip(facet_start[:-1], facet_start[1:], strict=True):
-        n, d = normal[f0:f1], offset[f0:f1]
-        size = float(np.ptp(node_x0[facet_node[f0:f1]].reshape(-1, 3), axis=0).max())
-        same = ((np.abs(n[:, None] - n[None]).max(axis=2) < 1e-6)
-                & (np.abs(d[:, None] - d[None]) < 1e-9 * size))
-        side[f0:f1] = f0 + same.argmax(axis=1)  # the first True: the row's own at the latest
-    return side
+__all__ = ["node_contacts_3d"]
 
 
 _FLAT = 1e-6
@@ -80,28 +64,42 @@ corner's or the node's own contact."""
 
 
 @nb.njit(inline="always")
-def _nearest_face(x, y, z, mx, my, mz, f0, f1, wv, wn, fvs, fv, tie):
-    """(largest signed distance g [m], its face, or -1 where x projects outside it) of point
-    (x, y, z) over the faces f0..f1 of a rigid polyhedron (world vertices wv, outward unit
-    normals wn, face rings fvs/fv counter-clockwise seen from outside); between faces at equal
-    distances (within tie: a node on the polyhedron's edge, as where a block stands flush
-    with the side of its support), the one whose normal is most opposed to the node's outward
-    direction (mx, my, mz), as fe_nodes._nearest_edge does in 2D: else round-off picks the
-    side face, and the node's contact pushes it sideways."""
-    best = -1
-    g = -1e300
-    facing = 0.0
+def _nearest_face(x, y, z, mx, my, mz, f0, f1, wv, wn, fvs, fv, tie, window):
+    """(outside [m], g [m], face) of point (x, y, z) against the faces f0..f1 of a rigid
+    polyhedron (world vertices wv, outward unit normals wn, face rings fvs/fv counter-clockwise
+    seen from outside), fe_nodes._nearest_edge in 3D: outside the largest signed distance, g
+    and the face those of the face chosen (fe_nodes.prefer, by the node's outward direction
+    (mx, my, mz)) among the faces within `window` of outside into which the point projects
+    (within tie). Face -1: none."""
+    mx, my, mz = unit(mx, my, mz)
+    outside = -1e300
     for f in range(f0, f1):
         a = fv[fvs[f]]
-        d = wn[f, 0] * (x - wv[a, 0]) + wn[f, 1] * (y - wv[a, 1]) + wn[f, 2] * (z - wv[a, 2])
-        dot = wn[f, 0] * mx + wn[f, 1] * my + wn[f, 2] * mz
-        if d > g + tie or (d >= g - tie and dot < facing - 1e-3):
-            g = d
-            best = f
-            facing = dot
-    nx, ny, nz = wn[best, 0], wn[best, 1], wn[best, 2]
-    ring0 = fvs[best]
-    ring1 = fvs[best + 1]
+        outside = max(outside, wn[f, 0] * (x - wv[a, 0]) + wn[f, 1] * (y - wv[a, 1])
+                      + wn[f, 2] * (z - wv[a, 2]))
+    best = -1
+    g = -1e300
+    facing = 1e300
+    for f in range(f0, f1):
+        a = fv[fvs[f]]
+        nx, ny, nz = wn[f, 0], wn[f, 1], wn[f, 2]
+        d = nx * (x - wv[a, 0]) + ny * (y - wv[a, 1]) + nz * (z - wv[a, 2])
+        if d < outside - window:
+            continue
+        dot = nx * mx + ny * my + nz * mz
+        if not prefer(dot, d, facing, g, tie) or not _in_face(x, y, z, nx, ny, nz, fvs[f],
+                                                              fvs[f + 1], wv, fv, tie):
+            continue
+        g = d
+        best = f
+        facing = dot
+    return outside, g, best
+
+
+@nb.njit(inline="always")
+def _in_face(x, y, z, nx, ny, nz, ring0, ring1, wv, fv, tie):
+    """Whether (x, y, z) projects into the face of normal n and vertex ring fv[ring0:ring1]
+    (counter-clockwise seen from outside), within tie [m] of its edges."""
     for k in range(ring0, ring1):
         a = fv[k]
         b = fv[k + 1] if k + 1 < ring1 else fv[ring0]
@@ -114,8 +112,8 @@ def _nearest_face(x, y, z, mx, my, mz, f0, f1, wv, wn, fvs, fv, tie):
         iz = nx * ey - ny * ex
         inside = ix * (x - wv[a, 0]) + iy * (y - wv[a, 1]) + iz * (z - wv[a, 2])
         if inside < -tie * math.sqrt(ex * ex + ey * ey + ez * ez):
-            return g, -1
-    return g, best
+            return False
+    return True
 
 
 @nb.njit(inline="always")
@@ -153,46 +151,51 @@ def _edge_coordinate(node_x, p, q, x, y, z, nx, ny, nz, twice):
 
 
 @nb.njit(inline="always")
-def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, weight):
+def _nearest_facet(x, y, z, mx, my, mz, f0, f1, node_x, facet_node, tie, window, weight):
     """(outside [m], g [m], facet) of point (x, y, z) against the boundary triangles f0..f1
     of a deformable block (saxum.detection.fe_nodes._nearest_facet in 3D): outside the
-    largest signed distance over all triangles, g and the facet the largest over those into
-    which the point projects (within tie), ties broken by the normal most opposed to the
-    point's own outward direction (mx, my, mz) and, between triangles equally opposed
-    (within 1e-3: coplanar ones, turned against each other by the strain), by the first, so
-    that a node built on a corner of coplanar triangles keeps its triangle, and its contact
-    its key (the warm start and the joint laws' state go by key), from step to step; weight
-    [3] gets the barycentric coordinates of the projection on the chosen facet (clamped to
-    the triangle). Facet -1: none."""
+    largest signed distance over all triangles, g and the facet those of the triangle chosen
+    (fe_nodes.prefer, by the point's own outward direction (mx, my, mz)) among the triangles
+    within `window` of outside into which the point projects (within tie); weight [3] gets
+    the barycentric coordinates of the projection on it (clamped to the triangle). Facet -1:
+    none."""
+    mx, my, mz = unit(mx, my, mz)
+    outside = -1e300
+    for f in range(f0, f1):
+        nx, ny, nz = _triangle(node_x, facet_node, f)[:3]
+        a = facet_node[f, 0]
+        outside = max(outside, nx * (x - node_x[a, 0]) + ny * (y - node_x[a, 1])
+                      + nz * (z - node_x[a, 2]))
     best = -1
     g = -1e300
-    g_onto = -1e300
-    facing = 0.0
+    facing = 1e300
     for f in range(f0, f1):
         nx, ny, nz, twice = _triangle(node_x, facet_node, f)
         a = facet_node[f, 0]
         b = facet_node[f, 1]
         c = facet_node[f, 2]
         d = nx * (x - node_x[a, 0]) + ny * (y - node_x[a, 1]) + nz * (z - node_x[a, 2])
-        g = max(g, d)
+        if d < outside - window:
+            continue
+        dot = nx * mx + ny * my + nz * mz
+        if not prefer(dot, d, facing, g, tie):
+            continue
         la, da = _edge_coordinate(node_x, b, c, x, y, z, nx, ny, nz, twice)
         lb, db = _edge_coordinate(node_x, c, a, x, y, z, nx, ny, nz, twice)
         lc, dc = _edge_coordinate(node_x, a, b, x, y, z, nx, ny, nz, twice)
         if da < -tie or db < -tie or dc < -tie:
             continue
-        dot = nx * mx + ny * my + nz * mz
-        if d > g_onto + tie or (d >= g_onto - tie and dot < facing - 1e-3):
-            g_onto = d
-            best = f
-            facing = dot
-            la = max(la, 0.0)
-            lb = max(lb, 0.0)
-            lc = max(lc, 0.0)
-            total = la + lb + lc
-            weight[0] = la / total
-            weight[1] = lb / total
-            weight[2] = lc / total
-    return g, g_onto, best
+        g = d
+        best = f
+        facing = dot
+        la = max(la, 0.0)
+        lb = max(lb, 0.0)
+        lc = max(lc, 0.0)
+        total = la + lb + lc
+        weight[0] = la / total
+        weight[1] = lb / total
+        weight[2] = lc / total
+    return outside, g, best
 
 
 @nb.njit(inline="always")
@@ -304,7 +307,7 @@ def _edge_contacts(count, fb, ob, f, law_index, pair_alert, wv, wn, body_edge_st
 
 @nb.njit(cache=True)
 def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_start,
-                     boundary_node, node_side, facet_start, facet_node, facet_plane, wv, wn,
+                     boundary_node, node_side, facet_start, facet_node, flat_side, wv, wn,
                      face_start, fvs,
                      fv, body_vertex_start, body_edge_start, edge_vertex, edge_face,
                      fe_edge_start, fe_edge_node, fe_edge_facet, body_group, group_law, alert,
@@ -315,8 +318,8 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
     from row `count` on; returns the new count. axes0 [n_fe, 3, 3]: the principal axes of the
     blocks' body rows at the start (saxum.bodies.fe3d.principal_axes). Keys above key_base,
     distinct per (point, face): node p against face or facet e, key_base + p E + e' with e' =
-    e for a rigid face and F_r + facet_plane[e] for a facet (F_r rigid faces, E = F_r +
-    facets; facet_planes: a node that strains or slips onto the next triangle of the same flat
+    e for a rigid face and F_r + flat_side[e] for a facet (F_r rigid faces, E = F_r +
+    facets; flat_sides: a node that strains or slips onto the next triangle of the same flat
     side keeps its contact, with its warm start and a joint law's damage); a rigid
     vertex k against facet e, key_base + N E + k F + e (N nodes, F facets). The arrays must
     have room for every boundary node and vertex of every pair; a rigid edge e against
@@ -344,9 +347,10 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             z = node_x[p, 2]
             mx, my, mz = _node_side_sum(node_side, p, r, 0.0, 0.0, 0.0)[1:]
             if rigid:
-                g, e = _nearest_face(x, y, z, mx, my, mz, face_start[ob], face_start[ob + 1],
-                                     wv, wn, fvs, fv, tie)
-                if e < 0 or g > pair_alert:
+                outside, g, e = _nearest_face(x, y, z, mx, my, mz, face_start[ob],
+                                              face_start[ob + 1], wv, wn, fvs, fv, tie,
+                                              pair_alert)
+                if e < 0 or outside > pair_alert:
                     continue
                 nx, ny, nz = wn[e, 0], wn[e, 1], wn[e, 2]
                 a0 = fv[fvs[e]]
@@ -357,9 +361,9 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 rigid_side(count, 1, side_kind, side_node, side_weight)
                 face_key = e
             else:
-                outside, g, e, = _nearest_facet(x, y, z, mx, my, mz, facet_start[o],
-                                                facet_start[o + 1], node_x, facet_node, tie,
-                                                weight)
+                outside, g, e = _nearest_facet(x, y, z, mx, my, mz, facet_start[o],
+                                               facet_start[o + 1], node_x, facet_node, tie,
+                                               pair_alert, weight)
                 if e < 0 or outside > pair_alert:
                     continue
                 nx, ny, nz = _triangle(node_x, facet_node, e)[:3]
@@ -367,7 +371,7 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
                 ty = node_x[facet_node[e, 1], 1] - node_x[facet_node[e, 0], 1]
                 tz = node_x[facet_node[e, 1], 2] - node_x[facet_node[e, 0], 2]
                 facet_side(count, facet_node, e, weight, side_kind, side_node, side_weight)
-                face_key = faces + facet_plane[e]
+                face_key = faces + flat_side[e]
             candidate_node(count, p, side_kind, side_node, side_weight)
             _write(count, fb, ob, key_base + p * features + face_key, law_index, x, y, z, tx,
                    ty, tz, nx, ny, nz, g, _node_side_sum(node_side, p, r, nx, ny, nz)[0],
@@ -382,8 +386,10 @@ def node_contacts_3d(pairs, pair_count, fe_index, q, axes0, node_x, boundary_sta
             x = wv[k, 0]
             y = wv[k, 1]
             z = wv[k, 2]
-            outside, g, e = _nearest_facet(x, y, z, 0.0, 0.0, 0.0, facet_start[f],
-                                           facet_start[f + 1], node_x, facet_node, tie, weight)
+            # the corner's outward direction: from the polyhedron's centre of mass
+            outside, g, e = _nearest_facet(x, y, z, x - q[ob, 0], y - q[ob, 1], z - q[ob, 2],
+                                           facet_start[f], facet_start[f + 1], node_x,
+                                           facet_node, tie, pair_alert, weight)
             if e < 0 or outside > pair_alert:
                 continue
             if weight[0] == 1.0 or weight[1] == 1.0 or weight[2] == 1.0:
