@@ -226,7 +226,7 @@ class Simulation:
         for name, values in saved["contacts"].items():
             getattr(contacts, name)[: contacts.count] = values
         self.detector.restore(saved)
-        self.solver.forget()
+        self.solver.restore(saved)
         time, step = float(saved["time"]), int(saved["step"])
         # exact for runs from t = 0 (time is then the float k h itself)
         start = time - step * self.integrator.dt

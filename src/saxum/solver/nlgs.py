@@ -183,15 +183,21 @@ class NLGS(ContactSolver):
         """nlgs_2d_domains' (nlgs_3d_domains') work memory (rows, own, own_impulse, vx)."""
 
     def forget(self) -> None:
-        self._following.clear()
-        self._refinement = Refinement()
+        self._following.clear()  # (not the refinement: checkpoints hold it)
         self._sticking_failed = False
         self._rest_backoff = 0
         self._rest_found = False
 
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        return {"refinement": self._refinement.flags()}
+
+    def restore(self, saved: dict) -> None:
+        self.forget()
+        self._refinement = Refinement.from_flags(saved.get("refinement"))
+
     def carries_state(self) -> bool:
         return (self._following.holds() or self._sticking_failed or self._rest_backoff != 0
-                or self._rest_found or (self.refine > 1.0 and not self._refinement.fresh()))
+                or self._rest_found)
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -437,10 +443,12 @@ its own, and ends the refinement until the next onset."""
 class Refinement:
     """The refinement of a solver's steps (NLGS, Hybrid: NLGS's doc, refine): where a step is
     an onset (_ONSET_SWEEPS) or one of the steps that follow it within _CARRY_SWEEPS sweeps
-    each, it sweeps on towards tolerance / refine for at most refine_sweeps. A new (or
-    forgotten) one starts as after a cheap onset: a checkpoint inside a slide does not end
-    its refinement; a cold start (zero impulses) is never an onset, as its sweeps measure the
-    distance from zero, not the problem."""
+    each, it sweeps on towards tolerance / refine for at most refine_sweeps. A new one starts
+    as after a cheap onset (a run's first steps, and a run resumed from a file whose
+    checkpoints do not hold the flags); checkpoints hold the flags (flags(), from_flags()), so
+    that a run resumed inside a slide refines as the run in one go does. A cold start (zero
+    impulses) is never an onset, as its sweeps measure the distance from zero, not the
+    problem."""
 
     def __init__(self) -> None:
         self.carrying = True
@@ -448,10 +456,22 @@ class Refinement:
         self.cheap = True
         """... and whether the last step did."""
         self._cold = False
+        """Whether the step under way started cold (set by start() before every step: no
+        checkpoint needs it)."""
 
-    def fresh(self) -> bool:
-        """Whether the next steps are refined as a new Refinement's would be."""
-        return self.carrying and self.cheap
+    def flags(self) -> np.ndarray:
+        """(carrying, cheap) as 0 or 1 (int8): what a checkpoint holds (saxum.results)."""
+        return np.array([self.carrying, self.cheap], dtype=np.int8)
+
+    @classmethod
+    def from_flags(cls, flags: np.ndarray | None) -> "Refinement":
+        """The refinement whose flags() were `flags`; a new one for None (a checkpoint of a
+        file written before they were stored) or -1s (written without a solver that has
+        one)."""
+        refinement = cls()
+        if flags is not None and min(flags) >= 0:
+            refinement.carrying, refinement.cheap = (bool(f) for f in flags)
+        return refinement
 
     def start(self, problem, impulse: np.ndarray) -> None:
         """Before a step's sweeps: whether it starts cold (impulses all zero)."""
