@@ -13,7 +13,7 @@ from results_check import same_results, start_saxum, wait_for_frames
 
 import saxum as sx
 from saxum.cli import main
-from saxum.results import Results
+from saxum.results import Results, ResultsWriter
 from saxum.runner import resume_run, run_scenario
 from saxum.scenario import parse_scenario
 
@@ -334,4 +334,73 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
         assert stopped < 2000  # stopped before the end
         assert r.checkpoint_steps[-1] % 500 == 0  # the last checkpoint is a periodic one
     assert main(["resume", str(results), "--quiet"]) == 0
+    same_results(results, one_go)
+
+
+
+# The wall above shaken at 0.7 g, above its sliding threshold (friction 0.6): its first steps
+# follow the loads (state that no checkpoint holds) up to the slide's onset at step 82 (674
+# sweeps after a step of 1), whose refinement (saxum.solver.nlgs.Refinement) goes on over the
+# cheap steps after it, 83 to 96, which follow no loads; a checkpoint every 60 steps.
+SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace(
+    "duration = 2.0", "duration = 0.1").replace("checkpoint_interval = 0.5",
+                                                 "checkpoint_interval = 0.06")
+# A wall of 4 courses x 3 bricks under the same shaking slides from its first step, in 40 to
+# 220 sweeps a step up to step 82, a sweep or a few after: no onset, and the refinement does
+# not carry; a solver with a new one's flags would refine the cheap steps (measured: 1.6e-8 m
+# apart 60 steps after step 90), so only the flags of the checkpoint give the run in one go.
+SMALL_SLIDING_WALL = SLIDING_WALL.replace("courses = 8", "courses = 4").replace(
+    "bricks = 6", "bricks = 3")
+
+
+def _stop_after(monkeypatch, step: int) -> None:
+    """Ctrl-C, as the runner sees it (its SIGINT handler), right after step `step`."""
+    log_step = ResultsWriter.log_step
+
+    def log_and_stop(self, report):
+        log_step(self, report)
+        if report.step == step:
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)
+
+    monkeypatch.setattr(ResultsWriter, "log_step", log_and_stop)
+
+
+@pytest.fixture(scope="module")
+def straight(tmp_path_factory):
+    """The run in one go of a scenario text, made once."""
+    runs = {}
+
+    def run(text):
+        if text not in runs:
+            runs[text] = tmp_path_factory.mktemp("straight") / "one_go.h5"
+            run_scenario(parse_scenario(text), runs[text], quiet=True)
+        return runs[text]
+
+    return run
+
+
+@pytest.mark.parametrize("kind", ["nlgs", "hybrid"])
+@pytest.mark.parametrize("wall, stop, resumed_from, flags", [
+    (SLIDING_WALL, 90, 90, [1, 1]),  # inside the refined slide: a checkpoint there
+    (SLIDING_WALL, 70, 60, [0, 1]),  # following the loads: the periodic one before
+    (SMALL_SLIDING_WALL, 90, 90, [0, 1]),  # the refinement not carrying: a checkpoint there
+], ids=["refined", "following", "not-carrying"])
+def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
+        tmp_path, monkeypatch, straight, kind, wall, stop, resumed_from, flags):
+    """A run stopped by Ctrl-C in motion writes a checkpoint where it stopped, with the
+    solver's refinement flags (carrying, cheap), unless the solver follows the loads (state
+    that no checkpoint holds: the periodic checkpoint before it, which holds the flags too);
+    resumed from it, its results are the run in one go's bit for bit."""
+    text = wall + f'[solver]\nkind = "{kind}"\n'
+    one_go = straight(text)
+    results = tmp_path / "wall.h5"
+    with monkeypatch.context() as m:
+        _stop_after(m, stop)
+        assert run_scenario(parse_scenario(text), results, quiet=True).status == "interrupted"
+    with Results(results) as r:
+        assert r.step[-1] == stop and r.checkpoint_steps[-1] == resumed_from
+        assert r.checkpoint(-1)["refinement"].tolist() == flags
+    with Results(one_go) as r:
+        assert (r.steps["iterations"][81] >= 200) == (wall == SLIDING_WALL)  # the onset
+    assert resume_run(results, quiet=True).status == "finished"
     same_results(results, one_go)
