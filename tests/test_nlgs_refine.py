@@ -68,15 +68,30 @@ def test_an_onset_and_the_cheap_steps_after_it_are_refined():
 
 
 def test_a_new_solver_refines_the_cheap_steps_of_a_slide():
-    """A new (or forgotten) solver starts as after an onset, so that a checkpoint inside a
-    slide does not end its refinement, and it carries no state until a step does work."""
+    """A new solver starts as after an onset, so that a run whose first steps slide refines
+    them."""
     assert _refined([(1, True, False), (3, True, False)]) == [1000, 1000]
-    solver = sx.NLGS()
-    assert not solver.carries_state()
-    solver._refinement.step(solver, None, 50, solver.tolerance, True)  # refines nothing
-    assert solver.carries_state()
-    solver.forget()
-    assert not solver.carries_state()
+
+
+@pytest.mark.parametrize("solver", [sx.NLGS, sx.Hybrid])
+def test_checkpoints_hold_the_refinement_and_forget_keeps_it(solver):
+    """The refinement's flags are state that checkpoints hold (ContactSolver.checkpoint,
+    restore; saxum.results), not state that forget() drops nor that stops a checkpoint
+    (carries_state); a checkpoint without them (a file written before they were stored)
+    restores a new solver's."""
+    s = solver()
+    assert s.checkpoint()["refinement"].tolist() == [1, 1]
+    s._refinement.step(s, None, 50, s.tolerance, True)  # does work: refines nothing
+    assert s.checkpoint()["refinement"].tolist() == [0, 0]
+    assert not s.carries_state()
+    s.forget()
+    saved = s.checkpoint()
+    assert saved["refinement"].tolist() == [0, 0]
+    restored = solver()
+    restored.restore(saved)
+    assert restored.checkpoint()["refinement"].tolist() == [0, 0]
+    restored.restore({})
+    assert restored.checkpoint()["refinement"].tolist() == [1, 1]
 
 
 def test_a_slide_without_an_onset_is_not_refined():

@@ -111,11 +111,9 @@ def test_ctrl_c_stops_cleanly_says_how_to_resume_and_resume_matches(tmp_path, on
     with Results(results) as r:
         assert r.status == "interrupted"
         stopped = r.step[-1]
-        # a checkpoint where it stopped, or, where the solver carries state from earlier steps
-        # (the collapse's steps end NLGS's refinement, saxum.solver.nlgs.Refinement, whose
-        # flags checkpoints do not hold), the last periodic one (checkpoint_interval 0.05 s:
-        # every 50 steps) before it: runner._advance's rule
-        assert r.checkpoint_steps[-1] in (stopped, stopped - stopped % 50)
+        # a checkpoint where it stopped (the solver's state there, the refinement's flags,
+        # in it: saxum.solver.nlgs.Refinement)
+        assert r.checkpoint_steps[-1] == stopped
     assert main(["resume", str(results), "--quiet"]) == 0
     same_results(results, one_go)
 
@@ -404,3 +402,33 @@ def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
         assert (r.steps["iterations"][81] >= 200) == (wall == SLIDING_WALL)  # the onset
     assert resume_run(results, quiet=True).status == "finished"
     same_results(results, one_go)
+
+
+def test_a_file_whose_checkpoints_lack_the_refinement_resumes_with_a_new_one(
+        tmp_path, monkeypatch):
+    """A results file as saxum wrote it before checkpoints held the refinement's flags (with
+    row checksums) resumes, its solver's refinement a new one's (as saxum resumed every file
+    then), and stays in its layout."""
+    from saxum import results as layout
+
+    text = SMALL_SLIDING_WALL + '[solver]\nkind = "nlgs"\n'
+    path = tmp_path / "old.h5"
+    columns, ragged = layout._ROWS["checkpoints"]
+    with monkeypatch.context() as m:
+        m.setattr(layout, "_SOLVER_FIELDS", {})
+        m.setitem(layout._ROWS, "checkpoints",
+                  (tuple(c for c in columns if c != "refinement"), ragged))
+        _stop_after(m, 90)
+        run_scenario(parse_scenario(text), path, quiet=True)
+    with Results(path) as r:
+        assert r.checkpoint_steps[-1] == 90 and not r.damage
+        saved = r.checkpoint(-1)
+    assert "refinement" not in saved
+    sim = parse_scenario(text).build_simulation()
+    sim.restore(saved)
+    assert sim.solver.checkpoint()["refinement"].tolist() == [1, 1]  # a new one's
+    assert resume_run(path, quiet=True).status == "finished"
+    with Results(path) as r:
+        assert r.status == "finished" and not r.damage and r.step[-1] == 100
+        assert r.steps["step"].tolist() == list(range(1, 101))
+        assert "refinement" not in r.checkpoint(-1)
