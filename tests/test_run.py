@@ -350,6 +350,29 @@ SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace
 SMALL_SLIDING_WALL = SLIDING_WALL.replace("courses = 8", "courses = 4").replace(
     "bricks = 6", "bricks = 3")
 
+# The same in 3D: a straight wall of 3 courses, 0.75 m long (wall_3d), shaken along it; its
+# refinement does not carry at step 120 (1.6e-9 m apart 40 steps after it with a new one's
+# flags).
+SMALL_SLIDING_WALL_3D = textwrap.dedent("""\
+    title = "small sliding wall 3D"
+    [structure]
+    type = "wall_3d"
+    courses = 3
+    length = 0.75
+    [[laws]]
+    groups = ["*", "*"]
+    friction = 0.6
+    [loads.ground_motion]
+    pulse = "harmonic"
+    amplitude = 6.9
+    period = 0.5
+    cycles = 1
+    [output]
+    duration = 0.15
+    interval = 0.01
+    checkpoint_interval = 0.06
+""")
+
 
 def _stop_after(monkeypatch, step: int) -> None:
     """Ctrl-C, as the runner sees it (its SIGINT handler), right after step `step`."""
@@ -377,14 +400,18 @@ def straight(tmp_path_factory):
     return run
 
 
-@pytest.mark.parametrize("kind", ["nlgs", "hybrid"])
-@pytest.mark.parametrize("wall, stop, resumed_from, flags", [
-    (SLIDING_WALL, 90, 90, [1, 1]),  # inside the refined slide: a checkpoint there
-    (SLIDING_WALL, 70, 60, [0, 1]),  # following the loads: the periodic one before
-    (SMALL_SLIDING_WALL, 90, 90, [0, 1]),  # the refinement not carrying: a checkpoint there
-], ids=["refined", "following", "not-carrying"])
+@pytest.mark.parametrize("wall, kind, stop, resumed_from, flags", [
+    (SLIDING_WALL, "nlgs", 90, 90, [1, 1]),  # inside the refined slide: a checkpoint there
+    (SLIDING_WALL, "nlgs", 70, 60, [0, 1]),  # following the loads: the periodic one before
+    # the refinement not carrying: a checkpoint there, which only its flags resume bit for bit
+    (SMALL_SLIDING_WALL, "nlgs", 90, 90, [0, 1]),
+    (SMALL_SLIDING_WALL, "hybrid", 90, 90, [0, 1]),
+    (SMALL_SLIDING_WALL_3D, "nlgs", 120, 120, [0, 1]),
+    (SMALL_SLIDING_WALL_3D, "hybrid", 120, 120, [0, 1]),
+], ids=["refined", "following", "not-carrying", "not-carrying-hybrid", "not-carrying-3d",
+        "not-carrying-3d-hybrid"])
 def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
-        tmp_path, monkeypatch, straight, kind, wall, stop, resumed_from, flags):
+        tmp_path, monkeypatch, straight, wall, kind, stop, resumed_from, flags):
     """A run stopped by Ctrl-C in motion writes a checkpoint where it stopped, with the
     solver's refinement flags (carrying, cheap), unless the solver follows the loads (state
     that no checkpoint holds: the periodic checkpoint before it, which holds the flags too);
