@@ -345,14 +345,15 @@ SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace
                                                  "checkpoint_interval = 0.06")
 # A wall of 4 courses x 3 bricks under the same shaking slides from its first step, in 40 to
 # 220 sweeps a step up to step 82, a sweep or a few after: no onset, and the refinement does
-# not carry; a solver with a new one's flags would refine the cheap steps (measured: 1.6e-8 m
-# apart 60 steps after step 90), so only the flags of the checkpoint give the run in one go.
+# not carry; a solver with a new one's flags would refine the cheap steps (measured: block
+# coordinates 7.4e-9 apart at the end, 10 steps after step 90), so only the flags of the
+# checkpoint give the run in one go.
 SMALL_SLIDING_WALL = SLIDING_WALL.replace("courses = 8", "courses = 4").replace(
     "bricks = 6", "bricks = 3")
 
 # The same in 3D: a straight wall of 3 courses, 0.75 m long (wall_3d), shaken along it; its
-# refinement does not carry at step 120 (1.6e-9 m apart 40 steps after it with a new one's
-# flags).
+# refinement does not carry at step 120 (with a new one's flags there, coordinates 3.7e-10
+# apart at the end, 30 steps after it).
 SMALL_SLIDING_WALL_3D = textwrap.dedent("""\
     title = "small sliding wall 3D"
     [structure]
