@@ -354,25 +354,9 @@ SMALL_SLIDING_WALL = SLIDING_WALL.replace("courses = 8", "courses = 4").replace(
 # The same in 3D: a straight wall of 3 courses, 0.75 m long (wall_3d), shaken along it; its
 # refinement does not carry at step 120 (with a new one's flags there, coordinates 3.7e-10
 # apart at the end, 30 steps after it).
-SMALL_SLIDING_WALL_3D = textwrap.dedent("""\
-    title = "small sliding wall 3D"
-    [structure]
-    type = "wall_3d"
-    courses = 3
-    length = 0.75
-    [[laws]]
-    groups = ["*", "*"]
-    friction = 0.6
-    [loads.ground_motion]
-    pulse = "harmonic"
-    amplitude = 6.9
-    period = 0.5
-    cycles = 1
-    [output]
-    duration = 0.15
-    interval = 0.01
-    checkpoint_interval = 0.06
-""")
+SMALL_SLIDING_WALL_3D = SMALL_SLIDING_WALL.replace('type = "wall"', 'type = "wall_3d"').replace(
+    "courses = 4\nbricks = 3", "courses = 3\nlength = 0.75").replace("duration = 0.1",
+                                                                     "duration = 0.15")
 
 
 def _stop_after(monkeypatch, step: int) -> None:
