@@ -339,20 +339,20 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
 # The wall above shaken at 0.7 g, above its sliding threshold (friction 0.6): its first steps
 # follow the loads (state that no checkpoint holds) up to the slide's onset at step 82 (674
 # sweeps after a step of 1), whose refinement (saxum.solver.nlgs.Refinement) goes on over the
-# cheap steps after it, 83 to 96, which follow no loads; a checkpoint every 60 steps.
+# steps of the slide after it, which follow no loads; a checkpoint every 60 steps.
 SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace(
     "duration = 2.0", "duration = 0.1").replace("checkpoint_interval = 0.5",
                                                  "checkpoint_interval = 0.06")
 # A wall of 4 courses x 3 bricks under the same shaking slides from its first step, in 40 to
 # 220 sweeps a step up to step 82, a sweep or a few after: no onset, and the refinement does
 # not carry; a solver with a new one's flags would refine the cheap steps (measured: block
-# coordinates 7.4e-9 apart at the end, 10 steps after step 90), so only the flags of the
+# coordinates 6.4e-9 apart at the end, 10 steps after step 90), so only the flags of the
 # checkpoint give the run in one go.
 SMALL_SLIDING_WALL = SLIDING_WALL.replace("courses = 8", "courses = 4").replace(
     "bricks = 6", "bricks = 3")
 
 # The same in 3D: a straight wall of 3 courses, 0.75 m long (wall_3d), shaken along it; its
-# refinement does not carry at step 120 (with a new one's flags there, coordinates 3.7e-10
+# refinement does not carry at step 120 (with a new one's flags there, coordinates 3.5e-9
 # apart at the end, 30 steps after it).
 SMALL_SLIDING_WALL_3D = SMALL_SLIDING_WALL.replace('type = "wall"', 'type = "wall_3d"').replace(
     "courses = 4\nbricks = 3", "courses = 3\nlength = 0.75").replace("duration = 0.1",
@@ -386,13 +386,13 @@ def straight(tmp_path_factory):
 
 
 @pytest.mark.parametrize("wall, kind, stop, resumed_from, flags", [
-    (SLIDING_WALL, "nlgs", 90, 90, [1, 1]),  # inside the refined slide: a checkpoint there
-    (SLIDING_WALL, "nlgs", 70, 60, [0, 1]),  # following the loads: the periodic one before
+    (SLIDING_WALL, "nlgs", 90, 90, [1, 1, 1]),  # inside the refined slide: a checkpoint there
+    (SLIDING_WALL, "nlgs", 70, 60, [0, 1, 0]),  # following the loads: the periodic one before
     # the refinement not carrying: a checkpoint there, which only its flags resume bit for bit
-    (SMALL_SLIDING_WALL, "nlgs", 90, 90, [0, 1]),
-    (SMALL_SLIDING_WALL, "hybrid", 90, 90, [0, 1]),
-    (SMALL_SLIDING_WALL_3D, "nlgs", 120, 120, [0, 1]),
-    (SMALL_SLIDING_WALL_3D, "hybrid", 120, 120, [0, 1]),
+    (SMALL_SLIDING_WALL, "nlgs", 90, 90, [0, 1, 0]),
+    (SMALL_SLIDING_WALL, "hybrid", 90, 90, [0, 1, 0]),
+    (SMALL_SLIDING_WALL_3D, "nlgs", 120, 120, [0, 1, 0]),
+    (SMALL_SLIDING_WALL_3D, "hybrid", 120, 120, [0, 1, 0]),
 ], ids=["refined", "following", "not-carrying", "not-carrying-hybrid", "not-carrying-3d",
         "not-carrying-3d-hybrid"])
 def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
@@ -438,7 +438,7 @@ def test_a_file_whose_checkpoints_lack_the_refinement_resumes_with_a_new_one(
     assert "refinement" not in saved
     sim = parse_scenario(text).build_simulation()
     sim.restore(saved)
-    assert sim.solver.checkpoint()["refinement"].tolist() == [1, 1]  # a new one's
+    assert sim.solver.checkpoint()["refinement"].tolist() == [1, 1, 0]  # a new one's
     assert resume_run(path, quiet=True).status == "finished"
     with Results(path) as r:
         assert r.status == "finished" and not r.damage and r.step[-1] == 100

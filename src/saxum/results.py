@@ -110,9 +110,10 @@ _FE_CONTACT_FIELDS = {
     "side_weight": (np.float64, lambda d: (2, d), "-"),
 }
 """The contact sides (saxum.contacts), written only for models with deformable blocks."""
-_SOLVER_FIELDS = {"refinement": (np.int8, (2,))}
+_SOLVER_FIELDS = {"refinement": (np.int8, (3,))}
 """The solver's state in checkpoints (ContactSolver.checkpoint(), restore()): the refinement's
-(carrying, cheap) (saxum.solver.nlgs.Refinement.flags), -1s from a solver without one; files
+(carrying, cheap, sliding) (saxum.solver.nlgs.Refinement.flags), -1s from a solver without one;
+files
 written before they existed lack them, and resume with a new solver's."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
