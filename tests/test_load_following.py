@@ -56,14 +56,16 @@ def test_reruns_are_bit_identical():
     assert np.array_equal(a.contacts.impulse[:k], b.contacts.impulse[:k])
 
 
-def test_forget_gives_what_a_new_solver_gives():
-    """After forget(), the next step is the one a new solver takes from the same state (what a
-    run resumed from a checkpoint does: the runner calls forget() at every checkpoint)."""
+def test_forget_gives_what_a_restored_solver_gives():
+    """After forget(), the next step is the one a new solver restored from a checkpoint takes
+    from the same state (what a run resumed from a checkpoint does: the runner calls forget()
+    at every checkpoint)."""
     model = _shaken_wall()
     sim, state = _run(model, sx.NLGS(), 100)
     fresh = sx.Simulation(model, dt=1e-3)
     fresh_state = state.copy()
     fresh.detector.restore(sim.detector.checkpoint())
+    fresh.solver.restore(sim.solver.checkpoint())
     sim.solver.forget()
     for _ in range(5):
         sim.step(state)

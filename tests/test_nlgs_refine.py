@@ -77,23 +77,28 @@ def test_a_new_solver_refines_only_the_cheap_steps():
     assert [bool(b) for b in budgets] == [True, False, False, False]
 
 
-def test_a_slide_carries_state():
-    """A new (or forgotten) solver carries no state until a step does work or an onset
-    starts a slide (whose refinement a new solver would not continue: saxum.runner writes no
-    checkpoint there but its periodic ones)."""
-    solver = sx.NLGS()
-    assert _refined([(1, True, False), (3, True, False)]) == [solver.refine_sweeps] * 2
-    assert not solver.carries_state()
-    solver._refinement.step(solver, None, 50, solver.tolerance, True)  # refines nothing
-    assert solver.carries_state()
-    solver.forget()
-    assert not solver.carries_state()
-    solver._refinement.step(solver, lambda target, count: (1, target), 692,
-                            solver.tolerance, True)  # an onset
-    assert solver._refinement.sliding and solver.carries_state()
-    solver._refinement.step(solver, lambda target, count: (1, target), 1,
-                            solver.tolerance, True)  # cheap, but inside the slide
-    assert solver.carries_state()
+@pytest.mark.parametrize("solver", [sx.NLGS, sx.Hybrid])
+def test_checkpoints_hold_the_refinement_and_forget_keeps_it(solver):
+    """The refinement's flags (carrying, cheap, sliding) are state that checkpoints hold
+    (ContactSolver.checkpoint, restore; saxum.results), not state that forget() drops nor that
+    stops a checkpoint (carries_state); a checkpoint without them (a file written before they
+    were stored) restores a new solver's."""
+    s = solver()
+    assert s.checkpoint()["refinement"].tolist() == [1, 1, 0]
+    s._refinement.step(s, None, 50, s.tolerance, True)  # does work: refines nothing
+    assert s.checkpoint()["refinement"].tolist() == [0, 0, 0]
+    s._refinement.step(s, lambda target, count: (1, target), 1, s.tolerance, True)
+    s._refinement.step(s, lambda target, count: (1, target), 692, s.tolerance, True)  # onset
+    assert s.checkpoint()["refinement"].tolist() == [1, 0, 1]
+    assert not s.carries_state()
+    s.forget()
+    saved = s.checkpoint()
+    assert saved["refinement"].tolist() == [1, 0, 1]
+    restored = solver()
+    restored.restore(saved)
+    assert restored.checkpoint()["refinement"].tolist() == [1, 0, 1]
+    restored.restore({})
+    assert restored.checkpoint()["refinement"].tolist() == [1, 1, 0]
 
 
 def test_a_slide_without_an_onset_is_not_refined():

@@ -13,7 +13,7 @@ from results_check import same_results, start_saxum, wait_for_frames
 
 import saxum as sx
 from saxum.cli import main
-from saxum.results import Results
+from saxum.results import Results, ResultsWriter
 from saxum.runner import resume_run, run_scenario
 from saxum.scenario import parse_scenario
 
@@ -111,11 +111,9 @@ def test_ctrl_c_stops_cleanly_says_how_to_resume_and_resume_matches(tmp_path, on
     with Results(results) as r:
         assert r.status == "interrupted"
         stopped = r.step[-1]
-        # a checkpoint where it stopped, or, where the solver carries state from earlier steps
-        # (the collapse's steps end NLGS's refinement, saxum.solver.nlgs.Refinement, whose
-        # flags checkpoints do not hold), the last periodic one (checkpoint_interval 0.05 s:
-        # every 50 steps) before it: runner._advance's rule
-        assert r.checkpoint_steps[-1] in (stopped, stopped - stopped % 50)
+        # a checkpoint where it stopped (the solver's state there, the refinement's flags,
+        # in it: saxum.solver.nlgs.Refinement)
+        assert r.checkpoint_steps[-1] == stopped
     assert main(["resume", str(results), "--quiet"]) == 0
     same_results(results, one_go)
 
@@ -335,3 +333,114 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
         assert r.checkpoint_steps[-1] % 500 == 0  # the last checkpoint is a periodic one
     assert main(["resume", str(results), "--quiet"]) == 0
     same_results(results, one_go)
+
+
+
+# The wall above shaken at 0.7 g, above its sliding threshold (friction 0.6): its first steps
+# follow the loads (state that no checkpoint holds) up to the slide's onset at step 82 (674
+# sweeps after a step of 1), whose refinement (saxum.solver.nlgs.Refinement) goes on over the
+# steps of the slide after it, which follow no loads; a checkpoint every 60 steps.
+SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace(
+    "duration = 2.0", "duration = 0.1").replace("checkpoint_interval = 0.5",
+                                                 "checkpoint_interval = 0.06")
+# A wall of 4 courses x 3 bricks under the same shaking slides from its first step, in 40 to
+# 220 sweeps a step up to step 82, a sweep or a few after: no onset, and the refinement does
+# not carry; a solver with a new one's flags would refine the cheap steps (measured: block
+# coordinates 6.4e-9 apart at the end, 10 steps after step 90), so only the flags of the
+# checkpoint give the run in one go.
+SMALL_SLIDING_WALL = SLIDING_WALL.replace("courses = 8", "courses = 4").replace(
+    "bricks = 6", "bricks = 3")
+
+# The same in 3D: a straight wall of 3 courses, 0.75 m long (wall_3d), shaken along it; its
+# refinement does not carry at step 120 (with a new one's flags there, coordinates 3.5e-9
+# apart at the end, 30 steps after it).
+SMALL_SLIDING_WALL_3D = SMALL_SLIDING_WALL.replace('type = "wall"', 'type = "wall_3d"').replace(
+    "courses = 4\nbricks = 3", "courses = 3\nlength = 0.75").replace("duration = 0.1",
+                                                                     "duration = 0.15")
+
+
+def _stop_after(monkeypatch, step: int) -> None:
+    """Ctrl-C, as the runner sees it (its SIGINT handler), right after step `step`."""
+    log_step = ResultsWriter.log_step
+
+    def log_and_stop(self, report):
+        log_step(self, report)
+        if report.step == step:
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)
+
+    monkeypatch.setattr(ResultsWriter, "log_step", log_and_stop)
+
+
+@pytest.fixture(scope="module")
+def straight(tmp_path_factory):
+    """The run in one go of a scenario text, made once."""
+    runs = {}
+
+    def run(text):
+        if text not in runs:
+            runs[text] = tmp_path_factory.mktemp("straight") / "one_go.h5"
+            run_scenario(parse_scenario(text), runs[text], quiet=True)
+        return runs[text]
+
+    return run
+
+
+@pytest.mark.parametrize("wall, kind, stop, resumed_from, flags", [
+    (SLIDING_WALL, "nlgs", 90, 90, [1, 1, 1]),  # inside the refined slide: a checkpoint there
+    (SLIDING_WALL, "nlgs", 70, 60, [0, 1, 0]),  # following the loads: the periodic one before
+    # the refinement not carrying: a checkpoint there, which only its flags resume bit for bit
+    (SMALL_SLIDING_WALL, "nlgs", 90, 90, [0, 1, 0]),
+    (SMALL_SLIDING_WALL, "hybrid", 90, 90, [0, 1, 0]),
+    (SMALL_SLIDING_WALL_3D, "nlgs", 120, 120, [0, 1, 0]),
+    (SMALL_SLIDING_WALL_3D, "hybrid", 120, 120, [0, 1, 0]),
+], ids=["refined", "following", "not-carrying", "not-carrying-hybrid", "not-carrying-3d",
+        "not-carrying-3d-hybrid"])
+def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
+        tmp_path, monkeypatch, straight, wall, kind, stop, resumed_from, flags):
+    """A run stopped by Ctrl-C in motion writes a checkpoint where it stopped, with the
+    solver's refinement flags (carrying, cheap), unless the solver follows the loads (state
+    that no checkpoint holds: the periodic checkpoint before it, which holds the flags too);
+    resumed from it, its results are the run in one go's bit for bit."""
+    text = wall + f'[solver]\nkind = "{kind}"\n'
+    one_go = straight(text)
+    results = tmp_path / "wall.h5"
+    with monkeypatch.context() as m:
+        _stop_after(m, stop)
+        assert run_scenario(parse_scenario(text), results, quiet=True).status == "interrupted"
+    with Results(results) as r:
+        assert r.step[-1] == stop and r.checkpoint_steps[-1] == resumed_from
+        assert r.checkpoint(-1)["refinement"].tolist() == flags
+    with Results(one_go) as r:
+        assert (r.steps["iterations"][81] >= 200) == (wall == SLIDING_WALL)  # the onset
+    assert resume_run(results, quiet=True).status == "finished"
+    same_results(results, one_go)
+
+
+def test_a_file_whose_checkpoints_lack_the_refinement_resumes_with_a_new_one(
+        tmp_path, monkeypatch):
+    """A results file as saxum wrote it before checkpoints held the refinement's flags (with
+    row checksums) resumes, its solver's refinement a new one's (as saxum resumed every file
+    then), and stays in its layout."""
+    from saxum import results as layout
+
+    text = SMALL_SLIDING_WALL + '[solver]\nkind = "nlgs"\n'
+    path = tmp_path / "old.h5"
+    columns, ragged = layout._ROWS["checkpoints"]
+    with monkeypatch.context() as m:
+        m.setattr(layout, "_SOLVER_FIELDS", {})
+        m.setitem(layout._ROWS, "checkpoints",
+                  (tuple(c for c in columns if c != "refinement"), ragged))
+        _stop_after(m, 90)
+        run_scenario(parse_scenario(text), path, quiet=True)
+    with Results(path) as r:
+        assert r.checkpoint_steps[-1] == 90 and not r.damage
+        saved = r.checkpoint(-1)
+    assert "refinement" not in saved
+    sim = parse_scenario(text).build_simulation()
+    sim.restore(saved)
+    assert sim.solver.checkpoint()["refinement"].tolist() == [1, 1, 0]  # a new one's
+    assert resume_run(path, quiet=True).status == "finished"
+    with Results(path) as r:
+        assert r.status == "finished" and not r.damage and r.step[-1] == 100
+        assert r.steps["step"].tolist() == list(range(1, 101))
+        assert "refinement" not in r.checkpoint(-1)

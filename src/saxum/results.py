@@ -26,7 +26,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            indices): time [s], step, body_q, body_v (shape [steps, blocks, 3])
                            and, under a ground motion, ground_acceleration [m/s^2]
     /checkpoints/...       one row per checkpoint: everything a bit-identical restart needs
-                           (state, contacts with impulses, broad-phase pair list)
+                           (state, contacts with impulses, broad-phase pair list, the
+                           solver's refinement flags: _SOLVER_FIELDS)
     /run/status            0 running, 1 finished, 2 interrupted, 3 failed; /run/message
 
 The file is opened in HDF5's single-writer/multiple-reader (SWMR) mode: every object exists
@@ -109,6 +110,11 @@ _FE_CONTACT_FIELDS = {
     "side_weight": (np.float64, lambda d: (2, d), "-"),
 }
 """The contact sides (saxum.contacts), written only for models with deformable blocks."""
+_SOLVER_FIELDS = {"refinement": (np.int8, (3,))}
+"""The solver's state in checkpoints (ContactSolver.checkpoint(), restore()): the refinement's
+(carrying, cheap, sliding) (saxum.solver.nlgs.Refinement.flags), -1s from a solver without one;
+files
+written before they existed lack them, and resume with a new solver's."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
           3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
@@ -124,8 +130,8 @@ _ROWS = {
     "steps": (tuple(_STEP_FIELDS), ()),
     "histories": (("step", "body_q", "body_v", "ground_acceleration", "time"), ()),
     "checkpoints": (("body_q", "body_v", "node_x", "node_v", "q_ref", "pair_count",
-                     "since_refresh", "refresh_count", "contact_count", "steps_logged", "time",
-                     "step"),
+                     "since_refresh", "refresh_count", "contact_count", "steps_logged",
+                     *_SOLVER_FIELDS, "time", "step"),
                     (("contacts", (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS), "contact_count"),
                      ("", ("pairs",), "pair_count"))),
 }
@@ -497,6 +503,8 @@ class ResultsWriter:
         for name in ("contact_count", "pair_count", "since_refresh", "refresh_count",
                      "steps_logged"):
             _grow(cp, name, np.int64, (), "-", chunk=16)
+        for name, (dtype, shape) in _SOLVER_FIELDS.items():
+            _grow(cp, name, dtype, shape, "-", chunk=16)
         _contact_datasets(cp.create_group("contacts"), dim, model.fe is not None)
         _grow(cp, "pairs", np.int32, (2,), "-", chunk=4096)
         _grow(cp, "step", np.int64, (), "-", chunk=16)
@@ -634,11 +642,15 @@ class ResultsWriter:
 
         self._write(write)
 
-    def write_checkpoint(self, state, detector) -> None:
-        """Append what a bit-identical restart needs: the state with its contacts and the
-        broad phase's pair list (saxum.detection.Detector.checkpoint)."""
+    def write_checkpoint(self, state, detector, solver=None) -> None:
+        """Append what a bit-identical restart needs: the state with its contacts, the
+        broad phase's pair list (saxum.detection.Detector.checkpoint) and the solver's state
+        (ContactSolver.checkpoint; -1s for what `solver` does not have, or without it)."""
         det = detector.checkpoint()
         c = state.contacts
+        held = solver.checkpoint() if solver is not None else {}
+        carried = {name: np.asarray(held.get(name, np.full(shape, -1)))[None]
+                   for name, (_, shape) in _SOLVER_FIELDS.items()}
 
         def write():
             self._flush_steps()
@@ -650,7 +662,7 @@ class ResultsWriter:
                 **{name: np.array([det[name]])
                    for name in ("pair_count", "since_refresh", "refresh_count")},
                 "contact_count": np.array([c.count]),
-                "steps_logged": np.array([self._file["steps/step"].shape[0]]),
+                "steps_logged": np.array([self._file["steps/step"].shape[0]]), **carried,
                 **{name: getattr(c, name)[: c.count]
                    for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)}})
             self._file.flush()
@@ -1160,7 +1172,7 @@ class Results:
         out = {name: cp[name][k] for name in ("time", "step", "body_q", "body_v", "node_x",
                                                "node_v", "q_ref", "pair_count",
                                                "since_refresh", "refresh_count",
-                                               "steps_logged") if name in cp}
+                                               "steps_logged", *_SOLVER_FIELDS) if name in cp}
         out["contacts"] = {name: cp["contacts"][name][start[k]:start[k + 1]]
                            for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)
                            if name in cp["contacts"]}

@@ -219,14 +219,15 @@ class Simulation:
         return self._spare
 
     def restore(self, saved: dict) -> State:
-        """The state of a checkpoint (saxum.results.Results.checkpoint), with the detector put
-        back as it was, so that stepping on gives bit for bit what the original run gave."""
+        """The state of a checkpoint (saxum.results.Results.checkpoint), with the detector and
+        the solver (ContactSolver.restore) put back as they were, so that stepping on gives bit
+        for bit what the original run gave."""
         contacts = Contacts(self.model.dim, max(len(saved["contacts"]["key"]), 1))
         contacts.count = len(saved["contacts"]["key"])
         for name, values in saved["contacts"].items():
             getattr(contacts, name)[: contacts.count] = values
         self.detector.restore(saved)
-        self.solver.forget()
+        self.solver.restore(saved)
         time, step = float(saved["time"]), int(saved["step"])
         # exact for runs from t = 0 (time is then the float k h itself)
         start = time - step * self.integrator.dt

@@ -67,13 +67,26 @@ class ContactSolver(ABC):
         entry, the end-of-step velocity v_free + M^-1 H R on return."""
 
     def forget(self) -> None:
-        """Drop what the solver carries from one step to the next (none by default; NLGS:
-        the rest solutions it extrapolates), so that stepping on gives what a new solver
-        would: the runner calls it at every checkpoint, which a resumed run starts from."""
+        """Drop what the solver carries from one step to the next and no checkpoint holds (none
+        by default; NLGS: the rest solutions it extrapolates, not its refinement), so that
+        stepping on gives what a solver restored from a checkpoint (restore()) would: the
+        runner calls it at every checkpoint, which a resumed run starts from."""
         return None
 
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The state that a checkpoint holds of the solver (saxum.results, _SOLVER_FIELDS),
+        which restore() puts back: none by default; NLGS, Hybrid: their refinement's flags
+        (saxum.solver.nlgs.Refinement)."""
+        return {}
+
+    def restore(self, saved: dict) -> None:
+        """The solver as it was at the checkpoint `saved` (saxum.results.Results.checkpoint)
+        that checkpoint() wrote, having forgotten (forget()) what no checkpoint holds; what
+        `saved` lacks (a file written before it was stored) as a new solver's."""
+        self.forget()
+
     def carries_state(self) -> bool:
-        """Whether the solver holds something from earlier steps that forget() would drop,
-        so that stepping on differs from a new solver's steps (a checkpoint written now would
-        not resume bit for bit)."""
+        """Whether the solver holds something from earlier steps that no checkpoint holds and
+        forget() would drop, so that stepping on differs from a restored solver's steps (a
+        checkpoint written now would not resume bit for bit)."""
         return False

@@ -230,11 +230,17 @@ class Hybrid(ContactSolver):
     def forget(self) -> None:
         self._first.forget()  # the other never follows loads (rest_after 0)
         self._failures = self._wait = 0  # the back-off, which decides where to switch
-        self._refinement = Refinement()
+        # (not the refinement: checkpoints hold it)
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        return {"refinement": self._refinement.flags()}
+
+    def restore(self, saved: dict) -> None:
+        self.forget()
+        self._refinement = Refinement.from_flags(saved.get("refinement"))
 
     def carries_state(self) -> bool:
-        return (self._first.carries_state() or self._failures > 0 or self._wait > 0
-                or (self.refine > 1.0 and not self._refinement.fresh()))
+        return self._first.carries_state() or self._failures > 0 or self._wait > 0
 
     @property
     def rest_attempts(self) -> int:

@@ -188,15 +188,21 @@ class NLGS(ContactSolver):
         nlgs_2d_domains uses no own_impulse)."""
 
     def forget(self) -> None:
-        self._following.clear()
-        self._refinement = Refinement()
+        self._following.clear()  # (not the refinement: checkpoints hold it)
         self._sticking_failed = False
         self._rest_backoff = 0
         self._rest_found = False
 
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        return {"refinement": self._refinement.flags()}
+
+    def restore(self, saved: dict) -> None:
+        self.forget()
+        self._refinement = Refinement.from_flags(saved.get("refinement"))
+
     def carries_state(self) -> bool:
         return (self._following.holds() or self._sticking_failed or self._rest_backoff != 0
-                or self._rest_found or (self.refine > 1.0 and not self._refinement.fresh()))
+                or self._rest_found)
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
@@ -450,9 +456,10 @@ class Refinement:
     """The refinement of a solver's steps (NLGS, Hybrid: NLGS's doc, refine): where a step is
     an onset (_ONSET_SWEEPS) or one of the steps that follow it, each converged within
     refine_sweeps (a slide), it sweeps on towards tolerance / refine for at most
-    refine_sweeps. A new (or forgotten) one refines its first steps while each converges
-    within _CARRY_SWEEPS (a run resumed at rest is as the run in one go; one resumed inside
-    a slide is not: the solver carries state there, saxum.runner); a cold start (zero
+    refine_sweeps. A new one refines its first steps while each converges within
+    _CARRY_SWEEPS (a run's first steps, and a run resumed from a file whose checkpoints do not
+    hold the flags); checkpoints hold the flags (flags(), from_flags()), so that a run resumed
+    inside a slide refines as the run in one go does. A cold start (zero
     impulses) is never an onset, as its sweeps measure the distance from zero, not the
     problem."""
 
@@ -465,10 +472,23 @@ class Refinement:
         self.sliding = False
         """... and whether an onset started the carrying."""
         self._cold = False
+        """Whether the step under way started cold (set by start() before every step: no
+        checkpoint needs it)."""
 
-    def fresh(self) -> bool:
-        """Whether the next steps are refined as a new Refinement's would be."""
-        return self.carrying and self.cheap and not self.sliding
+    def flags(self) -> np.ndarray:
+        """(carrying, cheap, sliding) as 0 or 1 (int8): what a checkpoint holds
+        (saxum.results)."""
+        return np.array([self.carrying, self.cheap, self.sliding], dtype=np.int8)
+
+    @classmethod
+    def from_flags(cls, flags: np.ndarray | None) -> "Refinement":
+        """The refinement whose flags() were `flags`; a new one for None (a checkpoint of a
+        file written before they were stored) or -1s (written without a solver that has
+        one)."""
+        refinement = cls()
+        if flags is not None and min(flags) >= 0:
+            refinement.carrying, refinement.cheap, refinement.sliding = (bool(f) for f in flags)
+        return refinement
 
     def start(self, problem, impulse: np.ndarray) -> None:
         """Before a step's sweeps: whether it starts cold (impulses all zero)."""
