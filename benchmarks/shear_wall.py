@@ -196,11 +196,14 @@ def beam_force(c: sx.Contacts, beam: int, h: float, pusher: int) -> np.ndarray:
 
 
 def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title: str) -> None:
-    """The blocks at q [m, rad] and the contact points coloured by damage, into `path`."""
+    """The blocks at q [m, rad] and the joints' contact points coloured by damage, the fully
+    cracked ones drawn as red strokes along the joint over the length they stand for, into
+    `path`."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
 
     fig, ax = plt.subplots(figsize=(5.5, 6))
     for k in range(model.body_count):
@@ -210,10 +213,15 @@ def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title
         ax.fill(world[:, 0], world[:, 1], facecolor="#e8d9c0", edgecolor="#8a7550", lw=0.5)
     n = contacts.count
     joint = contacts.area[:n] > JOINT_SHARE  # not a corner touching a corner
+    damage = contacts.damage[:n]
     dots = ax.scatter(contacts.point[:n][joint, 0], contacts.point[:n][joint, 1],
-                      c=contacts.damage[:n][joint], cmap="inferno_r", vmin=0.0, vmax=1.0, s=6,
-                      zorder=3)
-    fig.colorbar(dots, ax=ax, label="damage d", shrink=0.7)
+                      c=damage[joint], cmap="inferno_r", vmin=0.0, vmax=1.0, s=5, zorder=3)
+    cracked = joint & (damage >= 1.0)
+    half = 0.5 * contacts.area[:n][cracked, None] * contacts.frame[:n][cracked, 0]
+    centre = contacts.point[:n][cracked]
+    ax.add_collection(LineCollection(np.stack([centre - half, centre + half], axis=1),
+                                     colors="red", linewidths=2.0, zorder=4))
+    fig.colorbar(dots, ax=ax, label="damage d (red: cracked, d = 1)", shrink=0.7)
     ax.set_xlim(-0.15, WIDTH + 0.1)
     ax.set_ylim(-0.1, HEIGHT + 0.15)
     ax.set_aspect("equal")
@@ -299,6 +307,9 @@ def main() -> None:
     parser.add_argument("--dt", type=float, default=1e-4)
     parser.add_argument("--speed", type=float, default=0.01, help="[m/s]")
     parser.add_argument("--drift", type=float, default=3e-3, help="[m]")
+    parser.add_argument("--press", type=float, default=0.05,
+                        help="[s]: the pre-compression's rise")
+    parser.add_argument("--hold", type=float, default=0.05, help="[s]: held before the push")
     parser.add_argument("--figure", default=None, help="PNG of the damage at the peak")
     parser.add_argument("--figure-end", default=None, help="PNG of the damage at the end")
     parser.add_argument("--constant", action="store_true",
@@ -309,7 +320,7 @@ def main() -> None:
     start = time.perf_counter()
     u, fx, fy, contacts, q, model, end, q_end = push(
         args.precompression * 1e6, dt=args.dt, speed=args.speed, drift=args.drift,
-        constant=args.constant, split=args.split)
+        press=args.press, hold=args.hold, constant=args.constant, split=args.split)
     wall_time = time.perf_counter() - start
     k = int(np.argmax(fx))
     n = contacts.count
@@ -317,8 +328,10 @@ def main() -> None:
           f"(p b t = {args.precompression * WIDTH * THICKNESS * 1e3:.1f} kN)")
     print(f"peak horizontal load {fx[k] / 1e3:.1f} kN at u = {u[k] * 1e3:.2f} mm; "
           f"at the end ({u[-1] * 1e3:.2f} mm) {fx[-1] / 1e3:.1f} kN")
-    print(f"damaged points at the peak: {int((contacts.damage[:n] > 0).sum())} of {n}, "
-          f"cracked {int((contacts.damage[:n] >= 1).sum())}; wall time {wall_time:.0f} s")
+    joint = contacts.area[:n] > JOINT_SHARE
+    print(f"joint points at the peak: {int(joint.sum())}, damaged "
+          f"{int((joint & (contacts.damage[:n] > 0)).sum())}, cracked "
+          f"{int((joint & (contacts.damage[:n] >= 1)).sum())}; wall time {wall_time:.0f} s")
     for when, c in (("at the peak", contacts), ("at the end", end)):
         p = crack_pattern(c)
         print(f"cracks {when}: ground joint x {np.round(np.sort(p.base), 2)} m, beam's joint x "
