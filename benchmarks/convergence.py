@@ -186,7 +186,7 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
     moved = np.linalg.norm(state.body_q[free, :model.dim] - model.body_q0[free, :model.dim],
                            axis=1)
     threshold = getattr(solver, "rest_after", 0) or None
-    finished = np.bincount(np.asarray(log.solver), minlength=4)
+    finished = np.bincount(np.asarray(log.solver), minlength=5)
     out = {
         "case": name,
         "solver": solver_name,
@@ -194,6 +194,7 @@ def run_case(name: str, rest_after: int | None, solver_name: str = "nlgs",
         "finished_conic": int(finished[1]),
         "finished_newton": int(finished[2]),
         "finished_smoothing": int(finished[3]),
+        "finished_proximal": int(finished[4]),
         "error_max": float(np.max(log.error)),
         # the natural-map error of the steps that ended above the tolerance, where the solver
         # measured it (saxum.solver.Hybrid; nan for NLGS alone or a saxum without it)
@@ -473,7 +474,8 @@ def _print(r: dict) -> None:
             if r["rest_attempts"] is not None else "no rest solution")
     print(f"{r['case']} [{r['solver']}: steps finished by NLGS {r['finished_nlgs']}, by the "
           f"conic solver {r['finished_conic']}, by Newton {r['finished_newton']}, by smoothing "
-          f"Newton {r['finished_smoothing']}; largest error "
+          f"Newton {r['finished_smoothing']}, by the proximal point {r['finished_proximal']}; "
+          f"largest error "
           f"{r['error_max']:.2g}, largest natural-map error of a step not converged "
           f"{r['natural_map_max']:.2g}]: "
           f"{r['bodies']} bodies, {r['contacts_min']}..{r['contacts_max']} "

@@ -14,7 +14,12 @@ Prints per problem the natural-map error ||F_nat(r)|| / ||q|| reached (Acary, Br
 the steps whose NLGS iterate is already within --tolerance are skipped, the others are solved
 from the largest error down. --smoothing: smoothing Newton (saxum.solver.fischer.smoothing_newton,
 --iterations LU factorizations at most) instead, CPU time (time.process_time) instead of wall
-clock.
+clock. --proximal: the hybrid's proximal stage instead (saxum.solver.newton.proximal_point,
+--iterations outer iterations at most, then 10 Fischer-Burmeister Newton iterations from its
+iterate where it is not within --tolerance), CPU time.
+
+    python benchmarks/fischer.py --steps /tmp/capped.npz --proximal --tolerance 1e-6 \
+        --iterations 20
 
 --diagnose K: where the time of an iteration goes and where Newton stops, on the K-th captured
 step from NLGS's iterate. First the CPU time of one iteration's parts (assembling J = A + B W,
@@ -38,7 +43,7 @@ from capped_steps import load_kept
 
 from saxum.fclib import LocalProblem, read_fclib
 from saxum.solver.fischer import fischer_burmeister, fischer_burmeister_newton, smoothing_newton
-from saxum.solver.newton import _block_diagonal
+from saxum.solver.newton import _block_diagonal, proximal_point
 from saxum.solver.residual import natural_map_error
 
 DEFAULT_FOLDER = Path(__file__).resolve().parents[1].parent / "shared" / "fclib"
@@ -53,6 +58,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--iterations", type=int, default=100)
     parser.add_argument("--smoothing", action="store_true",
                         help="smoothing Newton instead (--iterations: its factorizations)")
+    parser.add_argument("--proximal", action="store_true",
+                        help="the proximal point, then FB Newton (--iterations: outer ones)")
     parser.add_argument("--diagnose", type=int, default=None,
                         help="the captured step (index in --steps) to diagnose")
     parser.add_argument("--sigma", type=float, default=1e-2,
@@ -68,10 +75,19 @@ def main(argv: list[str] | None = None) -> int:
         for before, k in sorted(kept, key=lambda item: -item[0]):
             if before <= args.tolerance:
                 continue
-            clock = time.process_time if args.smoothing else time.perf_counter
+            cpu = args.smoothing or args.proximal
+            clock = time.process_time if cpu else time.perf_counter
             start = clock()
-            solver = smoothing_newton if args.smoothing else fischer_burmeister_newton
+            solver = (smoothing_newton if args.smoothing else proximal_point if args.proximal
+                      else fischer_burmeister_newton)
             result = solver(k["w"], k["q"], k["mu"], k["r"], args.tolerance, args.iterations)
+            if args.proximal:
+                print(f"  proximal point: {result.error:.2e} after {result.iterations} outer "
+                      f"iterations ({result.interior_iterations} Newton ones), "
+                      f"{clock() - start:.1f} s")
+                if result.error > args.tolerance:
+                    result = fischer_burmeister_newton(k["w"], k["q"], k["mu"], result.r,
+                                                       1e-2 * args.tolerance, 10)
             tried += 1
             solved += result.error <= args.tolerance
             print(f"step {k['step']}: {k['q'].size // 3} contacts, {before:.2e} -> "

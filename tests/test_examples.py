@@ -5,6 +5,9 @@ from pathlib import Path
 
 import pytest
 
+from saxum import BodyKind
+from saxum.lmgc90 import import_lmgc90
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -208,3 +211,28 @@ def test_example_scripts_write_into_the_working_directory_unless_asked(
     if name == "flood_bridge":
         assert (tmp_path / "flood-bridge-section.json").is_file()
         assert (tmp_path / "pictures" / "flood-bridge-section.json").is_file()
+
+
+def test_lmgc90_vault_example_reads_stones_and_writes_polyf(tmp_path):
+    # two cubes 0.1 m across in abeille2.dat's layout (a stone: its faces, a face: its
+    # points {x, y, z}), one with its centre below the springing height (fixed), one above
+    example = _load("lmgc90_vault")
+
+    def stone(z0):
+        corners = [(x, y, z0 + z) for x in (0.0, 0.1) for y in (0.0, 0.1) for z in (0.0, 0.1)]
+        faces = [[c for c in corners if c[axis] == side] for axis in range(3)
+                 for side in sorted({c[axis] for c in corners})]
+        return _braces(_braces(_braces(repr(x) for x in c) for c in f) for f in faces)
+
+    source = tmp_path / "stones.dat"
+    source.write_text(stone(0.5) + "\n" + stone(0.9) + "\n", encoding="utf-8")
+    stones = example.read_stones(source)
+    assert [len(s) for s in stones] == [8, 8]
+    imported = import_lmgc90(example.main(source, tmp_path / "DATBOX"))
+    kinds = [blk.kind for blk in imported.blocks]
+    assert kinds == [BodyKind.FIXED, BodyKind.FREE]
+    assert "POLYF" in (tmp_path / "DATBOX" / "BODIES.DAT").read_text()
+
+
+def _braces(items) -> str:
+    return "{" + ", ".join(items) + "}"

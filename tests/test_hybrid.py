@@ -59,7 +59,8 @@ def test_hybrid_tries_the_conic_solver_at_the_cap():
     sim, state, report = _first_step(sx.Hybrid(rest_after=0))
     assert report.converged and report.iterations == 5001
     assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("conic")
-    assert sim.solver.finished == {"nlgs": 0, "conic": 1, "newton": 0, "smoothing": 0}
+    assert sim.solver.finished == {"nlgs": 0, "conic": 1, "newton": 0, "smoothing": 0,
+                                   "proximal": 0}
     assert np.abs(state.body_v).max() < 1e-9 < np.abs(nlgs_state.body_v).max()
     assert "finished by the conic solver at 1 step(s)" in sim.log.summary()
 
@@ -217,7 +218,8 @@ def test_3d_hybrid_switches_to_fischer_burmeister_newton_at_the_cap():
     assert not nlgs.converged and nlgs.outcome == STEP_OUTCOMES.index("out of sweeps")
     assert report.converged and report.iterations == 20
     assert sim.log.solver[-1] == sx.solver.SOLVER_NAMES.index("newton")
-    assert sim.solver.finished == {"nlgs": 0, "conic": 0, "newton": 1, "smoothing": 0}
+    assert sim.solver.finished == {"nlgs": 0, "conic": 0, "newton": 1, "smoothing": 0,
+                                   "proximal": 0}
     exported = step_problem(sim, state)
     expected = natural_map_error(exported.W, exported.q, exported.mu, exported.solution.r, 3)
     assert expected <= sim.solver.tolerance

@@ -8,12 +8,14 @@ import numba
 import numpy as np
 import pytest
 from results_check import same_runs
+from test_joint_laws import COHESIVE
 
 import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
 from saxum.solver.nlgs import body_domains, partition_contacts
 from saxum.structures import running_bond_wall
+from saxum.structures.wall import add_grounded_running_bond_wall
 
 
 def _shaken_wall(threads, domains=None):
@@ -68,6 +70,29 @@ def test_same_bits_with_one_and_two_threads():
         same_runs(_shaken_wall(1, domains=2), _shaken_wall(2, domains=2))
     finally:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+
+
+def test_joint_laws_same_bits_with_one_and_two_threads():
+    """Cohesive joints between the bricks (nlgs_2d_domains sweeps them after the dry contacts
+    and sums the error by blocks of bodies) under a horizontal load, two domains."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    b = sx.ModelBuilder(gravity=(4.0, -9.81))
+    add_grounded_running_bond_wall(b, courses=12, bricks=6)
+    b.set_law("brick", "ground", sx.ContactLaw(friction=0.6))
+    b.set_law("brick", "brick", sx.ContactLaw(friction=0.6, **COHESIVE))
+    model = b.finalize()
+    runs = []
+    try:
+        for threads in (1, 2):
+            sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=2))
+            state = sim.initial_state()
+            sim.run(state, 0.02)
+            runs.append((sim, state))
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    assert runs[0][0].problem.joint_laws
+    same_runs(*runs)
 
 
 def test_one_domain_is_the_serial_sweep():

@@ -20,7 +20,7 @@ SI units throughout; in 2D, forces and masses are per metre of depth.
     saxum view RESULTS [-o HTML] [--no-open] [--every N] [--blocks PATTERN]
     saxum import-lmgc90 DATBOX -o SCENARIO [--duration T] [--dt H] [--overlap-tolerance D]
                         [--impulses VLOC_RLOC]
-    saxum export-lmgc90 SCENARIO -o DATBOX [--precision lmgc90|full]
+    saxum export-lmgc90 SCENARIO -o DATBOX [--precision lmgc90|full] [--polyhedra POLYR|POLYF]
 
 `saxum COMMAND --help` gives a command's options; documentation: docs/README.md in the
 source repository.
@@ -638,7 +638,7 @@ def _export_lmgc90(args) -> None:
     scenario = load_scenario(args.scenario)
     sim = scenario.build_simulation()
     folder = export_lmgc90(sim.model, args.output, precision=args.precision,
-                           alert=sim.detector.alert)
+                           alert=sim.detector.alert, polyhedra=args.polyhedra)
     print(f"{folder}: {sim.model.body_count} bodies, {len(sim.model.laws)} laws "
           "(BODIES.DAT, BULK_BEHAV.DAT, TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT)")
 
@@ -980,6 +980,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--precision", choices=("lmgc90", "full"), default="lmgc90",
                    help="lmgc90: LMGC90's fixed columns, 7 digits (default); full: 17 digits, "
                         "exact for saxum import-lmgc90")
+    p.add_argument("--polyhedra", choices=("POLYR", "POLYF"), default="POLYR",
+                   help="LMGC90 contactor of 3D blocks: POLYR (default) or POLYF (a patch "
+                        "per face)")
     p.set_defaults(func=_export_lmgc90)
     return parser
 

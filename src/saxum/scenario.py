@@ -1037,9 +1037,9 @@ class SolverSpec(_Strict):
     kind: Literal["nlgs", "hybrid"] | None = None
     threads: Annotated[Integer, Field(ge=0)] | None = None
     domains: Annotated[Integer, Field(ge=1)] | None = None
-    refine: Annotated[Real, Field(ge=0.0)] = 10.0
-    """The onset of a slide (a step that took 200 to 1000 sweeps from a warm start, after one
-    of at most 20) and the steps after it that converge within 20 sweeps each sweep on
+    refine: Annotated[Real, Field(ge=0.0)] = 100.0
+    """The onset of a slide (a step that took 200 to 3000 sweeps from a warm start, after one
+    of at most 20) and the steps after it that converge within 3000 sweeps each sweep on
     towards tolerance / refine (saxum.solver.NLGS; 0 or 1: off)."""
     criterion: Literal["delassus", "quad", "maxm", "qm/16"] = "delassus"
     """NLGS's convergence criterion (saxum.solver.NLGS, docs/criteria.md); LMGC90's ("quad",

@@ -22,8 +22,8 @@ class StepReport:
     interpenetration at the end [m], kinetic energy [J/m], sweeps of the gap-based law's
     position projection (0 when none was needed; saxum.solver.projection), the solver that
     finished the contact solve (index into saxum.solver.SOLVER_NAMES: 0 NLGS, 1 the conic
-    fixed point, 2 semismooth Newton, 3 smoothing Newton, the last three of
-    saxum.solver.hybrid), for a contact solve that
+    fixed point, 2 semismooth Newton, 3 smoothing Newton, 4 the proximal point, the last four
+    of saxum.solver.hybrid), for a contact solve that
     ended above its tolerance the natural-map error of its impulses [-]
     (saxum.solver.SolverReport.natural_map: how far from a solution; nan where not measured),
     how the step ended (index into STEP_OUTCOMES) and, where the contact solve did not
@@ -112,6 +112,7 @@ class StepLog:
         bad = self.non_converged()
         conic = int(np.count_nonzero(self.solver == 1))
         newton = int(np.count_nonzero(self.solver == 2))
+        proximal = int(np.count_nonzero(self.solver == 4))
         return (
             f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
@@ -119,6 +120,7 @@ class StepLog:
             + natural_map_note(self.natural_map[~self.converged])
             + (f", finished by the conic solver at {conic} step(s)" if conic else "")
             + (f", finished by semismooth Newton at {newton} step(s)" if newton else "")
+            + (f", finished by the proximal point at {proximal} step(s)" if proximal else "")
             + bonds_note(self.step, self.bonds_lost)
             + f", largest interpenetration {self.max_interpenetration.max():.3g} m"
         )

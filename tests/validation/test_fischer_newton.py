@@ -29,10 +29,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from saxum.solver.fischer import fischer_burmeister, fischer_burmeister_newton, smoothing_newton
-from saxum.solver.newton import _block_diagonal
+from saxum.solver.newton import _block_diagonal, proximal_point
 from saxum.solver.residual import natural_map_error
 
-SOLVERS = [fischer_burmeister_newton, smoothing_newton]
+SOLVERS = [fischer_burmeister_newton, smoothing_newton, proximal_point]
 
 
 def _solve(w, q, mu, solver=fischer_burmeister_newton):
@@ -106,6 +106,27 @@ def test_redundant_box_comes_to_rest(solver):
     total = h.T @ r  # impulse and moment of the contacts on the box
     assert total[:3] == pytest.approx(-3.0 * v_free[:3], abs=1e-10)
     assert np.abs(total[3:]).max() <= 1e-10
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_redundant_box_slides(solver):
+    """The box of _box_on_four_points thrown along the ground faster than friction stops it
+    in one step (|v_T| = 0.539 > mu |v_N| = 0.18 m/s): the ground's impulse is the closed form
+    of a sliding block (vertical 3 kg x 0.3 m/s, friction mu times that against v_T), the box
+    ends translating at v_T (1 - 0.18 / 0.539), whatever the split over the four redundant
+    corners (W of rank 6 of 12). Tolerance 1e-9: the solvers stop at a natural-map error of
+    1e-12 of ||q|| ~ 1."""
+    h, m_inv = _box_on_four_points()
+    v_free = np.array([0.5, 0.2, -0.3, 0.0, 0.0, 0.0])
+    r = _solve(h @ m_inv @ h.T, h @ v_free, np.full(4, 0.6), solver)
+    v_t = v_free[:2]
+    slip = np.linalg.norm(v_t)
+    total = h.T @ r
+    assert total[2] == pytest.approx(0.9, abs=1e-9)
+    assert total[:2] == pytest.approx(-0.6 * 0.9 * v_t / slip, abs=1e-9)
+    v = v_free + m_inv @ total
+    assert v == pytest.approx(np.concatenate([v_t * (1.0 - 0.18 / slip), np.zeros(4)]),
+                              abs=1e-9)
 
 
 @pytest.mark.parametrize("smoothing", [0.0, 0.3])

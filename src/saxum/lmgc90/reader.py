@@ -6,8 +6,11 @@ What is read (every value keeps the file and line it came from, for messages):
   PLAIN with its bulk law (`behav`), `$nodty` NO3xx / NO6xx with the reference coordinates
   `coo1..` of the node (the centre of mass), `$tacty` contactors: POLYG (2D, `nb_vertex`
   lines of `coo1 coo2` in the body frame), POLYR (3D, `nb_vertex` lines `coo1..3`, then
-  `nb_face` triangles `ver1..3`, numbered from 1), JONCx (2D, half-lengths `ax1`, `ax2`),
-  PLANx (3D, half-lengths `axe1..3`), each with its colour.
+  `nb_face` triangles `ver1..3`, numbered from 1), POLYF (3D, a polyhedron's surface in
+  `nb_patch` patches, each a line `nb_vertex= nb_faces=`, its vertex lines `coo1..3`, then
+  its triangles `ver1..3` numbered from 1 within the patch: the layout of LMGC90's
+  read_BDARY_POLYF, mod_a_BDARY_POLYR.f90), JONCx (2D, half-lengths `ax1`, `ax2`), PLANx
+  (3D, half-lengths `axe1..3`), each with its colour.
 - DOF.INI: per body the displacement X of the node from its reference coordinates (2D:
   x, y, theta [m, m, rad]; 3D: x, y, z, then rotation increments, with the frame `a`, `b`,
   `g`: the body axes in world coordinates, the columns of the rotation body -> world) and the
@@ -25,13 +28,15 @@ Numbers are Fortran reals (`0.5000000D-01`) or plain ones; values are read in fr
 (key= value), so files with more digits than LMGC90's fixed columns are read too.
 """
 
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["Body", "Contactor", "Datbox", "Drive", "LawEntry", "SeeTable", "read_datbox"]
+__all__ = ["Body", "Contactor", "Datbox", "Drive", "LawEntry", "Patch", "SeeTable",
+           "read_datbox"]
 
 _PAIR = re.compile(r"([A-Za-z_][A-Za-z0-9_()]*)\s*=\s*([^\s=]+)")
 
@@ -48,6 +53,16 @@ class Where:
 
 
 @dataclass
+class Patch:
+    """A patch of a POLYF: where its `nb_vertex=` line is, its vertices [m] (body frame) and
+    its triangles (vertex numbers from 1, within the patch)."""
+
+    where: Where
+    vertices: list[list[float]] = field(default_factory=list)
+    faces: list[list[int]] = field(default_factory=list)
+
+
+@dataclass
 class Contactor:
     kind: str
     colour: str
@@ -55,6 +70,8 @@ class Contactor:
     values: dict[str, float] = field(default_factory=dict)
     vertices: list[list[float]] = field(default_factory=list)
     faces: list[list[int]] = field(default_factory=list)
+    patches: list[Patch] = field(default_factory=list)
+    """A POLYF's patches (other contactors: none)."""
 
 
 @dataclass
@@ -262,16 +279,78 @@ def _read_contactor(lines: _Lines) -> Contactor:
     kind = parts[0]
     colour = parts[parts.index("color") + 1] if "color" in parts else ""
     tact = Contactor(kind, colour, where, _pairs(text, where))
+    if kind == "POLYF":
+        _read_patches(lines, tact)
+        return tact
     while _continues(lines.peek()):
         lw = lines.where()
         values = _pairs(lines.next(), lw)
         if "ver1" in values:
-            tact.faces.append([int(values[f"ver{k}"]) for k in (1, 2, 3)])
+            tact.faces.append(_triangle(values, lw, None))
         elif "coo1" in values and kind in ("POLYG", "POLYR"):
             tact.vertices.append([values[f"coo{k}"] for k in (1, 2, 3) if f"coo{k}" in values])
         else:
             tact.values.update(values)
     return tact
+
+
+def _count_of(values: dict[str, float], keys: tuple[str, ...], least: int, where: Where,
+              what: str) -> int:
+    """The integer value >= least of the first of `keys` in values; InputError if none."""
+    key = next((k for k in keys if k in values), None)
+    value = values.get(key, math.nan)
+    if not (math.isfinite(value) and value >= least and value == int(value)):
+        raise InputError(f"{where}: {what} needs {keys[0]}= an integer >= {least}, found "
+                         + (f"{value:g}" if key else "none"))
+    return int(value)
+
+
+def _triangle(values: dict[str, float], where: Where, vertices: int | None,
+              what: str = "a triangle") -> list[int]:
+    """The vertex numbers ver1..3 of a triangle line (from 1; at most `vertices`)."""
+    ver = [values.get(f"ver{k}", math.nan) for k in (1, 2, 3)]
+    top = math.inf if vertices is None else vertices
+    if not all(math.isfinite(v) and 1 <= v <= top and v == int(v) for v in ver):
+        raise InputError(f"{where}: {what} needs ver1= ver2= ver3=, vertex numbers from 1"
+                         + ("" if vertices is None else f" to {vertices}")
+                         + f", found {', '.join(f'{v:g}' for v in ver)}")
+    return [int(v) for v in ver]
+
+
+def _patch_line(lines: _Lines, tact: Contactor, what: str) -> tuple[dict[str, float], Where]:
+    """The next line of a POLYF's patches, as key = value pairs; InputError naming what was
+    expected if the entry ends there."""
+    where = lines.where()
+    if not _continues(lines.peek()):
+        found = lines.peek()
+        raise InputError(f"{where}: the POLYF of {tact.where} ends before {what} "
+                         + (f"(found {found.strip()!r})" if found is not None else
+                            "(the file ends)"))
+    return _pairs(lines.next(), where), where
+
+
+def _read_patches(lines: _Lines, tact: Contactor) -> None:
+    """A POLYF's patches, read by their counts as LMGC90 does (read_BDARY_POLYF)."""
+    count = _count_of(tact.values, ("nb_patch",), 1, tact.where, "a POLYF")
+    for p in range(1, count + 1):
+        values, where = _patch_line(lines, tact, f"patch {p} of {count} (its line "
+                                    "nb_vertex= nb_faces=)")
+        what = f"patch {p} of the POLYF of {tact.where}"
+        nv = _count_of(values, ("nb_vertex",), 3, where, what)
+        nf = _count_of(values, ("nb_faces", "nb_face"), 1, where, what)
+        patch = Patch(where)
+        for k in range(1, nv + 1):
+            values, w = _patch_line(lines, tact, f"vertex {k} of {nv} of patch {p}")
+            if not all(f"coo{i}" in values for i in (1, 2, 3)):
+                raise InputError(f"{w}: vertex {k} of {nv} of {what} needs coo1= coo2= coo3=")
+            patch.vertices.append([values[f"coo{i}"] for i in (1, 2, 3)])
+        for k in range(1, nf + 1):
+            values, w = _patch_line(lines, tact, f"triangle {k} of {nf} of patch {p}")
+            patch.faces.append(_triangle(values, w, nv, f"triangle {k} of {nf} of {what}"))
+        tact.patches.append(patch)
+    if _continues(lines.peek()):
+        raise InputError(f"{lines.where()}: the POLYF of {tact.where} has {count} patches "
+                         f"(nb_patch=), which end before this line: {lines.peek().strip()!r}")
 
 
 def _body_key(lines: _Lines, bodies: dict[tuple[str, int], Body], what: str

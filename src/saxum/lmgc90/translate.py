@@ -1,7 +1,9 @@
 """Translate an LMGC90 model (saxum.lmgc90.reader.Datbox) into a saxum model or scenario.
 
 Bodies: a body's contactor is its block: POLYG -> a convex polygon, POLYR -> the convex hull
-of its vertices; a body with several POLYG (POLYR) contactors of one colour, LMGC90's cluster
+of its vertices, POLYF (a surface in patches, which LMGC90 joins into one POLYR) -> the convex
+hull of its patches' vertices, if their triangles bound it (else an error: a non-convex
+POLYF); a body with several POLYG (POLYR, POLYF) contactors of one colour, LMGC90's cluster
 (a non-convex block cut into convex parts) -> a cluster (ModelBuilder.add_cluster: one rigid
 body, its parts its contactors); DISKx -> a disc and SPHER -> a sphere of radius `byrd`
 centred at the node (ModelBuilder.add_disc, add_sphere; a shifted one, `coo1=`..., is
@@ -61,8 +63,19 @@ LAW_TYPES = {"IQS_CLB": LawKind.SIGNORINI_COULOMB, "IQS_CLB_g0": LawKind.SIGNORI
              "RST_CLB": LawKind.RESTITUTION_COULOMB, "RST_DS_CLB": LawKind.RESTITUTION_COULOMB}
 """LMGC90 contact laws saxum translates, and their saxum kind."""
 
-CONTACTORS = {"RBDY2": ("POLYG", "JONCx", "DISKx"), "RBDY3": ("POLYR", "PLANx", "SPHER")}
+CONTACTORS = {"RBDY2": ("POLYG", "JONCx", "DISKx"),
+              "RBDY3": ("POLYR", "POLYF", "PLANx", "SPHER")}
 """Contactors translated per body type."""
+
+POLYHEDRA = {"RBDY2": ("POLYG",), "RBDY3": ("POLYR", "POLYF")}
+"""The contactors a cluster's parts may be, per body type."""
+
+POLYF_TOLERANCE = 1e-5
+"""A POLYF is convex if each of its triangles lies in the boundary of the patches' convex
+hull to within this fraction of the hull's size, and their areas add up to the hull's to
+within this fraction of it: LMGC90's 7 significant digits move a vertex by less than 1e-7
+of the block's size, a margin of 100 for the planes of small triangles; a real re-entrant
+corner or a missing patch is far beyond it."""
 
 
 @dataclass(frozen=True)
@@ -322,16 +335,17 @@ def _local_shape(body: Body, problems: list[str], notes: list[Untranslated]
     if len(body.contactors) == 1:
         shape = _contactor_shape(body, body.contactors[0], problems, notes)
         return None if shape is None else ([shape[0]], shape[1], shape[2])
-    polygon = "POLYG" if body.type == "RBDY2" else "POLYR"
+    polygon = POLYHEDRA[body.type]
     kinds = sorted({t.kind for t in body.contactors})
     colours = sorted({t.colour for t in body.contactors})
-    if kinds != [polygon] or len(colours) > 1:
-        what = (f"contactors {', '.join(kinds)}" if kinds != [polygon] else
+    mixed = not set(kinds) <= set(polygon)
+    if mixed or len(colours) > 1:
+        what = (f"contactors {', '.join(kinds)}" if mixed else
                 f"contactors of colours {', '.join(colours)}")
         problems.append(f"{body.where}: {body.type} {body.number} is a cluster of "
                         f"{len(body.contactors)} contactors with {what}; saxum translates "
-                        f"a cluster whose contactors are all {polygon} of one colour (one "
-                        "group per block)")
+                        f"a cluster whose contactors are all {' or '.join(polygon)} of one "
+                        "colour (one group per block)")
         return None
     parts = [_contactor_shape(body, tact, problems, notes) for tact in body.contactors]
     if any(part is None for part in parts):
@@ -357,6 +371,9 @@ def _contactor_shape(body: Body, tact, problems: list[str], notes: list[Untransl
                             f"{int(v.get('nb_vertex', 0))} vertices of {dim} coordinates")
             return None
         return pts, 0.0, 0.0
+    if tact.kind == "POLYF":
+        pts = _polyf_vertices(body, tact, problems)
+        return None if pts is None else (pts, 0.0, 0.0)
     if tact.kind in ("DISKx", "SPHER"):
         dim = 2 if tact.kind == "DISKx" else 3
         r = v.get("byrd", 0.0)
@@ -381,6 +398,51 @@ def _contactor_shape(body: Body, tact, problems: list[str], notes: list[Untransl
                               f"{2 * a:g} x {2 * b:g} x {2 * c:g} m", tact.where))
     return (np.array([(x, y, z) for x in (-a, a) for y in (-b, b) for z in (-c, c)]), 0.0,
             0.0)
+
+
+def _polyf_vertices(body: Body, tact, problems: list[str]) -> np.ndarray | None:
+    """The vertices [m] (body frame) of a convex POLYF's hull: LMGC90 joins the patches'
+    triangles into one surface (read_BDARY_POLYF); it is convex if every triangle lies in
+    the boundary of the hull of all the vertices (its centroid no deeper inside than
+    POLYF_TOLERANCE of the hull's size: a triangle whose centroid is on a supporting plane
+    lies in it) and the triangles cover that boundary (their areas add up to the hull's).
+    None if not (a problem is recorded, naming the patch)."""
+    from scipy.spatial import ConvexHull, QhullError  # as geometry3d: a 2D import skips it
+
+    pts = np.array([v for patch in tact.patches for v in patch.vertices], dtype=np.float64)
+    first = np.cumsum([0] + [len(patch.vertices) for patch in tact.patches])
+    tris = np.array([np.array(face) - 1 + first[k] for k, patch in enumerate(tact.patches)
+                     for face in patch.faces], dtype=np.int64)
+    owner = np.repeat(np.arange(len(tact.patches)), [len(p.faces) for p in tact.patches])
+    name = f"POLYF of {body.type} {body.number}"
+    try:
+        hull = ConvexHull(pts)
+    except QhullError:
+        problems.append(f"{tact.where}: {name}: its vertices lie in one plane (no volume)")
+        return None
+    size = float(np.ptp(pts, axis=0).max())
+    corners = pts[tris]
+    centroids = corners.mean(axis=1)
+    depth = -(centroids @ hull.equations[:, :3].T + hull.equations[:, 3]).max(axis=1)
+    k = int(np.argmax(depth))
+    if depth[k] > POLYF_TOLERANCE * size:
+        p = int(owner[k])
+        problems.append(
+            f"{tact.patches[p].where}: {name} is not convex: triangle "
+            f"{k - int(np.searchsorted(owner, p)) + 1} of its patch {p + 1} (this line) lies "
+            f"{depth[k]:.3g} m inside the convex hull of "
+            "its patches; saxum takes a convex POLYF as one polyhedron: give a non-convex "
+            "block as convex parts, each a POLYF or POLYR contactor of the body, of one "
+            "colour (a cluster)")
+        return None
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
+                                         corners[:, 2] - corners[:, 0]), axis=1).sum()
+    if abs(area - hull.area) > POLYF_TOLERANCE * hull.area:
+        problems.append(f"{tact.where}: {name}: its triangles' area, {area:.6g} m^2, is not "
+                        f"that of the solid they bound, {hull.area:.6g} m^2: a patch is "
+                        "missing or given twice (the patches must close the surface once)")
+        return None
+    return pts[hull.vertices]
 
 
 def _place(body: Body, local: np.ndarray) -> np.ndarray:

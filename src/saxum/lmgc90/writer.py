@@ -1,8 +1,10 @@
 """Write a saxum model as an LMGC90 DATBOX folder (BODIES.DAT, BULK_BEHAV.DAT,
 TACT_BEHAV.DAT, DRV_DOF.DAT, DOF.INI, MODELS.DAT) in the layout pylmgc90 writes.
 
-Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles), a
-cluster (ModelBuilder.add_cluster) with one POLYG (POLYR) per part, numbered from 1, a
+Bodies: RBDY2 with one POLYG (3D: RBDY3 with one POLYR, its faces split into triangles; with
+polyhedra="POLYF" one POLYF, each face a patch of its own, its triangles outward, the layout
+LMGC90's read_BDARY_POLYF reads), a cluster (ModelBuilder.add_cluster) with one POLYG
+(POLYR, POLYF) per part, numbered from 1, a
 disc RBDY2 with one DISKx (a sphere RBDY3 with one SPHER) of radius `byrd=`, a capsule RBDY2
 with one JONCx (ax1 = half its segment, ax2 = its radius, turned by DOF.INI's X(3); LMGC90
 has no JONCx-JONCx contact, so capsules that could meet capsules are refused), the node at
@@ -58,16 +60,21 @@ def _colours(names: tuple[str, ...]) -> list[str]:
 
 def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90",
                   alert: float | None = None, velocities: np.ndarray | None = None,
-                  state: State | None = None, dt: float | None = None) -> Path:
+                  state: State | None = None, dt: float | None = None,
+                  polyhedra: str = "POLYR") -> Path:
     """Write `model` to the DATBOX `folder` (created): its initial configuration, at rest
     or with `velocities` (model.body_v's layout), or with `state` the state's positions,
     velocities and contacts, whose impulses over the step dt [s] Vloc_Rloc.INI holds as
     LMGC90's mean forces R / dt [N] (the next run's warm start). alert [m] for laws
     without their own (default: saxum's default, 2 % of the smallest free block's size).
+    polyhedra: the contactor of 3D blocks, "POLYR" or "POLYF" (see-tables and Vloc_Rloc.INI
+    name POLYR either way: LMGC90 detects a POLYF as a POLYR).
     Returns the folder. Raises InputError for deformable blocks, joint laws and capsules
     that LMGC90 cannot make meet (module doc)."""
     if precision not in ("lmgc90", "full"):
         raise InputError(f"precision must be 'lmgc90' or 'full', got {precision!r}")
+    if polyhedra not in ("POLYR", "POLYF"):
+        raise InputError(f"polyhedra must be 'POLYR' or 'POLYF', got {polyhedra!r}")
     if (model.body_kind == BodyKind.DEFORMABLE).any():
         raise InputError("export_lmgc90 writes rigid blocks; this model has deformable ones")
     if model.dim == 3 and (model.body_shape == Shape.CAPSULE).any():
@@ -93,7 +100,7 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
         alert = 0.02 * float(model.body_size[free].min() if free.any() else model.body_size.min())
     densities = sorted({float(d) for d in model.body_density[free]})
     behav = {d: f"ST{k + 1:03d}" for k, d in enumerate(densities)}
-    _write_bodies(folder / "BODIES.DAT", model, colours, behav, fmt)
+    _write_bodies(folder / "BODIES.DAT", model, colours, behav, fmt, polyhedra)
     _write_dof(folder / "DOF.INI", model, q, v, fmt)
     _write_drives(folder / "DRV_DOF.DAT", model, fmt)
     g = [*model.gravity, 0.0][:3]
@@ -113,7 +120,8 @@ def export_lmgc90(model: Model, folder: str | Path, *, precision: str = "lmgc90"
     return folder
 
 
-def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt) -> None:
+def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt,
+                  polyhedra: str) -> None:
     body, node = ("RBDY2", "NO3xx") if model.dim == 2 else ("RBDY3", "NO6xx")
     out = ["! File BODIES (saxum export_lmgc90)"]
     out += [f"! saxum group: {c} = {g}" for c, g in zip(colours, model.group_names, strict=True)]
@@ -160,17 +168,40 @@ def _write_bodies(path: Path, model: Model, colours: list[str], behav: dict, fmt
             for k, local in enumerate(parts):
                 out.append(f" POLYG {k + 1:6d}  color  {colour}  nb_vertex={len(local):5d}")
                 out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}" for x, y in local]
+        elif polyhedra == "POLYF":
+            for k, c in enumerate(contactors):
+                out += _polyf(model, c, k + 1, colour, fmt)
         else:
             for k, (c, local) in enumerate(zip(contactors, parts, strict=True)):
                 triangles = _triangles(model, c) - cvs[c] + 1
                 out.append(f" POLYR {k + 1:6d}  color  {colour}  nb_vertex={len(local):5d}"
                            f"      nb_face={len(triangles):5d}")
-                out += [f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}  coo3={fmt(z)}"
-                        for x, y, z in local]
-                out += [f"{_PAD}ver1= {i:<13d} ver2= {j:<13d} ver3= {k:<13d}".rstrip()
-                        for i, j, k in triangles]
+                out += _surface(local, triangles, fmt)
         out.append("$$$$$$")
     path.write_text("\n".join(out) + "\n", encoding="latin-1")
+
+
+def _surface(vertices: np.ndarray, triangles, fmt) -> list[str]:
+    """Vertex lines and triangle lines (numbered from 1) in the columns LMGC90 reads them
+    (read_BDARY_POLYR, read_BDARY_POLYF: coo at 35:48, 56:69, 77:90; ver at 35:47, 56:68,
+    77:89)."""
+    return ([f"{_PAD}coo1={fmt(x)}  coo2={fmt(y)}  coo3={fmt(z)}" for x, y, z in vertices]
+            + [f"{_PAD}ver1={i:7d}{' ' * 9}ver2={j:7d}{' ' * 9}ver3={k:7d}"
+               for i, j, k in triangles])
+
+
+def _polyf(model: Model, c: int, number: int, colour: str, fmt) -> list[str]:
+    """3D contactor c as POLYF `number`: a patch per face, its triangles a fan of the face
+    (counter-clockwise seen from outside, as saxum's faces are: LMGC90 computes the volume
+    from them), the counts in the columns LMGC90 reads (40:47 and 60:67)."""
+    faces = range(model.contactor_face_start[c], model.contactor_face_start[c + 1])
+    out = [f" POLYF  {number:5d}  color  {colour}  nb_patch=  {len(faces):5d}"]
+    for f in faces:
+        ring = model.face_vertex[model.face_vertex_start[f]:model.face_vertex_start[f + 1]]
+        fan = [(1, k, k + 1) for k in range(2, len(ring))]
+        out.append(f"{_PAD}nb_vertex=  {len(ring):5d}  nb_faces=  {len(fan):5d}")
+        out += _surface(model.vertex_local[ring], fan, fmt)
+    return out
 
 
 def _contactor(model: Model, b: int) -> str:

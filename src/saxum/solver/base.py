@@ -10,7 +10,7 @@ from .problem import ContactProblem
 
 __all__ = ["SOLVER_NAMES", "STALLED", "ContactSolver", "SolverReport", "error_trend"]
 
-SOLVER_NAMES = ("nlgs", "conic", "newton", "smoothing")
+SOLVER_NAMES = ("nlgs", "conic", "newton", "smoothing", "proximal")
 """Solvers that can finish a step; the step log stores the index (StepReport.solver)."""
 
 STALLED = 1e-5

@@ -23,7 +23,12 @@ it is within the tolerance the step ends there, converged, reporting that error 
 solvers. In 3D, where that error is within _REACH times the tolerance or NLGS's error was not
 crawling (_CRAWL), Fischer-Burmeister Newton (saxum.solver.fischer) from NLGS's iterate, kept
 where the natural-map error of its result is within the tolerance (the step ends converged,
-finished by "newton", reporting that error); it dominates the others there (docs/method.md:
+finished by "newton", reporting that error); then, where that error is within _PROXIMAL_REACH
+times the tolerance (whether NLGS crawled or not), the proximal point from NLGS's iterate
+(saxum.solver.newton.proximal_point, then Fischer-Burmeister Newton from its iterate), kept the
+same way (finished by "proximal"): its regularized subproblems move the impulses where the
+merit of Newton's line search does not let it go (docs/method.md, (f)); Fischer-Burmeister
+Newton dominates the others there (docs/method.md:
 the conic fixed point and Alart-Curnier Newton from zero were never kept on the shaken L wall,
 and the fixed point fails on three FCLIB 3D problems it solves), which 3D no longer tries; then,
 where Hybrid.smoothing (off by default), on every 3D attempt (whether or not that one ran, so
@@ -60,7 +65,7 @@ from .assembled import assemble_local
 from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
 from .conic import body_conic
 from .fischer import fischer_burmeister_newton, smoothing_newton
-from .newton import alart_curnier_newton
+from .newton import alart_curnier_newton, proximal_point
 from .nlgs import _REST_WORK, _TREND_WINDOWS, NLGS, Refinement, check_refinement
 from .problem import ContactProblem
 
@@ -97,6 +102,14 @@ at 1.04e-6 to 3.9e-5) it brought under it only steps that started at most 2.33 t
 (14 of the 18 within 3 times, in 1 to 7 iterations), and none of the 20 above 3 times
 (3.1e-6 to 3.9e-5), whose error it halved in 10 iterations at 10-60 s each (BENCHMARKS.md,
 fb13), all of them where NLGS's error crawled (_CRAWL)."""
+_PROXIMAL_REACH = 10.0
+"""In 3D, where Fischer-Burmeister Newton from NLGS's iterate did not finish the step, the
+proximal point (saxum.solver.newton.proximal_point) runs from it where it is within this
+factor of the tolerance by the natural map: on the shaken 3D L wall's steps above the
+tolerance it brings the later ones (NLGS's iterate at 7.3e-6 to 8.7e-6, 1.2-1.7 s) and step 41
+(3.1e-6) under 1e-6, and none of the onset's farther than 1e-5 (docs/method.md, (f))."""
+_PROXIMAL_OUTER = 20
+"""Proximal outer iterations at most per attempt: those it finished took 4 to 20."""
 _CRAWL = 1e-3
 """NLGS's error falling by less than this fraction per sweep crawls (the L wall's capped steps:
 1e-5 per sweep and less; a cold start cut by a small cap: 0.04 to 0.25)."""
@@ -163,10 +176,11 @@ class ConicSolver(ContactSolver):
 class Hybrid(ContactSolver):
     """NLGS (tolerance, max_iterations, relaxation, rest_after: as saxum.solver.NLGS) that,
     where NLGS stalls or at its cap, ends the step where NLGS's iterate is within the tolerance
-    by the natural map, else tries Fischer-Burmeister Newton (3D) or the conic fixed point and
-    Alart-Curnier Newton (2D), and keeps what they find only where it is within the tolerance
-    by the natural map or better by NLGS's own criterion (module doc); window: sweeps between
-    two measurements of the error, and the sweeps that judge a conic iterate; threads, domains,
+    by the natural map, else tries Fischer-Burmeister Newton and the proximal point (3D) or
+    the conic fixed point and Alart-Curnier Newton (2D), and keeps what they find only where it
+    is within the tolerance by the natural map or better by NLGS's own criterion (module doc);
+    window: sweeps between two measurements of the error, and the sweeps that judge a conic
+    iterate; threads, domains,
     refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
     converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit);
     smoothing: in 3D, smoothing Newton on every attempt after Fischer-Burmeister Newton (off
@@ -181,8 +195,8 @@ class Hybrid(ContactSolver):
     window: int = 100
     threads: int | None = None
     domains: int | None = None
-    refine: float = 10.0
-    refine_sweeps: int = 1000
+    refine: float = 100.0
+    refine_sweeps: int = 3000
     smoothing: bool = False
 
     def __post_init__(self) -> None:
@@ -264,11 +278,14 @@ class Hybrid(ContactSolver):
                     report = SolverReport(report.iterations, natural, True, "nlgs", natural)
                     break
                 hopeful = self._hopeful(problem, natural, errors)
-                if attempt and (hopeful or (self.smoothing and problem.model.dim == 3)):
+                near = (problem.model.dim == 3
+                        and natural <= _PROXIMAL_REACH * self.tolerance)
+                if attempt and (hopeful or near
+                                or (self.smoothing and problem.model.dim == 3)):
                     attempted = True
                     self.attempts += 1
                     judged, wasted = self._attempt(problem, local, impulse, v_free, v,
-                                                   report.error, hopeful)
+                                                   report.error, hopeful, near)
                     judging += wasted
                     if judged is not None:
                         report, solver = judged, judged.solver
@@ -335,9 +352,12 @@ class Hybrid(ContactSolver):
         return (problem.model.dim == 2 or natural <= _REACH * self.tolerance
                 or not rate > 1.0 - _CRAWL)
 
-    def _attempt(self, problem, local, impulse, v_free, v, error: float, hopeful: bool):
+    def _attempt(self, problem, local, impulse, v_free, v, error: float, hopeful: bool,
+                 near: bool):
         """In 3D, Fischer-Burmeister Newton from NLGS's iterate (where `hopeful`: _hopeful),
-        then smoothing Newton from it (Hybrid.smoothing), each kept where the natural-map error
+        then the proximal point from it (where `near`: within _PROXIMAL_REACH times the
+        tolerance), then smoothing Newton from it (Hybrid.smoothing), each kept where the
+        natural-map error
         of its result is <= the tolerance; in 2D the conic fixed point from NLGS's
         iterate, then semismooth Newton on Alart-Curnier's function from zero impulses, each
         judged by one NLGS sweep from its result. `local`: the step's assembled
@@ -349,6 +369,8 @@ class Hybrid(ContactSolver):
         kept = impulse.copy(), v.copy()
         if problem.model.dim == 3:
             tries = (("newton", self._fischer),) if hopeful else ()
+            if near:
+                tries += (("proximal", self._proximal),)
             if self.smoothing:
                 tries += (("smoothing", self._smoothing),)
             for name, candidate in tries:
@@ -384,6 +406,23 @@ class Hybrid(ContactSolver):
                                            _NEWTON_TOLERANCE * self.tolerance,
                                            _FISCHER_ITERATIONS)
         self.newton_iterations += result.iterations
+        local.scatter(result.r, v_free, impulse, v)
+        return local.natural_map_error(impulse)
+
+    def _proximal(self, local, impulse, v_free, v) -> float:
+        """The proximal point (saxum.solver.newton) from the current impulses on the step's
+        assembled problem `local`, to the tolerance, then Fischer-Burmeister Newton from its
+        iterate where that is not within it (the proximal iterates come near a solution
+        linearly, Newton ends the way: on the shaken L wall's later steps 8e-7 -> 2e-7);
+        writes impulse and v, returns the natural-map error of the impulses written."""
+        result = proximal_point(local.w, local.q, local.mu, local.impulses(impulse),
+                                self.tolerance, _PROXIMAL_OUTER)
+        self.newton_iterations += result.interior_iterations
+        if result.error > self.tolerance:  # Newton returns its start where it does worse
+            result = fischer_burmeister_newton(local.w, local.q, local.mu, result.r,
+                                               _NEWTON_TOLERANCE * self.tolerance,
+                                               _FISCHER_ITERATIONS)
+            self.newton_iterations += result.iterations
         local.scatter(result.r, v_free, impulse, v)
         return local.natural_map_error(impulse)
 

@@ -36,7 +36,7 @@ from .residual import natural_map_error
 if TYPE_CHECKING:
     import scipy.sparse as sp
 
-__all__ = ["alart_curnier", "alart_curnier_newton"]
+__all__ = ["alart_curnier", "alart_curnier_newton", "proximal_point"]
 
 _ARMIJO = 1e-4
 """Sufficient decrease of ||F||^2 per unit step."""
@@ -44,6 +44,16 @@ _HALVINGS = 20
 """Step halvings before the proximal term is raised."""
 _SIGMA = (1e-12, 1e-6, 1e8)
 """Proximal regularization: least, first, largest (relative to rho W, of order one)."""
+_PROXIMAL = 1e-3
+"""proximal_point's sigma relative to W's largest diagonal entry: on the shaken 3D L wall's
+steps above the tolerance each subproblem is then solved to 1e-13 in 5-20 Newton iterations,
+and the outer iterations move 1e-3 to 3e-3 of |r| each; with 1e-2 they move ten times less,
+with 1e-4 the subproblems take 40 iterations and more (docs/method.md, (f))."""
+_INNER = 40
+"""Newton iterations at most per proximal subproblem..."""
+_INNER_TOLERANCE = 1e-13
+"""... and its natural-map error: solved to round-off, as the outer map's fixed point is the
+solution only where the subproblems are solved exactly."""
 
 
 def alart_curnier(r: np.ndarray, w: sp.csr_matrix, q: np.ndarray, mu: np.ndarray,
@@ -147,3 +157,39 @@ def alart_curnier_newton(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, spacedim
         if error < best:
             best, best_r = error, r
     return ConicResult(best_r, it, solves, best)
+
+
+def proximal_point(w: sp.spmatrix, q: np.ndarray, mu: np.ndarray, r0: np.ndarray | None = None,
+                   tolerance: float = 1e-8, max_outer: int = 20) -> ConicResult:
+    """The proximal point method on the 3D problem u = W r + q (FCLIB order) from r0 (zero if
+    None): outer
+    iterations r_k+1 solving the Coulomb problem of u = (W + sigma I) r + (q - sigma r_k),
+    sigma = _PROXIMAL times W's largest diagonal entry, each by alart_curnier_newton from r_k
+    (W + sigma I is positive definite: Newton converges there in a few iterations where on W
+    it stalls), until the natural-map error ||F_nat(r)|| / ||q|| of the original problem is
+    <= tolerance or after max_outer outer iterations (R. T. Rockafellar, "Monotone operators
+    and the proximal point algorithm", SIAM J. Control Optim. 14, 1976; with an inner
+    semismooth Newton, the method Acary, Bremond and Huber 2018 find robust on FCLIB). A fixed
+    point of the outer map solves the original problem (u's sigma terms cancel). Returns the
+    iterate of least natural-map error (ConicResult: iterations, the outer ones;
+    interior_iterations, Newton's in all)."""
+    import scipy.sparse as sp
+
+    w = sp.csr_matrix(w, dtype=np.float64)
+    q = np.asarray(q, dtype=np.float64)
+    mu = np.asarray(mu, dtype=np.float64)
+    r = np.zeros(q.size) if r0 is None else np.array(r0, dtype=np.float64)
+    best, best_r = natural_map_error(w, q, mu, r, 3), r
+    sigma = _PROXIMAL * float(w.diagonal().max()) if q.size else 0.0
+    shifted = (w + sigma * sp.identity(q.size, format="csr")).tocsr()
+    inner = outer = 0
+    while outer < max_outer and best > tolerance:
+        outer += 1
+        result = alart_curnier_newton(shifted, q - sigma * r, mu, 3, r, _INNER_TOLERANCE,
+                                      _INNER)
+        inner += result.iterations
+        r = result.r
+        error = natural_map_error(w, q, mu, r, 3)
+        if error < best:
+            best, best_r = error, r
+    return ConicResult(best_r, outer, inner, best)
