@@ -41,14 +41,32 @@ def test_shaken_3d_wall_same_bits_with_one_and_two_threads():
     assert not serial[0].problem.parallel and np.all(serial[0].log.converged)
 
 
+def test_narrow_phase_in_place_and_not():
+    """A small L wall (4 courses) whose courses are 6 % of their height apart, so that they
+    fall until the first lands: the parallel narrow phase writes its contacts in place where
+    it found as many as in the step before and through its scratch rows where not, and with
+    one domain on 2 threads the run is the serial one bit for bit."""
+    model = wall3d(courses=4, length=1.0, return_length=1.0)
+    q0 = model.body_q0.copy()
+    free = model.body_kind == sx.BodyKind.FREE
+    q0[free, 2] += 0.06 * q0[free, 2]
+    model = dataclasses.replace(model, body_q0=q0)
+    runs = [_run(model, threads, domains, 0.03) for threads, domains in ((None, None), (2, 1))]
+    sim = runs[1][0]
+    assert np.count_nonzero(np.diff(sim.log.contacts))  # contacts found as the first lands
+    assert 0 < sim.detector.in_place_count < len(sim.log.step) - 1  # in place, and not
+    same_runs(*runs)
+
+
 def test_parallel_3d_kernels_are_the_serial_ones():
     """An L wall of about 900 blocks at rest (over 2 x 4096 contacts: three blocks of
-    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polyhedra._PAIR_BLOCK) on 2
-    threads with one domain: parallel world geometry, narrow phase and assembly, the serial
-    step bit for bit."""
+    saxum.solver.problem._BLOCK, and of pairs of saxum.detection.polyhedra.PAIR_BLOCK_3D) on 2
+    threads with one domain: parallel world geometry, narrow phase (in place after its
+    first) and assembly with its warm start, the serial step bit for bit."""
     model = wall3d(courses=20, length=6.0, return_length=6.0)
     runs = [_run(model, threads, domains, 0.003) for threads, domains in ((None, None), (2, 1))]
     assert runs[0][1].contacts.count > 2 * 4096
     assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
     assert runs[1][0].detector.parallel and runs[1][0].detector.pair_count > 2 * 512
+    assert runs[1][0].detector.in_place_count >= 1
     same_runs(*runs)

@@ -21,7 +21,13 @@ from .broadphase import bounding_boxes, grid_pairs, grid_pairs_parallel, sort_pa
 from .fe_nodes import flat_sides, node_contacts
 from .fe_nodes3d import node_contacts_3d
 from .polygons import PAIR_BLOCK, polygon_contacts, polygon_contacts_parallel
-from .polyhedra import MAX_POINTS, SLOTS, polyhedron_contacts, polyhedron_contacts_parallel
+from .polyhedra import (
+    MAX_POINTS,
+    PAIR_BLOCK_3D,
+    SLOTS,
+    polyhedron_contacts,
+    polyhedron_contacts_parallel,
+)
 from .round import round_contacts
 
 __all__ = ["DetectionSettings", "Detector", "PolyhedronDetector", "detector_for"]
@@ -268,11 +274,7 @@ class Detector:
         if self.parallel:
             self._scratch.reserve(self.slots * self.pair_count)
             s = self._scratch
-            blocks = -(-self.pair_count // PAIR_BLOCK)
-            if len(self._block_start) != blocks + 1:
-                self._block_start = np.zeros(blocks + 1, dtype=np.int64)
-                self._in_place = False
-            tried = self._in_place
+            tried = self._blocks_in_place(PAIR_BLOCK)
             contacts.count, self.kept_faces, self._in_place = polygon_contacts_parallel(
                 *args, self._block_start, tried, *out,
                 s.candidate, s.antagonist, s.key, s.law, s.point, s.frame, s.gap, s.area)
@@ -284,6 +286,16 @@ class Detector:
         contacts.side_kind[: contacts.count] = 0
         if m.fe is not None:
             self._node_contacts(q, contacts)
+
+    def _blocks_in_place(self, block: int) -> bool:
+        """Whether the parallel narrow phase, by blocks of `block` pairs, tries writing its
+        blocks in place: the last one found as many contacts per block as the one before it,
+        and the blocks are as many (else _block_start is reset)."""
+        blocks = -(-self.pair_count // block)
+        if len(self._block_start) != blocks + 1:
+            self._block_start = np.zeros(blocks + 1, dtype=np.int64)
+            self._in_place = False
+        return self._in_place
 
     def _contactor_motion(self) -> tuple[np.ndarray, np.ndarray]:
         """(motion [m], turn [rad]) since the last broad phase per contactor, its body's."""
@@ -564,9 +576,11 @@ class PolyhedronDetector(Detector):
         if self.parallel:
             self._scratch.reserve(points * self.pair_count)
             s = self._scratch
-            contacts.count = polyhedron_contacts_parallel(
-                *args, points, *out, s.candidate, s.antagonist, s.key, s.law, s.point,
-                s.frame, s.gap, s.area)
+            tried = self._blocks_in_place(PAIR_BLOCK_3D)
+            contacts.count, self._in_place = polyhedron_contacts_parallel(
+                *args, points, self._block_start, tried, *out, s.candidate, s.antagonist,
+                s.key, s.law, s.point, s.frame, s.gap, s.area)
+            self.in_place_count += tried and self._in_place
         else:
             contacts.count = polyhedron_contacts(*args, *out)
         if m.has_round:

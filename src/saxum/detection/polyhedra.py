@@ -66,7 +66,7 @@ import math
 import numba as nb
 import numpy as np
 
-from .polygons import alert_of_pair, copy_rows
+from .polygons import _same_sizes, alert_of_pair, copy_rows
 
 __all__ = ["MAX_POINTS", "SLOTS", "polyhedron_contacts", "polyhedron_contacts_parallel"]
 
@@ -379,7 +379,7 @@ def polyhedron_contacts(
     return count
 
 
-_PAIR_BLOCK = 512
+PAIR_BLOCK_3D = 512
 """Pairs per block of polyhedron_contacts_parallel (a pair of polyhedra costs several times
 a pair of polygons)."""
 
@@ -388,33 +388,53 @@ a pair of polygons)."""
 def polyhedron_contacts_parallel(
     pairs, npairs, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start, edge_vertex,
     edge_face, body_group, group_law, law_points, slots, alert, law_alert, body_alert, ref_tol,
-    max_faces, max_edges, max_face_vertices, room, candidate, antagonist, key, law, point,
-    frame, gap, area, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area,
+    max_faces, max_edges, max_face_vertices, room, start, in_place, candidate, antagonist, key,
+    law, point, frame, gap, area, s_candidate, s_antagonist, s_key, s_law, s_point, s_frame,
+    s_gap, s_area,
 ):
     """polyhedron_contacts on numba's threads, the same contacts in the same order bit for bit,
-    as saxum.detection.polygons.polygon_contacts_parallel: blocks of _PAIR_BLOCK pairs in
-    parallel, each block's contacts into its own rows of the scratch arrays s_* (room per
-    pair, polyhedron_contacts' MAX_POINTS or 2 MAX_POINTS + 1: room * its first pair on),
-    then copied in the blocks' order into the output arrays."""
-    blocks = -(-npairs // _PAIR_BLOCK)
-    start = np.zeros(blocks + 1, dtype=np.int64)
+    as saxum.detection.polygons.polygon_contacts_parallel: blocks of PAIR_BLOCK_3D pairs in
+    parallel; start (int64, one more than the blocks): where each block's contacts began in
+    the last call; in_place: try writing each block's contacts straight into the output
+    arrays from there (it holds where every block finds as many contacts as then: bodies at
+    rest); otherwise, or where one does not, each block's contacts go into its own rows of
+    the scratch arrays s_* (room per pair, polyhedron_contacts' MAX_POINTS or
+    2 MAX_POINTS + 1: room * its first pair on), then copied in the blocks' order. Returns
+    (contacts, whether every block found as many contacts as in start), start updated."""
+    blocks = -(-npairs // PAIR_BLOCK_3D)
+    found = np.zeros(blocks, dtype=np.int64)
+    if in_place:
+        for k in nb.prange(blocks):
+            lo = k * PAIR_BLOCK_3D
+            hi = min(npairs, lo + PAIR_BLOCK_3D)
+            r = start[k]
+            found[k] = polyhedron_contacts(
+                pairs[lo:hi], hi - lo, q, wv, wn, vertex_start, face_start, fvs, fv,
+                edge_start, edge_vertex, edge_face, body_group, group_law, law_points, slots,
+                alert, law_alert, body_alert, ref_tol, max_faces, max_edges,
+                max_face_vertices, candidate[r:], antagonist[r:], key[r:], law[r:],
+                point[r:], frame[r:], gap[r:], area[r:])
+        if _same_sizes(found, start):
+            return start[blocks], True
     for k in nb.prange(blocks):
-        lo = k * _PAIR_BLOCK
-        hi = min(npairs, lo + _PAIR_BLOCK)
+        lo = k * PAIR_BLOCK_3D
+        hi = min(npairs, lo + PAIR_BLOCK_3D)
         r = room * lo
-        start[k + 1] = polyhedron_contacts(
+        found[k] = polyhedron_contacts(
             pairs[lo:hi], hi - lo, q, wv, wn, vertex_start, face_start, fvs, fv, edge_start,
             edge_vertex, edge_face, body_group, group_law, law_points, slots, alert, law_alert,
             body_alert, ref_tol, max_faces, max_edges, max_face_vertices, s_candidate[r:],
             s_antagonist[r:], s_key[r:], s_law[r:], s_point[r:], s_frame[r:], s_gap[r:],
             s_area[r:])
+    same = _same_sizes(found, start)
+    start[0] = 0
     for k in range(blocks):
-        start[k + 1] += start[k]
+        start[k + 1] = start[k] + found[k]
     for k in nb.prange(blocks):
-        copy_rows(room * k * _PAIR_BLOCK, start[k], start[k + 1] - start[k], s_candidate,
-                  s_antagonist, s_key, s_law, s_point, s_frame, s_gap, s_area, candidate,
-                  antagonist, key, law, point, frame, gap, area)
-    return start[blocks]
+        copy_rows(room * k * PAIR_BLOCK_3D, start[k], found[k], s_candidate, s_antagonist,
+                  s_key, s_law, s_point, s_frame, s_gap, s_area, candidate, antagonist, key,
+                  law, point, frame, gap, area)
+    return start[blocks], same
 
 
 @nb.njit(inline="always")

@@ -659,8 +659,9 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
 
 
 _ROW_BLOCK = 4096
-"""Contacts per block of _same_pairs, and bodies per block (at most) of nlgs_2d_domains'
-copy of the velocities back."""
+"""Contacts per block of _same_pairs, bodies per block (at most) of nlgs_2d_domains' copy of
+the velocities back, and packed rows per block (at most) of nlgs_3d_domains' packing and
+copy back."""
 
 
 @nb.njit(inline="always")
@@ -1352,16 +1353,27 @@ def nlgs_3d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     ndomains = ngroups // 2
     n = v.shape[0]
     nfixed = (vx.shape[0] - n) // ngroups
-    for g in nb.prange(ngroups):
-        _pack_range_3d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
-                       h_ant, delassus, bias, friction, impulse, ghost, rows, own,
-                       own_impulse)
+    # one parallel region, as nlgs_2d_domains': the rows by blocks (not by groups: with two
+    # domains both domains' groups would go to one thread), and in as many blocks the
+    # bodies' vx = v (with the fixed ones' copies) and v_prev = v
+    blocks = max(1, -(-order.shape[0] // _ROW_BLOCK))
+    for k in nb.prange(blocks):
+        lo, hi = _share(k, blocks, order.shape[0])
+        g = 0
+        while lo < hi:
+            while groups[g + 1] <= lo:
+                g += 1
+            end = min(hi, groups[g + 1])
+            _pack_range_3d(lo, end, n + g * nfixed, order, cand, ant, h_cand, h_ant,
+                           delassus, bias, friction, impulse, ghost, rows, own, own_impulse)
+            lo = end
+        lo, hi = _share(k, blocks, n)
+        _spread_range(lo, hi, v, vx, v_prev, ghost, ngroups)
     packed = order.shape[0]
     if joints is not None:
         packed += _pack_joints_3d(h_cand, h_ant, delassus, bias, friction, work, joints)
     if packed == 0:
         return 0, 0.0
-    _spread_fixed(v, vx, ghost, ngroups)
     v_own = vx[:n]
     # the phases' groups (partition_contacts): the domains, the even cuts, the odd cuts,
     # the contacts across two cuts or more
@@ -1372,7 +1384,6 @@ def nlgs_3d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     wp = np.empty((3, 3))
     error = np.inf
     it = 0
-    _parallel_change(v_own, v_prev, v_free, mass, sums)
     while it < max_iterations:
         it += 1
         for p in range(4):
@@ -1389,7 +1400,15 @@ def nlgs_3d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         error = _parallel_change(v_own, v_prev, v_free, mass, sums)
         if error <= tolerance:
             break
-    _gather_own(order, groups, own_impulse, impulse, v, vx)
+    for k in nb.prange(blocks):  # back, by the same blocks
+        lo, hi = _share(k, blocks, order.shape[0])
+        for i in range(lo, hi):
+            for r in range(3):
+                impulse[order[i], r] = own_impulse[i, r]
+        lo, hi = _share(k, blocks, n)
+        for b in range(lo, hi):
+            for d in range(6):
+                v[b, d] = vx[b, d]
     return it, error
 
 
@@ -1429,29 +1448,17 @@ def _sweep_range_3d(lo, hi, own, rows, order, delassus, v, impulse, inv_mass, re
                        relaxation, None, u, rr)
 
 
-@nb.njit(parallel=True, cache=True)
-def _spread_fixed(v, vx, ghost, ngroups):
-    """vx = v on the first len(v) rows, and each fixed body's velocity (ghost[b] >= 0) into
-    its copy for each of ngroups groups (nlgs_3d_domains' vx)."""
+@nb.njit(inline="always")
+def _spread_range(lo, hi, v, vx, v_prev, ghost, ngroups):
+    """vx = v_prev = v for the bodies lo .. hi - 1, and each fixed body's velocity (ghost[b]
+    >= 0) into its copy for each of ngroups groups (nlgs_3d_domains' vx, whose first len(v)
+    rows are the bodies')."""
     n = v.shape[0]
     nfixed = (vx.shape[0] - n) // ngroups
-    for b in nb.prange(n):
+    for b in range(lo, hi):
         for d in range(v.shape[1]):
-            vx[b, d] = v[b, d]
+            vx[b, d] = v_prev[b, d] = v[b, d]
         if ghost[b] >= 0:
             for g in range(ngroups):
                 for d in range(v.shape[1]):
                     vx[n + g * nfixed + ghost[b], d] = v[b, d]
-
-
-@nb.njit(parallel=True, cache=True)
-def _gather_own(order, groups, own_impulse, impulse, v, vx):
-    """The end of a sweep by domains (nlgs_3d_domains): the packed impulses back to their
-    contacts, and v = vx's first len(v) rows."""
-    for g in nb.prange(groups.shape[0] - 1):
-        for i in range(groups[g], groups[g + 1]):
-            for r in range(impulse.shape[1]):
-                impulse[order[i], r] = own_impulse[i, r]
-    for b in nb.prange(v.shape[0]):
-        for d in range(v.shape[1]):
-            v[b, d] = vx[b, d]

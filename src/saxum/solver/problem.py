@@ -111,7 +111,7 @@ class ContactProblem:
                                   c.law, k, self.h_cand, self.h_ant, m.body_inv_mass,
                                   v_begin, m.law_kind, m.law_friction, m.law_restitution, h,
                                   theta, closed_gap, self.delassus, self.bias, self.friction,
-                                  self.active)
+                                  self.active, c.impulse, v, nb.get_num_threads())
             else:
                 self._jacobians(q, c.candidate, c.antagonist, c.point, c.frame, c.gap, k,
                                 self.h_cand, self.h_ant)
@@ -119,8 +119,8 @@ class ContactProblem:
                           m.body_inv_mass, v_begin, m.law_kind, m.law_friction,
                           m.law_restitution, h, theta, closed_gap, self.delassus, self.bias,
                           self.friction, self.active)
-            _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
-                   m.body_inv_mass, c.impulse, v)
+                _apply(c.candidate, c.antagonist, self.h_cand, self.h_ant, self.active, k,
+                       m.body_inv_mass, c.impulse, v)
             if self.fe is not None:
                 self.fe.assemble_contacts(self, v)
         if self._initial_gaps:
@@ -210,10 +210,11 @@ def _assemble(cand, ant, law, gap, count, h_cand, h_ant, inv_mass, v_begin, law_
 @nb.njit(parallel=True, cache=True)
 def _rows_3d_parallel(q, cand, ant, point, frame, gap, law, count, h_cand, h_ant, inv_mass,
                       v_begin, law_kind, law_friction, law_restitution, h, theta, closed_gap,
-                      delassus, bias, friction, active):
+                      delassus, bias, friction, active, impulse, v, runs):
     """rigid3d.contact_jacobians and _assemble by blocks of _BLOCK contacts on numba's
-    threads: the same numbers bit for bit (each contact's rows are its own; the warm start,
-    _apply, stays in the contacts' order)."""
+    threads, then the warm start (_apply) by `runs` runs of bodies (the threads) in parallel,
+    each run's pushes in the contacts' order: the same numbers bit for bit (each contact's
+    rows are its own, each body's sum in _apply's order)."""
     for k in nb.prange(-(-count // _BLOCK)):
         lo = k * _BLOCK
         hi = min(count, lo + _BLOCK)
@@ -223,6 +224,37 @@ def _rows_3d_parallel(q, cand, ant, point, frame, gap, law, count, h_cand, h_ant
                   h_ant[lo:hi], inv_mass, v_begin, law_kind, law_friction, law_restitution, h,
                   theta, closed_gap, delassus[lo:hi], bias[lo:hi], friction[lo:hi],
                   active[lo:hi])
+        for a in range(lo, hi):
+            if not active[a]:
+                impulse[a, :] = 0.0
+    for k in nb.prange(runs):
+        _apply_bodies(k * v.shape[0] // runs, (k + 1) * v.shape[0] // runs, cand, ant, h_cand,
+                      h_ant, active, count, inv_mass, impulse, v)
+
+
+@nb.njit(cache=True)
+def _apply_bodies(lo, hi, cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
+    """_apply's pushes of the active contacts, in their order, into the velocities of the
+    bodies lo .. hi - 1 only (each body's terms as _apply's)."""
+    for a in range(count):
+        if not active[a]:
+            continue
+        c = cand[a]
+        b = ant[a]
+        into_c = lo <= c < hi
+        into_b = lo <= b < hi
+        if not (into_c or into_b):
+            continue
+        for d in range(v.shape[1]):
+            fc = 0.0
+            fa = 0.0
+            for r in range(impulse.shape[1]):
+                fc += h_cand[a, r, d] * impulse[a, r]
+                fa += h_ant[a, r, d] * impulse[a, r]
+            if into_c:
+                v[c, d] += inv_mass[c, d] * fc
+            if into_b:
+                v[b, d] += inv_mass[b, d] * fa
 
 
 @nb.njit(cache=True)
@@ -242,17 +274,7 @@ def _apply(cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v):
     for a in range(count):
         if not active[a]:
             impulse[a, :] = 0.0
-            continue
-        c = cand[a]
-        b = ant[a]
-        for d in range(v.shape[1]):
-            fc = 0.0
-            fa = 0.0
-            for r in range(impulse.shape[1]):
-                fc += h_cand[a, r, d] * impulse[a, r]
-                fa += h_ant[a, r, d] * impulse[a, r]
-            v[c, d] += inv_mass[c, d] * fc
-            v[b, d] += inv_mass[b, d] * fa
+    _apply_bodies(0, v.shape[0], cand, ant, h_cand, h_ant, active, count, inv_mass, impulse, v)
 
 
 @nb.njit(cache=True)
