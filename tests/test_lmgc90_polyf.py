@@ -65,7 +65,7 @@ def test_polyf_round_trip_in_lmgc90_columns(tmp_path):
     assert len(patches) == 6  # a patch per face
     head = lines.index(next(x for x in lines if x.startswith(" POLYF")
                             and "STO" in x))  # the box's POLYF line
-    assert _columns(lines[head], (40, 47)) == [6.0]
+    assert lines[head][39:47].strip() == "6"  # nb_patch, an integer in columns 40-47
     row, volume = head + 1, 0.0
     for _ in range(6):
         nv, nf = (int(x) for x in _columns(lines[row], (40, 47), (60, 67)))
