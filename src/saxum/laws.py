@@ -259,7 +259,7 @@ def undamped_springs(laws) -> list[ContactLaw]:
     their joints vibrating for the whole run."""
     return [law for law in laws if isinstance(law, ContactLaw) and (
         law.kind == LawKind.COHESIVE
-        or (law.kind == LawKind.ELASTIC and (law.c_n == 0.0 or law.k_t > 0.0)))]
+        or (law.kind == LawKind.ELASTIC and (law.c_n <= 0.0 or law.k_t > 0.0)))]
 
 
 @dataclass(frozen=True)
