@@ -493,8 +493,9 @@ class Refinement:
     def start(self, problem, impulse: np.ndarray) -> None:
         """Before a step's sweeps: whether it starts cold (impulses all zero)."""
         # the first rows settle it after a warm start (numpy's any reads them all: ~40 us on
-        # a wall of 16 000 bricks)
-        self._cold = not (impulse[:64].any() or impulse[: problem.count].any())
+        # a wall of 16 000 bricks); only the step's contacts: rows past count are stale
+        self._cold = not (impulse[: min(64, problem.count)].any()
+                           or impulse[: problem.count].any())
 
     def step(self, solver, sweeps, iterations: int, error: float,
              converged: bool) -> tuple[int, float]:
