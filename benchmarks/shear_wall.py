@@ -10,8 +10,9 @@ p is applied by the top beam, which is then pushed horizontally, kept horizontal
 vertical movement (displacement control). 2D, per metre of depth; forces are reported for
 the 100 mm thick wall [kN].
 
-Joints (Lourenco's interface for the walls with p = 0.30 MPa, as we have them; see the
-report of branch shearwall for what could not be checked against the thesis): k_n = 82
+Joints (Lourenco's interface for the walls with p = 0.30 MPa, as we have them, not checked
+against the thesis or the paper, which could not be read: tests/validation/
+test_shear_wall_cracks.py lists each number's basis): k_n = 82
 N/mm^3, k_s = 36 N/mm^3, f_t = 0.25 MPa, G_I = 0.018 N/mm, c = 0.35 MPa, tan phi = 0.75,
 G_II = 0.125 N/mm. Lourenco's bricks are elastic (E = 16700 MPa, nu = 0.15); rigid bricks
 with the unit's compliance lumped into the joints is the usual DEM simplification:
@@ -22,12 +23,14 @@ dilatancy, which Lourenco's model has.
 Potential brick cracks (--split; Lourenco's model has one vertical interface in the middle
 of each brick): each brick is two rigid halves joined by a COHESIVE interface with the
 brick's strength, f_t = 2.0 MPa and G_I = 0.08 N/mm (Lourenco & Rots 1997's values for
-the bricks, as we have them, not checked against the paper here) and, chosen (no source
-read), c = 2.8 MPa (1.4 f_t), tan phi = 1.0, G_II = 0.8 N/mm, a dummy stiffness 1e6 N/mm^3
-in series with half the brick's length; the head joints then carry the other half.
+the bricks, as recalled, not checked against the paper, which could not be read) and, chosen
+(no source read), c = 2.8 MPa (1.4 f_t, the joints' c / f_t), tan phi = 1.0, G_II = 0.8 N/mm
+(10 G_I; --brick-shear C TAN_PHI G_II changes the three), a dummy stiffness 1e6 N/mm^3 in
+series with half the brick's length; the head joints then carry the other half.
 
 Run: PYTHONPATH=src python benchmarks/shear_wall.py [--precompression 0.30] [--split]
 [--constant] [--speed 0.01] [--press 0.05 --hold 0.05] [--figure PNG] [--figure-end PNG]
+[--brick-shear 2.8 1.0 800]
 Prints the peak horizontal load and where it occurred, the cracked joints at the peak and at
 the end (crack_pattern: the ground's and the beam's joints, and the line through the
 courses' crack centres inside), the run's wall time and the load-displacement curve.
