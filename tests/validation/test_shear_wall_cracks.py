@@ -47,7 +47,8 @@ reports were not found. So none of these numbers is checked against its source:
   them for Lourenco's; the one other copy found, a third-party script in a public repository
   (not a publication), lists the same seven as "Lourenco (1994) calibrated values for J4D".
   Lourenco's dilatancy and cap are not modelled.
-- bricks: E = 16700 MPa, nu = 0.15, as given, rigid here (compliance lumped into the joints).
+- bricks: E = 16700 MPa, nu = 0.15, as given (the same script's), rigid here (their
+  compliance lumped into the joints).
 - brick cracks: f_t = 2.0 MPa, G_I = 0.08 N/mm, as recalled (branch crack15); their shear
   parameters are chosen: c = 2.8 MPa = 1.4 f_t (the joints' own c / f_t), tan phi = 1.0,
   G_II = 0.8 N/mm = 10 G_I. The pattern does not hang on the chosen three (BENCHMARKS.md, same
