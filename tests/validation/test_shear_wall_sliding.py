@@ -25,8 +25,8 @@ of it) and stays below the whole end joint's Mohr-Coulomb strength c L t + mu N 
 moment V H / 2 opens the joint's heel before the peak, so that strength is not reached).
 
 The pattern: the database records COMP2_5's failure mode as SL (sliding; its field #30) and
-nothing on where it slid, and COMP2_5 kept its load to a large drift (its delta_u+ = 1.38 %,
-37 mm, against COMP2_4's 0.24 %; its bilinear plateau V_bil+ = 135.2 kN). The peak's model
+nothing on where it slid; its bilinear idealisation holds its plateau, V_bil+ = 135.2 kN, to
+a large drift (delta_u+ = 1.38 %, 37 mm, against COMP2_4's 0.24 %). The peak's model
 (9 x 5 blocks) does not slide: it forms a stair-stepped diagonal through bed and head joints
 (COMP2_4's S). The reason is the reduction, not the joints: a stair through joints alone
 climbs one row per half block, atan(0.301 / 0.274) = 47.7 deg with these blocks, close to the
