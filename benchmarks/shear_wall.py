@@ -79,6 +79,7 @@ DENSITY = 1800.0  # [kg/m^3]
 F_T_BRICK, G_I_BRICK, K_BRICK = 2.0e6, 80.0, 1.0e15  # [Pa], [J/m^2], [Pa/m]
 JOINT_SHARE = 5e-3  # [m]: the shortest joint's points stand for 10 mm or more
 C_BRICK, TAN_PHI_BRICK, G_II_BRICK = 2.8e6, 1.0, 800.0  # [Pa], [-], [J/m^2]
+F_C, G_FC, C_SS = 10.5e6, 5000.0, 9.0  # [Pa], [J/m^2], [-]: the joints' cap (--cap; doc)
 
 
 def lumped(k_joint: float, length: float, modulus: float) -> float:
@@ -86,12 +87,14 @@ def lumped(k_joint: float, length: float, modulus: float) -> float:
     return 1.0 / (1.0 / k_joint + length / modulus)
 
 
-def joint_law(length: float) -> sx.ContactLaw:
-    """The cohesive law of a joint across a brick dimension `length` [m]."""
+def joint_law(length: float, cap: tuple[float, float] = (0.0, 0.0)) -> sx.ContactLaw:
+    """The cohesive law of a joint across a brick dimension `length` [m]; cap = (f_c [Pa],
+    C_ss [-]), f_c > 0: with a compression cap of strength f_c, G_FC and C_ss."""
     g = E_BRICK / (2.0 * (1.0 + NU_BRICK))
     return sx.ContactLaw(friction=TAN_PHI, kind=LawKind.COHESIVE,
                          k_n=lumped(K_N, length, E_BRICK), k_t=lumped(K_S, length, g),
-                         f_t=F_T, cohesion=COHESION, g_i=G_I, g_ii=G_II, points=3)
+                         f_t=F_T, cohesion=COHESION, g_i=G_I, g_ii=G_II, points=3,
+                         f_c=cap[0], g_fc=G_FC if cap[0] > 0.0 else 0.0, c_ss=cap[1])
 
 
 def brick_law() -> sx.ContactLaw:
@@ -112,13 +115,15 @@ def smooth(t: float, t0: float, t1: float) -> float:
 
 
 def build(precompression: float, press: float, hold: float, speed: float,
-          constant: bool = False, split: bool = False):
+          constant: bool = False, split: bool = False,
+          cap: tuple[float, float] = (0.0, 0.0)):
     """(model, beam index, index of what pushes the beam or -1): the wall, the ground and the top
     beam. The beam is DRIVEN: it lowers by the bed joints' closure under `precompression`
     [Pa] over `press` [s], holds for `hold` [s], then moves sideways at `speed` [m/s]; or,
     `constant`, FREE with its rotation held (a guided beam: its inverse rotational inertia
     set to 0) under the force precompression x width, rising over `press`, and pushed
-    sideways by a DRIVEN block at its left end (a frictionless contact)."""
+    sideways by a DRIVEN block at its left end (a frictionless contact). cap: the mortar
+    joints' (f_c [Pa], C_ss [-]) (joint_law)."""
     b = sx.ModelBuilder()
     b.add_block([(-0.5, -0.2), (WIDTH + 0.5, -0.2), (WIDTH + 0.5, 0.0), (-0.5, 0.0)],
                 kind=sx.BodyKind.FIXED, group="ground", name="ground")
@@ -149,7 +154,7 @@ def build(precompression: float, press: float, hold: float, speed: float,
         courses.append(sorted(set(groups)))
     # the bed joints in series close by their stress / k each: 15 between courses, ground
     # and beam, each under p and the weight of the courses above it
-    bed = joint_law(BRICK_H)
+    bed = joint_law(BRICK_H, cap)
     weight = DENSITY * 9.81 * COURSE  # [Pa] per course
     closure = sum(precompression + weight * (COURSES - j) for j in range(COURSES + 1)) / bed.k_n
 
@@ -180,14 +185,14 @@ def build(precompression: float, press: float, hold: float, speed: float,
                  + [("beam", g) for g in odd + even]):
         b.set_law(a, c, bed)
     if split:
-        head, brick = joint_law(0.5 * BRICK_L), brick_law()
+        head, brick = joint_law(0.5 * BRICK_L, cap), brick_law()
         for parity in ("odd", "even"):
             for i in range(4):
                 for j in range(i, 4):
                     law = {1: brick if i % 2 == 0 else head, 3: head}.get(j - i, NO_CONTACT)
                     b.set_law(f"{parity}{i}", f"{parity}{j}", law)
     else:
-        head = joint_law(BRICK_L)
+        head = joint_law(BRICK_L, cap)
         b.set_law("odd", "odd", head)
         b.set_law("even", "even", head)
     b.set_law("ground", "beam", sx.ContactLaw(friction=TAN_PHI))
@@ -243,11 +248,12 @@ def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title
 
 
 def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift: float = 3e-3,
-         press: float = 0.05, hold: float = 0.05, constant: bool = False, split: bool = False):
+         press: float = 0.05, hold: float = 0.05, constant: bool = False, split: bool = False,
+         cap: tuple[float, float] = (0.0, 0.0)):
     """Run the test; returns (top displacements [m], horizontal loads [N] on the 100 mm wall,
     vertical loads [N], the contacts and positions at the peak's step, the model, the contacts
     and positions at the end)."""
-    model, beam, pusher = build(precompression, press, hold, speed, constant, split)
+    model, beam, pusher = build(precompression, press, hold, speed, constant, split, cap)
     sim = sx.Simulation(model, dt=dt, theta=1.0)
     state = sim.initial_state()
     x0 = state.body_q[beam, 0]
@@ -329,11 +335,18 @@ def main() -> None:
                         help="hold the vertical load (a guided beam pushed by a block)")
     parser.add_argument("--split", action="store_true",
                         help="a potential crack in the middle of each brick (Lourenco's model)")
+    parser.add_argument("--cap", action="store_true",
+                        help="the mortar joints crush (compression cap f_c, G_fc)")
+    parser.add_argument("--f-c", type=float, default=F_C / 1e6,
+                        help="the cap's f_c [MPa] (with --cap)")
+    parser.add_argument("--c-ss", type=float, default=C_SS,
+                        help="the cap's C_ss [-] (with --cap)")
     args = parser.parse_args()
     start = time.perf_counter()
     u, fx, fy, contacts, q, model, end, q_end = push(
         args.precompression * 1e6, dt=args.dt, speed=args.speed, drift=args.drift,
-        press=args.press, hold=args.hold, constant=args.constant, split=args.split)
+        press=args.press, hold=args.hold, constant=args.constant, split=args.split,
+        cap=(args.f_c * 1e6, args.c_ss) if args.cap else (0.0, 0.0))
     wall_time = time.perf_counter() - start
     k = int(np.argmax(fx))
     n = contacts.count
@@ -344,7 +357,8 @@ def main() -> None:
     joint = contacts.area[:n] > JOINT_SHARE
     print(f"joint points at the peak: {int(joint.sum())}, damaged "
           f"{int((joint & (contacts.damage[:n] > 0)).sum())}, cracked "
-          f"{int((joint & (contacts.damage[:n] >= 1)).sum())}; wall time {wall_time:.0f} s")
+          f"{int((joint & (contacts.damage[:n] >= 1)).sum())}, crushed "
+          f"{int((joint & (contacts.crush[:n] > 0)).sum())}; wall time {wall_time:.0f} s")
     for when, c in (("at the peak", contacts), ("at the end", end)):
         p = crack_pattern(c)
         print(f"cracks {when}: ground joint x {np.round(np.sort(p.base), 2)} m, beam's joint x "

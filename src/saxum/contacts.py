@@ -115,7 +115,8 @@ class Contacts:
             self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
             self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
             self.history[:n], previous.history[:m], self.crush[:n], previous.crush[:m],
-            self.initial_gap[:n], previous.initial_gap[:m], self.law[:n], _NO_LAWS if law_kind is None else law_kind,
+            self.initial_gap[:n], previous.initial_gap[:m], self.law[:n],
+            _NO_LAWS if law_kind is None else law_kind,
         )
 
 

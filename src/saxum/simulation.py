@@ -326,7 +326,7 @@ class Simulation:
             lost, damaged = update_joints(
                 c.law, c.gap, c.area, c.impulse, problem.active, c.slip, c.damage, c.history,
                 c.crush, c.count, problem.u_begin, problem.u_end, m.law_kind, m.law_friction,
-                m.law_parameter, h, theta)
+                m.law_parameter, h, theta, problem.law_map)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)

@@ -35,7 +35,9 @@ U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area
   the gap law's (flag 0), and only those are projected (saxum.solver.projection).
   With a compression cap (saxum.laws), the law is written on g + w (w the joint's plastic
   closure, Contacts.crush), and the compression branch bounds the normal impulse,
-  R_d,n <= R_c = h A sigma_c(w) (w from the start of the step): where the dry solve gives
+  R_d,n <= R_c = sqrt((h A sigma_c(w))^2 - C_ss R_t^2) (w from the start of the step, R_t
+  the tangential impulse of the warm start, 0 if C_ss R_t^2 passes the first term: the
+  ellipse of saxum.laws with the shear of the step before): where the dry solve gives
   more, R_d,n = R_c and R_d,t is the friction problem under that fixed normal impulse (2D:
   sticking, R_t = -(u'_t + W'_tn R_c) / W'_tt, clipped to mu R_c; 3D: the sticking impulse
   of the 2 x 2 tangential block, scaled down onto the disc mu R_c when outside it, exact
@@ -63,8 +65,8 @@ from ..laws import LawKind, Parameter
 from .local2d import solve_factored_contact_2d
 from .local3d import solve_contact_3d
 
-__all__ = ["cap_stress", "law_map_width", "law_solve_2d", "law_solve_3d", "law_terms", "local_velocities",
-           "update_joints"]
+__all__ = ["cap_stress", "law_map_width", "law_solve_2d", "law_solve_3d", "law_terms",
+           "local_velocities", "update_joints"]
 
 _ELASTIC = int(LawKind.ELASTIC)
 _VISCOUS = int(LawKind.VISCOUS_COULOMB)
@@ -73,7 +75,7 @@ _K_N, _K_T, _C_N, _ETA = (int(Parameter.K_N), int(Parameter.K_T), int(Parameter.
                           int(Parameter.ETA))
 _F_T, _COH, _G_I, _G_II = (int(Parameter.F_T), int(Parameter.COHESION), int(Parameter.G_I),
                            int(Parameter.G_II))
-_F_C, _G_FC = int(Parameter.F_C), int(Parameter.G_FC)
+_F_C, _G_FC, _C_SS = int(Parameter.F_C), int(Parameter.G_FC), int(Parameter.C_SS)
 
 
 def law_map_width(dim: int) -> int:
@@ -100,7 +102,7 @@ def local_velocities(cand, ant, h_cand, h_ant, count, v, out):
 
 
 @nb.njit(cache=True)
-def law_terms(law, gap, area, slip, damage, history, crush, count, u_begin, law_kind,
+def law_terms(law, gap, area, slip, damage, history, crush, impulse, count, u_begin, law_kind,
               law_parameter, h, theta, delassus, bias, law_map):
     """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones and
     bonded COHESIVE ones (damage < 1, or history > 0: bonded once) in bias [m/s]; other rows
@@ -166,7 +168,13 @@ def law_terms(law, gap, area, slip, damage, history, crush, count, u_begin, law_
         # the closure, the plastic one crush[a] taken off, and the cap's impulse
         g0 = gap[a] + crush[a] - (1.0 - theta) ** 2 * h * ub[1]
         if p[_F_C] > 0.0:
-            row[o_c] = h * area_a * cap_stress(p, crush[a])
+            # the cap's ellipse sigma^2 + C_ss tau^2 <= sigma_c^2 with tau the shear stress of
+            # the warm start (the step before's): explicit, as the damage is
+            rt2 = 0.0
+            for r in range(0, dim, 2):
+                rt2 += impulse[a, r] * impulse[a, r]
+            sc = cap_stress(p, crush[a])
+            row[o_c] = math.sqrt(max(0.0, (h * area_a * sc) ** 2 - p[_C_SS] * rt2))
         bb[1] = bias[a] = g0 / (theta * theta * h)
         scale = beta * h * area_a
         for j in range(dim - 1):
@@ -269,14 +277,15 @@ def law_solve_3d(m, u, bn, mu, wp, rr):
 
 @nb.njit(cache=True)
 def update_joints(law, gap, area, impulse, active, slip, damage, history, crush, count, u_begin,
-                  u, law_kind, law_friction, law_parameter, h, theta):
+                  u, law_kind, law_friction, law_parameter, h, theta, law_map):
     """After the solve, from the contacts' local velocities at the start and the end of the
     step, u_begin and u [m/s] (local_velocities): ELASTIC slip s [m]
     (the spring's elongation: the jump while sticking, the slider's limit while sliding, 0
     when the contact is open); COHESIVE slip (the jump since bonding), history kappa, damage
     d and, with a cap, the plastic closure w [m] (saxum.laws; they never decrease): w grows
-    by what the elastic closure at theta, -(g_theta + w), passes the cap's sigma_c(w) / k_n
-    (the closure the step's capped impulse did not take up elastically). Returns how many COHESIVE points became fully
+    by what the elastic closure at theta, -(g_theta + w), passes R_c / (h A k_n), R_c the
+    step's cap (law_map's last column): the closure the capped impulse did not take up
+    elastically. Returns how many COHESIVE points became fully
     damaged (d reached 1: bonds lost) and how many are partly damaged (0 < d < 1) after it."""
     dim = u.shape[1]
     lost = 0
@@ -310,7 +319,8 @@ def update_joints(law, gap, area, impulse, active, slip, damage, history, crush,
                                         - (1.0 - theta) ** 2 * u_begin[a, 1])
         opening = max(gap[a] + crush[a] + theta * h * u[a, 1], 0.0)
         if p[_F_C] > 0.0:
-            crush[a] += max(0.0, -g_el - cap_stress(p, crush[a]) / p[_K_N])
+            cap = law_map[a, law_map.shape[1] - 1] / (h * area_a)  # the step's, law_terms
+            crush[a] += max(0.0, -g_el - cap / p[_K_N])
         if damage[a] >= 1.0:
             continue
         s2 = 0.0
