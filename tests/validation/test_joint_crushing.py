@@ -18,7 +18,9 @@ Tolerances: peak within 1 % of f_c A (the elastic branch reaches f_c within one 
 closure, 2e-6 m against the 1e-4 m elastic closure at f_c); work within 2 % of the closed
 form: the cap is updated once per step from the converged closure (explicit, as the damage
 is), so the stress lags the softening by one step's closure over the softening length
-G_fc / f_c, 2e-6 / 5e-4 = 0.4 %; and w only grows.
+G_fc / f_c, 2e-6 / 5e-4 = 0.4 %; and w only grows. Measured (2026-11-28): the peak is
+f_c A to round-off (the capped impulse is h A f_c), the work +0.45 % of the closed form,
+in 2D and in 3D.
 """
 
 import math
