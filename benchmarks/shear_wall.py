@@ -10,8 +10,9 @@ p is applied by the top beam, which is then pushed horizontally, kept horizontal
 vertical movement (displacement control). 2D, per metre of depth; forces are reported for
 the 100 mm thick wall [kN].
 
-Joints (Lourenco's interface for the walls with p = 0.30 MPa, as we have them; see the
-report of branch shearwall for what could not be checked against the thesis): k_n = 82
+Joints (Lourenco's interface for the walls with p = 0.30 MPa, as we have them, not checked
+against the thesis or the paper, which could not be read: tests/validation/
+test_shear_wall_cracks.py lists each number's basis): k_n = 82
 N/mm^3, k_s = 36 N/mm^3, f_t = 0.25 MPa, G_I = 0.018 N/mm, c = 0.35 MPa, tan phi = 0.75,
 G_II = 0.125 N/mm. Lourenco's bricks are elastic (E = 16700 MPa, nu = 0.15); rigid bricks
 with the unit's compliance lumped into the joints is the usual DEM simplification:
@@ -29,13 +30,14 @@ elastic up to the cap.
 Potential brick cracks (--split; Lourenco's model has one vertical interface in the middle
 of each brick): each brick is two rigid halves joined by a COHESIVE interface with the
 brick's strength, f_t = 2.0 MPa and G_I = 0.08 N/mm (Lourenco & Rots 1997's values for
-the bricks, as we have them, not checked against the paper here) and, chosen (no source
-read), c = 2.8 MPa (1.4 f_t), tan phi = 1.0, G_II = 0.8 N/mm, a dummy stiffness 1e6 N/mm^3
-in series with half the brick's length; the head joints then carry the other half.
+the bricks, as recalled, not checked against the paper, which could not be read) and, chosen
+(no source read), c = 2.8 MPa (1.4 f_t, the joints' c / f_t), tan phi = 1.0, G_II = 0.8 N/mm
+(10 G_I; --brick-shear C TAN_PHI G_II changes the three), a dummy stiffness 1e6 N/mm^3 in
+series with half the brick's length; the head joints then carry the other half.
 
 Run: PYTHONPATH=src python benchmarks/shear_wall.py [--precompression 0.30] [--split]
 [--cap [--f-c 10.5] [--c-ss 9]] [--constant] [--speed 0.01] [--press 0.05 --hold 0.05]
-[--figure PNG] [--figure-end PNG]
+[--figure PNG] [--figure-end PNG] [--brick-shear 2.8 1.0 800]
 Prints the peak horizontal load and where it occurred, the cracked (and crushed) joints at
 the peak and at the end (crack_pattern: the ground's and the beam's joints, and the line
 through the courses' crack centres inside), the run's wall time and the load-displacement
@@ -110,14 +112,17 @@ def joint_law(length: float, cap: tuple[float, float] = (0.0, 0.0)) -> sx.Contac
                          f_c=cap[0], g_fc=G_FC if cap[0] > 0.0 else 0.0, c_ss=cap[1])
 
 
-def brick_law() -> sx.ContactLaw:
+def brick_law(shear: tuple[float, float, float] = (C_BRICK, TAN_PHI_BRICK, G_II_BRICK)
+              ) -> sx.ContactLaw:
     """The potential crack in the middle of a brick (Lourenco's micro-model): the brick's
-    strength F_T_BRICK, G_I_BRICK, half its length's compliance on each side."""
+    strength F_T_BRICK, G_I_BRICK, half its length's compliance on each side; shear: its
+    cohesion [Pa], friction [-] and G_II [J/m^2] (module doc: chosen, not sourced)."""
     g = E_BRICK / (2.0 * (1.0 + NU_BRICK))
-    return sx.ContactLaw(friction=TAN_PHI_BRICK, kind=LawKind.COHESIVE,
+    cohesion, friction, g_ii = shear
+    return sx.ContactLaw(friction=friction, kind=LawKind.COHESIVE,
                          k_n=lumped(K_BRICK, 0.5 * BRICK_L, E_BRICK),
                          k_t=lumped(K_BRICK, 0.5 * BRICK_L, g), f_t=F_T_BRICK,
-                         cohesion=C_BRICK, g_i=G_I_BRICK, g_ii=G_II_BRICK, points=3)
+                         cohesion=cohesion, g_i=G_I_BRICK, g_ii=g_ii, points=3)
 
 
 def smooth(t: float, t0: float, t1: float) -> float:
@@ -129,13 +134,15 @@ def smooth(t: float, t0: float, t1: float) -> float:
 
 def build(precompression: float, press: float, hold: float, speed: float,
           constant: bool = False, split: bool = False,
+          brick_shear: tuple[float, float, float] = (C_BRICK, TAN_PHI_BRICK, G_II_BRICK),
           cap: tuple[float, float] = (0.0, 0.0)):
     """(model, beam index, index of what pushes the beam or -1): the wall, the ground and the top
     beam. The beam is DRIVEN: it lowers by the bed joints' closure under `precompression`
     [Pa] over `press` [s], holds for `hold` [s], then moves sideways at `speed` [m/s]; or,
     `constant`, FREE with its rotation held (a guided beam: its inverse rotational inertia
     set to 0) under the force precompression x width, rising over `press`, and pushed
-    sideways by a DRIVEN block at its left end (a frictionless contact). cap: the mortar
+    sideways by a DRIVEN block at its left end (a frictionless contact). brick_shear: the
+    brick cracks' (split) cohesion [Pa], friction [-], G_II [J/m^2]. cap: the mortar
     joints' (f_c [Pa], C_ss [-]) (joint_law)."""
     b = sx.ModelBuilder()
     b.add_block([(-0.5, -0.2), (WIDTH + 0.5, -0.2), (WIDTH + 0.5, 0.0), (-0.5, 0.0)],
@@ -198,7 +205,7 @@ def build(precompression: float, press: float, hold: float, speed: float,
                  + [("beam", g) for g in odd + even]):
         b.set_law(a, c, bed)
     if split:
-        head, brick = joint_law(0.5 * BRICK_L, cap), brick_law()
+        head, brick = joint_law(0.5 * BRICK_L, cap), brick_law(brick_shear)
         for parity in ("odd", "even"):
             for i in range(4):
                 for j in range(i, 4):
@@ -262,11 +269,13 @@ def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title
 
 def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift: float = 3e-3,
          press: float = 0.05, hold: float = 0.05, constant: bool = False, split: bool = False,
+         brick_shear: tuple[float, float, float] = (C_BRICK, TAN_PHI_BRICK, G_II_BRICK),
          cap: tuple[float, float] = (0.0, 0.0)):
     """Run the test; returns (top displacements [m], horizontal loads [N] on the 100 mm wall,
     vertical loads [N], the contacts and positions at the peak's step, the model, the contacts
-    and positions at the end)."""
-    model, beam, pusher = build(precompression, press, hold, speed, constant, split, cap)
+    and positions at the end). brick_shear, cap: as build's."""
+    model, beam, pusher = build(precompression, press, hold, speed, constant, split,
+                                brick_shear, cap)
     sim = sx.Simulation(model, dt=dt, theta=1.0)
     state = sim.initial_state()
     x0 = state.body_q[beam, 0]
@@ -348,6 +357,9 @@ def main() -> None:
                         help="hold the vertical load (a guided beam pushed by a block)")
     parser.add_argument("--split", action="store_true",
                         help="a potential crack in the middle of each brick (Lourenco's model)")
+    parser.add_argument("--brick-shear", type=float, nargs=3, metavar=("C", "TAN_PHI", "G_II"),
+                        default=(C_BRICK / 1e6, TAN_PHI_BRICK, G_II_BRICK),
+                        help="the brick cracks' cohesion [MPa], friction, G_II [J/m^2]")
     parser.add_argument("--cap", action="store_true",
                         help="the mortar joints crush (compression cap f_c, G_fc)")
     parser.add_argument("--f-c", type=float, default=F_C / 1e6,
@@ -359,6 +371,7 @@ def main() -> None:
     u, fx, fy, contacts, q, model, end, q_end = push(
         args.precompression * 1e6, dt=args.dt, speed=args.speed, drift=args.drift,
         press=args.press, hold=args.hold, constant=args.constant, split=args.split,
+        brick_shear=(args.brick_shear[0] * 1e6, args.brick_shear[1], args.brick_shear[2]),
         cap=(args.f_c * 1e6, args.c_ss) if args.cap else (0.0, 0.0))
     wall_time = time.perf_counter() - start
     k = int(np.argmax(fx))

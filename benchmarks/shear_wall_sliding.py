@@ -117,20 +117,39 @@ def forces(c: sx.Contacts, beam: int, pusher: int, h: float) -> tuple[float, flo
 
 def push(dt: float = 1e-4, drift: float = 4e-3, **wall):
     """Push the wall to `drift` [m] at the top; returns (top displacements [m], horizontal
-    loads [N], vertical loads [N], for the whole wall), the contacts at the end and the
-    model. `wall`: the arguments of build."""
+    loads [N], vertical loads [N], for the whole wall), the contacts at the end, the model and
+    the bed joints' slips (bed_slips) at the peak's step and at the end. `wall`: the
+    arguments of build."""
     model, beam, pusher = build(**wall)
+    rows = wall.get("rows", COURSES)
     sim = sx.Simulation(model, dt=dt, theta=1.0)
     state = sim.initial_state()
-    x0 = state.body_q[beam, 0]
+    q0 = state.body_q.copy()
     u, fx, fy = [], [], []
+    peak, at_peak = -np.inf, None
     while state.time < PRESS + HOLD + drift / SPEED:
         sim.step(state)
         h_force, v_force = forces(state.contacts, beam, pusher, dt)
-        u.append(state.body_q[beam, 0] - x0)
+        u.append(state.body_q[beam, 0] - q0[beam, 0])
         fx.append(h_force * THICKNESS)
         fy.append(v_force * THICKNESS)
-    return np.array(u), np.array(fx), np.array(fy), state.contacts, model
+        if fx[-1] > peak:
+            peak, at_peak = fx[-1], bed_slips(q0, state.body_q, beam, rows)
+    return (np.array(u), np.array(fx), np.array(fy), state.contacts, model, at_peak,
+            bed_slips(q0, state.body_q, beam, rows))
+
+
+def bed_slips(q0: np.ndarray, q: np.ndarray, beam: int, rows: int) -> np.ndarray:
+    """(rows + 1,) [m]: the horizontal slip across each bed joint (0: the ground's, rows: the
+    beam's), the mean x displacement of the row of blocks above it minus that of the row
+    below (the ground's: 0; the beam's own). q0, q: body positions [m, rad] at the start and
+    now; the blocks are the bodies between the ground (0) and the beam, as build adds them."""
+    course = HEIGHT / rows
+    dx = q[:, 0] - q0[:, 0]
+    row = np.floor(q0[1:beam, 1] / course).astype(int)
+    level = np.bincount(row, weights=dx[1:beam], minlength=rows) / np.bincount(
+        row, minlength=rows)
+    return np.diff(np.concatenate([[0.0], level, [dx[beam]]]))
 
 
 def cracked_joints(c: sx.Contacts, model: sx.Model, rows: int) -> dict[str, int]:
@@ -153,6 +172,7 @@ def main() -> None:
     parser.add_argument("--gi", type=float, default=10.0, help="G_I [J/m^2]")
     parser.add_argument("--gii", type=float, default=100.0, help="G_II [J/m^2]")
     parser.add_argument("--drift", type=float, default=4e-3, help="[m]")
+    parser.add_argument("--points", type=int, default=3, help="contact points per contact")
     parser.add_argument("--sweep", action="store_true",
                         help="repeat over f_t, G_I, G_II (the parameters the source lacks)")
     args = parser.parse_args()
@@ -167,8 +187,9 @@ def main() -> None:
           + ", ".join(f"{k} {a} / {b} kN ({m})" for k, (a, b, m) in MEASURED.items()))
     for f_t, g_i, g_ii in cases:
         start = time.perf_counter()
-        u, fx, fy, contacts, model = push(drift=args.drift, rows=args.rows, units=args.units,
-                                          f_t=f_t * 1e6, g_i=g_i, g_ii=g_ii)
+        u, fx, fy, contacts, model, _, slips = push(
+            drift=args.drift, rows=args.rows, units=args.units, f_t=f_t * 1e6, g_i=g_i,
+            g_ii=g_ii, points=args.points)
         k = int(np.argmax(fx))
         print(f"{args.rows} x {args.units} blocks ({model.body_count - 3}), f_t {f_t} MPa, "
               f"G_I {g_i}, G_II {g_ii} J/m^2: peak {fx[k] / 1e3:.1f} kN at "
@@ -176,6 +197,10 @@ def main() -> None:
               f"{fx[-1] / 1e3:.1f} kN; cracked at the end "
               f"{cracked_joints(contacts, model, args.rows)}; "
               f"{time.perf_counter() - start:.0f} s")
+        top = int(np.argmax(slips))
+        print(f"  slip at the end: bed {top} {slips[top] * 1e3:.2f} mm of the top's "
+              f"{u[-1] * 1e3:.2f} mm; the others at most "
+              f"{np.delete(slips, top).max() * 1e3:.3f} mm")
 
 
 if __name__ == "__main__":

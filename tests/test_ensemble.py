@@ -117,3 +117,30 @@ def test_plot_draws_ida_and_fragility_and_info_says_what_ran(tmp_path, capsys):
     runs = ens.read_ensemble(tmp_path / "e.h5").runs["collapsed"]
     out = capsys.readouterr().out
     assert f"runs: 6 ({int((runs == 1).sum())} collapsed, {int((runs == 0).sum())} stood" in out
+
+
+def test_a_demand_threshold_fails_every_collapse_and_the_runs_above_it(tmp_path, capsys):
+    """The fragility of a demand above a threshold (saxum plot --edp --threshold): a threshold
+    below every standing run's demand fails every run that ran, one above them all only the
+    collapses, and each run it fails in between has its demand above the threshold."""
+    path = write_scenario(tmp_path)
+    # scales 0.5 and 1: standing runs with different drifts (at 2 and 3 most runs collapse)
+    ens.run_ensemble(load_scenario(path, ['ensemble.scales="0.5:1:0.5"']), tmp_path / "e.h5",
+                     workers=1, processes=False, quiet=True)
+    e = ens.read_ensemble(tmp_path / "e.h5")
+    collapsed, drift = e.runs["collapsed"], e.runs["peak_drift"]
+    stood = collapsed == 0
+    assert stood.sum() >= 2, "the case must have standing runs with a spread of demands"
+    low, high = drift[stood].min(), drift[stood].max()
+    assert low < high
+    np.testing.assert_array_equal(e.failed("peak_drift", 0.5 * low), collapsed >= 0)
+    np.testing.assert_array_equal(e.failed("peak_drift", 2.0 * high), collapsed == 1)
+    middle = 0.5 * (low + high)
+    between = e.failed("peak_drift", middle)
+    assert (collapsed[between] == 1).sum() == (collapsed == 1).sum()
+    assert (drift[between & stood] > middle).all() and (drift[~between & stood] <= middle).all()
+    assert main(["plot", str(tmp_path / "e.h5"), "-o", str(tmp_path / "t.png"),
+                 "--edp", "peak_drift", "--threshold", f"{middle:g}"]) == 0
+    assert (tmp_path / "t.png").stat().st_size > 10_000
+    with pytest.raises(sx.InputError, match="no demand 'scale'"):
+        e.failed("scale", 1.0)

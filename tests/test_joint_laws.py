@@ -212,9 +212,17 @@ def _wall_with(law: str) -> str:
 @pytest.mark.parametrize(("line", "words"), [
     ('kind = "cohesive"\nk_n = -1e10', "k_n"),
     ('kind = "cohesive"\nk_n = 1e10\ng_i = -1.0', "g_i"),
+    ('kind = "cohesive"\nk_n = 1e10\nf_t = -1e3', "f_t"),
+    ('kind = "cohesive"\nk_n = 1e10\ncohesion = -2e3', "cohesion"),
+    ('kind = "cohesive"\nk_n = 1e10\nk_t = -1e10', "k_t"),
 ])
 def test_negative_parameters_name_the_key(line, words):
-    text = _wall_with(line).replace("g_i = 1.0\n", "", 1 if "g_i" in line else 0)
+    text = _wall_with(line)
+    for key in ("g_i", "f_t", "cohesion", "k_t"):
+        if f"\n{key} = -" in line:
+            # the wall's own (positive) value of that key would be a duplicate TOML key
+            text = "\n".join(row for row in text.split("\n")
+                              if not (row.startswith(f"{key} = ") and "-" not in row))
     with pytest.raises(sx.InputError, match=words) as info:
         parse_scenario(text)
     assert "laws" in str(info.value)
@@ -228,6 +236,16 @@ def test_snap_back_names_the_law_and_the_least_fracture_energy():
     # f_t^2 / (2 k_n) = 1e6 / 2e10
     assert "laws[0]" in message and "g_i" in message and "snap back" in message
     assert "g_i >= f_t^2 / (2 k_n) = 5e-05 J/m^2" in message
+
+
+def test_mode_two_snap_back_names_the_least_fracture_energy():
+    text = WALL.replace("g_ii = 2.0", "g_ii = 1e-4")
+    with pytest.raises(sx.InputError) as info:
+        parse_scenario(text).build_model()
+    message = str(info.value)
+    # cohesion^2 / (2 k_t) = 4e6 / 2e10
+    assert "laws[0]" in message and "g_ii" in message and "snap back" in message
+    assert "g_ii >= cohesion^2 / (2 k_t) = 0.0002 J/m^2" in message
 
 
 @pytest.mark.parametrize(("cap", "words"), [

@@ -18,10 +18,10 @@ bracket and criterion), agree within 1 % (issue 15): each bisection's midpoint i
 tensile strength: f_t = 3000 and 10000 Pa give larger factors than the dry arch, in that
 order. (A bonded joint is elastic in compression, so it cracks at Navier's edge stress, long
 before its rocking moment, and this brittle bond (G 10 times the least) cracks through before
-a hinge forms: f_t = 1000 Pa gave 0.1491, 1.5 % below the dry arch's 0.1513, measured
-2026-11-28; a bond rigid in compression, cracking only at N b / 2 + f_t b^2 / 3, gave +11 %.)
+a hinge forms: f_t = 1000 Pa gave 0.1491, 1.0 % below the dry arch's 0.1505, main 7e3970f;
+a bond rigid in compression, cracking only at N b / 2 + f_t b^2 / 3, gave +11 %.)
 The curve (`PYTHONPATH=src python tests/validation/test_mortared_arch.py`) is in
-docs/collapse.md.
+docs/structures.md.
 """
 
 import dataclasses

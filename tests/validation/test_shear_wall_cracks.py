@@ -36,6 +36,28 @@ Checked, in measurable terms (b = 0.99 m wide, H = 1.0 m high; pushed towards +x
   atan(course / (unit / 2)) = 29.6 deg, lies outside the band, which is why rigid unsplit
   bricks cannot form this crack (they crack at the heels only, BENCHMARKS.md).
 
+The parameters and their sources (checked for issue 15, branch src15, 2026-11-28): the tables
+that hold them, in Lourenco's thesis (ch. 6), Lourenco & Rots (1997), Lourenco, Rots &
+Blaauwendraad (Heron 40(4), 1995) and Lourenco's DIANA micro-model guide (TU Delft report
+03.21.1.31.35, 1996), could not be read: the stored copies found (scribd, documents.pub) are
+served from their first page only, before any table, and Vermeltfoort & Raijmakers' test
+reports were not found. So none of these numbers is checked against its source:
+- joints (benchmarks/shear_wall.py, p = 0.30 MPa): k_n = 82, k_s = 36 N/mm^3, f_t = 0.25 MPa,
+  G_I = 0.018 N/mm, c = 0.35 MPa, tan phi = 0.75, G_II = 0.125 N/mm, as branch shearwall gave
+  them for Lourenco's; the one other copy found, a third-party script in a public repository
+  (not a publication), lists the same seven as "Lourenco (1994) calibrated values for J4D".
+  Lourenco's dilatancy and cap are not modelled.
+- bricks: E = 16700 MPa, nu = 0.15, as given (the same script's), rigid here (their
+  compliance lumped into the joints).
+- brick cracks: f_t = 2.0 MPa, G_I = 0.08 N/mm, as recalled (branch crack15); their shear
+  parameters are chosen: c = 2.8 MPa = 1.4 f_t (the joints' own c / f_t), tan phi = 1.0,
+  G_II = 0.8 N/mm = 10 G_I. The pattern does not hang on the chosen three (BENCHMARKS.md, same
+  run with --brick-shear): with the joints' ratios throughout (tan phi 0.75, G_II = 80 x
+  125 / 18 = 556 J/m^2) 88.1 kN at 0.78 mm, 51.5 kN at 1.6 mm, the same heel cracks, cracks
+  in 15 of 16 courses, line at 51.5 deg from 0.95 m to 0.15 m; with c = f_t = 2.0 MPa 89.3 kN
+  at 0.81 mm, 55.1 kN, 14 courses, 48.6 deg from 0.93 m to 0.04 m: every check below passes
+  in both.
+
 Not checked: crushing (no compressive cap in the model) and the peak load (the measured peaks
 could not be read here; the held beam's vertical force grows to 3.7 times the pre-compression
 by the peak, and without a cap nothing bounds it). The push runs at 0.1 m/s after a 10 ms
