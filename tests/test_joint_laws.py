@@ -330,7 +330,7 @@ def test_paraview_contacts_carry_damage(tmp_path):
 
 
 def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatch):
-    """A results file written before slip, damage and history existed (made here by writing
+    """A results file written before slip, damage, history and crush existed (made here by writing
     with the older list of contact fields) reads, and resumes bit for bit on the dry laws
     (before: 'damaged beyond reading (object 'slip' doesn't exist)')."""
     import saxum.results as results
@@ -339,7 +339,7 @@ def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatc
     one_go = tmp_path / "one.h5"
     assert run_scenario(parse_scenario(dry), one_go, quiet=True).status == "finished"
     older = {k: v for k, v in results._CONTACT_FIELDS.items()
-             if k not in ("slip", "damage", "history")}
+             if k not in ("slip", "damage", "history", "crush")}
     monkeypatch.setattr(results, "_CONTACT_FIELDS", older)
     stopped = tmp_path / "stopped.h5"
     original = results.ResultsWriter.log_step
@@ -354,7 +354,8 @@ def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatc
     monkeypatch.undo()
     with results.Results(stopped) as r:
         assert r.frame_count == 27 and not r.damage  # t = 0 .. 0.26 s
-        assert "damage" not in r.contacts(5) and "area" in r.contacts(5)
+        assert "damage" not in r.contacts(5) and "crush" not in r.contacts(5)
+        assert "area" in r.contacts(5)
     assert resume_run(stopped, quiet=True).status == "finished"
     same_results(stopped, one_go)
 
