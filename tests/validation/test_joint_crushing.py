@@ -13,14 +13,15 @@ F^2 / (2 k_n A) elastically, F = sigma_c(w) A its force.
 
 Measured: the joint's force F = sum R_n / h [N/m; 3D N] of each step and the block's descent
 delta [m]; the work sum F d(delta) (trapezoids) into the joint, pushed until
-exp(-f_c w / G_fc) < 1 % (so that most of G_fc is spent); the peak of F; w at the end.
+exp(-f_c w / G_fc) < 1 % in 2D, < 6 % in 3D (most of G_fc spent; 3D steps cost ~15 times
+2D's, so it is pushed 2.5 times faster and less far); the peak of F; w at the end.
 Tolerances: peak within 1 % of f_c A (the elastic branch reaches f_c within one step's
-closure, 2e-6 m against the 1e-4 m elastic closure at f_c); work within 2 % of the closed
-form: the cap is updated once per step from the converged closure (explicit, as the damage
-is), so the stress lags the softening by one step's closure over the softening length
-G_fc / f_c, 2e-6 / 5e-4 = 0.4 %; and w only grows. Measured (2026-11-28): the peak is
-f_c A to round-off (the capped impulse is h A f_c), the work +0.45 % of the closed form,
-in 2D and in 3D.
+closure, 2e-6 m (3D 5e-6 m) against the 1e-4 m elastic closure at f_c); work within 2 % of
+the closed form: the cap is updated once per step from the converged closure (explicit, as
+the damage is), so the stress lags the softening by one step's closure over the softening
+length G_fc / f_c: 2e-6 / 5e-4 = 0.4 % (3D 1 %); and w only grows. Measured (2026-11-28):
+the peak is f_c A to round-off (the capped impulse is h A f_c), the work +0.45 % of the
+closed form in 2D, +1.1 % in 3D.
 """
 
 import math
@@ -31,8 +32,10 @@ import pytest
 import saxum as sx
 
 F_C, K_N, G_FC = 1.0e6, 1.0e10, 500.0  # [Pa], [Pa/m], [J/m^2]: softening length 5e-4 m
-SPEED, H = 0.02, 1.0e-4  # [m/s], [s]: 2e-6 m of closure per step
-CLOSURE = 3.0e-3  # [m]: f_c / k_n elastic, then w ~ 2.9e-3 m, exp(-f_c w / G_fc) ~ 0.3 %
+H = 1.0e-4  # [s]
+RUN = {2: (0.02, 3.0e-3, 0.01), 3: (0.05, 1.5e-3, 0.06)}
+"""Per dimension: platen speed [m/s] (2e-6, 5e-6 m of closure per step), closure [m] (f_c / k_n
+elastic, then w ~ 2.9e-3, 1.4e-3 m), and the bound on exp(-f_c w / G_fc) at the end."""
 
 
 def box(x0, x1, y0, y1, z0, z1) -> list[tuple[float, float, float]]:
@@ -43,7 +46,8 @@ def box(x0, x1, y0, y1, z0, z1) -> list[tuple[float, float, float]]:
 @pytest.mark.parametrize("dim", [2, 3])
 def test_crushing_peaks_at_f_c_and_dissipates_g_fc(dim):
     b = sx.ModelBuilder(gravity=(0.0,) * dim, dim=dim)
-    down = (0.0,) * (dim - 1) + (-SPEED,) + (0.0,) * (1 if dim == 2 else 3)
+    speed, closure, left = RUN[dim]
+    down = (0.0,) * (dim - 1) + (-speed,) + (0.0,) * (1 if dim == 2 else 3)
     if dim == 2:
         b.add_block([(-0.2, -0.2), (0.4, -0.2), (0.4, 0.0), (-0.2, 0.0)],
                     kind=sx.BodyKind.FIXED, group="ground")
@@ -77,7 +81,7 @@ def test_crushing_peaks_at_f_c_and_dissipates_g_fc(dim):
     assert first.size == 2 * (dim - 1)
     area = state.contacts.area[first].sum()
     force, descent, crush = [0.0], [0.0], [0.0]
-    for _ in range(int(CLOSURE / SPEED / H)):
+    for _ in range(int(closure / speed / H)):
         sim.step(state)
         c = state.contacts
         rows = joint(c)
@@ -88,7 +92,7 @@ def test_crushing_peaks_at_f_c_and_dissipates_g_fc(dim):
     assert np.all(np.diff(crush) >= 0.0)
     assert abs(force.max() / (F_C * area) - 1.0) < 0.01
     w = crush[-1]
-    assert math.exp(-F_C * w / G_FC) < 0.01
+    assert math.exp(-F_C * w / G_FC) < left
     work = np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(descent))
     expected = G_FC * area * (1.0 - math.exp(-F_C * w / G_FC)) + force[-1] ** 2 / (
         2.0 * K_N * area)
