@@ -85,6 +85,7 @@ def test_carry_keeps_the_state_by_key_and_new_cohesive_contacts_start_cracked():
     old.key[:3] = (10, 20, 30)
     old.damage[:3] = (0.0, 0.25, 0.5)
     old.history[:3] = (0.5, 1.5, 2.5)
+    old.crush[:3] = (1e-5, 2e-5, 3e-5)
     old.slip[:3, 0] = (1e-6, 2e-6, 3e-6)
     old.impulse[:3] = 1.0
     new = Contacts(2)
@@ -95,6 +96,7 @@ def test_carry_keeps_the_state_by_key_and_new_cohesive_contacts_start_cracked():
     assert new.warm_start_from(old, law_kind) == 2
     assert new.damage[:4].tolist() == [1.0, 0.25, 0.0, 0.5]
     assert new.history[:4].tolist() == [0.0, 1.5, 0.0, 2.5]
+    assert new.crush[:4].tolist() == [0.0, 2e-5, 0.0, 3e-5]
     assert new.slip[:4, 0].tolist() == [0.0, 2e-6, 0.0, 3e-6]
     assert new.impulse[:4, 0].tolist() == [0.0, 1.0, 0.0, 1.0]
 
@@ -152,7 +154,7 @@ def test_resume_with_damage_is_bit_for_bit(tmp_path, monkeypatch):
     one_go = tmp_path / "one.h5"
     assert run_scenario(parse_scenario(WALL), one_go, quiet=True).status == "finished"
     from saxum.cli import info_text
-    from saxum.results import Results, ResultsWriter
+    from saxum.results import Results
     with Results(one_go) as r:
         k = np.searchsorted(r.time, 0.25 - 1e-9)
         damage = r.contacts(k)["damage"]
@@ -163,6 +165,13 @@ def test_resume_with_damage_is_bit_for_bit(tmp_path, monkeypatch):
         assert r.steps["damaged"].max() > 0 and lost.sum() > 0
         assert (f"cohesive joints: {lost.sum()} bond(s) cracked (first at step {first}) over "
                 "the run") in info_text(r)
+    _stop_resume_and_compare(WALL, one_go, tmp_path, monkeypatch)
+
+
+def _stop_resume_and_compare(text, one_go, tmp_path, monkeypatch):
+    """Run `text` again, stopped at step 1300 (0.26 s), resume it from its checkpoint at
+    0.25 s and compare it with the run in one go, bit for bit."""
+    from saxum.results import ResultsWriter
     stopped = tmp_path / "stopped.h5"
     original = ResultsWriter.log_step
 
@@ -172,10 +181,25 @@ def test_resume_with_damage_is_bit_for_bit(tmp_path, monkeypatch):
             os.kill(os.getpid(), signal.SIGINT)
 
     monkeypatch.setattr(ResultsWriter, "log_step", log_step)
-    assert run_scenario(parse_scenario(WALL), stopped, quiet=True).status == "interrupted"
+    assert run_scenario(parse_scenario(text), stopped, quiet=True).status == "interrupted"
     monkeypatch.setattr(ResultsWriter, "log_step", original)
     assert resume_run(stopped, quiet=True).status == "finished"
     same_results(stopped, one_go)
+
+
+def test_resume_with_crushing_is_bit_for_bit(tmp_path, monkeypatch):
+    """The wall with a cap (f_c = 15 kPa, C_ss = 9): its toes crush from ~0.21 s, so the
+    checkpoint at 0.25 s holds crushed points (Contacts.crush > 0) that keep crushing."""
+    text = WALL.replace("g_ii = 2.0\n", "g_ii = 2.0\nf_c = 1.5e4\ng_fc = 1.0\nc_ss = 9.0\n")
+    one_go = tmp_path / "one.h5"
+    assert run_scenario(parse_scenario(text), one_go, quiet=True).status == "finished"
+    from saxum.results import Results
+    with Results(one_go) as r:
+        k = np.searchsorted(r.time, 0.25 - 1e-9)
+        crush = r.contacts(k)["crush"]
+        assert crush.max() > 0.0
+        assert r.contacts(r.frame_count - 1)["crush"].max() > crush.max()
+    _stop_resume_and_compare(text, one_go, tmp_path, monkeypatch)
 
 
 # --- bad input --------------------------------------------------------------------------------
@@ -222,6 +246,25 @@ def test_mode_two_snap_back_names_the_least_fracture_energy():
     # cohesion^2 / (2 k_t) = 4e6 / 2e10
     assert "laws[0]" in message and "g_ii" in message and "snap back" in message
     assert "g_ii >= cohesion^2 / (2 k_t) = 0.0002 J/m^2" in message
+
+
+@pytest.mark.parametrize(("cap", "words"), [
+    (dict(f_c=-1e6, g_fc=1e3), "f_c must be a finite number >= 0"),
+    (dict(f_c=1e6), "needs both f_c .* g_fc is not"),
+    (dict(g_fc=1e3), "needs both f_c .* f_c is not"),
+    (dict(f_c=1e6, g_fc=10.0), r"snap back; use g_fc >= f_c\^2 / k_n = 100 J/m\^2"),
+])
+def test_bad_caps_are_named(cap, words):
+    with pytest.raises(sx.InputError, match=words):
+        sx.ContactLaw(friction=0.6, **COHESIVE, **cap)
+    with pytest.raises(sx.InputError, match="f_c is not a parameter of kind ELASTIC"):
+        sx.ContactLaw(friction=0.6, kind=sx.LawKind.ELASTIC, k_n=1e10, f_c=1e6)
+
+
+def test_the_cap_keys_reach_the_law():
+    text = WALL.replace("g_ii = 2.0\n", "g_ii = 2.0\nf_c = 2e6\ng_fc = 500.0\n")
+    law = parse_scenario(text).laws[0].law()
+    assert (law.f_c, law.g_fc) == (2e6, 500.0)
 
 
 def test_a_parameter_of_another_kind_and_a_missing_one_are_named():
@@ -287,7 +330,7 @@ def test_paraview_contacts_carry_damage(tmp_path):
 
 
 def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatch):
-    """A results file written before slip, damage and history existed (made here by writing
+    """A results file written before slip, damage, history and crush existed (made here by writing
     with the older list of contact fields) reads, and resumes bit for bit on the dry laws
     (before: 'damaged beyond reading (object 'slip' doesn't exist)')."""
     import saxum.results as results
@@ -296,7 +339,7 @@ def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatc
     one_go = tmp_path / "one.h5"
     assert run_scenario(parse_scenario(dry), one_go, quiet=True).status == "finished"
     older = {k: v for k, v in results._CONTACT_FIELDS.items()
-             if k not in ("slip", "damage", "history")}
+             if k not in ("slip", "damage", "history", "crush")}
     monkeypatch.setattr(results, "_CONTACT_FIELDS", older)
     stopped = tmp_path / "stopped.h5"
     original = results.ResultsWriter.log_step
@@ -311,7 +354,8 @@ def test_files_without_the_joint_state_are_read_and_resumed(tmp_path, monkeypatc
     monkeypatch.undo()
     with results.Results(stopped) as r:
         assert r.frame_count == 27 and not r.damage  # t = 0 .. 0.26 s
-        assert "damage" not in r.contacts(5) and "area" in r.contacts(5)
+        assert "damage" not in r.contacts(5) and "crush" not in r.contacts(5)
+        assert "area" in r.contacts(5)
     assert resume_run(stopped, quiet=True).status == "finished"
     same_results(stopped, one_go)
 

@@ -16,7 +16,7 @@ DT = 1e-3
 BLOCK_FIELDS = {"displacement", "velocity", "rotation", "angular_velocity", "body_index",
                 "body_kind"}
 CONTACT_FIELDS = {"normal_force", "tangential_force", "force", "normal", "gap", "candidate",
-                  "antagonist", "damage", "area"}
+                  "antagonist", "damage", "crush", "area"}
 
 
 def _run(path, model, steps, every):

@@ -8,7 +8,7 @@ A side is a rigid body or nodes of a deformable block (`side_kind`, design-defor
 joints.md section 3).
 `key` identifies a contact from one step to the next (same bodies, same pair of edges, same end
 of the common segment), so that the solver can start from the previous impulses and the joint
-laws keep their state (slip, damage, history: saxum.laws) and the _g0 laws their initial gap.
+laws keep their state (slip, damage, history, crush: saxum.laws) and the _g0 laws their initial gap.
 Detection writes contacts in increasing key order, which makes matching a linear merge.
 """
 
@@ -71,6 +71,9 @@ class Contacts:
         self.history = np.zeros(capacity)
         """Largest scaled opening kappa reached by a COHESIVE joint [-] (saxum.laws), shape
         [capacity]; 0 for other laws."""
+        self.crush = np.zeros(capacity)
+        """Plastic closure w of a COHESIVE joint's compression cap [m] (saxum.laws), shape
+        [capacity]; 0 for other laws and joints that have not crushed. It never decreases."""
         self.initial_gap = np.zeros(capacity)
         """g0 of a _g0 law [m] (ContactLaw.initial_gap): its gap at the first step of the run
         (Simulation.step), shape [capacity]; 0 for other laws and for contacts that appeared
@@ -89,7 +92,7 @@ class Contacts:
     def _fields() -> tuple[str, ...]:
         return ("candidate", "antagonist", "key", "law", "point", "frame", "gap", "impulse",
                 "area", "side_kind", "side_node", "side_weight", "slip", "damage", "history",
-                "initial_gap")
+                "crush", "initial_gap")
 
     def copy(self) -> "Contacts":
         """A deep copy of the valid rows."""
@@ -101,8 +104,8 @@ class Contacts:
 
     def warm_start_from(self, previous: "Contacts", law_kind: np.ndarray | None = None, *,
                         parallel: bool = False) -> int:
-        """Copy the impulses, the joint state (slip, damage, history) and the initial gap of
-        persisting contacts (same key) from `previous`; returns how many. A new contact starts
+        """Copy the impulses, the joint state (slip, damage, history, crush) and the initial gap
+        of persisting contacts (same key) from `previous`; returns how many. A new contact starts
         with zero impulse, slip and initial gap, and, under a COHESIVE law (law_kind:
         Model.law_kind), fully damaged: a joint that was not bonded at the start does not bond
         later. parallel: by blocks of contacts on numba's threads (_carry_parallel, the same
@@ -111,8 +114,9 @@ class Contacts:
         return (_carry_parallel if parallel else _carry)(
             self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
             self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
-            self.history[:n], previous.history[:m], self.initial_gap[:n],
-            previous.initial_gap[:m], self.law[:n], _NO_LAWS if law_kind is None else law_kind,
+            self.history[:n], previous.history[:m], self.crush[:n], previous.crush[:m],
+            self.initial_gap[:n], previous.initial_gap[:m], self.law[:n],
+            _NO_LAWS if law_kind is None else law_kind,
         )
 
 
@@ -122,12 +126,12 @@ _NO_LAWS = np.zeros(0, dtype=np.int8)
 
 @nb.njit(cache=True)
 def _carry(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage, history,
-           old_history, initial_gap, old_initial_gap, law, law_kind):
+           old_history, crush, old_crush, initial_gap, old_initial_gap, law, law_kind):
     """Merge of two key lists that detection writes in increasing order: O(count), no sort;
     rows of a key found in old_key are copied, the others reset (module doc)."""
     return _carry_range(0, key.shape[0], 0, key, old_key, impulse, old_impulse, slip,
-                        old_slip, damage, old_damage, history, old_history, initial_gap,
-                        old_initial_gap, law, law_kind)
+                        old_slip, damage, old_damage, history, old_history, crush, old_crush,
+                        initial_gap, old_initial_gap, law, law_kind)
 
 
 _CARRY_BLOCK = 4096
@@ -136,7 +140,8 @@ _CARRY_BLOCK = 4096
 
 @nb.njit(parallel=True, cache=True)
 def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage,
-                    history, old_history, initial_gap, old_initial_gap, law, law_kind):
+                    history, old_history, crush, old_crush, initial_gap, old_initial_gap, law,
+                    law_kind):
     """_carry by blocks of contacts on numba's threads, the same rows: each block's merge
     starts at the first old key not below its first key (a bisection)."""
     hits = np.zeros(-(-key.shape[0] // _CARRY_BLOCK), dtype=np.int64)
@@ -145,14 +150,15 @@ def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, 
         hi = min(key.shape[0], lo + _CARRY_BLOCK)
         first = np.searchsorted(old_key, key[lo])
         hits[b] = _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip,
-                               old_slip, damage, old_damage, history, old_history,
-                               initial_gap, old_initial_gap, law, law_kind)
+                               old_slip, damage, old_damage, history, old_history, crush,
+                               old_crush, initial_gap, old_initial_gap, law, law_kind)
     return hits.sum()
 
 
 @nb.njit(inline="always")
 def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_slip, damage,
-                 old_damage, history, old_history, initial_gap, old_initial_gap, law, law_kind):
+                 old_damage, history, old_history, crush, old_crush, initial_gap, old_initial_gap,
+                 law, law_kind):
     """_carry's merge for the rows lo .. hi - 1, from old_key[first] on (no old key before it
     is at least key[lo]); returns the rows found."""
     hits = 0
@@ -168,6 +174,7 @@ def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_sl
                 slip[a, r] = old_slip[k, r]
             damage[a] = old_damage[k]
             history[a] = old_history[k]
+            crush[a] = old_crush[k]
             initial_gap[a] = old_initial_gap[k]
             hits += 1
         else:
@@ -178,5 +185,6 @@ def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_sl
             cracked = law_kind.shape[0] > 0 and law_kind[law[a]] == _COHESIVE
             damage[a] = 1.0 if cracked else 0.0
             history[a] = 0.0
+            crush[a] = 0.0
             initial_gap[a] = 0.0
     return hits

@@ -78,6 +78,21 @@ parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_loc
   a bonded assembly vibrating on its joints, which theta = 1/2 (energy-conserving for a
   spring) keeps; so a model with such joints (`undamped_springs`) steps with theta = 1 unless
   told otherwise (saxum.simulation.Simulation), and theta = 1/2 given with them warns.
+  Compression cap (optional: f_c > 0 [Pa] with G_fc [J/m^2]): the normal stress of a bonded
+  joint (intact or cracked) is bounded, sigma <= sigma_c(w), w >= 0 the joint's plastic
+  closure [m] (Contacts.crush, which only grows), with exponential softening
+      sigma_c(w) = f_c exp(-f_c w / G_fc),
+  so that a joint crushed under growing closure peaks at f_c and dissipates
+  int_0^inf sigma_c dw = G_fc per unit area; the closure is elastic plus plastic, the whole
+  law (tension and damage included) written on the elastic part g + w. The bound is the cap
+  of Lourenco and Rots' interface (their "cap mode"), the ellipse
+      sigma^2 + C_ss tau^2 <= sigma_c(w)^2,
+  tau the joint's shear stress (C_ss [-] >= 0, optional), in a simpler form: theirs
+  hardens from f_c / 3 to f_c before it softens (here elastic up to the cap), its plastic
+  flow is normal to the ellipse (here the closure alone grows: w, no plastic slip), and
+  tau is the shear stress of the step before (explicit, like the damage); the shear stays
+  Mohr-Coulomb's on the capped sigma. The slope of the softening at its peak, f_c^2 / G_fc,
+  must not exceed k_n (else it snaps back): G_fc >= f_c^2 / k_n.
 """
 
 import math
@@ -125,6 +140,12 @@ class Parameter(IntEnum):
     """Mode I fracture energy G_I [J/m^2] (COHESIVE)."""
     G_II = 7
     """Mode II fracture energy G_II [J/m^2] (COHESIVE)."""
+    F_C = 8
+    """Compressive strength f_c [Pa] of the cap (COHESIVE; 0: no cap)."""
+    G_FC = 9
+    """Compressive fracture energy G_fc [J/m^2] of the cap (COHESIVE, with f_c)."""
+    C_SS = 10
+    """Shear coefficient C_ss [-] of the cap's ellipse (COHESIVE, with f_c; 0: none)."""
 
 
 INITIAL_GAP_KINDS = (LawKind.SIGNORINI_COULOMB, LawKind.GAP_SIGNORINI_COULOMB)
@@ -137,7 +158,8 @@ _USED = {
     LawKind.ELASTIC: {"k_n": True, "k_t": False, "c_n": False},
     LawKind.VISCOUS_COULOMB: {"eta": True},
     LawKind.COHESIVE: {"k_n": True, "k_t": True, "f_t": True, "cohesion": True, "g_i": True,
-                       "g_ii": True},
+                       "g_ii": True, "f_c": False, "g_fc": False,
+                       "c_ss": False},
 }
 """Parameters per joint law: name -> required (True) or optional (False, default 0)."""
 
@@ -146,7 +168,8 @@ _USED = {
 class ContactLaw:
     """A contact law: friction coefficient mu [-], kind, restitution e_n [-] (RESTITUTION only),
     and the joint laws' parameters (see `Parameter` and the module doc; SI units):
-    k_n, k_t [Pa/m], c_n, eta [Pa s/m], f_t, cohesion [Pa], g_i, g_ii [J/m^2].
+    k_n, k_t [Pa/m], c_n, eta [Pa s/m], f_t, cohesion, f_c [Pa], g_i, g_ii, g_fc [J/m^2],
+    c_ss [-].
 
     points: contact points of a face-to-face contact, for laws written in stresses
     (saxum.detection.polygons, .polyhedra). 2 (default): the ends of the common segment (3D:
@@ -181,6 +204,9 @@ class ContactLaw:
     cohesion: float = 0.0
     g_i: float = 0.0
     g_ii: float = 0.0
+    f_c: float = 0.0
+    g_fc: float = 0.0
+    c_ss: float = 0.0
     name: str = field(default="", compare=False)
     """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
     points: int = 2
@@ -250,6 +276,23 @@ class ContactLaw:
                         f"{getattr(self, strength):g} Pa and {stiffness} = "
                         f"{getattr(self, stiffness):g} Pa/m: the softening would snap back; "
                         f"use {g} >= {strength}^2 / (2 {stiffness}) = {least:.6g} J/m^2")
+            if (self.f_c > 0.0) != (self.g_fc > 0.0):
+                given, other = ("f_c", "g_fc") if self.f_c > 0.0 else ("g_fc", "f_c")
+                raise InputError(f"{who}: the compression cap needs both f_c [Pa] and g_fc "
+                                 f"[J/m^2]; {given} is given, {other} is not (leave both out "
+                                 "for a joint that does not crush)")
+            if self.c_ss > 0.0 and self.f_c == 0.0:
+                raise InputError(f"{who}: c_ss = {self.c_ss:g} is the shear term of the "
+                                 "compression cap, which needs f_c and g_fc; give them or "
+                                 "drop c_ss")
+            # exponential softening, slope f_c^2 / G_fc at the peak: steeper than k_n would
+            # snap back
+            least = self.f_c ** 2 / self.k_n
+            if self.f_c > 0.0 and self.g_fc < least:
+                raise InputError(
+                    f"{who}: g_fc = {self.g_fc:g} J/m^2 is too small for f_c = {self.f_c:g} Pa "
+                    f"and k_n = {self.k_n:g} Pa/m: the cap's softening would snap back; use "
+                    f"g_fc >= f_c^2 / k_n = {least:.6g} J/m^2")
 
 
 def undamped_springs(laws) -> list[ContactLaw]:

@@ -19,7 +19,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            contact_count; the contacts of all frames one after the other in
                            /frames/contacts/{candidate, antagonist, key, law, point, frame, gap,
                            impulse, area [m^2/m; 3D: m^2] (saxum.contacts.Contacts.area),
-                           slip [m], damage [-], history [-] (the joint laws' state),
+                           slip [m], damage [-], history [-], crush [m] (the joint laws'
+                           state),
                            initial_gap [m] (the _g0 laws' g0, saxum.laws)}
     /steps/...             one row per time step: the StepReport fields (saxum.steplog)
     /histories/...         one row per time step for the chosen blocks (attrs body: their
@@ -99,11 +100,12 @@ _CONTACT_FIELDS = {
     "slip": (np.float64, lambda d: (d - 1,), "m"),
     "damage": (np.float64, lambda d: (), "-"),
     "history": (np.float64, lambda d: (), "-"),
+    "crush": (np.float64, lambda d: (), "m"),
     "initial_gap": (np.float64, lambda d: (), "m"),
 }
 """Contact fields in frames and checkpoints; files written before `area` (or the joint laws'
-`slip`, `damage`, `history`, or the _g0 laws' `initial_gap`) existed lack them, and are read
-and resumed without them."""
+`slip`, `damage`, `history`, `crush`, or the _g0 laws' `initial_gap`) existed lack them, and
+are read and resumed without them."""
 _FE_CONTACT_FIELDS = {
     "side_kind": (np.int8, lambda d: (2,), "-"),
     "side_node": (np.int32, lambda d: (2, d), "-"),

@@ -684,6 +684,13 @@ class LawSpec(_Strict):
     """Mode I fracture energy G_I [J/m^2] (cohesive)."""
     g_ii: NonNegative = 0.0
     """Mode II fracture energy G_II [J/m^2] (cohesive)."""
+    f_c: NonNegative = 0.0
+    """Compressive strength f_c [Pa] of the compression cap (cohesive, optional, with g_fc)."""
+    g_fc: NonNegative = 0.0
+    """Compressive fracture energy G_fc [J/m^2] of the cap (cohesive, with f_c)."""
+    c_ss: NonNegative = 0.0
+    """Shear coefficient C_ss [-] of the cap's ellipse sigma^2 + C_ss tau^2 <= sigma_c^2
+    (cohesive, optional, with f_c)."""
     alert: Annotated[Real, Field(gt=0.0, allow_inf_nan=False)] | None = None
     """Alert distance [m] of this law's contacts (ContactLaw.alert); none: detection.alert."""
     points: int = 2
@@ -721,7 +728,8 @@ class LawSpec(_Strict):
         return ContactLaw(friction=self.friction, kind=LawKind[kind],
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
-                          g_i=self.g_i, g_ii=self.g_ii, name=name, points=self.points,
+                          g_i=self.g_i, g_ii=self.g_ii, f_c=self.f_c, g_fc=self.g_fc,
+                          c_ss=self.c_ss, name=name, points=self.points,
                           alert=self.alert, bond_at=self.bond_at,
                           initial_gap=self.initial_gap)
 

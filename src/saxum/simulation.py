@@ -176,7 +176,7 @@ class Simulation:
                node_x: np.ndarray | None = None) -> Contacts:
         """The contacts at configuration q [m, rad] (node positions node_x [m]): those of the
         cohesive laws in `bonding` (per law) that are closed (gap within the detector's
-        closed_gap) bonded, intact (damage, history, slip 0), their open ones fully damaged;
+        closed_gap) bonded, intact (damage, history, crush, slip 0), their open ones fully damaged;
         the others carried from `previous` (Contacts.warm_start_from), or with none, at the
         start, the other cohesive laws' never bonded. Raises InputError for a law in `bonding`
         that bonds no joint."""
@@ -192,6 +192,7 @@ class Simulation:
         closed = contacts.gap[:n] <= self.detector.closed_gap
         contacts.damage[:n][mine] = np.where(closed[mine], 0.0, 1.0)
         contacts.history[:n][mine] = 0.0
+        contacts.crush[:n][mine] = 0.0
         contacts.slip[:n][mine] = 0.0
         bonded = set(law[mine & closed].tolist())
         for k in np.flatnonzero(bonding):
@@ -324,8 +325,8 @@ class Simulation:
             problem.local_velocities(self._v, problem.u_end)
             lost, damaged = update_joints(
                 c.law, c.gap, c.area, c.impulse, problem.active, c.slip, c.damage, c.history,
-                c.count, problem.u_begin, problem.u_end, m.law_kind, m.law_friction,
-                m.law_parameter, h, theta)
+                c.crush, c.count, problem.u_begin, problem.u_end, m.law_kind, m.law_friction,
+                m.law_parameter, h, theta, problem.law_map)
 
         kin.update_positions(state.body_q, state.body_v, self._v, h, theta)
         loaded, depth = problem.end_gaps(contacts.impulse, self._v, h, theta)

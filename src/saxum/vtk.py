@@ -20,7 +20,8 @@ data: displacement [m] of the centre of mass from its initial position, velocity
 point data: normal_force and tangential_force [N/m] (mean over the step, impulse / dt), force
 [N/m] (world vector R_t t + R_n n), normal (unit, world), gap [m], candidate and antagonist
 (body indices), and where the results have them the joint laws' damage [-] (0 intact, 1
-cracked: saxum.laws) and area [m^2/m; 3D: m^2]; use ParaView's Glyph filter on force.
+cracked: saxum.laws), crush [m] (a cap's plastic closure) and area [m^2/m; 3D: m^2]; use
+ParaView's Glyph filter on force.
 
 3D results: each block is written as its polygonal faces (one polygon cell per face, every face
 carrying its block's data, so that ParaView's Threshold on body_index picks whole blocks);
@@ -187,7 +188,7 @@ def _contacts(res: Results, k: int) -> meshio.Mesh:
         "candidate": c["candidate"],
         "antagonist": c["antagonist"],
     }
-    for name in ("damage", "area"):  # absent from files of saxum before them
+    for name in ("damage", "crush", "area"):  # absent from files of saxum before them
         if name in c:
             point_data[name] = c[name]
     cells = [("vertex", np.arange(len(f))[:, None])]

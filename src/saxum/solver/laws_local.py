@@ -33,17 +33,27 @@ U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area
   by a positive factor and does not change sign). A fully damaged bonded joint has only the
   compression branch (an ELASTIC contact with k_t = 0); a contact that was never bonded is
   the gap law's (flag 0), and only those are projected (saxum.solver.projection).
+  With a compression cap (saxum.laws), the law is written on g + w (w the joint's plastic
+  closure, Contacts.crush), and the compression branch bounds the normal impulse,
+  R_d,n <= R_c = sqrt((h A sigma_c(w))^2 - C_ss R_t^2) (w from the start of the step, R_t
+  the tangential impulse of the warm start, 0 if C_ss R_t^2 passes the first term: the
+  ellipse of saxum.laws with the shear of the step before): where the dry solve gives
+  more, R_d,n = R_c and R_d,t is the friction problem under that fixed normal impulse (2D:
+  sticking, R_t = -(u'_t + W'_tn R_c) / W'_tt, clipped to mu R_c; 3D: the sticking impulse
+  of the 2 x 2 tangential block, scaled down onto the disc mu R_c when outside it, exact
+  when that block is isotropic).
 
 `law_terms` writes per contact one row of `law_map` (flag 0: a dry law, nothing to do; 2: a
 bonded COHESIVE joint with a tension branch; 1: the others):
 [flag, W' (dim x dim), P = (I + W D)^-1 (dim x dim), shift s'' (dim), D (dim), e (dim),
-T (dim x dim), r (dim)];
+T (dim x dim), r (dim), R_c (inf without a cap)];
 the sweep kernels visit the flagged rows after the dry ones and call `law_solve_2d` /
 `law_solve_3d`: u' = P u + s'' (u the kernel's local velocity with b_n added, so
 s'' = -P W e + b - P b), the dry solve on W', then R = R_d - D U - e with
 U = W' R_d + u' - b (flag 2 and R_d,n = 0: R = T u + r instead). For compliance, P = I,
 D = e = 0.
-`update_joints` advances the state after the solve (slip, history, damage: saxum.laws).
+`update_joints` advances the state after the solve (slip, history, damage, crush:
+saxum.laws).
 """
 
 import math
@@ -55,8 +65,8 @@ from ..laws import LawKind, Parameter
 from .local2d import solve_factored_contact_2d
 from .local3d import solve_contact_3d
 
-__all__ = ["law_map_width", "law_solve_2d", "law_solve_3d", "law_terms", "local_velocities",
-           "update_joints"]
+__all__ = ["cap_stress", "law_map_width", "law_solve_2d", "law_solve_3d", "law_terms",
+           "local_velocities", "update_joints"]
 
 _ELASTIC = int(LawKind.ELASTIC)
 _VISCOUS = int(LawKind.VISCOUS_COULOMB)
@@ -65,11 +75,12 @@ _K_N, _K_T, _C_N, _ETA = (int(Parameter.K_N), int(Parameter.K_T), int(Parameter.
                           int(Parameter.ETA))
 _F_T, _COH, _G_I, _G_II = (int(Parameter.F_T), int(Parameter.COHESION), int(Parameter.G_I),
                            int(Parameter.G_II))
+_F_C, _G_FC, _C_SS = int(Parameter.F_C), int(Parameter.G_FC), int(Parameter.C_SS)
 
 
 def law_map_width(dim: int) -> int:
-    """Columns of a law_map row: flag, W', P, s'', D, e, T, r."""
-    return 1 + 3 * dim * dim + 4 * dim
+    """Columns of a law_map row: flag, W', P, s'', D, e, T, r, R_c."""
+    return 2 + 3 * dim * dim + 4 * dim
 
 
 @nb.njit(inline="always")
@@ -91,8 +102,8 @@ def local_velocities(cand, ant, h_cand, h_ant, count, v, out):
 
 
 @nb.njit(cache=True)
-def law_terms(law, gap, area, slip, damage, history, count, u_begin, law_kind, law_parameter,
-              h, theta, delassus, bias, law_map):
+def law_terms(law, gap, area, slip, damage, history, crush, impulse, count, u_begin, law_kind,
+              law_parameter, h, theta, delassus, bias, law_map):
     """Fill law_map (module doc) for the contacts of joint laws, and b_n of ELASTIC ones and
     bonded COHESIVE ones (damage < 1, or history > 0: bonded once) in bias [m/s]; other rows
     get flag 0. u_begin [m/s]: the contacts' local velocities U^b at the start of the step
@@ -101,6 +112,7 @@ def law_terms(law, gap, area, slip, damage, history, count, u_begin, law_kind, l
     o_w, o_p = 1, 1 + dim * dim
     o_s, o_d, o_e = 1 + 2 * dim * dim, 1 + 2 * dim * dim + dim, 1 + 2 * dim * dim + 2 * dim
     o_x, o_r = 1 + 2 * dim * dim + 3 * dim, 1 + 3 * dim * dim + 3 * dim
+    o_c = 1 + 3 * dim * dim + 4 * dim
     dd = np.empty(dim)
     ee = np.empty(dim)
     bb = np.empty(dim)
@@ -118,6 +130,7 @@ def law_terms(law, gap, area, slip, damage, history, count, u_begin, law_kind, l
             continue  # never bonded (saxum.contacts): a gap-law Coulomb contact
         ub = u_begin[a]
         row[0] = 2.0 if kind == _COHESIVE and beta > 0.0 else 1.0
+        row[o_c] = np.inf
         for r in range(dim * dim):
             row[o_p + r] = 0.0
         for r in range(dim):
@@ -151,8 +164,17 @@ def law_terms(law, gap, area, slip, damage, history, count, u_begin, law_kind, l
             _parallel(delassus[a], dd, ee, bb, m, row, o_w, o_p, o_s, o_d, o_e)
             continue
         # COHESIVE's compression branch: the contact part is compliant, k_n (ELASTIC's with
-        # c_n = 0), in parallel with the bond's shear spring
-        g0 = gap[a] - (1.0 - theta) ** 2 * h * ub[1]
+        # c_n = 0), in parallel with the bond's shear spring; the law on the elastic part of
+        # the closure, the plastic one crush[a] taken off, and the cap's impulse
+        g0 = gap[a] + crush[a] - (1.0 - theta) ** 2 * h * ub[1]
+        if p[_F_C] > 0.0:
+            # the cap's ellipse sigma^2 + C_ss tau^2 <= sigma_c^2 with tau the shear stress of
+            # the warm start (the step before's): explicit, as the damage is
+            rt2 = 0.0
+            for r in range(0, dim, 2):
+                rt2 += impulse[a, r] * impulse[a, r]
+            sc = cap_stress(p, crush[a])
+            row[o_c] = math.sqrt(max(0.0, (h * area_a * sc) ** 2 - p[_C_SS] * rt2))
         bb[1] = bias[a] = g0 / (theta * theta * h)
         scale = beta * h * area_a
         for j in range(dim - 1):
@@ -211,6 +233,10 @@ def law_solve_2d(m, ut, un, bn, inv_nn, inv_tn, inv_tt, slide_plus, slide_minus,
                                          slide_minus, qt, qn, mu)
     if m[0] > 1.5 and rdn <= 0.0:  # an open bonded joint: the tension branch
         return m[15] * ut + m[16] * un + m[19], m[17] * ut + m[18] * un + m[20]
+    if rdn > m[21]:  # crushing: the normal impulse at the cap, friction under it
+        rdn = m[21]
+        limit = mu * rdn
+        rdt = min(max(-(qt + m[2] * rdn) / m[1], -limit), limit)
     vt = m[1] * rdt + m[2] * rdn + qt
     vn = m[3] * rdt + m[4] * rdn + qn - bn
     return rdt - m[11] * vt - m[13], rdn - m[12] * vn - m[14]
@@ -232,6 +258,14 @@ def law_solve_3d(m, u, bn, mu, wp, rr):
         for r in range(3):
             rr[r] = m[28 + 3 * r] * u0 + m[29 + 3 * r] * u1 + m[30 + 3 * r] * u2 + m[37 + r]
         return
+    if rr[1] > m[40]:  # crushing: the normal impulse at the cap, friction under it
+        rn = m[40]
+        bt, bs = -(u[0] + wp[0, 1] * rn), -(u[2] + wp[2, 1] * rn)
+        det = wp[0, 0] * wp[2, 2] - wp[0, 2] * wp[2, 0]
+        rt, rs = (wp[2, 2] * bt - wp[0, 2] * bs) / det, (wp[0, 0] * bs - wp[2, 0] * bt) / det
+        norm = math.sqrt(rt * rt + rs * rs)
+        scale = mu * rn / norm if norm > mu * rn else 1.0
+        rr[0], rr[1], rr[2] = scale * rt, rn, scale * rs
     for r in range(3):
         vel = u[r] - (bn if r == 1 else 0.0)
         for s in range(3):
@@ -242,13 +276,16 @@ def law_solve_3d(m, u, bn, mu, wp, rr):
 
 
 @nb.njit(cache=True)
-def update_joints(law, gap, area, impulse, active, slip, damage, history, count, u_begin, u,
-                  law_kind, law_friction, law_parameter, h, theta):
+def update_joints(law, gap, area, impulse, active, slip, damage, history, crush, count, u_begin,
+                  u, law_kind, law_friction, law_parameter, h, theta, law_map):
     """After the solve, from the contacts' local velocities at the start and the end of the
     step, u_begin and u [m/s] (local_velocities): ELASTIC slip s [m]
     (the spring's elongation: the jump while sticking, the slider's limit while sliding, 0
-    when the contact is open); COHESIVE slip (the jump since bonding), history kappa and
-    damage d (saxum.laws; they never decrease). Returns how many COHESIVE points became fully
+    when the contact is open); COHESIVE slip (the jump since bonding), history kappa, damage
+    d and, with a cap, the plastic closure w [m] (saxum.laws; they never decrease): w grows
+    by what the elastic closure at theta, -(g_theta + w), passes R_c / (h A k_n), R_c the
+    step's cap (law_map's last column): the closure the capped impulse did not take up
+    elastically. Returns how many COHESIVE points became fully
     damaged (d reached 1: bonds lost) and how many are partly damaged (0 < d < 1) after it."""
     dim = u.shape[1]
     lost = 0
@@ -276,20 +313,34 @@ def update_joints(law, gap, area, impulse, active, slip, damage, history, count,
                 else:
                     slip[a, j] = -impulse[a, r] / (h * area_a * p[_K_T])
             continue
-        if damage[a] >= 1.0 or area_a <= 0.0:
+        if area_a <= 0.0 or (damage[a] >= 1.0 and history[a] <= 0.0):
+            continue  # never bonded: a gap-law contact (law_terms)
+        g_el = gap[a] + crush[a] + h * (theta * theta * u[a, 1]
+                                        - (1.0 - theta) ** 2 * u_begin[a, 1])
+        opening = max(gap[a] + crush[a] + theta * h * u[a, 1], 0.0)
+        if p[_F_C] > 0.0:
+            cap = law_map[a, law_map.shape[1] - 1] / (h * area_a)  # the step's, law_terms
+            crush[a] += max(0.0, -g_el - cap / p[_K_N])
+        if damage[a] >= 1.0:
             continue
         s2 = 0.0
         for j in range(dim - 1):
             r = 0 if j == 0 else 2
             slip[a, j] += h * ((1.0 - theta) * u_begin[a, r] + theta * u[a, r])
             s2 += slip[a, j] * slip[a, j]
-        opening = max(gap[a] + theta * h * u[a, 1], 0.0)
         _damage(p, opening, math.sqrt(s2), damage, history, a)
         if damage[a] >= 1.0:
             lost += 1
         elif damage[a] > 0.0:
             damaged += 1
     return lost, damaged
+
+
+@nb.njit(inline="always")
+def cap_stress(p, w):
+    """The cap's compressive strength sigma_c(w) = f_c exp(-f_c w / G_fc) [Pa] at plastic
+    closure w [m] (saxum.laws), p a row of Model.law_parameter."""
+    return p[_F_C] * math.exp(-p[_F_C] * w / p[_G_FC])
 
 
 @nb.njit(inline="always")

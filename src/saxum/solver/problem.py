@@ -128,9 +128,9 @@ class ContactProblem:
                               closed_gap, h * theta, self.bias)
         if self.joint_laws:
             self.local_velocities(v_begin, self.u_begin, begin=True)
-            law_terms(c.law, c.gap, c.area, c.slip, c.damage, c.history, k, self.u_begin,
-                      m.law_kind, m.law_parameter, h, theta, self.delassus, self.bias,
-                      self.law_map)
+            law_terms(c.law, c.gap, c.area, c.slip, c.damage, c.history, c.crush, c.impulse,
+                      k, self.u_begin, m.law_kind, m.law_parameter, h, theta, self.delassus,
+                      self.bias, self.law_map)
 
     def local_velocities(self, v: np.ndarray, out: np.ndarray, *, begin: bool = False) -> None:
         """out[:count] = U = H* v [m/s] in the contacts' frames, from the bodies' velocities v
