@@ -2,15 +2,19 @@
 N FEMA P695 far-field components x M scale factors (multiple stripes), on a local Dask
 cluster of 1 and of 2 worker processes, back to back.
 
-    python benchmarks/ensemble.py [--records 4] [--scales 0.5,1,1.5] [--end 5]
+    python benchmarks/ensemble.py [--records 4] [--scales 0.5,1,1.5] [--end 5 | --whole]
                                   [--workers 1,2] [--json benchmarks/results/ensemble.json]
 
-Each record is cut to its first `--end` seconds (loads.ground_motion.end) and each run lasts
-that plus 1 s. Prints and writes as JSON, per worker count: the wall time of the ensemble
-(from the cluster's start to the last row written), runs per second, the CPU time (user +
-sys) of the client and of the worker processes, and the collapses found; and the speed-up
-from the first worker count to the others. The kernels are compiled before (a warm-up run
-in this process, which fills numba's cache for the workers).
+Each record is cut to its first `--end` seconds (loads.ground_motion.end), or kept whole
+(`--whole`: 20 to 100 s), and each run lasts that plus 1 s (or until the arch collapses).
+Prints and writes as JSON, per worker count: the wall time of the ensemble (from the
+cluster's start to the last row written), runs per second, the CPU time (user + sys) of the
+client and of the worker processes, the collapses found, the steps run and the CPU time per
+step; and the speed-up from the first worker count to the others. Then the time that the
+whole far-field set (44 components, whole records) at `--estimate` scales would take on as
+many idle cores as the largest worker count, at the CPU per step measured here: an upper
+bound, every run lasting its record plus 1 s (a collapse ends a run early). The kernels are
+compiled before (a warm-up run in this process, which fills numba's cache for the workers).
 """
 
 import argparse
@@ -57,9 +61,19 @@ def measure(scenario, records, workers: int, folder: Path) -> dict:
         client.close()
         cluster.close()
     runs = ens.read_ensemble(summary.path).runs
+    steps = int(runs["steps"].sum())
     return {"workers": workers, "runs": summary.runs, "failed": summary.failed,
             "wall_s": round(wall, 2), "runs_per_s": round(summary.runs / wall, 3),
-            "cpu_s": round(cpu, 2), "collapses": int((runs["collapsed"] == 1).sum())}
+            "cpu_s": round(cpu, 2), "collapses": int((runs["collapsed"] == 1).sum()),
+            "steps": steps, "cpu_ms_per_step": round(1e3 * cpu / steps, 4)}
+
+
+def whole_set_steps(scenario, after: float) -> int:
+    """Time steps of the whole far-field set at one scale, each run its record plus `after`
+    [s] (none ended by a collapse)."""
+    dt = scenario.solver.dt
+    return sum(round((float(r.motion.time[-1]) + after) / dt)
+               for r in ens.ensemble_records("far-field"))
 
 
 def main() -> None:
@@ -67,11 +81,14 @@ def main() -> None:
     parser.add_argument("--records", type=int, default=4)
     parser.add_argument("--scales", default="0.5,1,1.5")
     parser.add_argument("--end", type=float, default=5.0)
+    parser.add_argument("--whole", action="store_true", help="whole records (no --end)")
     parser.add_argument("--workers", default="1,2")
+    parser.add_argument("--estimate", type=int, default=10,
+                        help="scales of the whole far-field set to estimate the time of")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
-    scenario = load_scenario(ARCH, [f"loads.ground_motion.end={args.end!r}",
-                                    'ensemble.records="far-field"',
+    cut = [] if args.whole else [f"loads.ground_motion.end={args.end!r}"]
+    scenario = load_scenario(ARCH, [*cut, 'ensemble.records="far-field"',
                                     f'ensemble.scales="{args.scales}"', "ensemble.after=1.0"])
     infos = fema_p695_records("far-field")[: args.records]
     every = ens.ensemble_records("far-field")
@@ -90,10 +107,21 @@ def main() -> None:
         row["speed_up"] = round(base / row["wall_s"], 2)
         print(f"{row['workers']} worker(s): {row['runs']} runs ({row['collapses']} collapsed, "
               f"{row['failed']} failed) in {row['wall_s']} s wall, {row['runs_per_s']} runs/s, "
-              f"CPU {row['cpu_s']} s; speed-up {row['speed_up']}x")
-    out = {"records": args.records, "scales": args.scales, "end_s": args.end,
+              f"CPU {row['cpu_s']} s for {row['steps']} steps ({row['cpu_ms_per_step']} ms "
+              f"per step); speed-up {row['speed_up']}x")
+    per_step = min(row["cpu_ms_per_step"] for row in rows) * 1e-3
+    cores = max(row["workers"] for row in rows)
+    steps = whole_set_steps(scenario, scenario.ensemble.after) * args.estimate
+    estimate = steps * per_step / cores
+    print(f"whole far-field set x {args.estimate} scales: at most {steps} steps, "
+          f"{steps * per_step / 60:.1f} min of CPU at {1e3 * per_step:.4f} ms per step, "
+          f"{estimate / 60:.1f} min on {cores} idle cores")
+    out = {"records": args.records, "scales": args.scales,
+           "end_s": None if args.whole else args.end,
            "machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
-           "load_average": os.getloadavg(), "rows": rows}
+           "load_average": os.getloadavg(), "rows": rows,
+           "estimate": {"scales": args.estimate, "steps": steps, "cores": cores,
+                        "minutes": round(estimate / 60, 1)}}
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(out, indent=2))

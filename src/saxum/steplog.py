@@ -111,10 +111,9 @@ class StepLog:
         self._held = []
 
     def __getattr__(self, name: str) -> np.ndarray:
-        cols = self.__dict__.get("_cols", {})
-        if name in cols:
-            self._write()
-            return cols[name][: self._n]
+        if name in self.__dict__.get("_cols", {}):
+            self._write()  # (which may grow the columns: read them after it)
+            return self._cols[name][: self._n]
         raise AttributeError(name)
 
     def non_converged(self) -> np.ndarray:
