@@ -9,20 +9,33 @@ Each record is cut to its first `--end` seconds (loads.ground_motion.end), or ke
 (`--whole`: 20 to 100 s), and each run lasts that plus 1 s (or until the arch collapses).
 Prints and writes as JSON, per worker count: the wall time of the ensemble (from the
 cluster's start to the last row written), runs per second, the CPU time (user + sys) of the
-client and of the worker processes, the collapses found, the steps run and the CPU time per
-step; and the speed-up from the first worker count to the others. Then the time that the
-whole far-field set (44 components, whole records) at `--estimate` scales would take on as
-many idle cores as the largest worker count, at the CPU per step measured here: an upper
-bound, every run lasting its record plus 1 s (a collapse ends a run early). The kernels are
-compiled before (a warm-up run in this process, which fills numba's cache for the workers).
+client and of the worker processes (and the part of it spent starting the cluster), the
+collapses found, the steps run and the CPU time per step (after the cluster's start: each
+run's own costs, building its model and its demand, included); and the speed-up from the
+first worker count to the others. Then the time that the whole far-field set (44
+components, whole records) at `--estimate` scales would take on as many idle cores as the
+largest worker count, at the CPU per step measured here: an upper bound, every run lasting
+its record plus 1 s (a collapse ends a run early). The kernels are compiled before (a
+warm-up run in this process, which fills numba's cache for the workers).
+
+    python benchmarks/ensemble.py --stages [--records 1] [--scales 0.4] [--end 8 | --whole]
+
+instead runs the first record at the first scale once in this process (after a warm-up run)
+and prints where the CPU time (of the thread that steps) of its steps goes: the run
+(ensemble._advance: the steps, the output frames, the demand), the steps, and the stages
+of a step, timed by wrapping methods of the run's Simulation and the NLGS sweep kernel
+(nlgs_2d; the calls' dispatch included). The contact solve includes the NLGS sweeps, and
+the projection's solves are counted in it and in the projection.
 """
 
 import argparse
+import functools
 import json
 import os
 import platform
 import tempfile
 import time
+from collections import defaultdict
 from pathlib import Path
 
 import psutil
@@ -30,6 +43,13 @@ import psutil
 from saxum import ensemble as ens
 from saxum.records import fema_p695_records
 from saxum.scenario import load_scenario
+from saxum.solver import nlgs
+
+STAGES = {"forces": (None, "_step_force"), "detection": ("detector", "detect"),
+          "assembly": ("problem", "assemble"), "contact solve": ("solver", "solve"),
+          "end gaps": ("problem", "end_gaps"), "projection": ("projection", "project"),
+          "step log": ("log", "append")}
+"""The stages timed by --stages: (attribute of the Simulation or None, method)."""
 
 ARCH = Path(__file__).resolve().parents[1] / "examples" / "shake_table_arch.toml"
 
@@ -51,6 +71,7 @@ def measure(scenario, records, workers: int, folder: Path) -> dict:
     cpu0 = _cpu(me)
     start = time.perf_counter()
     client = ens.connect(workers=workers)
+    started = _cpu(me) - cpu0  # (the cluster's start: its processes import saxum and dask)
     try:
         summary = ens.run_ensemble(scenario, folder / f"arch-{workers}.h5", records=records,
                                    client=client, quiet=True, overwrite=True)
@@ -65,7 +86,45 @@ def measure(scenario, records, workers: int, folder: Path) -> dict:
     return {"workers": workers, "runs": summary.runs, "failed": summary.failed,
             "wall_s": round(wall, 2), "runs_per_s": round(summary.runs / wall, 3),
             "cpu_s": round(cpu, 2), "collapses": int((runs["collapsed"] == 1).sum()),
-            "steps": steps, "cpu_ms_per_step": round(1e3 * cpu / steps, 4)}
+            "start_cpu_s": round(started, 2), "steps": steps,
+            "cpu_ms_per_step": round(1e3 * (cpu - started) / steps, 4)}
+
+
+def _timed(f, times: dict, name: str):
+    """f, adding the CPU time of this thread [s] spent in it to times[name]."""
+    @functools.wraps(f)
+    def timed(*args, **kwargs):
+        start = time.thread_time()
+        try:
+            return f(*args, **kwargs)
+        finally:
+            times[name] += time.thread_time() - start
+    return timed
+
+
+def stages(scenario, record, folder: Path) -> tuple[int, dict]:
+    """One run of `record` in this process: its steps and the CPU time [s] of the run, of its
+    steps and of their stages (module doc)."""
+    times = defaultdict(float)
+    steps = []
+    advance, sweep = ens._advance, nlgs.nlgs_2d
+
+    def run(sim, model, *args):
+        for name, (owner, method) in STAGES.items():
+            obj = sim if owner is None else getattr(sim, owner)
+            setattr(obj, method, _timed(getattr(obj, method), times, name))
+        sim.step = _timed(sim.step, times, "steps")
+        row = _timed(advance, times, "run")(sim, model, *args)
+        steps.append(row["steps"])
+        return row
+
+    ens._advance, nlgs.nlgs_2d = run, _timed(sweep, times, "NLGS sweeps (nlgs_2d)")
+    try:
+        ens.run_ensemble(scenario, folder / "stages.h5", records=[record], workers=1,
+                         processes=False, quiet=True, overwrite=True)
+    finally:
+        ens._advance, nlgs.nlgs_2d = advance, sweep
+    return steps[0], dict(times)
 
 
 def whole_set_steps(scenario, after: float) -> int:
@@ -85,6 +144,8 @@ def main() -> None:
     parser.add_argument("--workers", default="1,2")
     parser.add_argument("--estimate", type=int, default=10,
                         help="scales of the whole far-field set to estimate the time of")
+    parser.add_argument("--stages", action="store_true",
+                        help="one run in this process: where its CPU time goes")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
     cut = [] if args.whole else [f"loads.ground_motion.end={args.end!r}"]
@@ -94,6 +155,16 @@ def main() -> None:
     every = ens.ensemble_records("far-field")
     records = [r for r in every if r.source in {f"{i.set} {i.id}{i.component}"
                                                 for i in infos}]
+    if args.stages:
+        one = scenario.model_copy(update={"ensemble": scenario.ensemble.model_copy(
+            update={"scales": scenario.ensemble.scales[:1]})})
+        with tempfile.TemporaryDirectory() as tmp:
+            stages(one, records[0], Path(tmp))  # (warm-up: compiles or loads the kernels)
+            steps, times = stages(one, records[0], Path(tmp))
+        print(f"{records[0].name} x {one.ensemble.scales[0]:g}: {steps} steps, CPU per step:")
+        for name, seconds in sorted(times.items(), key=lambda item: -item[1]):
+            print(f"  {name:22s} {1e6 * seconds / steps:7.1f} us")
+        return
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         # warm-up: compile the kernels here (numba's cache, which the workers load)
@@ -107,8 +178,9 @@ def main() -> None:
         row["speed_up"] = round(base / row["wall_s"], 2)
         print(f"{row['workers']} worker(s): {row['runs']} runs ({row['collapses']} collapsed, "
               f"{row['failed']} failed) in {row['wall_s']} s wall, {row['runs_per_s']} runs/s, "
-              f"CPU {row['cpu_s']} s for {row['steps']} steps ({row['cpu_ms_per_step']} ms "
-              f"per step); speed-up {row['speed_up']}x")
+              f"CPU {row['cpu_s']} s, of which {row['start_cpu_s']} s the cluster's start; "
+              f"{row['steps']} steps, {row['cpu_ms_per_step']} ms of CPU per step after the "
+              f"start; speed-up {row['speed_up']}x")
     per_step = min(row["cpu_ms_per_step"] for row in rows) * 1e-3
     cores = max(row["workers"] for row in rows)
     steps = whole_set_steps(scenario, scenario.ensemble.after) * args.estimate
