@@ -21,11 +21,13 @@ warm-up run in this process, which fills numba's cache for the workers).
     python benchmarks/ensemble.py --stages [--records 1] [--scales 0.4] [--end 8 | --whole]
 
 instead runs the first record at the first scale once in this process (after a warm-up run)
-and prints where the CPU time (of the thread that steps) of its steps goes: the run
+and prints the CPU time (of the thread that steps) per step of the run, and where it
+goes in a second run timed by stages: the run
 (ensemble._advance: the steps, the output frames, the demand), the steps, and the stages
 of a step, timed by wrapping methods of the run's Simulation and the NLGS sweep kernel
 (nlgs_2d; the calls' dispatch included). The contact solve includes the NLGS sweeps, and
-the projection's solves are counted in it and in the projection.
+the projection's solves are counted in it and in the projection. Then the run's results,
+every digit (the row's demand: two versions of saxum that step alike print the same).
 """
 
 import argparse
@@ -102,29 +104,31 @@ def _timed(f, times: dict, name: str):
     return timed
 
 
-def stages(scenario, record, folder: Path) -> tuple[int, dict]:
-    """One run of `record` in this process: its steps and the CPU time [s] of the run, of its
-    steps and of their stages (module doc)."""
+def stages(scenario, record, folder: Path, timers: bool = True) -> tuple[dict, dict]:
+    """One run of `record` in this process: its row (saxum.ensemble.COLUMNS) and the CPU time
+    [s] of the run and, with `timers`, of its steps and of their stages (module doc)."""
     times = defaultdict(float)
-    steps = []
+    rows = []
     advance, sweep = ens._advance, nlgs.nlgs_2d
 
     def run(sim, model, *args):
-        for name, (owner, method) in STAGES.items():
-            obj = sim if owner is None else getattr(sim, owner)
-            setattr(obj, method, _timed(getattr(obj, method), times, name))
-        sim.step = _timed(sim.step, times, "steps")
-        row = _timed(advance, times, "run")(sim, model, *args)
-        steps.append(row["steps"])
-        return row
+        if timers:
+            for name, (owner, method) in STAGES.items():
+                obj = sim if owner is None else getattr(sim, owner)
+                setattr(obj, method, _timed(getattr(obj, method), times, name))
+            sim.step = _timed(sim.step, times, "steps")
+        rows.append(_timed(advance, times, "run")(sim, model, *args))
+        return rows[-1]
 
-    ens._advance, nlgs.nlgs_2d = run, _timed(sweep, times, "NLGS sweeps (nlgs_2d)")
+    ens._advance = run
+    if timers:
+        nlgs.nlgs_2d = _timed(sweep, times, "NLGS sweeps (nlgs_2d)")
     try:
         ens.run_ensemble(scenario, folder / "stages.h5", records=[record], workers=1,
                          processes=False, quiet=True, overwrite=True)
     finally:
         ens._advance, nlgs.nlgs_2d = advance, sweep
-    return steps[0], dict(times)
+    return rows[0], dict(times)
 
 
 def whole_set_steps(scenario, after: float) -> int:
@@ -160,10 +164,18 @@ def main() -> None:
             update={"scales": scenario.ensemble.scales[:1]})})
         with tempfile.TemporaryDirectory() as tmp:
             stages(one, records[0], Path(tmp))  # (warm-up: compiles or loads the kernels)
-            steps, times = stages(one, records[0], Path(tmp))
-        print(f"{records[0].name} x {one.ensemble.scales[0]:g}: {steps} steps, CPU per step:")
+            row, bare = stages(one, records[0], Path(tmp), timers=False)
+            _, times = stages(one, records[0], Path(tmp))
+        steps = row["steps"]
+        print(f"{records[0].name} x {one.ensemble.scales[0]:g}: {steps} steps; the run "
+              f"without the timers: {1e6 * bare['run'] / steps:.1f} us of CPU per step; with "
+              "them, per step:")
         for name, seconds in sorted(times.items(), key=lambda item: -item[1]):
             print(f"  {name:22s} {1e6 * seconds / steps:7.1f} us")
+        # (to compare two versions bit for bit: every digit of the run's results)
+        print("row:", {k: row[k] for k in ("collapsed", "collapse_time", "peak_displacement",
+                                           "peak_rotation", "residual_displacement", "block",
+                                           "mechanism", "non_converged", "steps")})
         return
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
