@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import h5py
+import numba as nb
 import numpy as np
 from tqdm import tqdm
 
@@ -259,9 +260,8 @@ def _advance(sim, model, duration: float, interval: float, task: dict) -> dict:
     the run's demand and solver figures."""
     dim = model.dim
     dt = sim.integrator.dt
-    free = model.body_kind == 0
+    free = np.flatnonzero(model.body_kind == 0)
     reach = task["stop"] * float(model.body_size[free].min())
-    q0 = model.body_q0[free, :dim]
     every = max(1, round(interval / dt))
     total = round(duration / dt)
     state = sim.initial_state()
@@ -269,7 +269,7 @@ def _advance(sim, model, duration: float, interval: float, task: dict) -> dict:
     frames.add(state)
     while state.step < total:
         sim.step(state)
-        far = np.linalg.norm(state.body_q[free, :dim] - q0, axis=1).max() > reach
+        far = _moved_beyond(state.body_q, model.body_q0, free, dim, reach)
         if state.step % every == 0 or far or state.step == total:
             frames.add(state)
         if far:
@@ -279,6 +279,21 @@ def _advance(sim, model, duration: float, interval: float, task: dict) -> dict:
     row.update(non_converged=int(np.count_nonzero(~sim.log.converged)), steps=state.step,
                duration=state.time)
     return row
+
+
+@nb.njit(cache=True)
+def _moved_beyond(q, q0, bodies, dim, reach):
+    """Whether one of `bodies` has moved by more than `reach` [m]: |x - x0| > reach, x its
+    first `dim` coordinates (one compiled call per step: numpy's norm of a few rows costs
+    more than the step of a small model)."""
+    for b in bodies:
+        s = 0.0
+        for d in range(dim):
+            e = q[b, d] - q0[b, d]
+            s += e * e
+        if np.sqrt(s) > reach:
+            return True
+    return False
 
 
 def _defaults(row: dict) -> dict:

@@ -22,13 +22,13 @@ record with one horizontal component is put along any horizontal direction of a 
 
 from __future__ import annotations
 
-import bisect
 import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numba as nb
 import numpy as np
 
 from .errors import InputError
@@ -144,26 +144,9 @@ class GroundMotion:
     def velocity_at(self, t: float) -> np.ndarray:
         """Ground velocity [m/s] at any time: the exact integral of the piecewise-linear
         acceleration (0 before the record, its final value after)."""
-        return np.array(self._velocity_components(t))
-
-    @functools.cached_property
-    def _samples(self) -> tuple[list, list, list]:
-        # Python floats: velocity_at is called on every time step, and on two or three
-        # components numpy's per-call overhead is most of its cost
-        return self.time.tolist(), self.acceleration.tolist(), self._velocity.tolist()
-
-    def _velocity_components(self, t: float) -> tuple[float, ...]:
-        times, acceleration, velocity = self._samples
-        if t <= times[0]:
-            return (0.0,) * self.components
-        if t >= times[-1]:
-            return tuple(velocity[-1])
-        k = bisect.bisect_right(times, t) - 1
-        tau = t - times[k]
-        a0, a1, v = acceleration[k], acceleration[k + 1], velocity[k]
-        span = times[k + 1] - times[k]
-        return tuple(v[d] + a0[d] * tau + 0.5 * ((a1[d] - a0[d]) / span) * tau * tau
-                     for d in range(len(v)))
+        out = np.empty(self.components)
+        _velocities(self.time, self.acceleration, self._velocity, t, t, out, out)
+        return out
 
     def inertial_load(self):
         """The uniform acceleration -a_g(t) [m/s^2] that the ground frame adds to every free
@@ -204,17 +187,37 @@ class _InertialLoad:
 
     def __init__(self, motion: GroundMotion) -> None:
         self.motion = motion
-        self._last = (math.nan, None)  # (t, v_g(t)) of the last call's end: the next's start
 
     def __call__(self, t: float) -> tuple[float, ...]:
         return tuple(-a for a in self.motion.acceleration_at(t))
 
-    def mean_over(self, t0: float, t1: float) -> tuple[float, ...]:
-        t_last, v_last = self._last
-        v0 = v_last if t0 == t_last else self.motion._velocity_components(t0)
-        v1 = self.motion._velocity_components(t1)
-        self._last = (t1, v1)
-        return tuple(-(b - a) / (t1 - t0) for a, b in zip(v0, v1, strict=True))
+    def mean_over(self, t0: float, t1: float) -> np.ndarray:
+        """-(v_g(t1) - v_g(t0)) / (t1 - t0) [m/s^2]."""
+        m = self.motion
+        v0, v1 = np.empty(m.components), np.empty(m.components)
+        _velocities(m.time, m.acceleration, m._velocity, t0, t1, v0, v1)
+        return -(v1 - v0) / (t1 - t0)
+
+
+@nb.njit(cache=True)
+def _velocities(time, acceleration, velocity, t0, t1, v0, v1):
+    """v0, v1 = v_g(t0), v_g(t1) [m/s]: the exact integrals of the piecewise-linear
+    acceleration [m/s^2] sampled at `time` [s], whose integrals at the samples are `velocity`
+    (0 before the record, its final value after). Compiled: called on every time step, where
+    Python's or numpy's per-call cost on two or three components is most of its cost."""
+    for t, out in ((t0, v0), (t1, v1)):
+        n = time.shape[0]
+        if t <= time[0]:
+            out[:] = 0.0
+        elif t >= time[n - 1]:
+            out[:] = velocity[n - 1]
+        else:
+            k = np.searchsorted(time, t, side="right") - 1
+            tau = t - time[k]
+            span = time[k + 1] - time[k]
+            for d in range(out.shape[0]):
+                a0, a1 = acceleration[k, d], acceleration[k + 1, d]
+                out[d] = velocity[k, d] + a0 * tau + 0.5 * ((a1 - a0) / span) * tau * tau
 
 
 def _pulse(name: str, duration: float, shape: Callable[[np.ndarray], np.ndarray],

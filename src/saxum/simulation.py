@@ -143,6 +143,8 @@ class Simulation:
                                   if k == LawKind.COHESIVE else -1.0
                                   for law, k in zip(model.laws, model.law_kind, strict=True)])
         """Per law: when its joints bond [s] (ContactLaw.bond_at; -1: not a cohesive law)."""
+        self._last_bond = float(self._bond_at.max(initial=-1.0))
+        """The last bond_at [s]: no step that starts at or after it bonds joints."""
         self._signed_g0 = model.law_initial_gap & (model.law_kind
                                                    == LawKind.GAP_SIGNORINI_COULOMB)
         """Per law: a _g0 law whose g0 is the signed gap (GAP_SGR_CLB_g0; the others' g0 is
@@ -256,8 +258,7 @@ class Simulation:
         out[:] = self._weight
         for acc in self.model.accelerations:
             a = self._step_acceleration(acc, t0, t1)
-            for d in range(self.model.dim):
-                out[:, d] += self._free_mass * a[d]
+            out[:, : self.model.dim] += np.multiply.outer(self._free_mass, a)
         for bodies, force in self.model.forces:
             f0 = np.asarray(force(t0), dtype=np.float64)
             f1 = np.asarray(force(t1), dtype=np.float64)
@@ -343,10 +344,11 @@ class Simulation:
         self._spare, state.contacts = state.contacts, contacts
         state.time = t1
         state.step += 1
-        bonding = (self._bond_at > t0) & (self._bond_at <= t1)
-        if bonding.any():  # joints that bond after a settling phase (ContactLaw.bond_at)
-            state.contacts = self._bonds(state.body_q, bonding, state.contacts,
-                                         None if fe is None else state.node_x)
+        if t0 < self._last_bond:
+            bonding = (self._bond_at > t0) & (self._bond_at <= t1)
+            if bonding.any():  # joints that bond after a settling phase (ContactLaw.bond_at)
+                state.contacts = self._bonds(state.body_q, bonding, state.contacts,
+                                             None if fe is None else state.node_x)
 
         energy = kin.kinetic_energy(state.body_v, m.body_mass, m.body_inertia, m.body_inv_mass)
         if fe is not None:

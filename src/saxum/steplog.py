@@ -1,6 +1,7 @@
 """Per-step record of what the solver did, kept with the results."""
 
 import math
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,28 +71,49 @@ STEP_DTYPES = {
 }
 
 
+_BATCH = 256
+"""Reports held before they are written into the columns: one write per column for the batch
+costs less than 16 scalar writes per step, which are most of a small model's step log."""
+_FIELDS = operator.attrgetter(*STEP_DTYPES)
+
+
 class StepLog:
-    """Growable column arrays of StepReport fields; `log.iterations` etc. give numpy views."""
+    """Growable column arrays of StepReport fields; `log.iterations` etc. give numpy views.
+    Appended reports are written into the columns by batches, and on any read."""
 
     def __init__(self) -> None:
         self._n = 0
-        self._cols = {k: np.zeros(256, dtype=t) for k, t in STEP_DTYPES.items()}
+        self._cols = {k: np.zeros(_BATCH, dtype=t) for k, t in STEP_DTYPES.items()}
+        self._held: list[StepReport] = []
 
     def __len__(self) -> int:
-        return self._n
+        return self._n + len(self._held)
 
     def append(self, r: StepReport) -> None:
-        if self._n == len(self._cols["time"]):
-            self._cols = {k: np.concatenate([a, np.zeros_like(a)]) for k, a in self._cols.items()}
-        fields = r.__dict__  # (StepReport has no slots: a dict lookup beats getattr)
-        for k, col in self._cols.items():
-            col[self._n] = fields[k]
-        self._n += 1
+        self._held.append(r)
+        if len(self._held) == _BATCH:
+            self._write()
+
+    def _write(self) -> None:
+        """Write the held reports into the columns (grown by doubling)."""
+        held, n = self._held, self._n
+        if not held:
+            return
+        size = len(self._cols["time"])
+        if n + len(held) > size:
+            grown = max(2 * size, n + len(held))
+            self._cols = {k: np.concatenate([a, np.zeros(grown - size, dtype=a.dtype)])
+                          for k, a in self._cols.items()}
+        rows = zip(*map(_FIELDS, held), strict=True)  # (a column of values per field)
+        for col, values in zip(self._cols.values(), rows, strict=True):
+            col[n: n + len(held)] = values
+        self._n += len(held)
+        self._held = []
 
     def __getattr__(self, name: str) -> np.ndarray:
-        cols = self.__dict__.get("_cols", {})
-        if name in cols:
-            return cols[name][: self._n]
+        if name in self.__dict__.get("_cols", {}):
+            self._write()  # (which may grow the columns: read them after it)
+            return self._cols[name][: self._n]
         raise AttributeError(name)
 
     def non_converged(self) -> np.ndarray:
@@ -107,14 +129,14 @@ class StepLog:
     def summary(self) -> str:
         """One line: steps, iterations (mean, max), non-converged steps, bonds lost (if any),
         worst interpenetration."""
-        if self._n == 0:
+        if len(self) == 0:
             return "no steps"
         bad = self.non_converged()
         conic = int(np.count_nonzero(self.solver == 1))
         newton = int(np.count_nonzero(self.solver == 2))
         proximal = int(np.count_nonzero(self.solver == 4))
         return (
-            f"{self._n} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
+            f"{len(self)} steps, NLGS sweeps mean {self.iterations.mean():.1f} max "
             f"{self.iterations.max()}, not converged at {bad.size} step(s)"
             + (f" ({self.why()})" if bad.size else "")
             + natural_map_note(self.natural_map[~self.converged])

@@ -311,7 +311,8 @@ class Hybrid(ContactSolver):
                 problem, impulse, v_free, v, target, count), done, report.error,
                 report.converged and solver == "nlgs" and not checked)
             done += more
-            report = replace(report, error=error)
+            if error != report.error:  # (replace costs microseconds: not on every step)
+                report = replace(report, error=error)
             if more and error > self.tolerance:  # the refinement's last sweep changed more
                 self._more.max_iterations = self.max_iterations - done
                 report = self._more.solve(problem, impulse, v_free, v)
