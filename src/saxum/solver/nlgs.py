@@ -895,10 +895,11 @@ def _sweep_range_2d(lo, hi, order, own, rows, v, impulse, inv_mass, relaxation):
 
 
 _SUM_BODIES = 256
-"""Bodies per block of _parallel_change's sums: a fixed number, so that the sums and the
-error do not depend on the threads; small enough that a wall of a few thousand blocks,
-whose sweeps are short, has its sums on every thread (at 2048, the 2025-brick wall's were
-one block, on one thread, every sweep)."""
+"""Bodies per block of _parallel_change's sums (3D) and of nlgs_2d_domains' with joint laws
+(its _BLOCK tasks): a fixed number, so that the sums and the error do not depend on the
+threads; small enough that a wall of a few thousand blocks, whose sweeps are short, has its
+sums on every thread (at 2048, the 2025-brick wall's were one block, on one thread, every
+sweep)."""
 
 
 @nb.njit(parallel=True, cache=True)
