@@ -1,8 +1,12 @@
 """The NLGS swept by domains (saxum.solver.nlgs.nlgs_2d_domains, issue 16): its partition, the
 same result bit for bit with 1 and 2 numba threads, and with one domain nlgs_2d's result (the
-runs compared inside each test, one machine)."""
+runs compared inside each test, one machine); the sweeps' tasks handed between threads end
+whatever runs them (more of the kernel's threads than numba's, numba's workqueue layer)."""
 
 import dataclasses
+import os
+import subprocess
+import sys
 
 import numba
 import numpy as np
@@ -13,6 +17,7 @@ from test_joint_laws import COHESIVE
 import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
+from saxum.solver import nlgs
 from saxum.solver.nlgs import body_domains, partition_contacts
 from saxum.structures import running_bond_wall
 from saxum.structures.wall import add_grounded_running_bond_wall
@@ -70,6 +75,42 @@ def test_same_bits_with_one_and_two_threads():
         same_runs(_shaken_wall(1, domains=2), _shaken_wall(2, domains=2))
     finally:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+
+
+def test_more_kernel_threads_than_numba_threads(monkeypatch):
+    """nlgs_2d_domains told of 4 threads (so 4 of its threads claim the 4 domains' tasks and
+    wait for each stage) where numba runs one: its threads run one after the other, the first
+    sweeps everything and the others find it done; the same bits as with its threads told
+    right."""
+    right = _shaken_wall(1, domains=4)
+    kernel = nlgs.nlgs_2d_domains
+    # its argument threads, after inv_mass_x (NLGS passes numba's)
+    monkeypatch.setattr(nlgs, "nlgs_2d_domains", lambda *args: kernel(*args[:28], 4, *args[29:]))
+    try:
+        same_runs(right, _shaken_wall(1, domains=4))
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+
+
+_WORKQUEUE = """
+import numba
+from test_parallel_nlgs import _shaken_wall
+from results_check import same_runs
+same_runs(_shaken_wall(1, domains=4), _shaken_wall(2, domains=4))
+print(numba.threading_layer())
+"""
+
+
+def test_workqueue_layer_same_bits():
+    """Under numba's workqueue threading layer (no OpenMP), 1 and 2 threads: the sweeps end
+    (a child process, as the layer is chosen once per process) with the same bits."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    env = {**os.environ, "NUMBA_THREADING_LAYER": "workqueue"}
+    done = subprocess.run([sys.executable, "-c", _WORKQUEUE], env=env, cwd=os.path.dirname(
+        __file__), capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split()[-1] == "workqueue"
 
 
 def test_joint_laws_same_bits_with_one_and_two_threads():

@@ -41,6 +41,7 @@ import numba as nb
 import numpy as np
 
 from ..errors import InputError
+from .atomic import claim, load_acquire, relax, store_release
 from .base import ContactSolver, SolverReport, error_trend
 from .equilibrium import rest_solution
 from .laws_local import law_solve_2d, law_solve_3d
@@ -355,7 +356,8 @@ class NLGS(ContactSolver):
                 np.empty((size, width)), np.empty((2, size), dtype=np.int64),
                 np.empty((size, model.dim)), np.empty_like(inv_mass_x))
         if model.dim == 2:  # nlgs_2d_domains sweeps the impulses in place
-            return order, groups, *runs, ghost, self._fixed, rows, own, vx, inv_mass_x
+            return (order, groups, *runs, ghost, self._fixed, rows, own, vx, inv_mass_x,
+                    nb.get_num_threads())
         return order, groups, *runs, ghost, rows, own, own_impulse, vx, inv_mass_x
 
     def _sweeps(self, sweep, args, count: int):
@@ -574,7 +576,7 @@ def nlgs_2d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
 @nb.njit(parallel=True, cache=True)
 def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
                     inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map, order,
-                    groups, runs, run_start, ghost, fixed, rows, own, vx, inv_mass_x,
+                    groups, runs, run_start, ghost, fixed, rows, own, vx, inv_mass_x, threads,
                     tolerance, max_iterations, relaxation):
     """nlgs_2d with its dry contacts swept domain by domain (partition_contacts): the
     domains' own contacts in parallel (numba threads), then the contacts across the even cuts
@@ -585,14 +587,21 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     each group has its own copy of the fixed bodies' velocities (which a push changes by
     0 x dR: read by all, written by each into its own), so the result is the same bit for bit
     whatever the number of threads. The error's sums go by the runs of bodies of
-    change_runs_2d: each domain's own, in the parallel region that swept it, right after
-    its sweep, then the others (the bodies of the contacts across the cuts), added in that
-    order; with joints, by fixed blocks of bodies after them (_parallel_change). One domain
-    gives nlgs_2d's order and arithmetic. The joints are swept after, in order, as nlgs_2d
-    does. Each group's rows are packed by the first sweep, right before it sweeps them, and
-    a domain's bodies' velocities copied in the region that sweeps it (_first_sweep_2d), the
-    impulses swept in place: packing costs no parallel region and no copies of the
-    impulses.
+    change_runs_2d: each domain's own right after its sweep, then the others (the bodies of
+    the contacts across the cuts), added in that order; with joints, by fixed blocks of
+    _SUM_BODIES bodies after them, added in the blocks' order. One domain gives nlgs_2d's
+    order and arithmetic. The joints are swept after, in order, as nlgs_2d does. Each
+    group's rows are packed by the first sweep, right before it sweeps them, and a domain's
+    bodies' velocities copied by the task that sweeps it (_first_sweep_2d), the impulses
+    swept in place.
+
+    All the sweeps run in one parallel region (_sweep_tasks_2d): the pieces of a sweep are
+    tasks in stages (_stages_2d), which the threads claim (saxum.solver.atomic) and wait for
+    before the next stage, so that a sweep costs no region's start and end (the 2025-brick
+    wall shaken at 0.7 g sweeps 5000 times a step: BENCHMARKS.md, issue 16). Which thread
+    runs a task does not change what it computes; a thread waits only for tasks that another
+    thread has claimed and is running, so the sweeps end under any threading layer and any
+    number of threads, one included.
 
     order, groups from partition_contacts, runs and run_start from change_runs_2d;
     ghost [int] per body: -1 for a free body, a fixed one's rank among the fixed ones
@@ -600,7 +609,8 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     n + g nfixed + rank of vx (n bodies) and of inv_mass_x (inv_mass, then zeros). Work
     memory: rows (at least len(order) x 18), the dry contacts' in the sweep's order; own
     (int64, 2 x at least count: each swept contact's candidate and antagonist as rows of
-    vx); vx (as inv_mass_x)."""
+    vx); vx (as inv_mass_x). threads: numba's (any number >= 1 gives the same result; the
+    kernel does not ask numba, so that it can be cached)."""
     ndomains = groups.shape[0] // 2
     n = v.shape[0]
     packed = order.shape[0]
@@ -610,7 +620,7 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
     if packed == 0 or max_iterations < 1:
         return 0, 0.0
     nfixed = fixed.shape[0]
-    # before the first sweep's region: the bodies that domains share (those of the cuts'
+    # before the sweeps' region: the bodies that domains share (those of the cuts'
     # contacts, in run_start[ndomains]'s runs) and the fixed ones with their copies
     _copy_runs(runs, run_start[ndomains], run_start[ndomains + 1], v, vx, v_prev)
     for k in range(nfixed):
@@ -620,43 +630,27 @@ def nlgs_2d_domains(cand, ant, h_cand, h_ant, delassus, bias, friction, active, 
         for g in range(2 * ndomains):
             for d in range(3):
                 vx[n + g * nfixed + k, d] = v[b, d]
-    v_own = vx[:n]
-    sums = np.empty((-(-n // _SUM_BODIES), 3))
-    run_sums = np.empty((ndomains + 1, 3))
-    # the first sweep packs the rows (a region of its own: the sweeps' region below takes
-    # only the arrays they read)
-    for g in nb.prange(ndomains):
-        _copy_runs(runs, run_start[g], run_start[g + 1], v, vx, v_prev)
-        _first_sweep_2d(groups[g], groups[g + 1], n + g * nfixed, order, cand, ant, h_cand,
-                        h_ant, delassus, bias, friction, ghost, rows, own, vx, impulse,
-                        inv_mass_x, relaxation)
-        if joints is None:
-            run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
-                runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
-    error = _after_domains_2d(True, cand, ant, h_cand, h_ant, delassus, bias, friction,
-                              inv_mass, mass, v_free, v_prev, impulse, work, joints, law_map,
-                              order, groups, runs, run_start, ghost, nfixed, rows, own, vx,
-                              inv_mass_x, relaxation, sums, run_sums)
-    it = 1
-    while not error <= tolerance and it < max_iterations:
-        it += 1
-        for g in nb.prange(ndomains):
-            _sweep_range_2d(groups[g], groups[g + 1], order, own, rows, vx, impulse,
-                            inv_mass_x, relaxation)
-            if joints is None:
-                run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
-                    runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
-        error = _after_domains_2d(False, cand, ant, h_cand, h_ant, delassus, bias, friction,
-                                  inv_mass, mass, v_free, v_prev, impulse, work, joints,
-                                  law_map, order, groups, runs, run_start, ghost, nfixed, rows,
-                                  own, vx, inv_mass_x, relaxation, sums, run_sums)
+    blocks = -(-n // _SUM_BODIES) if joints is not None else 0
+    stage_start, stage_kind, stage_group, flags, error, sums, run_sums = _stages_2d(
+        ndomains, blocks)
+    workers = max(1, min(threads, np.max(np.diff(stage_start))))
+    # the sweeps and the error as each thread saw them, written in the loop itself: reads
+    # after the region of what only functions called in it wrote were found stale (a getitem
+    # moved before the loop; numba 0.68)
+    ends = np.empty((workers, 2))
+    for k in nb.prange(workers):
+        ends[k, 0], ends[k, 1] = _sweep_tasks_2d(
+            k, workers, stage_start, stage_kind, stage_group, flags, error, tolerance,
+            max_iterations, cand, ant, h_cand, h_ant, delassus, bias, friction, inv_mass, mass,
+            v_free, v, v_prev, impulse, work, joints, law_map, order, groups, runs, run_start,
+            ghost, nfixed, rows, own, vx, inv_mass_x, relaxation, sums, run_sums)
     blocks = max(1, -(-n // _ROW_BLOCK))
     for k in nb.prange(blocks):  # the velocities back
         lo, hi = _share(k, blocks, n)
         for b in range(lo, hi):
             for d in range(3):
                 v[b, d] = vx[b, d]
-    return it, error
+    return int(ends[0, 0]), ends[0, 1]
 
 
 _ROW_BLOCK = 4096
@@ -692,30 +686,166 @@ def _runs_change(runs, lo, hi, v, v_prev, v_free, mass):
     return num, den, size
 
 
-@nb.njit(inline="always")
-def _after_domains_2d(first, cand, ant, h_cand, h_ant, delassus, bias, friction, inv_mass, mass,
-                      v_free, v_prev, impulse, work, joints, law_map, order, groups, runs,
-                      run_start, ghost, nfixed, rows, own, vx, inv_mass_x, relaxation, sums,
-                      run_sums):
-    """The rest of a sweep of nlgs_2d_domains after the domains' own contacts (whose error
-    sums are in run_sums[:ndomains] without joints): the cuts (_sweep_cuts_2d), the joints,
-    and the sweep's error."""
+_PAD = 8
+"""int64 per flag of nlgs_2d_domains' tasks: 64 bytes, a cache line."""
+_SPINS = 1 << 14
+"""Reads of a flag after which a thread that waits for another lets other threads of its
+core run between reads (saxum.solver.atomic.relax): longer than a domain's sweep of a few
+thousand contacts (~0.1 ms), so that on idle cores the threads only spin."""
+
+_DOMAIN, _CUT, _LAST, _BLOCK, _ERROR = range(5)
+"""The tasks of nlgs_2d_domains' sweeps (_task_2d): a domain's own contacts; a cut's; the
+phases of one cut, the last group and the joints, and without joints the error; with joints
+the error's sums over a block of bodies, and the error from them."""
+
+
+@nb.njit(cache=True)
+def _stages_2d(ndomains, blocks):
+    """The stages of a sweep of nlgs_2d_domains, in order: the domains, the even cuts and
+    the odd ones where a phase has two cuts or more, then the last task (_LAST: with the
+    phases of one cut or none; never before a phase of two: the even cuts are as many as the
+    odd ones or one more), then, with joints, the blocks of bodies of the error's sums and
+    the error (blocks: how many; 0 without joints). Returns (stage_start: stage i's tasks are
+    stage_start[i] .. stage_start[i + 1] - 1; stage_kind; stage_group: the group or block of
+    a stage's first task, the next tasks' the next ones), and the sweeps' memory: flags
+    (_sweep_tasks_2d), error, the error's sums by blocks and by domains. (Made here, not in
+    nlgs_2d_domains: an array made there by np.zeros, itself one of numba's parallel loops,
+    read 0 after the region where only functions called in it had written it; numba 0.68.)"""
+    even = ndomains + ndomains // 2  # the phases: [ndomains, even), [even, last), last
+    last = 2 * ndomains - 1
+    kinds = [_DOMAIN]
+    sizes = [ndomains]
+    first = [0]
+    for lo, hi in ((ndomains, even), (even, last)):
+        if hi - lo > 1:
+            kinds.append(_CUT)
+            sizes.append(hi - lo)
+            first.append(lo)
+    kinds.append(_LAST)
+    sizes.append(1)
+    first.append(0)
+    if blocks > 0:
+        kinds += [_BLOCK, _ERROR]
+        sizes += [blocks, 1]
+        first += [0, 0]
+    stage_start = np.zeros(len(kinds) + 1, dtype=np.int64)
+    for i in range(len(kinds)):
+        stage_start[i + 1] = stage_start[i] + sizes[i]
+    ntasks = stage_start[-1]
+    # each task's claim, then each one's last sweep done, then the solve's last sweep: one
+    # cache line each (_PAD), so that threads at neighbouring tasks write different lines
+    flags = np.zeros((2 * ntasks + 1) * _PAD, dtype=np.int64)
+    return (stage_start, np.array(kinds), np.array(first), flags, np.zeros(1),
+            np.empty((blocks, 3)), np.empty((ndomains + 1, 3)))
+
+
+@nb.njit(cache=True)
+def _sweep_tasks_2d(k, workers, stage_start, stage_kind, stage_group, flags, error,
+                    tolerance, max_iterations, cand, ant, h_cand, h_ant, delassus, bias,
+                    friction, inv_mass, mass, v_free, v, v_prev, impulse, work, joints, law_map,
+                    order, groups, runs, run_start, ghost, nfixed, rows, own, vx, inv_mass_x,
+                    relaxation, sums, run_sums):
+    """Thread k of `workers` in nlgs_2d_domains' region: sweep after sweep, stage after
+    stage, it claims each task of the stage not yet claimed for this sweep (its share of
+    them first), runs it (_task_2d) and marks it done; then it waits until every task of
+    the stage is done. flags: per task t, at t _PAD the sweep it was claimed for, at
+    (tasks + t) _PAD the last sweep it is done for; at 2 tasks _PAD the sweep after which
+    the solve stops (0 until then: _task_2d sets it). Returns (that sweep, its error) once
+    it is there."""
+    ntasks = stage_start[-1]
+    stop = 2 * ntasks * _PAD
+    s = 0
+    while True:
+        s += 1
+        for st in range(stage_kind.shape[0]):
+            lo = stage_start[st]
+            m = stage_start[st + 1] - lo
+            begin = k * m // workers
+            for j in range(m):
+                t = lo + (begin + j) % m
+                if claim(flags, t * _PAD, s - 1, s):
+                    _task_2d(stage_kind[st], stage_group[st] + t - lo, s, flags, stop, error,
+                             tolerance, max_iterations, cand, ant, h_cand, h_ant, delassus,
+                             bias, friction, inv_mass, mass, v_free, v, v_prev, impulse, work,
+                             joints, law_map, order, groups, runs, run_start, ghost, nfixed,
+                             rows, own, vx, inv_mass_x, relaxation, sums, run_sums)
+                    store_release(flags, (ntasks + t) * _PAD, s)
+            for t in range(lo, lo + m):
+                spins = 0
+                while load_acquire(flags, (ntasks + t) * _PAD) < s:
+                    spins += 1
+                    if spins > _SPINS:
+                        relax()
+        if 0 < load_acquire(flags, stop) <= s:
+            return s, error[0]
+
+
+@nb.njit(cache=True)
+def _task_2d(kind, g, s, flags, stop, error, tolerance, max_iterations, cand, ant, h_cand,
+             h_ant, delassus, bias, friction, inv_mass, mass, v_free, v, v_prev, impulse, work,
+             joints, law_map, order, groups, runs, run_start, ghost, nfixed, rows, own, vx,
+             inv_mass_x, relaxation, sums, run_sums):
+    """Task g of kind `kind` (_DOMAIN ...) of sweep s of nlgs_2d_domains; the task that ends
+    the sweep writes its error into error[0] and, where the solve stops there (error <=
+    tolerance, or s = max_iterations), s into flags[stop]."""
     ndomains = groups.shape[0] // 2
-    n = v_free.shape[0]
+    n = v.shape[0]
     v_own = vx[:n]
-    _sweep_cuts_2d(first, groups, order, cand, ant, h_cand, h_ant, delassus, bias, friction,
-                   ghost, nfixed, n, rows, own, vx, impulse, inv_mass_x, relaxation)
-    if joints is not None:
-        _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass, relaxation,
-                        None)
-        return _parallel_change(v_own, v_prev, v_free, mass, sums)
-    run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = _runs_change(
-        runs, run_start[ndomains], run_start[ndomains + 1], v_own, v_prev, v_free, mass)
+    first = s == 1
+    if kind == _DOMAIN or kind == _CUT:
+        if first and kind == _DOMAIN:
+            _copy_runs(runs, run_start[g], run_start[g + 1], v, vx, v_prev)
+        _sweep_group_2d(g, first, groups, order, cand, ant, h_cand, h_ant, delassus, bias,
+                        friction, ghost, nfixed, n, rows, own, vx, impulse, inv_mass_x,
+                        relaxation)
+        if kind == _DOMAIN and joints is None:
+            run_sums[g, 0], run_sums[g, 1], run_sums[g, 2] = _runs_change(
+                runs, run_start[g], run_start[g + 1], v_own, v_prev, v_free, mass)
+    elif kind == _LAST:
+        even = ndomains + ndomains // 2
+        last = 2 * ndomains - 1
+        for lo, hi in ((ndomains, even), (even, last)):
+            if hi - lo == 1:  # (phases of two groups or more are stages of their own)
+                _sweep_group_2d(lo, first, groups, order, cand, ant, h_cand, h_ant, delassus,
+                                bias, friction, ghost, nfixed, n, rows, own, vx, impulse,
+                                inv_mass_x, relaxation)
+        _sweep_group_2d(last, first, groups, order, cand, ant, h_cand, h_ant, delassus, bias,
+                        friction, ghost, nfixed, n, rows, own, vx, impulse, inv_mass_x,
+                        relaxation)
+        if joints is not None:
+            _joint_sweep_2d(cand, ant, v_own, impulse, work, joints, law_map, inv_mass,
+                            relaxation, None)
+        else:
+            run_sums[ndomains, 0], run_sums[ndomains, 1], run_sums[ndomains, 2] = (
+                _runs_change(runs, run_start[ndomains], run_start[ndomains + 1], v_own,
+                             v_prev, v_free, mass))
+            _end_sweep(_sum_rows(run_sums), s, flags, stop, error, tolerance, max_iterations)
+    elif kind == _BLOCK:
+        lo = g * _SUM_BODIES
+        hi = min(n, lo + _SUM_BODIES)
+        sums[g, 0], sums[g, 1], sums[g, 2] = change_sums(
+            v_own[lo:hi], v_prev[lo:hi], v_free[lo:hi], mass[lo:hi], 0.0, 0.0, 0.0)
+    else:
+        _end_sweep(_sum_rows(sums), s, flags, stop, error, tolerance, max_iterations)
+
+
+@nb.njit(inline="always")
+def _end_sweep(end, s, flags, stop, error, tolerance, max_iterations):
+    """Sweep s of nlgs_2d_domains ends with error `end`: into error[0], and s into
+    flags[stop] where the solve stops there."""
+    error[0] = end
+    if end <= tolerance or s >= max_iterations:
+        store_release(flags, stop, s)
+
+
+@nb.njit(inline="always")
+def _sum_rows(sums):
+    """change_ratio of the sums of the rows of sums (num, den, size), added in order."""
     num = den = size = 0.0
-    for k in range(ndomains + 1):
-        num += run_sums[k, 0]
-        den += run_sums[k, 1]
-        size += run_sums[k, 2]
+    for k in range(sums.shape[0]):
+        num += sums[k, 0]
+        den += sums[k, 1]
+        size += sums[k, 2]
     return change_ratio(num, den, size)
 
 
@@ -730,38 +860,6 @@ def _sweep_group_2d(g, first, groups, order, cand, ant, h_cand, h_ant, delassus,
                         inv_mass, relaxation)
     else:
         _sweep_range_2d(groups[g], groups[g + 1], order, own, rows, v, impulse, inv_mass,
-                        relaxation)
-
-
-@nb.njit(cache=True)
-def _sweep_cuts_2d(first, groups, order, cand, ant, h_cand, h_ant, delassus, bias, friction,
-                   ghost, nfixed, n, rows, own, v, impulse, inv_mass, relaxation):
-    """The sweep of nlgs_2d_domains' groups after the domains': the even cuts in parallel,
-    then the odd ones, then the rest (on the stepping thread where a phase has one group:
-    two domains have one cut and no parallel region here)."""
-    ndomains = groups.shape[0] // 2
-    even = ndomains + ndomains // 2  # the phases: [ndomains, even), [even, last), last
-    last = 2 * ndomains - 1
-    for lo, hi in ((ndomains, even), (even, last)):
-        if hi - lo > 1:
-            _sweep_phase_2d(lo, hi, first, groups, order, cand, ant, h_cand, h_ant,
-                            delassus, bias, friction, ghost, nfixed, n, rows, own, v,
-                            impulse, inv_mass, relaxation)
-        elif hi > lo:
-            _sweep_group_2d(lo, first, groups, order, cand, ant, h_cand, h_ant, delassus,
-                            bias, friction, ghost, nfixed, n, rows, own, v, impulse,
-                            inv_mass, relaxation)
-    _sweep_group_2d(last, first, groups, order, cand, ant, h_cand, h_ant, delassus, bias,
-                    friction, ghost, nfixed, n, rows, own, v, impulse, inv_mass, relaxation)
-
-
-@nb.njit(parallel=True, cache=True)
-def _sweep_phase_2d(lo, hi, first, groups, order, cand, ant, h_cand, h_ant, delassus, bias,
-                    friction, ghost, nfixed, n, rows, own, v, impulse, inv_mass, relaxation):
-    """The groups lo .. hi - 1 of one phase of nlgs_2d_domains' cuts, in parallel."""
-    for g in nb.prange(lo, hi):
-        _sweep_group_2d(g, first, groups, order, cand, ant, h_cand, h_ant, delassus, bias,
-                        friction, ghost, nfixed, n, rows, own, v, impulse, inv_mass,
                         relaxation)
 
 
@@ -797,10 +895,11 @@ def _sweep_range_2d(lo, hi, order, own, rows, v, impulse, inv_mass, relaxation):
 
 
 _SUM_BODIES = 256
-"""Bodies per block of _parallel_change's sums: a fixed number, so that the sums and the
-error do not depend on the threads; small enough that a wall of a few thousand blocks,
-whose sweeps are short, has its sums on every thread (at 2048, the 2025-brick wall's were
-one block, on one thread, every sweep)."""
+"""Bodies per block of _parallel_change's sums (3D) and of nlgs_2d_domains' with joint laws
+(its _BLOCK tasks): a fixed number, so that the sums and the error do not depend on the
+threads; small enough that a wall of a few thousand blocks, whose sweeps are short, has its
+sums on every thread (at 2048, the 2025-brick wall's were one block, on one thread, every
+sweep)."""
 
 
 @nb.njit(parallel=True, cache=True)
