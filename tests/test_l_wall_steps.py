@@ -25,7 +25,7 @@ from saxum.solver.residual import natural_map_error
 DATA = Path(__file__).resolve().parent / "data"
 
 
-def _step(name: str) -> AssembledProblem:
+def _step(name: str) -> tuple[AssembledProblem, np.ndarray]:
     data = np.load(DATA / name)
     hstar = sp.csr_matrix((data["h_data"], data["h_indices"], data["h_indptr"]),
                           shape=tuple(data["h_shape"]))
