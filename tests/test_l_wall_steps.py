@@ -84,3 +84,28 @@ def test_the_first_onset_step_has_a_solution():
     # strictly inside, by far more than round-off on u (|W| |r| 1e-16 ~ 1e-11 m/s here): the
     # LP reached its bound, a margin of ||q|| in the l1 norm of u_T
     assert margin.min() >= 0.5 * float(np.linalg.norm(q))
+
+
+@pytest.mark.parametrize(("natural", "tried"), [(5e-6, True), (5e-5, False)])
+def test_a_near_3d_step_is_tried_whatever_the_back_off(monkeypatch, natural, tried):
+    """The first step of a small 3D L wall cut at 5 NLGS sweeps (the cap) with the back-off
+    waiting (3 solves to go): where NLGS's iterate is within _PROXIMAL_REACH = 10 times the
+    tolerance by the natural map (patched to 5e-6) the hybrid attempts all the same, farther
+    (5e-5) it does not (the attempt patched to fail at once, so that only the decision is
+    tested)."""
+    from saxum.solver import assembled, hybrid
+    from saxum.structures import wall3d
+
+    monkeypatch.setattr(assembled.AssembledProblem, "natural_map_error",
+                        lambda self, impulse: natural)
+    calls = []
+    monkeypatch.setattr(hybrid.Hybrid, "_attempt",
+                        lambda self, *args: (calls.append(args[-2:]), (None, 0))[1])
+    solver = sx.Hybrid(max_iterations=5, rest_after=0, refine=0.0)
+    solver._wait = 3
+    sim = sx.Simulation(wall3d(courses=2, length=0.5, return_length=0.5), dt=1e-3,
+                        solver=solver)
+    state = sim.initial_state()
+    report = sim.step(state)
+    assert not report.converged
+    assert calls == ([(True, True)] if tried else [])
