@@ -2,7 +2,7 @@
 wall3d-shaken: 72 bricks under 0.7 g, dt 1e-3; the default hybrid's run, captured as W = H*
 M^-1 H*^T (CSR H*, M^-1), q, mu in FCLIB order and NLGS's iterate r after its 5000 sweeps;
 docs/method.md, "The shaken 3D L wall" (g)):
-- tests/data/l_wall_step41.npz: 743 contacts, NLGS's iterate at a natural-map error of 3.1e-6
+- tests/data/l_wall_step41.npz: 770 contacts, NLGS's iterate at a natural-map error of 3.1e-6
   (within _PROXIMAL_REACH = 10 times the tolerance 1e-6); Fischer-Burmeister Newton from it
   stops above the tolerance, the proximal point then reaches it.
 - tests/data/l_wall_step19.npz: 770 contacts, the first onset step, NLGS's iterate at 3.9e-5;
