@@ -47,7 +47,10 @@ NLGS's sweeps from a kept conic iterate end above that iterate's error, the step
 After k attempts in a row that were rejected or did not end their solve converged, the next
 2^k - 1 solves (k at most 6) try no other solver (the natural-map test still runs): on the
 friction threshold the other solvers crawl too, and each attempt costs seconds on a few
-hundred contacts. Where NLGS converges without such a stall the
+hundred contacts. Except in 3D where NLGS's iterate is within _PROXIMAL_REACH times the
+tolerance: such a step is tried whatever the attempts before it did (the shaken 3D L wall's
+steps 41-46 were skipped after the rejected attempts on 33-39, and tried they end converged:
+docs/method.md, (g)). Where NLGS converges without such a stall the
 hybrid is NLGS: the same iterates bit for bit, one more Python call per window. A solve that
 ends above the tolerance reports the natural-map error of the impulses it ends with
 (SolverReport.natural_map): how far they are from a solution, which NLGS's criterion (a
@@ -107,7 +110,11 @@ _PROXIMAL_REACH = 10.0
 proximal point (saxum.solver.newton.proximal_point) runs from it where it is within this
 factor of the tolerance by the natural map: on the shaken 3D L wall's steps above the
 tolerance it brings the later ones (NLGS's iterate at 7.3e-6 to 8.7e-6, 1.2-1.7 s) and step 41
-(3.1e-6) under 1e-6, and none of the onset's farther than 1e-5 (docs/method.md, (f))."""
+(3.1e-6) under 1e-6, and none of the onset's farther than 1e-5 (docs/method.md, (f)). Such a
+step is tried also where the back-off would skip it: an attempt there costs at most
+_PROXIMAL_OUTER outer iterations and two Fischer-Burmeister Newton runs (3-10 s on 770
+contacts, a loaded machine), and on the L wall's steps 41-46 the back-off from the failures at
+33-39 skipped 6 steps that such attempts finish (docs/method.md, (g))."""
 _PROXIMAL_OUTER = 20
 """Proximal outer iterations at most per attempt: those it finished took 4 to 20."""
 _CRAWL = 1e-3
@@ -266,7 +273,7 @@ class Hybrid(ContactSolver):
         solver = "nlgs"
         least = math.inf  # the least error at the end of a window...
         since = 0  # ... and the windows since it last fell
-        attempt = self._wait == 0  # else NLGS alone (back-off)
+        attempt = self._wait == 0  # else NLGS alone (back-off), except near a solution (3D)
         self._wait = max(self._wait - 1, 0)
         attempted = checked = False
         errors = []  # at the end of NLGS's windows since the last iterate kept: the trend
@@ -286,8 +293,8 @@ class Hybrid(ContactSolver):
                 hopeful = self._hopeful(problem, natural, errors)
                 near = (problem.model.dim == 3
                         and natural <= _PROXIMAL_REACH * self.tolerance)
-                if attempt and (hopeful or near
-                                or (self.smoothing and problem.model.dim == 3)):
+                if (attempt or near) and (hopeful or near
+                                          or (self.smoothing and problem.model.dim == 3)):
                     attempted = True
                     self.attempts += 1
                     judged, wasted = self._attempt(problem, local, impulse, v_free, v,

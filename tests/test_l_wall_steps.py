@@ -1,0 +1,111 @@
+"""Two steps of the shaken 3D L wall that NLGS ends above the tolerance (benchmarks/convergence.py,
+wall3d-shaken: 72 bricks under 0.7 g, dt 1e-3; the default hybrid's run, captured as W = H*
+M^-1 H*^T (CSR H*, M^-1), q, mu in FCLIB order and NLGS's iterate r after its 5000 sweeps;
+docs/method.md, "The shaken 3D L wall" (g)):
+- tests/data/l_wall_step41.npz: 770 contacts, NLGS's iterate at a natural-map error of 3.1e-6
+  (within _PROXIMAL_REACH = 10 times the tolerance 1e-6); Fischer-Burmeister Newton from it
+  stops above the tolerance, the proximal point then reaches it.
+- tests/data/l_wall_step19.npz: 770 contacts, the first onset step, NLGS's iterate at 3.9e-5;
+  none of the solvers here reaches the tolerance from it in the time of a step (docs/method.md),
+  while a solution exists: the problem is strictly feasible (V. Acary, F. Cadoux, C.
+  Lemarechal, J. Malick, ZAMM 91(2), 2011, sec. 3).
+"""
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import saxum as sx
+from saxum.solver.assembled import AssembledProblem
+from saxum.solver.residual import natural_map_error
+
+DATA = Path(__file__).resolve().parent / "data"
+
+
+def _step(name: str) -> tuple[AssembledProblem, np.ndarray]:
+    data = np.load(DATA / name)
+    hstar = sp.csr_matrix((data["h_data"], data["h_indices"], data["h_indptr"]),
+                          shape=tuple(data["h_shape"]))
+    count = data["mu"].size
+    local = AssembledProblem(np.arange(count), hstar, data["inv_mass"], data["q"], data["mu"])
+    return local, data["r"]
+
+
+def test_the_proximal_stage_finishes_a_step_fischer_burmeister_newton_leaves():
+    """The hybrid's 3D attempt on step 41 (Hybrid._attempt, Newton hopeful and the proximal
+    point near): Fischer-Burmeister Newton from NLGS's iterate does not reach the tolerance
+    (else the attempt would end as "newton"), the proximal point does: the report says
+    "proximal", and its error is the natural-map error of the impulses written, recomputed
+    from W and q (to round-off: 1e-12 relative). Independently, the impulses lie in the cones,
+    the modified velocities u_hat in the dual cones and r . u_hat = 0, each to the tolerance's
+    size 1e-6 ||q|| (a natural-map error of 1e-6 allows that much in each)."""
+    local, r0 = _step("l_wall_step41.npz")
+    impulse = np.zeros((local.mu.size, 3))
+    impulse[:, [1, 0, 2]] = r0.reshape(-1, 3)  # FCLIB's [n, t, s] -> saxum's (t, n, s)
+    assert local.natural_map_error(impulse) > 3e-6  # measured 3.1e-6
+    bodies = local.inv_mass.size // 6
+    v_free, v = np.zeros((bodies, 6)), np.zeros((bodies, 6))
+    hybrid = sx.Hybrid()
+    report, wasted = hybrid._attempt(SimpleNamespace(model=SimpleNamespace(dim=3)), local,
+                                     impulse, v_free, v, 4.7e-6, True, True)
+    assert report is not None and report.solver == "proximal" and report.converged
+    assert wasted == 0
+    r = local.impulses(impulse)
+    assert report.error <= 1e-6
+    assert report.error == pytest.approx(natural_map_error(local.w, local.q, local.mu, r, 3),
+                                         rel=1e-12, abs=0.0)
+    size = 1e-6 * float(np.linalg.norm(local.q))
+    rr, u = r.reshape(-1, 3), (local.w @ r + local.q).reshape(-1, 3)
+    slip = np.linalg.norm(u[:, 1:], axis=1)
+    assert np.all(local.mu * rr[:, 0] - np.linalg.norm(rr[:, 1:], axis=1) >= -size)
+    assert np.all(u[:, 0] >= -size)  # u_hat_N - mu |u_T| = u_N
+    u_hat = u.copy()
+    u_hat[:, 0] += local.mu * slip
+    assert np.abs(np.einsum("ij,ij->i", rr, u_hat)).sum() <= size * (1.0 + np.abs(rr).sum())
+    # v = v_free + M^-1 H*^T r: the velocities written are those of the impulses written
+    assert np.allclose(v.ravel(), local.inv_mass * (local.hstar.T @ r), rtol=0.0, atol=1e-15)
+
+
+def test_the_first_onset_step_has_a_solution():
+    """Step 19: NLGS's iterate is 3.9e-5 from a solution by the natural map, and a solution
+    exists: the impulses stored with the step (`certificate`, found by the linear program max
+    t, u_N - mu (|u_T1| + |u_T2|) >= t ||q||, t <= 1, of benchmarks/capped_steps.py
+    --existence: t = 1) put u = W r + q strictly inside the dual cones K* (u_N > mu |u_T| at
+    every contact, checked here on u itself), which by Acary, Cadoux, Lemarechal and Malick
+    (2011, sec. 3) gives a solution whatever W's rank."""
+    local, r0 = _step("l_wall_step19.npz")
+    w, q, mu = local.w, local.q, local.mu
+    assert natural_map_error(w, q, mu, r0, 3) == pytest.approx(3.9e-5, rel=0.01)  # measured
+    u = (w @ np.load(DATA / "l_wall_step19.npz")["certificate"] + q).reshape(-1, 3)
+    margin = u[:, 0] - mu * np.linalg.norm(u[:, 1:], axis=1)
+    # strictly inside, by far more than round-off on u (|W| |r| 1e-16 ~ 1e-11 m/s here): the
+    # LP reached its bound, a margin of ||q|| in the l1 norm of u_T
+    assert margin.min() >= 0.5 * float(np.linalg.norm(q))
+
+
+@pytest.mark.parametrize(("natural", "tried"), [(5e-6, True), (5e-5, False)])
+def test_a_near_3d_step_is_tried_whatever_the_back_off(monkeypatch, natural, tried):
+    """The first step of a small 3D L wall cut at 5 NLGS sweeps (the cap) with the back-off
+    waiting (3 solves to go): where NLGS's iterate is within _PROXIMAL_REACH = 10 times the
+    tolerance by the natural map (patched to 5e-6) the hybrid attempts all the same, farther
+    (5e-5) it does not (the attempt patched to fail at once, so that only the decision is
+    tested)."""
+    from saxum.solver import assembled, hybrid
+    from saxum.structures import wall3d
+
+    monkeypatch.setattr(assembled.AssembledProblem, "natural_map_error",
+                        lambda self, impulse: natural)
+    calls = []
+    monkeypatch.setattr(hybrid.Hybrid, "_attempt",
+                        lambda self, *args: (calls.append(args[-2:]), (None, 0))[1])
+    solver = sx.Hybrid(max_iterations=5, rest_after=0, refine=0.0)
+    solver._wait = 3
+    sim = sx.Simulation(wall3d(courses=2, length=0.5, return_length=0.5), dt=1e-3,
+                        solver=solver)
+    state = sim.initial_state()
+    report = sim.step(state)
+    assert not report.converged
+    assert calls == ([(True, True)] if tried else [])
