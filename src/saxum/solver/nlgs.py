@@ -641,7 +641,8 @@ def nlgs_2d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
     depth = history_v.shape[0] - 2
     lead = _ANDERSON_CYCLE - depth - 1
     error = np.inf
-    least = np.inf  # the least error at the end of a cycle, before its mix
+    least = np.inf  # the least error at the end of a cycle, before its mix...
+    mixed = np.inf  # ... and that of the last (the sweep that gave its y_m+1)
     mixing = True
     it = 0
     k = 0  # sweeps since the last mix
@@ -659,7 +660,7 @@ def nlgs_2d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
             _copy_iterate(history_v[depth + 1], history_r[depth + 1], v, impulse, active,
                           count)
             _relative_change(v, v_prev, v_free, mass)
-            error = before
+            error = mixed
             mixing = False
         if not mixing:
             continue
@@ -670,6 +671,7 @@ def nlgs_2d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
             _anderson_mix(cand, ant, work, v, impulse, inv_mass, mass, active, count,
                           history_v, history_r)
             _relative_change(v, v_prev, v_free, mass)
+            mixed = error
             least = min(least, error)
             k = 0
     return it, error
@@ -705,51 +707,51 @@ def _anderson_mix(cand, ant, work, v, impulse, inv_mass, mass, active, count, hi
                 continue
             r = i * dof + j
             f0 = history_v[1, i, j] - history_v[0, i, j]
-            for l in range(depth):
-                f1 = history_v[l + 2, i, j] - history_v[l + 1, i, j]
-                diff[l, r] = w * (f1 - f0)
+            for c in range(depth):
+                f1 = history_v[c + 2, i, j] - history_v[c + 1, i, j]
+                diff[c, r] = w * (f1 - f0)
                 f0 = f1
             b[r] = w * f0
     # least squares by modified Gram-Schmidt, leaving out dependent columns
     q = np.zeros((depth, rows))
     tri = np.zeros((depth, depth))
     kept = np.zeros(depth, dtype=np.bool_)
-    for l in range(depth):
-        norm0 = math.sqrt(np.dot(diff[l], diff[l]))
-        col = diff[l].copy()
-        for p in range(l):
+    for c in range(depth):
+        norm0 = math.sqrt(np.dot(diff[c], diff[c]))
+        col = diff[c].copy()
+        for p in range(c):
             if kept[p]:
-                tri[p, l] = np.dot(q[p], col)
-                col -= tri[p, l] * q[p]
+                tri[p, c] = np.dot(q[p], col)
+                col -= tri[p, c] * q[p]
         norm = math.sqrt(np.dot(col, col))
         if norm > _ANDERSON_DROP * norm0 and norm > 0.0:
-            kept[l] = True
-            tri[l, l] = norm
-            q[l] = col / norm
+            kept[c] = True
+            tri[c, c] = norm
+            q[c] = col / norm
     gamma = np.zeros(depth)
-    for l in range(depth - 1, -1, -1):
-        if not kept[l]:
+    for c in range(depth - 1, -1, -1):
+        if not kept[c]:
             continue
-        s = np.dot(q[l], b)
-        for p in range(l + 1, depth):
+        s = np.dot(q[c], b)
+        for p in range(c + 1, depth):
             if kept[p]:
-                s -= tri[l, p] * gamma[p]
-        gamma[l] = s / tri[l, l]
+                s -= tri[c, p] * gamma[p]
+        gamma[c] = s / tri[c, c]
     # y = y_m+1 - sum gamma_l (y_l+2 - y_l+1)
     for i in range(nb_):
         for j in range(dof):
             y = history_v[depth + 1, i, j]
-            for l in range(depth):
-                y -= gamma[l] * (history_v[l + 2, i, j] - history_v[l + 1, i, j])
+            for c in range(depth):
+                y -= gamma[c] * (history_v[c + 2, i, j] - history_v[c + 1, i, j])
             v[i, j] = y
     for a in range(count):
         if not active[a]:
             continue
         rt = history_r[depth + 1, a, 0]
         rn = history_r[depth + 1, a, 1]
-        for l in range(depth):
-            rt -= gamma[l] * (history_r[l + 2, a, 0] - history_r[l + 1, a, 0])
-            rn -= gamma[l] * (history_r[l + 2, a, 1] - history_r[l + 1, a, 1])
+        for c in range(depth):
+            rt -= gamma[c] * (history_r[c + 2, a, 0] - history_r[c + 1, a, 0])
+            rn -= gamma[c] * (history_r[c + 2, a, 1] - history_r[c + 1, a, 1])
         impulse[a, 0] = rt
         impulse[a, 1] = rn
         mu = work[a, 17]
