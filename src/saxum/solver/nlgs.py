@@ -256,12 +256,12 @@ class NLGS(ContactSolver):
         else:
             args += (self._sums, CRITERIA.index(self.criterion))
         args += (self.tolerance,)
-        refined = sweep
-        if (self.accelerate and sweep is nlgs_2d and joint is None and self._sums is None
-                and problem.count > 0):
-            refined = self._anderson(v, problem.count)
-            if self._accelerate_all:
-                sweep = refined
+        # the refinement's sweeps with Anderson acceleration (accelerate), where they are
+        # nlgs_2d's of dry contacts by saxum's criterion
+        accelerated = (self.accelerate and sweep is nlgs_2d and joint is None
+                       and self._sums is None)
+        if accelerated and self._accelerate_all:
+            sweep = self._anderson(v, problem.count)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
         # rest solution is that of rigid joints, so not with joint laws
         rest_after = 0 if joints else self.rest_after
@@ -323,7 +323,8 @@ class NLGS(ContactSolver):
         self._rest_found = follow and found and converged
         if own:
             # class doc (refine): the errors of a sliding assembly's steps add up
-            more, error = self._refinement.step(self, lambda target, count: refined(
+            more, error = self._refinement.step(self, lambda target, count: (
+                self._anderson(v, problem.count) if accelerated else sweep)(
                 *args[:-1], target, count, self.relaxation), iterations, error, converged)
             iterations += more
             if more and error > self.tolerance:  # the refinement's last sweep changed more
