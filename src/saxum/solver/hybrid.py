@@ -188,7 +188,7 @@ class Hybrid(ContactSolver):
     is within the tolerance by the natural map or better by NLGS's own criterion (module doc);
     window: sweeps between two measurements of the error, and the sweeps that judge a conic
     iterate; threads, domains,
-    refine, refine_sweeps: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
+    refine, refine_sweeps, accelerate: NLGS's (saxum.solver.NLGS; the refinement comes once NLGS has
     converged by itself, so that where NLGS converges the hybrid is NLGS bit for bit);
     smoothing: in 3D, smoothing Newton on every attempt after Fischer-Burmeister Newton (off
     by default: on the small shaken L wall it finishes the steps NLGS leaves above the
@@ -205,6 +205,7 @@ class Hybrid(ContactSolver):
     refine: float = 100.0
     refine_sweeps: int = 3000
     smoothing: bool = False
+    accelerate: bool = True
 
     def __post_init__(self) -> None:
         check_refinement(self)
@@ -352,8 +353,10 @@ class Hybrid(ContactSolver):
     def _sweep_to(self, problem, impulse, v_free, v, tolerance: float, count: int):
         """At most `count` NLGS sweeps, stopping at `tolerance`: (sweeps, error)."""
         self._more.tolerance, self._more.max_iterations = tolerance, count
+        self._more._accelerate_all = self.accelerate
         report = self._more.solve(problem, impulse, v_free, v)
         self._more.tolerance = self.tolerance
+        self._more._accelerate_all = False
         return report.iterations, report.error
 
     def _hopeful(self, problem, natural: float, errors: list) -> bool:
