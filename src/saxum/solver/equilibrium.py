@@ -97,19 +97,43 @@ class LoadResponse:
     barrier's Hessian P is large (an affine-scaling direction of interior-point methods).
     A rest solution found without a factorization (the load path: rest_solution) keeps the
     system at the point where the Newton iterations would have started, factorized at the
-    first change asked for."""
+    first change asked for. The system's values (`data`, CSC) are kept with it: a checkpoint
+    holds them (checkpoint(), restored()), and the restored system is factorized from them at
+    the first change asked for, bit for bit the factor it had."""
 
     def __init__(self) -> None:
         self.clear()
 
     def clear(self) -> None:
         self.lu = None
-        self.closed = self.slot = self.b = self.x = None
+        self.closed = self.slot = self.b = self.x = self.data = None
         self.scale = 0.0
 
     @property
     def ready(self) -> bool:
         return self.closed is not None
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The kept system as arrays ({} where none is kept): the closed contacts, the free
+        bodies' slots, B, x, r0 [N s] and, once it was formed, its values."""
+        if self.closed is None:
+            return {}
+        out = {"closed": self.closed, "slot": self.slot, "b": self.b, "x": self.x,
+               "scale": np.float64(self.scale)}
+        if self.data is not None:
+            out["data"] = self.data
+        return out
+
+    @classmethod
+    def restored(cls, saved: dict) -> "LoadResponse":
+        """The system whose checkpoint() was `saved` (none kept for {})."""
+        response = cls()
+        if saved:
+            response.closed, response.slot = saved["closed"], saved["slot"]
+            response.b, response.x = saved["b"], saved["x"]
+            response.scale = float(saved["scale"])
+            response.data = saved.get("data")
+        return response
 
     def impulse_change(self, problem, change: np.ndarray) -> np.ndarray | None:
         """dR (count, dim) [N s] for the change of loads `change` (free bodies, dof) [N s] on
@@ -122,11 +146,12 @@ class LoadResponse:
             nfree, dof = change.shape
             indptr, indices, where, diagonal, bptr, blocks = _pattern(
                 c.candidate, c.antagonist, self.closed, self.slot, nfree, dof)
-            data = np.zeros(len(indices))
-            _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
-                           self.closed, self.slot, self.b, self.x, self.scale, where, diagonal,
-                           indptr, np.zeros((nfree, dof)), data)
-            self.lu = _factorize(bptr, blocks, data, indices, indptr, dof)
+            if self.data is None:  # the load path's system, formed with this step's H
+                self.data = np.zeros(len(indices))
+                _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                               self.closed, self.slot, self.b, self.x, self.scale, where,
+                               diagonal, indptr, np.zeros((nfree, dof)), self.data)
+            self.lu = _factorize(bptr, blocks, self.data, indices, indptr, dof)
             if self.lu is None:
                 self.clear()
                 return None
@@ -227,6 +252,7 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     if response is not None and lu is not None:
         response.lu, response.closed, response.slot = lu, closed, slot
         response.b, response.x, response.scale = b, x_factored, scale
+        response.data = data  # (lu's: formed last before it)
     return True
 
 
