@@ -499,31 +499,38 @@ def test_a_run_whose_solvers_back_off_stopped_and_resumed_is_the_run_in_one_go(
         assert a.steps["iterations"][12] == 1002
 
 
-def test_a_file_whose_checkpoints_lack_the_refinement_resumes_with_a_new_one(
+def test_a_file_whose_checkpoints_lack_the_solver_state_resumes_with_a_new_one(
         tmp_path, monkeypatch):
-    """A results file as saxum wrote it before checkpoints held the refinement's flags (with
-    row checksums) resumes, its solver's refinement a new one's (as saxum resumed every file
-    then), and stays in its layout."""
+    """A results file as saxum wrote it before checkpoints held the solver's state (the
+    refinement's flags, the packed rest: with row checksums) resumes, its solver a new one's
+    (as saxum resumed every file then), and takes the layout that holds them from there on:
+    its earlier checkpoints read as holding none (-1 flags), and nothing reads as damaged."""
     from saxum import results as layout
 
-    text = SMALL_SLIDING_WALL + '[solver]\nkind = "nlgs"\n'
+    text = GROWING_LOAD
     path = tmp_path / "old.h5"
     columns, ragged = layout._ROWS["checkpoints"]
     with monkeypatch.context() as m:
         m.setattr(layout, "_SOLVER_FIELDS", {})
-        m.setitem(layout._ROWS, "checkpoints",
-                  (tuple(c for c in columns if c != "refinement"), ragged))
-        _stop_after(m, 90)
+        m.setattr(layout, "_SOLVER_STATE", {})
+        m.setitem(layout._ROWS, "checkpoints", (
+            tuple(c for c in columns if c not in ("refinement", "solver_state_size")),
+            tuple(part for part in ragged if part[2] != "solver_state_size")))
+        _stop_after(m, 150)
         run_scenario(parse_scenario(text), path, quiet=True)
     with Results(path) as r:
-        assert r.checkpoint_steps[-1] == 90 and not r.damage
+        assert r.checkpoint_steps[-1] == 150 and not r.damage
         saved = r.checkpoint(-1)
-    assert "refinement" not in saved
+    assert "refinement" not in saved and "following.anchors" not in saved
     sim = parse_scenario(text).build_simulation()
     sim.restore(saved)
-    assert sim.solver.checkpoint()["refinement"].tolist() == [1, 1, 0]  # a new one's
+    new = sx.NLGS().checkpoint()
+    assert {k: v.tolist() for k, v in sim.solver.checkpoint().items()} == {
+        k: v.tolist() for k, v in new.items()}  # a new one's
     assert resume_run(path, quiet=True).status == "finished"
     with Results(path) as r:
-        assert r.status == "finished" and not r.damage and r.step[-1] == 100
-        assert r.steps["step"].tolist() == list(range(1, 101))
-        assert "refinement" not in r.checkpoint(-1)
+        assert r.status == "finished" and not r.damage and r.step[-1] == 200
+        assert r.steps["step"].tolist() == list(range(1, 201))
+        assert r.checkpoint(-2)["refinement"].tolist() == [-1, -1, -1]  # step 150's
+        assert "following.anchors" not in r.checkpoint(-2)
+        assert int(r.checkpoint(-1)["following.anchors"]) > 0  # the end's, written resumed
