@@ -339,7 +339,7 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
 
 
 # The wall above shaken at 0.7 g, above its sliding threshold (friction 0.6): its first steps
-# follow the loads (state that no checkpoint holds) up to the slide's onset at step 82 (674
+# follow the loads (anchors that checkpoints hold) up to the slide's onset at step 82 (674
 # sweeps after a step of 1), whose refinement (saxum.solver.nlgs.Refinement) goes on over the
 # steps of the slide after it, which follow no loads; a checkpoint every 60 steps.
 SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace(

@@ -27,7 +27,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            and, under a ground motion, ground_acceleration [m/s^2]
     /checkpoints/...       one row per checkpoint: everything a bit-identical restart needs
                            (state, contacts with impulses, broad-phase pair list, the
-                           solver's refinement flags: _SOLVER_FIELDS)
+                           solver's state: its refinement flags, _SOLVER_FIELDS, and the
+                           rest packed in solver_state, _SOLVER_STATE)
     /run/status            0 running, 1 finished, 2 interrupted, 3 failed; /run/message
 
 The file is opened in HDF5's single-writer/multiple-reader (SWMR) mode: every object exists
