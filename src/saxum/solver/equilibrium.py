@@ -89,6 +89,10 @@ step shrinks by its length, stops shrinking (the barrier holds x off the cones' 
 the loads would have to cross)."""
 
 
+_KEPT_SYSTEM = ("closed", "slot", "b", "x", "data")
+"""The arrays of a LoadResponse that a checkpoint holds (data: None until formed)."""
+
+
 class LoadResponse:
     """The last Newton system of a rest solution, kept to answer a change of the loads: for
     df [N s] per free body, the impulse change dR = B dx, dx = P^-1 G^T nu, G P^-1 G^T nu = df,
@@ -118,21 +122,18 @@ class LoadResponse:
         bodies' slots, B, x, r0 [N s] and, once it was formed, its values."""
         if self.closed is None:
             return {}
-        out = {"closed": self.closed, "slot": self.slot, "b": self.b, "x": self.x,
-               "scale": np.float64(self.scale)}
-        if self.data is not None:
-            out["data"] = self.data
-        return out
+        kept = {name: getattr(self, name) for name in _KEPT_SYSTEM}
+        return {"scale": np.float64(self.scale),
+                **{name: value for name, value in kept.items() if value is not None}}
 
     @classmethod
     def restored(cls, saved: dict) -> "LoadResponse":
         """The system whose checkpoint() was `saved` (none kept for {})."""
         response = cls()
         if saved:
-            response.closed, response.slot = saved["closed"], saved["slot"]
-            response.b, response.x = saved["b"], saved["x"]
+            for name in _KEPT_SYSTEM:
+                setattr(response, name, saved.get(name))
             response.scale = float(saved["scale"])
-            response.data = saved.get("data")
         return response
 
     def impulse_change(self, problem, change: np.ndarray) -> np.ndarray | None:
