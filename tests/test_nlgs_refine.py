@@ -78,20 +78,16 @@ def test_a_new_solver_refines_only_the_cheap_steps():
 
 
 @pytest.mark.parametrize("solver", [sx.NLGS, sx.Hybrid])
-def test_checkpoints_hold_the_refinement_and_forget_keeps_it(solver):
+def test_checkpoints_hold_the_refinement(solver):
     """The refinement's flags (carrying, cheap, sliding) are state that checkpoints hold
-    (ContactSolver.checkpoint, restore; saxum.results), not state that forget() drops nor that
-    stops a checkpoint (carries_state); a checkpoint without them (a file written before they
-    were stored) restores a new solver's."""
+    (ContactSolver.checkpoint, restore; saxum.results); a checkpoint without them (a file
+    written before they were stored) restores a new solver's."""
     s = solver()
     assert s.checkpoint()["refinement"].tolist() == [1, 1, 0]
     s._refinement.step(s, None, 50, s.tolerance, True)  # does work: refines nothing
     assert s.checkpoint()["refinement"].tolist() == [0, 0, 0]
     s._refinement.step(s, lambda target, count: (1, target), 1, s.tolerance, True)
     s._refinement.step(s, lambda target, count: (1, target), 692, s.tolerance, True)  # onset
-    assert s.checkpoint()["refinement"].tolist() == [1, 0, 1]
-    assert not s.carries_state()
-    s.forget()
     saved = s.checkpoint()
     assert saved["refinement"].tolist() == [1, 0, 1]
     restored = solver()

@@ -10,6 +10,7 @@ import pytest
 
 import saxum as sx
 import saxum.solver.nlgs as nlgs_module
+from saxum.results import _pack_state, _unpack_state
 from saxum.structures import running_bond_wall
 
 
@@ -46,3 +47,39 @@ def test_wall_at_rest_still_finds_the_rest_solution(monkeypatch):
                                                           every.rest_solutions)
     assert np.array_equal(state_every.body_q, state_backs.body_q)
     assert log_backs.converged.all()
+
+
+@pytest.mark.filterwarnings("ignore::saxum.SolverWarning")
+def test_a_restored_solver_backs_off_as_the_original():
+    """The back-off is solver state that checkpoints hold (ContactSolver.checkpoint, "rest",
+    packed as a results file packs it): a solver restored from it after 20 steps of the
+    sliding wall steps on as the original, bit for bit and with the same attempts at the rest
+    solution; one restored without it tries on slow steps at once again (measured: 1 attempt
+    in the next 10 steps where the original made none; the same bits, as none finds a rest
+    solution)."""
+    model = running_bond_wall(courses=25, bricks=2)
+    g = float(np.hypot(*model.gravity))
+    model = dataclasses.replace(model, accelerations=((lambda t: (0.7 * g, 0.0)),))
+
+    def simulation():
+        return sx.Simulation(model, dt=1e-3, solver=sx.NLGS(refine=0))
+
+    sim = simulation()
+    state = sim.initial_state()
+    sim.run(state, 0.02)
+    saved = _unpack_state(_pack_state(sim.solver.checkpoint()))
+    assert saved["rest"][0] == 8  # putting off the longest (_REST_BACKOFF)
+    runs = []
+    for restored in (saved, {k: v for k, v in saved.items() if k != "rest"}):
+        fresh = simulation()
+        fresh.detector.restore(sim.detector.checkpoint())
+        fresh.solver.restore(restored)
+        runs.append((fresh, state.copy()))
+    before = sim.solver.rest_attempts
+    for s, st in [(sim, state), *runs]:
+        s.run(st, 0.01)
+    (whole, whole_state), (bare, bare_state) = runs
+    assert whole.solver.rest_attempts == sim.solver.rest_attempts - before
+    assert bare.solver.rest_attempts > whole.solver.rest_attempts
+    assert np.array_equal(whole_state.body_q, state.body_q)
+    assert np.array_equal(whole.log.iterations, sim.log.iterations[-10:])

@@ -200,16 +200,13 @@ def test_round_pairs_survive_a_checkpoint_bit_for_bit():
     whole = sx.Simulation(model, dt=1e-3)
     state = whole.initial_state()
     whole.run(state, 0.1)
-    # as the runner does at a checkpoint: the solver's memory of earlier steps that no
-    # checkpoint holds (the loads followed) dropped, as a restored solver has none
-    whole.solver.forget()
     whole.run(state, 0.05)
     first = sx.Simulation(model, dt=1e-3)
     half = first.initial_state()
     first.run(half, 0.1)
     second = sx.Simulation(model, dt=1e-3)
     second.detector.restore(first.detector.checkpoint())
-    second.solver.restore(first.solver.checkpoint())  # (the refinement's flags)
+    second.solver.restore(first.solver.checkpoint())  # (the refinement, the loads followed)
     half = half.copy()
     second.run(half, 0.05)
     assert np.array_equal(state.body_q, half.body_q)

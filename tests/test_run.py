@@ -1,6 +1,7 @@
 """Running scenarios: the command line end to end, results left by a killed run, Ctrl-C, and
 resume giving bit for bit what the run made in one go gives."""
 
+import shutil
 import signal
 import subprocess
 import sys
@@ -313,9 +314,9 @@ SHAKEN_WALL = textwrap.dedent("""\
 
 
 def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
-    """Stopped between periodic checkpoints while NLGS follows the loads, the run writes no
-    checkpoint where it stopped (its solver carries state no checkpoint holds) and resumes from
-    the last periodic one: the same results, bit for bit, as the run in one go."""
+    """Stopped between periodic checkpoints while NLGS follows the loads, the run writes a
+    checkpoint where it stopped (with the anchors of the loads followed) and resumes from it:
+    the same results, bit for bit, as the run in one go."""
     scenario = tmp_path / "wall.toml"
     scenario.write_text(SHAKEN_WALL)
     one_go = tmp_path / "one_go.h5"
@@ -330,14 +331,16 @@ def test_ctrl_c_while_following_loads_resumes_bit_for_bit(tmp_path):
         assert r.status == "interrupted"
         stopped = r.step[-1]
         assert stopped < 2000  # stopped before the end
-        assert r.checkpoint_steps[-1] % 500 == 0  # the last checkpoint is a periodic one
+        assert r.checkpoint_steps[-1] == stopped
+        # its solver (the hybrid's NLGS, "first.") follows the loads
+        assert int(r.checkpoint(-1)["first.following.anchors"]) > 0
     assert main(["resume", str(results), "--quiet"]) == 0
     same_results(results, one_go)
 
 
 
 # The wall above shaken at 0.7 g, above its sliding threshold (friction 0.6): its first steps
-# follow the loads (state that no checkpoint holds) up to the slide's onset at step 82 (674
+# follow the loads (anchors that checkpoints hold) up to the slide's onset at step 82 (674
 # sweeps after a step of 1), whose refinement (saxum.solver.nlgs.Refinement) goes on over the
 # steps of the slide after it, which follow no loads; a checkpoint every 60 steps.
 SLIDING_WALL = SHAKEN_WALL.replace("amplitude = 2.9", "amplitude = 6.9").replace(
@@ -387,7 +390,7 @@ def straight(tmp_path_factory):
 
 @pytest.mark.parametrize("wall, kind, stop, resumed_from, flags", [
     (SLIDING_WALL, "nlgs", 90, 90, [1, 1, 1]),  # inside the refined slide: a checkpoint there
-    (SLIDING_WALL, "nlgs", 70, 60, [0, 1, 0]),  # following the loads: the periodic one before
+    (SLIDING_WALL, "nlgs", 70, 70, [0, 1, 0]),  # following the loads: a checkpoint there too
     # the refinement not carrying: a checkpoint there, which only its flags resume bit for bit
     (SMALL_SLIDING_WALL, "nlgs", 90, 90, [0, 1, 0]),
     (SMALL_SLIDING_WALL, "hybrid", 90, 90, [0, 1, 0]),
@@ -398,9 +401,9 @@ def straight(tmp_path_factory):
 def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
         tmp_path, monkeypatch, straight, wall, kind, stop, resumed_from, flags):
     """A run stopped by Ctrl-C in motion writes a checkpoint where it stopped, with the
-    solver's refinement flags (carrying, cheap), unless the solver follows the loads (state
-    that no checkpoint holds: the periodic checkpoint before it, which holds the flags too);
-    resumed from it, its results are the run in one go's bit for bit."""
+    solver's state (the refinement flags (carrying, cheap, sliding), and where the solver
+    follows the loads, their anchors); resumed from it, its results are the run in one go's
+    bit for bit."""
     text = wall + f'[solver]\nkind = "{kind}"\n'
     one_go = straight(text)
     results = tmp_path / "wall.h5"
@@ -416,31 +419,119 @@ def test_a_sliding_wall_stopped_and_resumed_is_the_run_in_one_go(
     same_results(results, one_go)
 
 
-def test_a_file_whose_checkpoints_lack_the_refinement_resumes_with_a_new_one(
-        tmp_path, monkeypatch):
-    """A results file as saxum wrote it before checkpoints held the refinement's flags (with
-    row checksums) resumes, its solver's refinement a new one's (as saxum resumed every file
-    then), and stays in its layout."""
+def _without_solver_state(monkeypatch) -> None:
+    """Checkpoints read without the solver's state that _SOLVER_STATE packs (the rest
+    solution's and the hybrid's back-offs, the loads followed), as before it was stored."""
     from saxum import results as layout
 
-    text = SMALL_SLIDING_WALL + '[solver]\nkind = "nlgs"\n'
+    monkeypatch.setattr(layout, "_unpack_state", lambda data: {})
+
+
+def _stopped_resumed(tmp_path, monkeypatch, text: str, stop: int):
+    """(results file, its last checkpoint, the same file resumed without the solver's packed
+    state) of `text` stopped by Ctrl-C after step `stop` and resumed."""
+    path, ignored = tmp_path / "run.h5", tmp_path / "ignored.h5"
+    with monkeypatch.context() as m:
+        _stop_after(m, stop)
+        assert run_scenario(parse_scenario(text), path, quiet=True).status == "interrupted"
+    with Results(path) as r:
+        assert r.checkpoint_steps[-1] == stop
+        saved = r.checkpoint(-1)
+    shutil.copyfile(path, ignored)
+    assert resume_run(path, quiet=True).status == "finished"
+    with monkeypatch.context() as m:
+        _without_solver_state(m)
+        assert resume_run(ignored, quiet=True).status == "finished"
+    return path, saved, ignored
+
+
+# A wall under a horizontal load that grows slowly (the first quarter of a 2 s sine at 0.3 g,
+# below its sliding threshold, friction 0.6): at rest relative to its base, NLGS follows the
+# loads from step to step (saxum.solver.load_following); checkpoints every 100 steps.
+GROWING_LOAD = SHAKEN_WALL.replace('pulse = "harmonic"', 'pulse = "one_sine"').replace(
+    "period = 0.5\ncycles = 4", "period = 2.0").replace("duration = 2.0", "duration = 0.2").replace(
+    "checkpoint_interval = 0.5", "checkpoint_interval = 0.1") + '[solver]\nkind = "nlgs"\n'
+
+
+def test_a_wall_following_a_growing_load_stopped_and_resumed_is_the_run_in_one_go(
+        tmp_path, monkeypatch, straight):
+    """Stopped by Ctrl-C at step 150, between periodic checkpoints, while NLGS follows the
+    growing load, the run writes a checkpoint there with the anchors of the loads followed
+    (their rest solutions, load changes and Newton systems) and resumes from it bit for bit;
+    without them (a file written before they were stored), the first step resumed looks for
+    the rest solution again (measured: 76 sweeps where the run in one go took 1) and the
+    motion leaves the run in one go's (measured, 50 steps later: coordinates 4.0e-13 m and
+    velocities 2.2e-11 m/s apart)."""
+    one_go = straight(GROWING_LOAD)
+    path, saved, ignored = _stopped_resumed(tmp_path, monkeypatch, GROWING_LOAD, 150)
+    assert int(saved["following.anchors"]) > 0
+    same_results(path, one_go)
+    with Results(ignored) as a, Results(one_go) as b:
+        assert a.steps["iterations"][150] > b.steps["iterations"][150] == 1
+        assert not np.array_equal(a.body_v[-1], b.body_v[-1])
+
+
+# A tower of 25 courses x 2 bricks pushed by a 0.7 g pulse of 30 ms (above its sliding
+# threshold) under the hybrid with a cap of 1000 sweeps: step 12 ends at the cap, where the
+# hybrid tried other solvers and none was kept, so that its back-off (saxum.solver.hybrid,
+# _BACKOFF) has it wait a solve; its NLGS has put off the rest solution (saxum.solver.nlgs,
+# _REST_BACKOFF) since step 7, whose attempt found none.
+PUSHED_TOWER = SHAKEN_WALL.replace("courses = 8", "courses = 25").replace(
+    "bricks = 6", "bricks = 2").replace('pulse = "harmonic"', 'pulse = "rectangular"').replace(
+    "amplitude = 2.9", "amplitude = 6.9").replace("period = 0.5\ncycles = 4", "period = 0.03"
+    ).replace("duration = 2.0", "duration = 0.013").replace(
+    "checkpoint_interval = 0.5", "checkpoint_interval = 0.01") + (
+    '[solver]\nkind = "hybrid"\nmax_iterations = 1000\n')
+
+
+def test_a_run_whose_solvers_back_off_stopped_and_resumed_is_the_run_in_one_go(
+        tmp_path, monkeypatch, straight):
+    """Stopped by Ctrl-C at step 12, between periodic checkpoints, the run writes a checkpoint
+    there with the hybrid's back-off (a failed attempt, a solve to wait) and its NLGS's (the
+    rest solution put off twice as long) and resumes from it bit for bit; without them,
+    step 13 tries the other solvers again, which the run in one go does not (measured: it
+    reports 1002 sweeps instead of 1000, the 2 sweeps that judged the rejected iterates)."""
+    one_go = straight(PUSHED_TOWER)
+    path, saved, ignored = _stopped_resumed(tmp_path, monkeypatch, PUSHED_TOWER, 12)
+    assert saved["switch"].tolist() == [1, 1] and saved["first.rest"][0] > 0
+    same_results(path, one_go)
+    with Results(ignored) as a, Results(one_go) as b:
+        assert b.steps["iterations"][12] == 1000
+        assert a.steps["iterations"][12] == 1002
+
+
+def test_a_file_whose_checkpoints_lack_the_solver_state_resumes_with_a_new_one(
+        tmp_path, monkeypatch):
+    """A results file as saxum wrote it before checkpoints held the solver's state (the
+    refinement's flags, the packed rest: with row checksums) resumes, its solver a new one's
+    (as saxum resumed every file then), and takes the layout that holds them from there on:
+    its earlier checkpoints read as holding none (-1 flags), and nothing reads as damaged."""
+    from saxum import results as layout
+
+    text = GROWING_LOAD
     path = tmp_path / "old.h5"
     columns, ragged = layout._ROWS["checkpoints"]
     with monkeypatch.context() as m:
         m.setattr(layout, "_SOLVER_FIELDS", {})
-        m.setitem(layout._ROWS, "checkpoints",
-                  (tuple(c for c in columns if c != "refinement"), ragged))
-        _stop_after(m, 90)
+        m.setattr(layout, "_SOLVER_STATE", {})
+        m.setitem(layout._ROWS, "checkpoints", (
+            tuple(c for c in columns if c not in ("refinement", "solver_state_size")),
+            tuple(part for part in ragged if part[2] != "solver_state_size")))
+        _stop_after(m, 150)
         run_scenario(parse_scenario(text), path, quiet=True)
     with Results(path) as r:
-        assert r.checkpoint_steps[-1] == 90 and not r.damage
+        assert r.checkpoint_steps[-1] == 150 and not r.damage
         saved = r.checkpoint(-1)
-    assert "refinement" not in saved
+    assert "refinement" not in saved and "following.anchors" not in saved
     sim = parse_scenario(text).build_simulation()
     sim.restore(saved)
-    assert sim.solver.checkpoint()["refinement"].tolist() == [1, 1, 0]  # a new one's
+    new = sx.NLGS().checkpoint()
+    assert {k: v.tolist() for k, v in sim.solver.checkpoint().items()} == {
+        k: v.tolist() for k, v in new.items()}  # a new one's
     assert resume_run(path, quiet=True).status == "finished"
     with Results(path) as r:
-        assert r.status == "finished" and not r.damage and r.step[-1] == 100
-        assert r.steps["step"].tolist() == list(range(1, 101))
-        assert "refinement" not in r.checkpoint(-1)
+        assert r.status == "finished" and not r.damage and r.step[-1] == 200
+        assert r.steps["step"].tolist() == list(range(1, 201))
+        assert r.checkpoint(-2)["refinement"].tolist() == [-1, -1, -1]  # step 150's
+        assert "following.anchors" not in r.checkpoint(-2)
+        assert int(r.checkpoint(-1)["following.anchors"]) > 0  # the end's, written resumed

@@ -28,7 +28,8 @@ Layout (every dataset carries a `units` attribute; arrays grow along their first
                            and, under a ground motion, ground_acceleration [m/s^2]
     /checkpoints/...       one row per checkpoint: everything a bit-identical restart needs
                            (state, contacts with impulses, broad-phase pair list, the
-                           solver's refinement flags: _SOLVER_FIELDS)
+                           solver's state: its refinement flags, _SOLVER_FIELDS, and the
+                           rest packed in solver_state, _SOLVER_STATE)
     /run/status            0 running, 1 finished, 2 interrupted, 3 failed; /run/message
 
 The file is opened in HDF5's single-writer/multiple-reader (SWMR) mode: every object exists
@@ -113,10 +114,14 @@ _FE_CONTACT_FIELDS = {
 }
 """The contact sides (saxum.contacts), written only for models with deformable blocks."""
 _SOLVER_FIELDS = {"refinement": (np.int8, (3,))}
-"""The solver's state in checkpoints (ContactSolver.checkpoint(), restore()): the refinement's
-(carrying, cheap, sliding) (saxum.solver.nlgs.Refinement.flags), -1s from a solver without one;
-files
-written before they existed lack them, and resume with a new solver's."""
+"""The solver's state in checkpoints (ContactSolver.checkpoint(), restore()) of fixed shape: the
+refinement's (carrying, cheap, sliding) (saxum.solver.nlgs.Refinement.flags), -1s from a solver
+without one; files written before they existed lack them, and resume with a new solver's."""
+_SOLVER_STATE = {"solver_state": "solver_state_size"}
+"""The rest of the solver's state in checkpoints (the entries of ContactSolver.checkpoint() that
+_SOLVER_FIELDS lacks, of any shape: the rest solution's back-off, the anchors of the loads
+followed): one byte string per checkpoint (_pack_state) and its length [bytes]; files written
+before it existed lack both, and resume with a new solver's state but for the refinement."""
 _STEP_UNITS = {"time": "s", "error": "-", "max_interpenetration": "m", "kinetic_energy": "J/m"}
 _UNITS = {2: ("m, m, rad", "m/s, m/s, rad/s"),
           3: ("m, m, m, -, -, -, - (x, y, z, unit quaternion qw, qx, qy, qz)",
@@ -133,12 +138,36 @@ _ROWS = {
     "histories": (("step", "body_q", "body_v", "ground_acceleration", "time"), ()),
     "checkpoints": (("body_q", "body_v", "node_x", "node_v", "q_ref", "pair_count",
                      "since_refresh", "refresh_count", "contact_count", "steps_logged",
-                     *_SOLVER_FIELDS, "time", "step"),
+                     *_SOLVER_FIELDS, *_SOLVER_STATE.values(), "time", "step"),
                     (("contacts", (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS), "contact_count"),
-                     ("", ("pairs",), "pair_count"))),
+                     ("", ("pairs",), "pair_count"),
+                     *(("", (name,), size) for name, size in _SOLVER_STATE.items()))),
 }
 """What a row of each appended group is, for its CRC-32 (the same order on writing and reading);
 node_x, node_v and the contact sides are there only for models with deformable blocks."""
+
+
+def _pack_state(state: dict[str, np.ndarray]) -> np.ndarray:
+    """Named arrays (numbers) as one byte string (uint8): the names, then each array, in
+    numpy's .npy format (numpy.lib.format: dtype, shape and data; the same bytes for the same
+    arrays); empty for none."""
+    if not state:
+        return np.zeros(0, dtype=np.uint8)
+    out = io.BytesIO()
+    np.lib.format.write_array(out, np.array(list(state)), allow_pickle=False)
+    for value in state.values():
+        np.lib.format.write_array(out, np.asarray(value), allow_pickle=False)
+    return np.frombuffer(out.getvalue(), dtype=np.uint8)
+
+
+def _unpack_state(data: np.ndarray) -> dict[str, np.ndarray]:
+    """The named arrays of _pack_state's byte string."""
+    if data.size == 0:
+        return {}
+    stream = io.BytesIO(data.tobytes())
+    names = np.lib.format.read_array(stream, allow_pickle=False)
+    return {str(name): np.lib.format.read_array(stream, allow_pickle=False)
+            for name in names}
 
 
 def _byte_rows(column: np.ndarray) -> np.ndarray:
@@ -505,8 +534,7 @@ class ResultsWriter:
         for name in ("contact_count", "pair_count", "since_refresh", "refresh_count",
                      "steps_logged"):
             _grow(cp, name, np.int64, (), "-", chunk=16)
-        for name, (dtype, shape) in _SOLVER_FIELDS.items():
-            _grow(cp, name, dtype, shape, "-", chunk=16)
+        _solver_datasets(cp)
         _contact_datasets(cp.create_group("contacts"), dim, model.fe is not None)
         _grow(cp, "pairs", np.int32, (2,), "-", chunk=4096)
         _grow(cp, "step", np.int64, (), "-", chunk=16)
@@ -566,6 +594,11 @@ class ResultsWriter:
                 n_steps = int(src.file["checkpoints/steps_logged"][k])
                 _copy_rows(src, dst, "steps", n_steps, None)
                 _copy_rows(src, dst, "checkpoints", k + 1, None)
+                cp = dst["checkpoints"]
+                if _solver_datasets(cp) and "checksum" in cp:
+                    # a file from before the solver's state was stored takes it from here on
+                    # (its checkpoints none): the rows read intact, with their new columns
+                    cp["checksum"][:] = _stored_checksums(cp, k + 1)
                 if src.histories is not None:
                     hsteps = src.histories["step"]
                     _copy_rows(src, dst, "histories", hsteps.size, hsteps <= cp_step)
@@ -653,6 +686,9 @@ class ResultsWriter:
         held = solver.checkpoint() if solver is not None else {}
         carried = {name: np.asarray(held.get(name, np.full(shape, -1)))[None]
                    for name, (_, shape) in _SOLVER_FIELDS.items()}
+        packed = _pack_state({k: v for k, v in held.items() if k not in _SOLVER_FIELDS})
+        for name, size in _SOLVER_STATE.items():
+            carried[name], carried[size] = packed, np.array([packed.size])
 
         def write():
             self._flush_steps()
@@ -769,6 +805,26 @@ def _write_model(g: h5py.Group, model) -> None:
             g.create_dataset(name, data=np.asarray(data)).attrs["units"] = units
 
 
+def _solver_datasets(cp: h5py.Group) -> int:
+    """The checkpoints' datasets of the solver's state (_SOLVER_FIELDS, _SOLVER_STATE) that
+    `cp` lacks, each filled for the rows it has (-1s, no state: a new solver's); returns how
+    many were added."""
+    rows = cp["step"].shape[0] if "step" in cp else 0
+    added = 0
+    for name, (dtype, shape) in _SOLVER_FIELDS.items():
+        if name not in cp:
+            _append(_grow(cp, name, dtype, shape, "-", chunk=16),
+                    np.full((rows, *shape), -1, dtype=dtype))
+            added += 1
+    for name, size in _SOLVER_STATE.items():
+        if size not in cp:
+            _append(_grow(cp, size, np.int64, (), "bytes", chunk=16),
+                    np.zeros(rows, dtype=np.int64))
+            _grow(cp, name, np.uint8, (), "-", chunk=65536)
+            added += 1
+    return added
+
+
 def _node_datasets(g: h5py.Group, model, chunk: int) -> None:
     """node_x [m], node_v [m/s] of the deformable blocks' nodes, for models that have them."""
     if model.fe is not None:
@@ -799,7 +855,7 @@ class _Rows:
         # which has no checksums to keep consistent)
         self.ragged = [(names, {name: (g[sub] if sub else g)[name] for name in names
                                 if name in (g[sub] if sub else g)}, count)
-                       for sub, names, count in ragged]
+                       for sub, names, count in ragged if count in g]
         self.checksum = g["checksum"] if "checksum" in g else None  # (none in format 1)
 
     def append(self, values: dict[str, np.ndarray]) -> None:
@@ -841,6 +897,23 @@ def _describe_existing(path: Path) -> str:
         return ""
 
 
+def _stored_checksums(g: h5py.Group, m: int) -> np.ndarray:
+    """The CRC-32 of the first m rows of the appended group `g` as it stores them: the
+    columns and ragged parts it has (as written: see _Rows; older files lack some)."""
+    columns, ragged = _ROWS[g.name.lstrip("/")]
+    columns = [name for name in columns if name in g]
+    data = [g[name][:m] for name in columns]
+    parts = []
+    for sub, names, count in ragged:
+        if count not in g:
+            continue
+        h = g[sub] if sub else g
+        counts = data[columns.index(count)]
+        total = max(0, int(counts.sum()))
+        parts.append(([h[name][:total] for name in names if name in h], counts))
+    return _checksums(data, parts)
+
+
 def _copy_rows(src: Results, dst: h5py.File, group: str, rows: int, mask) -> None:
     """Copy the first `rows` rows (or the rows where mask is true) of every dataset of a
     group, contacts and pairs cut to match."""
@@ -850,11 +923,13 @@ def _copy_rows(src: Results, dst: h5py.File, group: str, rows: int, mask) -> Non
         keep = np.arange(rows)
     else:
         keep = np.flatnonzero(mask[:rows])
+    ragged = {name: count for sub, names, count in _ROWS[group][1] if not sub
+              for name in names}  # (pairs, the solver's state)
     for name, ds in s.items():
         if isinstance(ds, h5py.Group):
             continue
-        if name == "pairs":
-            counts = s["pair_count"][:rows]
+        if name in ragged:
+            counts = s[ragged[name]][:rows]
             data = _ragged_rows(ds[: int(counts.sum())], counts, keep)
         else:
             data = ds[:rows][keep]
@@ -1008,8 +1083,7 @@ class Results:
         """Rows of `group` that every dataset has and whose CRC-32 matches, up to the first
         that does not; the rows dropped are said in self.damage."""
         g = self.file[group]
-        columns, ragged = _ROWS[group]
-        columns = [name for name in columns if name in g]
+        columns = [name for name in _ROWS[group][0] if name in g]
         checked = "checksum" in g  # (not in files of format version 1)
         n = min(g[name].shape[0] for name in columns + ["checksum"] * checked)
         if not checked or n == 0:
@@ -1017,15 +1091,7 @@ class Results:
 
         def intact(m: int) -> np.ndarray:
             """Whether each of the first m rows is intact (raises if they cannot be read)."""
-            data = [g[name][:m] for name in columns]
-            parts = []
-            for sub, names, count in ragged:
-                h = g[sub] if sub else g
-                counts = data[columns.index(count)]
-                total = max(0, int(counts.sum()))
-                # the fields the file has (as written: see _Rows; older files lack some)
-                parts.append(([h[name][:total] for name in names if name in h], counts))
-            return _checksums(data, parts) == g["checksum"][:m]
+            return _stored_checksums(g, m) == g["checksum"][:m]
 
         try:
             ok = intact(n)
@@ -1179,6 +1245,10 @@ class Results:
                            for name in (*_CONTACT_FIELDS, *_FE_CONTACT_FIELDS)
                            if name in cp["contacts"]}
         out["pairs"] = cp["pairs"][pstart[k]:pstart[k + 1]]
+        for name, size in _SOLVER_STATE.items():
+            if size in cp:
+                sstart = np.concatenate([[0], np.cumsum(cp[size][:n])])
+                out.update(_unpack_state(cp[name][sstart[k]:sstart[k + 1]]))
         return out
 
     def to_xarray(self):

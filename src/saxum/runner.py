@@ -3,10 +3,10 @@
 The run writes the initial state as frame 0 and a checkpoint at step 0, then a frame every
 `output.interval` and a checkpoint every `output.checkpoint_interval` (both rounded to whole
 steps), and both at the end. Ctrl-C (SIGINT) stops after the current step: the state is written
-as a frame and a checkpoint (not where the solver carries state that no checkpoint holds:
-_advance), the file is marked "interrupted", and `saxum resume FILE` continues. A resumed run
-writes exactly what the same run made in one go writes (the checkpoint holds the state, the
-contacts with their impulses, the broad phase's pair list and the solver's refinement flags).
+as a frame and a checkpoint, the file is marked "interrupted", and `saxum resume FILE`
+continues. A resumed run writes exactly what the same run made in one go writes (the checkpoint
+holds the state, the contacts with their impulses, the broad phase's pair list and the
+solver's state: ContactSolver.checkpoint).
 """
 
 from __future__ import annotations
@@ -132,7 +132,6 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
         if initial:
             writer.write_frame(state)
             writer.write_checkpoint(state, sim.detector, sim.solver)
-            sim.solver.forget()
         while state.step < total:
             report = sim.step(state)
             writer.log_step(report)
@@ -142,7 +141,6 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
                 writer.write_frame(state)
             if state.step % checkpoint_every == 0 and state.step < total:
                 writer.write_checkpoint(state, sim.detector, sim.solver)
-                sim.solver.forget()  # a run resumed from here starts as restored from it
             bar.update(1)
             if state.step % 20 == 0:
                 bar.set_postfix_str(f"t={state.time:.3f} s NLGS={report.iterations}"
@@ -153,12 +151,7 @@ def _advance(scenario, sim, state, writer: ResultsWriter, quiet: bool,
         # the last state, unless the loop (or the start of the run) has just written it
         if state.step > first and (state.step % frame_every or state.step == total):
             writer.write_frame(state)
-        # (not where the solver carries state from earlier steps that no checkpoint holds, as
-        # NLGS following changing loads does: a run resumed there would not step as the run in
-        # one go; it resumes from the last periodic checkpoint, recomputing the steps after it.
-        # The refinement's flags, which checkpoints hold, do not stop it.)
-        if (state.step > first and (state.step % checkpoint_every or state.step == total)
-                and (status == "finished" or not sim.solver.carries_state())):
+        if state.step > first and (state.step % checkpoint_every or state.step == total):
             writer.write_checkpoint(state, sim.detector, sim.solver)
         if status == "finished":
             writer.set_status(1, f"finished at t = {state.time:g} s")

@@ -56,6 +56,19 @@ class SolverReport:
     stalled: bool = False
 
 
+def prefixed(prefix: str, state: dict) -> dict:
+    """The entries of `state` (a part's checkpoint()) named "prefix.name", for a checkpoint
+    that holds several parts' (unprefixed takes them out)."""
+    return {f"{prefix}.{name}": value for name, value in state.items()}
+
+
+def unprefixed(saved: dict, prefix: str) -> dict:
+    """The entries of `saved` named "prefix.name", as "name"."""
+    start = len(prefix) + 1
+    return {name[start:]: value for name, value in saved.items()
+            if name.startswith(prefix + ".")}
+
+
 class ContactSolver(ABC):
     """Finds the impulses R of a ContactProblem and the end-of-step velocities v."""
 
@@ -66,27 +79,18 @@ class ContactSolver(ABC):
         v_free [m/s, rad/s] (bodies, dof): the free velocity; v: v_free + M^-1 H impulse on
         entry, the end-of-step velocity v_free + M^-1 H R on return."""
 
-    def forget(self) -> None:
-        """Drop what the solver carries from one step to the next and no checkpoint holds (none
-        by default; NLGS: the rest solutions it extrapolates, not its refinement), so that
-        stepping on gives what a solver restored from a checkpoint (restore()) would: the
-        runner calls it at every checkpoint, which a resumed run starts from."""
-        return None
-
     def checkpoint(self) -> dict[str, np.ndarray]:
-        """The state that a checkpoint holds of the solver (saxum.results, _SOLVER_FIELDS),
-        which restore() puts back: none by default; NLGS, Hybrid: their refinement's flags
-        (saxum.solver.nlgs.Refinement)."""
+        """Everything the solver carries from one step to the next, as named arrays that a
+        checkpoint holds (saxum.results: _SOLVER_FIELDS, and the others packed in
+        _SOLVER_STATE), which restore() puts back, so that a run resumed from a checkpoint
+        steps as the run made in one go, bit for bit: none by default; NLGS: its refinement's
+        flags (saxum.solver.nlgs.Refinement), the rest solution's back-off and the anchors of
+        the loads it follows (saxum.solver.load_following); Hybrid: also its switches'
+        back-off."""
         return {}
 
     def restore(self, saved: dict) -> None:
         """The solver as it was at the checkpoint `saved` (saxum.results.Results.checkpoint)
-        that checkpoint() wrote, having forgotten (forget()) what no checkpoint holds; what
-        `saved` lacks (a file written before it was stored) as a new solver's."""
-        self.forget()
-
-    def carries_state(self) -> bool:
-        """Whether the solver holds something from earlier steps that no checkpoint holds and
-        forget() would drop, so that stepping on differs from a restored solver's steps (a
-        checkpoint written now would not resume bit for bit)."""
-        return False
+        that checkpoint() wrote; what `saved` lacks (a file written before it was stored) as
+        a new solver's."""
+        return None

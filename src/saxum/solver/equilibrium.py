@@ -89,6 +89,10 @@ step shrinks by its length, stops shrinking (the barrier holds x off the cones' 
 the loads would have to cross)."""
 
 
+_KEPT_SYSTEM = ("closed", "slot", "b", "x", "data")
+"""The arrays of a LoadResponse that a checkpoint holds (data: None until formed)."""
+
+
 class LoadResponse:
     """The last Newton system of a rest solution, kept to answer a change of the loads: for
     df [N s] per free body, the impulse change dR = B dx, dx = P^-1 G^T nu, G P^-1 G^T nu = df,
@@ -97,19 +101,40 @@ class LoadResponse:
     barrier's Hessian P is large (an affine-scaling direction of interior-point methods).
     A rest solution found without a factorization (the load path: rest_solution) keeps the
     system at the point where the Newton iterations would have started, factorized at the
-    first change asked for."""
+    first change asked for. The system's values (`data`, CSC) are kept with it: a checkpoint
+    holds them (checkpoint(), restored()), and the restored system is factorized from them at
+    the first change asked for, bit for bit the factor it had."""
 
     def __init__(self) -> None:
         self.clear()
 
     def clear(self) -> None:
         self.lu = None
-        self.closed = self.slot = self.b = self.x = None
+        self.closed = self.slot = self.b = self.x = self.data = None
         self.scale = 0.0
 
     @property
     def ready(self) -> bool:
         return self.closed is not None
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The kept system as arrays ({} where none is kept): the closed contacts, the free
+        bodies' slots, B, x, r0 [N s] and, once it was formed, its values."""
+        if self.closed is None:
+            return {}
+        kept = {name: getattr(self, name) for name in _KEPT_SYSTEM}
+        return {"scale": np.float64(self.scale),
+                **{name: value for name, value in kept.items() if value is not None}}
+
+    @classmethod
+    def restored(cls, saved: dict) -> "LoadResponse":
+        """The system whose checkpoint() was `saved` (none kept for {})."""
+        response = cls()
+        if saved:
+            for name in _KEPT_SYSTEM:
+                setattr(response, name, saved.get(name))
+            response.scale = float(saved["scale"])
+        return response
 
     def impulse_change(self, problem, change: np.ndarray) -> np.ndarray | None:
         """dR (count, dim) [N s] for the change of loads `change` (free bodies, dof) [N s] on
@@ -122,11 +147,12 @@ class LoadResponse:
             nfree, dof = change.shape
             indptr, indices, where, diagonal, bptr, blocks = _pattern(
                 c.candidate, c.antagonist, self.closed, self.slot, nfree, dof)
-            data = np.zeros(len(indices))
-            _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
-                           self.closed, self.slot, self.b, self.x, self.scale, where, diagonal,
-                           indptr, np.zeros((nfree, dof)), data)
-            self.lu = _factorize(bptr, blocks, data, indices, indptr, dof)
+            if self.data is None:  # the load path's system, formed with this step's H
+                self.data = np.zeros(len(indices))
+                _newton_system(c.candidate, c.antagonist, problem.h_cand, problem.h_ant,
+                               self.closed, self.slot, self.b, self.x, self.scale, where,
+                               diagonal, indptr, np.zeros((nfree, dof)), self.data)
+            self.lu = _factorize(bptr, blocks, self.data, indices, indptr, dof)
             if self.lu is None:
                 self.clear()
                 return None
@@ -227,6 +253,7 @@ def rest_solution(problem, impulse: np.ndarray, v_free: np.ndarray, v: np.ndarra
     if response is not None and lu is not None:
         response.lu, response.closed, response.slot = lu, closed, slot
         response.b, response.x, response.scale = b, x_factored, scale
+        response.data = data  # (lu's: formed last before it)
     return True
 
 

@@ -65,7 +65,7 @@ import numpy as np
 
 from ..errors import InputError
 from .assembled import assemble_local
-from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend
+from .base import SOLVER_NAMES, ContactSolver, SolverReport, error_trend, prefixed, unprefixed
 from .conic import body_conic
 from .fischer import fischer_burmeister_newton, smoothing_newton
 from .newton import alart_curnier_newton, proximal_point
@@ -235,20 +235,19 @@ class Hybrid(ContactSolver):
         self._wait = 0
         self._refinement = Refinement()
 
-    def forget(self) -> None:
-        self._first.forget()  # the other never follows loads (rest_after 0)
-        self._failures = self._wait = 0  # the back-off, which decides where to switch
-        # (not the refinement: checkpoints hold it)
-
     def checkpoint(self) -> dict[str, np.ndarray]:
-        return {"refinement": self._refinement.flags()}
+        # "switch": the back-off that decides where to try other solvers (_failures, _wait);
+        # the state of the first NLGS ("first."; the others carry none: no rest solution, no
+        # refinement)
+        return {"refinement": self._refinement.flags(),
+                "switch": np.array([self._failures, self._wait], dtype=np.int64),
+                **prefixed("first", self._first.checkpoint())}
 
     def restore(self, saved: dict) -> None:
-        self.forget()
         self._refinement = Refinement.from_flags(saved.get("refinement"))
-
-    def carries_state(self) -> bool:
-        return self._first.carries_state() or self._failures > 0 or self._wait > 0
+        failures, wait = saved.get("switch", (0, 0))
+        self._failures, self._wait = int(failures), int(wait)
+        self._first.restore(unprefixed(saved, "first"))
 
     @property
     def rest_attempts(self) -> int:

@@ -39,6 +39,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .base import prefixed, unprefixed
 from .equilibrium import LoadResponse, rest_hypothesis
 
 __all__ = ["START_MARGIN", "LoadFollowing"]
@@ -74,6 +75,23 @@ class _Anchor:
         self.lam = np.empty(_DEPTH + 1)
         self.change = np.empty_like(loads)
         self.answers = 0
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The anchor as arrays (restored() puts it back): its system's
+        (LoadResponse.checkpoint, "response." before each name), impulses, loads and the
+        answers kept."""
+        n = self.answers
+        return {**prefixed("response", self.response.checkpoint()), "impulse": self.impulse,
+                "loads": self.loads, "q": self.q[:n], "dr": self.dr[:n]}
+
+    @classmethod
+    def restored(cls, saved: dict) -> "_Anchor":
+        """The anchor whose checkpoint() was `saved`."""
+        response = LoadResponse.restored(unprefixed(saved, "response"))
+        anchor = cls(response, saved["impulse"], saved["loads"])
+        anchor.answers = n = len(saved["q"])
+        anchor.q[:n], anchor.dr[:n] = saved["q"], saved["dr"]
+        return anchor
 
     def start(self, problem, loads: np.ndarray, weight: np.ndarray, tolerance: float,
               impulse: np.ndarray, v_free: np.ndarray, v: np.ndarray) -> bool:
@@ -120,10 +138,30 @@ class LoadFollowing:
         self._weight = (None, None)  # (inv_mass, M^-1/2 of the free bodies, as f is laid out)
         self._quiet = 0  # steps in a row whose loads did not change
 
-    def holds(self) -> bool:
-        """Whether anything is kept that clear() would drop."""
-        return (bool(self._anchors) or self.response.ready or self._quiet != 0
-                or any(x is not None for x in (self._keys, self._last_loads, self._pending)))
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """What is kept between steps, as arrays (restored() puts it back; {} where nothing
+        is): the anchors' (_Anchor.checkpoint, "anchor<k>." before each name, oldest first),
+        their contacts' keys and closed contacts, the last step's loads and the steps whose
+        loads did not change. (Between steps nothing else is: `response` is filled and moved
+        into a new anchor within a step, `_pending` kept from start to record.)"""
+        if self._last_loads is None:
+            return {}
+        out = {"keys": self._keys, "closed": self._closed, "last_loads": self._last_loads,
+               "quiet": np.int64(self._quiet), "anchors": np.int64(len(self._anchors))}
+        for k, anchor in enumerate(self._anchors):
+            out.update(prefixed(f"anchor{k}", anchor.checkpoint()))
+        return out
+
+    @classmethod
+    def restored(cls, saved: dict) -> "LoadFollowing":
+        """The following whose checkpoint() was `saved` (a new one's for {})."""
+        following = cls()
+        if saved:
+            following._keys, following._closed = saved["keys"], saved["closed"]
+            following._last_loads, following._quiet = saved["last_loads"], int(saved["quiet"])
+            following._anchors = [_Anchor.restored(unprefixed(saved, f"anchor{k}"))
+                                  for k in range(int(saved["anchors"]))]
+        return following
 
     def clear(self) -> None:
         self.response.clear()

@@ -42,7 +42,7 @@ import numpy as np
 
 from ..errors import InputError
 from .atomic import claim, load_acquire, relax, store_release
-from .base import ContactSolver, SolverReport, error_trend
+from .base import ContactSolver, SolverReport, error_trend, prefixed, unprefixed
 from .equilibrium import rest_solution
 from .laws_local import law_solve_2d, law_solve_3d
 from .load_following import START_MARGIN, LoadFollowing
@@ -198,22 +198,20 @@ class NLGS(ContactSolver):
         """nlgs_2d_domains' (nlgs_3d_domains') work memory (rows, own, own_impulse, vx;
         nlgs_2d_domains uses no own_impulse)."""
 
-    def forget(self) -> None:
-        self._following.clear()  # (not the refinement: checkpoints hold it)
-        self._sticking_failed = False
-        self._rest_backoff = 0
-        self._rest_found = False
-
     def checkpoint(self) -> dict[str, np.ndarray]:
-        return {"refinement": self._refinement.flags()}
+        # "rest": the rest solution's back-off (_REST_BACKOFF), whether the last step found
+        # one, whether the last sticking start failed (_solve_deformable)
+        return {"refinement": self._refinement.flags(),
+                "rest": np.array([self._rest_backoff, self._rest_found, self._sticking_failed],
+                                 dtype=np.int64),
+                **prefixed("following", self._following.checkpoint())}
 
     def restore(self, saved: dict) -> None:
-        self.forget()
         self._refinement = Refinement.from_flags(saved.get("refinement"))
-
-    def carries_state(self) -> bool:
-        return (self._following.holds() or self._sticking_failed or self._rest_backoff != 0
-                or self._rest_found)
+        backoff, found, failed = saved.get("rest", (0, 0, 0))
+        self._rest_backoff, self._rest_found, self._sticking_failed = (
+            int(backoff), bool(found), bool(failed))
+        self._following = LoadFollowing.restored(unprefixed(saved, "following"))
 
     def solve(self, problem: ContactProblem, impulse: np.ndarray, v_free: np.ndarray,
               v: np.ndarray) -> SolverReport:
