@@ -281,7 +281,7 @@ class ContactLaw:
                 raise InputError(f"{who}: the compression cap needs both f_c [Pa] and g_fc "
                                  f"[J/m^2]; {given} is given, {other} is not (leave both out "
                                  "for a joint that does not crush)")
-            if self.c_ss > 0.0 and self.f_c == 0.0:
+            if self.c_ss > 0.0 and not self.f_c > 0.0:  # (f_c >= 0 checked above)
                 raise InputError(f"{who}: c_ss = {self.c_ss:g} is the shear term of the "
                                  "compression cap, which needs f_c and g_fc; give them or "
                                  "drop c_ss")

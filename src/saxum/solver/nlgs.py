@@ -704,7 +704,7 @@ def _anderson_mix(cand, ant, work, v, impulse, inv_mass, mass, active, count, hi
     for i in range(nb_):
         for j in range(dof):
             w = math.sqrt(mass[i, j])
-            if w == 0.0:
+            if not w > 0.0:  # a fixed body (mass 0): no row
                 continue
             r = i * dof + j
             f0 = history_v[1, i, j] - history_v[0, i, j]
