@@ -228,43 +228,18 @@ def test_negative_parameters_name_the_key(line, words):
     assert "laws" in str(info.value)
 
 
-def test_snap_back_names_the_law_and_the_least_fracture_energy():
-    text = WALL.replace("g_i = 1.0", "g_i = 1e-5")
-    with pytest.raises(sx.InputError) as info:
-        parse_scenario(text).build_model()
-    message = str(info.value)
+@pytest.mark.parametrize(("given", "least"), [
     # f_t^2 / (2 k_n) = 1e6 / 2e10
-    assert "laws[0]" in message and "g_i" in message and "snap back" in message
-    assert "g_i >= f_t^2 / (2 k_n) = 5e-05 J/m^2" in message
-
-
-def test_mode_two_snap_back_names_the_least_fracture_energy():
-    text = WALL.replace("g_ii = 2.0", "g_ii = 1e-4")
-    with pytest.raises(sx.InputError) as info:
-        parse_scenario(text).build_model()
-    message = str(info.value)
+    (("g_i = 1.0", "g_i = 1e-5"), "g_i >= f_t^2 / (2 k_n) = 5e-05 J/m^2"),
     # cohesion^2 / (2 k_t) = 4e6 / 2e10
-    assert "laws[0]" in message and "g_ii" in message and "snap back" in message
-    assert "g_ii >= cohesion^2 / (2 k_t) = 0.0002 J/m^2" in message
-
-
-@pytest.mark.parametrize(("cap", "words"), [
-    (dict(f_c=-1e6, g_fc=1e3), "f_c must be a finite number >= 0"),
-    (dict(f_c=1e6), "needs both f_c .* g_fc is not"),
-    (dict(g_fc=1e3), "needs both f_c .* f_c is not"),
-    (dict(f_c=1e6, g_fc=10.0), r"snap back; use g_fc >= f_c\^2 / k_n = 100 J/m\^2"),
+    (("g_ii = 2.0", "g_ii = 1e-4"), "g_ii >= cohesion^2 / (2 k_t) = 0.0002 J/m^2"),
 ])
-def test_bad_caps_are_named(cap, words):
-    with pytest.raises(sx.InputError, match=words):
-        sx.ContactLaw(friction=0.6, **COHESIVE, **cap)
-    with pytest.raises(sx.InputError, match="f_c is not a parameter of kind ELASTIC"):
-        sx.ContactLaw(friction=0.6, kind=sx.LawKind.ELASTIC, k_n=1e10, f_c=1e6)
-
-
-def test_the_cap_keys_reach_the_law():
-    text = WALL.replace("g_ii = 2.0\n", "g_ii = 2.0\nf_c = 2e6\ng_fc = 500.0\n")
-    law = parse_scenario(text).laws[0].law()
-    assert (law.f_c, law.g_fc) == (2e6, 500.0)
+def test_snap_back_names_the_law_and_the_least_fracture_energy(given, least):
+    with pytest.raises(sx.InputError) as info:
+        parse_scenario(WALL.replace(*given)).build_model()
+    message = str(info.value)
+    assert "laws[0]" in message and least.split(" >=")[0] in message and "snap back" in message
+    assert least in message
 
 
 def test_a_parameter_of_another_kind_and_a_missing_one_are_named():
