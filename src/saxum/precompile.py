@@ -61,6 +61,7 @@ def kernel_signatures() -> dict[int, dict[str, tuple]]:
                                 f2, N, N, N, I, F, I, F),
         # this process's half, the smallest first (it tells whether the cache is empty)
         "bodies.rigid2d.predict_positions": (f2, f2, F, f2),
+        "solver.nlgs._any_impulse": (f2, I),
         "solver.problem._end_gaps_2d": (i32_1, i32_1, f3, f3, f1, I, f2, f2, f2, F, F, F, f1),
         "contacts._carry": (I, I, i64_1, i64_1, f2, f2, f2, f2, f1, f1, f1, f1, f1, f1, f1, f1,
                             i32_1, i8_1),
