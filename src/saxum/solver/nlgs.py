@@ -1088,7 +1088,7 @@ def _first_sweep_2d(lo, hi, base, order, cand, ant, h_cand, h_ant, delassus, bia
     own_ant = own[1]
     for i in range(lo, hi):
         a = order[i]
-        _pack_2d(rows[i], h_cand, h_ant, delassus, bias, friction, a)
+        _pack_2d(rows, i, h_cand, h_ant, delassus, bias, friction, a)
         c = cand[a]
         b = ant[a]
         own_cand[a] = c if ghost[c] < 0 else base + ghost[c]
@@ -1261,7 +1261,7 @@ def _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, j
     for a in range(count):
         if active[a]:
             nactive += 1
-            _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+            _pack_2d(work, a, h_cand, h_ant, delassus, bias, friction, a)
     if joints is not None:
         nactive += _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints,
                                    law_map)
@@ -1273,9 +1273,9 @@ def _pack_joints_2d(h_cand, h_ant, delassus, bias, friction, work, joints, law_m
     """The joints' rows of `work` (nlgs_2d), with the factors of W'; returns how many."""
     for j in range(joints.shape[0]):
         a = joints[j]
-        _pack_2d(work[a], h_cand, h_ant, delassus, bias, friction, a)
+        _pack_2d(work, a, h_cand, h_ant, delassus, bias, friction, a)
         m = law_map[a]
-        _factorize_2d(work[a], m[1], m[2], m[4], friction[a])  # on W'
+        _factorize_2d(work, a, m[1], m[2], m[4], friction[a])  # on W'
     return joints.shape[0]
 
 
@@ -1385,30 +1385,32 @@ def _check_error(sums, criterion):
 
 
 @nb.njit(inline="always")
-def _pack_2d(row, h_cand, h_ant, delassus, bias, friction, a):
-    """Contact a's row of nlgs_2d's `work`, with the factors of W."""
-    row[0] = h_cand[a, 0, 0]
-    row[1] = h_cand[a, 0, 1]
-    row[2] = h_cand[a, 1, 0]
-    row[3] = h_cand[a, 1, 1]
-    row[4] = h_cand[a, 0, 2]
-    row[5] = h_cand[a, 1, 2]
-    row[6] = h_ant[a, 0, 2]
-    row[7] = h_ant[a, 1, 2]
-    row[8] = delassus[a, 0, 0]
-    row[9] = delassus[a, 0, 1]
-    row[10] = delassus[a, 1, 1]
-    _factorize_2d(row, row[8], row[9], row[10], friction[a])
-    row[16] = bias[a]
-    row[17] = friction[a]
+def _pack_2d(rows, i, h_cand, h_ant, delassus, bias, friction, a):
+    """Contact a's row of nlgs_2d's `work`, with the factors of W: rows[i] (indexed in place,
+    as _pack_3d's)."""
+    rows[i, 0] = h_cand[a, 0, 0]
+    rows[i, 1] = h_cand[a, 0, 1]
+    rows[i, 2] = h_cand[a, 1, 0]
+    rows[i, 3] = h_cand[a, 1, 1]
+    rows[i, 4] = h_cand[a, 0, 2]
+    rows[i, 5] = h_cand[a, 1, 2]
+    rows[i, 6] = h_ant[a, 0, 2]
+    rows[i, 7] = h_ant[a, 1, 2]
+    rows[i, 8] = delassus[a, 0, 0]
+    rows[i, 9] = delassus[a, 0, 1]
+    rows[i, 10] = delassus[a, 1, 1]
+    _factorize_2d(rows, i, rows[i, 8], rows[i, 9], rows[i, 10], friction[a])
+    rows[i, 16] = bias[a]
+    rows[i, 17] = friction[a]
 
 
 @nb.njit(inline="always")
-def _factorize_2d(row, wtt, wtn, wnn, mu):
-    """The factors of the single-contact solve on [[wtt, wtn], [wtn, wnn]] into row[11:16]."""
+def _factorize_2d(rows, i, wtt, wtn, wnn, mu):
+    """The factors of the single-contact solve on [[wtt, wtn], [wtn, wnn]] into
+    rows[i, 11:16]."""
     f = factorize_contact_2d(wtt, wtn, wnn, mu)
-    for i in range(5):
-        row[11 + i] = f[i]
+    for k in range(5):
+        rows[i, 11 + k] = f[k]
 
 
 @nb.njit(inline="always")
