@@ -1,7 +1,7 @@
 """Benchmark: one step on 1 and 2 numba threads (issue 16), stage by stage: the serial step
-(solver threads 1 and domains 1: nlgs_2d or nlgs_3d and the serial kernels) against the
-parallel one (threads 1 and 2: NLGS by two domains, saxum.solver.nlgs.nlgs_2d_domains or
-nlgs_3d_domains, and the parallel detection, assembly and, in 2D, end gaps), in one process.
+(solver threads 1 and domains 1: nlgs_2d or nlgs_3d and the serial kernels) against NLGS by
+two domains (saxum.solver.nlgs.nlgs_2d_domains or nlgs_3d_domains) on 1 thread (with the serial
+kernels) and on 2 (with the parallel detection, assembly and, in 2D, end gaps), in one process.
 
 Cases (dt 1e-3 s, saxum.NLGS, VARIANTS): running-bond walls of 0.25 x 0.065 m bricks, 1800
 kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080 bricks) at rest, and 50 x 40 (2025 bricks)
@@ -82,8 +82,8 @@ leans from a few hundredths of a second on)"""
 VARIANTS = {"serial": {"threads": 1, "domains": 1}, "1 thread": {"threads": 1, "domains": 2},
             "2 threads": {"threads": 2, "domains": 2}}
 """NLGS's settings: the serial kernels (one thread, one domain), NLGS by two domains (what
-the default gives every case here on 2 cores until the default domains grew to 2048 free
-blocks each: the figures in BENCHMARKS.md) on 1 and 2 threads."""
+the default gave every case here on 2 cores while the default domains were the machine's
+cores, at most one per 256 free blocks: the figures in BENCHMARKS.md) on 1 and 2 threads."""
 STAGES = ("detection", "warm start", "assembly", "solve", "end gaps", "step")
 
 
