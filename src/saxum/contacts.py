@@ -110,13 +110,12 @@ class Contacts:
         Model.law_kind), fully damaged: a joint that was not bonded at the start does not bond
         later. parallel: by blocks of contacts on numba's threads (_carry_parallel, the same
         rows)."""
-        n, m = self.count, previous.count
+        # whole arrays and the counts: fifteen slices cost more than the merge on a small model
         return (_carry_parallel if parallel else _carry)(
-            self.key[:n], previous.key[:m], self.impulse[:n], previous.impulse[:m],
-            self.slip[:n], previous.slip[:m], self.damage[:n], previous.damage[:m],
-            self.history[:n], previous.history[:m], self.crush[:n], previous.crush[:m],
-            self.initial_gap[:n], previous.initial_gap[:m], self.law[:n],
-            _NO_LAWS if law_kind is None else law_kind,
+            self.count, previous.count, self.key, previous.key, self.impulse, previous.impulse,
+            self.slip, previous.slip, self.damage, previous.damage, self.history,
+            previous.history, self.crush, previous.crush, self.initial_gap,
+            previous.initial_gap, self.law, _NO_LAWS if law_kind is None else law_kind,
         )
 
 
@@ -125,11 +124,13 @@ _NO_LAWS = np.zeros(0, dtype=np.int8)
 
 
 @nb.njit(cache=True)
-def _carry(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage, history,
-           old_history, crush, old_crush, initial_gap, old_initial_gap, law, law_kind):
-    """Merge of two key lists that detection writes in increasing order: O(count), no sort;
-    rows of a key found in old_key are copied, the others reset (module doc)."""
-    return _carry_range(0, key.shape[0], 0, key, old_key, impulse, old_impulse, slip,
+def _carry(count, old_count, key, old_key, impulse, old_impulse, slip, old_slip, damage,
+           old_damage, history, old_history, crush, old_crush, initial_gap, old_initial_gap,
+           law, law_kind):
+    """Merge of two key lists (the first count and old_count rows) that detection writes in
+    increasing order: O(count), no sort; rows of a key found in old_key are copied, the
+    others reset (module doc)."""
+    return _carry_range(0, count, 0, old_count, key, old_key, impulse, old_impulse, slip,
                         old_slip, damage, old_damage, history, old_history, crush, old_crush,
                         initial_gap, old_initial_gap, law, law_kind)
 
@@ -139,35 +140,35 @@ _CARRY_BLOCK = 4096
 
 
 @nb.njit(parallel=True, cache=True)
-def _carry_parallel(key, old_key, impulse, old_impulse, slip, old_slip, damage, old_damage,
-                    history, old_history, crush, old_crush, initial_gap, old_initial_gap, law,
-                    law_kind):
+def _carry_parallel(count, old_count, key, old_key, impulse, old_impulse, slip, old_slip,
+                    damage, old_damage, history, old_history, crush, old_crush, initial_gap,
+                    old_initial_gap, law, law_kind):
     """_carry by blocks of contacts on numba's threads, the same rows: each block's merge
     starts at the first old key not below its first key (a bisection)."""
-    hits = np.zeros(-(-key.shape[0] // _CARRY_BLOCK), dtype=np.int64)
+    hits = np.zeros(-(-count // _CARRY_BLOCK), dtype=np.int64)
     for b in nb.prange(hits.shape[0]):
         lo = b * _CARRY_BLOCK
-        hi = min(key.shape[0], lo + _CARRY_BLOCK)
-        first = np.searchsorted(old_key, key[lo])
-        hits[b] = _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip,
+        hi = min(count, lo + _CARRY_BLOCK)
+        first = np.searchsorted(old_key[:old_count], key[lo])
+        hits[b] = _carry_range(lo, hi, first, old_count, key, old_key, impulse, old_impulse, slip,
                                old_slip, damage, old_damage, history, old_history, crush,
                                old_crush, initial_gap, old_initial_gap, law, law_kind)
     return hits.sum()
 
 
 @nb.njit(inline="always")
-def _carry_range(lo, hi, first, key, old_key, impulse, old_impulse, slip, old_slip, damage,
-                 old_damage, history, old_history, crush, old_crush, initial_gap, old_initial_gap,
-                 law, law_kind):
-    """_carry's merge for the rows lo .. hi - 1, from old_key[first] on (no old key before it
-    is at least key[lo]); returns the rows found."""
+def _carry_range(lo, hi, first, old_count, key, old_key, impulse, old_impulse, slip, old_slip,
+                 damage, old_damage, history, old_history, crush, old_crush, initial_gap,
+                 old_initial_gap, law, law_kind):
+    """_carry's merge for the rows lo .. hi - 1, from old_key[first] to old_key[old_count - 1]
+    (no old key before it is at least key[lo]); returns the rows found."""
     hits = 0
     k = first
     for a in range(lo, hi):
-        while k < old_key.shape[0] and old_key[k] < key[a]:
+        while k < old_count and old_key[k] < key[a]:
             k += 1
         # element by element: a slice assignment per contact costs more than the merge itself
-        if k < old_key.shape[0] and old_key[k] == key[a]:
+        if k < old_count and old_key[k] == key[a]:
             for r in range(impulse.shape[1]):
                 impulse[a, r] = old_impulse[k, r]
             for r in range(slip.shape[1]):
