@@ -1,21 +1,21 @@
 """Benchmark: one step on 1 and 2 numba threads (issue 16), stage by stage: the serial step
-(solver threads None: nlgs_2d or nlgs_3d and the serial kernels) against the parallel one
-(threads 1 and 2: NLGS by domains, saxum.solver.nlgs.nlgs_2d_domains or nlgs_3d_domains, and the
-parallel detection, assembly and, in 2D, end gaps), in one process.
+(solver threads 1 and domains 1: nlgs_2d or nlgs_3d and the serial kernels) against NLGS by
+two domains (saxum.solver.nlgs.nlgs_2d_domains or nlgs_3d_domains) on 1 thread (with the serial
+kernels) and on 2 (with the parallel detection, assembly and, in 2D, end gaps), in one process.
 
-Cases (dt 1e-3 s, saxum.NLGS, domains left to their default: the machine's cores): running-bond
-walls of 0.25 x 0.065 m bricks, 1800 kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080
-bricks) at rest, and 50 x 40 (2025 bricks) on a base shaken at 0.7 g, 2 Hz (it slides on its
-base); with --3d, L walls of saxum.structures.wall3d (0.25 x 0.12 x 0.065 m bricks, the same
-material): 40 courses of two 12 m legs (3840 bricks) at rest, and 20 courses of two 6 m legs
-(960 bricks) on a base shaken at 0.7 g, 2 Hz, along (0.6, 0.8, 0) (3D: nlgs_3d_domains,
-polyhedron_contacts_parallel and the parallel 3D assembly). Per case and variant, interleaved
---repeats times, after `warm` steps of that simulation (the kernels compiled before on a small
-one): wall time (time.perf_counter) and CPU time (time.process_time: all threads; omp's threads
-spin while they wait, CPU time that is not work) per step of detection, the warm start
-(Contacts.warm_start_from), assembly, the solve, the end gaps and the whole step, medians over
-the repeats; sweeps per step; whether the 1- and 2-thread runs end with the same positions bit
-for bit. On a shared machine only ratios from one run mean anything.
+Cases (dt 1e-3 s, saxum.NLGS, VARIANTS): running-bond walls of 0.25 x 0.065 m bricks, 1800
+kg/m^3, mu 0.6, on a fixed ground: 160 x 100 (16 080 bricks) at rest, and 50 x 40 (2025 bricks)
+on a base shaken at 0.7 g, 2 Hz (it slides on its base); with --3d, L walls of
+saxum.structures.wall3d (0.25 x 0.12 x 0.065 m bricks, the same material): 40 courses of two 12
+m legs (3840 bricks) at rest, and 20 courses of two 6 m legs (960 bricks) on a base shaken at
+0.7 g, 2 Hz, along (0.6, 0.8, 0) (3D: nlgs_3d_domains, polyhedron_contacts_parallel and the
+parallel 3D assembly). Per case and variant, interleaved --repeats times, after `warm` steps of
+that simulation (the kernels compiled before on a small one): wall time (time.perf_counter) and
+CPU time (time.process_time: all threads; omp's threads spin while they wait, CPU time that is
+not work) per step of detection, the warm start (Contacts.warm_start_from), assembly, the
+solve, the end gaps and the whole step, medians over the repeats; sweeps per step; whether the
+1- and 2-thread runs end with the same positions bit for bit. On a shared machine only ratios
+from one run mean anything.
 
 Thread-time accounting (Linux: /proc/self/task/*/schedstat, each thread's time on a CPU and
 its time waiting for one): per step, the stepping thread's CPU time, the busiest other
@@ -79,7 +79,11 @@ CASES_3D = {"3D rest L 40x12": (lambda: _wall3d(40, 12.0, 0.0),
 """name: (model, small model that compiles the kernels, steps before the timed ones: at 0.7 g
 the 2D wall slides from about 0.1 s on; the 3D L wall's leg across the motion rocks and
 leans from a few hundredths of a second on)"""
-VARIANTS = {"serial": None, "1 thread": 1, "2 threads": 2}
+VARIANTS = {"serial": {"threads": 1, "domains": 1}, "1 thread": {"threads": 1, "domains": 2},
+            "2 threads": {"threads": 2, "domains": 2}}
+"""NLGS's settings: the serial kernels (one thread, one domain), NLGS by two domains (what
+the default gave every case here on 2 cores while the default domains were the machine's
+cores, at most one per 256 free blocks: the figures in BENCHMARKS.md) on 1 and 2 threads."""
 STAGES = ("detection", "warm start", "assembly", "solve", "end gaps", "step")
 
 
@@ -120,10 +124,10 @@ def _accounting(before, after, steps):
     return np.array([mine[0], max(others, default=0.0), sum(others), mine[1]])
 
 
-def _run(model, threads, warm, steps):
+def _run(model, settings, warm, steps):
     """({stage: (wall s, CPU s) per step, "threads": _accounting}, sweeps per step, final
-    positions)."""
-    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads))
+    positions) of NLGS(**settings)."""
+    sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(**settings))
     state = sim.initial_state()
     for _ in range(warm):
         sim.step(state)
@@ -166,13 +170,13 @@ def main() -> None:
         build, small, warm = {**CASES, **CASES_3D}[name]
         warm = warm if args.warm is None else args.warm
         model = build()
-        for threads in VARIANTS.values():  # compile (or load) every kernel first
-            _run(small(), threads, 1, 1)
+        for settings in VARIANTS.values():  # compile (or load) every kernel first
+            _run(small(), settings, 1, 1)
         rows = {v: [] for v in VARIANTS}
         q = {}
         for _ in range(args.repeats):
-            for label, threads in VARIANTS.items():
-                *row, q[label] = _run(model, threads, warm, args.steps)
+            for label, settings in VARIANTS.items():
+                *row, q[label] = _run(model, settings, warm, args.steps)
                 rows[label].append(row)
         bricks = int((model.body_kind == sx.BodyKind.FREE).sum())
         same = np.array_equal(q["1 thread"], q["2 threads"])

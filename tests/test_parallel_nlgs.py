@@ -1,7 +1,9 @@
 """The NLGS swept by domains (saxum.solver.nlgs.nlgs_2d_domains, issue 16): its partition, the
-same result bit for bit with 1 and 2 numba threads, and with one domain nlgs_2d's result (the
-runs compared inside each test, one machine); the sweeps' tasks handed between threads end
-whatever runs them (more of the kernel's threads than numba's, numba's workqueue layer)."""
+same result bit for bit with 1 and 2 numba threads and with the default threads, and with one
+domain nlgs_2d's result (the runs compared inside each test, one machine); the sweeps' tasks
+handed between threads end whatever runs them (more of the kernel's threads than numba's,
+numba's workqueue layer); the default plan (step_plan): domains from the model only, never the
+machine's cores."""
 
 import dataclasses
 import os
@@ -18,8 +20,8 @@ import saxum as sx
 from saxum.errors import InputError
 from saxum.ground import harmonic
 from saxum.solver import nlgs
-from saxum.solver.nlgs import body_domains, partition_contacts
-from saxum.structures import running_bond_wall
+from saxum.solver.nlgs import body_domains, default_domains, partition_contacts, step_plan
+from saxum.structures import running_bond_wall, semicircular_arch
 from saxum.structures.wall import add_grounded_running_bond_wall
 
 
@@ -42,7 +44,7 @@ def test_partition_separates_free_bodies():
     active = np.ones(c.count, dtype=np.bool_)
     active[::7] = False  # inactive contacts are not swept
     free = (sim.model.body_inv_mass > 0.0).any(axis=1)
-    assert body_domains(free, None)[1] == 1  # 85 bricks and halves: fewer than 256 a domain
+    assert body_domains(free, None)[1] == 1  # 85 bricks and halves: fewer than 4096
     domain, n = body_domains(free, 4)
     assert n == 4 and np.all(domain[~free] == -1)
     assert np.ptp(np.bincount(domain[free])) <= 1  # of as many bodies as can be
@@ -138,12 +140,92 @@ def test_joint_laws_same_bits_with_one_and_two_threads():
 
 
 def test_one_domain_is_the_serial_sweep():
-    """One domain: nlgs_2d's order and arithmetic (its fixed ground's copy apart); the serial
-    run without the refinement's Anderson acceleration, which only the serial sweep has
-    (nlgs_2d_anderson)."""
-    run = _shaken_wall(1, domains=1)
-    same_runs(_shaken_wall(None, accelerate=False), run)
-    assert np.all(run[0].log.converged)
+    """nlgs_2d_domains with one domain (which NLGS runs only with two or more: forced here
+    after the first step, NLGS._split): nlgs_2d's order and arithmetic (its fixed ground's copy
+    apart); the serial run without the refinement's Anderson acceleration, which only the
+    serial sweep has (nlgs_2d_anderson)."""
+    serial = _shaken_wall(None, accelerate=False)
+    sim = sx.Simulation(serial[0].model, dt=1e-3, solver=sx.NLGS(accelerate=False))
+    state = sim.initial_state()
+    sim.step(state)
+    sim.solver._split = True
+    sim.run(state, 0.099)  # 0.1 s in all
+    assert sim.solver._domains[1] == 1  # swept by nlgs_2d_domains, one domain
+    same_runs(serial, (sim, state))
+    assert np.all(sim.log.converged)
+
+
+def test_domains_do_not_depend_on_the_cores(monkeypatch):
+    """step_plan's domains are the model's (default_domains: one below 4096 free blocks, then
+    the largest power of two of at least 2048 free blocks each) on 2 and on 16 cores (numba's
+    NUMBA_NUM_THREADS, patched): only the default threads follow the cores, all of them where
+    there are two domains or more; SAXUM_THREADS and SAXUM_DOMAINS replace the defaults."""
+    monkeypatch.delenv("SAXUM_THREADS", raising=False)
+    monkeypatch.delenv("SAXUM_DOMAINS", raising=False)
+    assert [default_domains(n) for n in (0, 4095, 4096, 8191, 8192, 16080, 16384)] == [
+        1, 1, 2, 2, 4, 4, 8]
+    small = running_bond_wall(courses=10, bricks=8)
+    large = running_bond_wall(courses=64, bricks=64)  # 4128 free blocks
+    plans = {}
+    for cores in (2, 16):
+        monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", cores)
+        plans[cores] = (step_plan(None, None, small), step_plan(None, None, large),
+                        step_plan(1, None, large), step_plan(0, 3, small))
+        assert plans[cores] == ((1, 1), (cores, 2), (1, 2), (cores, 3))
+    monkeypatch.setenv("SAXUM_THREADS", "1")
+    monkeypatch.setenv("SAXUM_DOMAINS", "4")
+    assert step_plan(None, None, small) == (1, 4) and step_plan(2, 1, small) == (2, 1)
+    monkeypatch.setenv("SAXUM_THREADS", "-1")
+    with pytest.raises(InputError, match="SAXUM_THREADS"):
+        step_plan(None, None, small)
+
+
+def test_default_threads_same_bits():
+    """A 64 x 64 wall at rest (4128 free blocks: two domains by default), two steps: the
+    default threads (all cores, the parallel kernels) and one thread (the same two domains,
+    the serial kernels) give the same bits."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    model = running_bond_wall(courses=64, bricks=64)
+    runs = []
+    try:
+        for threads in (None, 1):
+            sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads))
+            state = sim.initial_state()
+            sim.run(state, 0.002)
+            runs.append((sim, state))
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    assert runs[0][0].problem.parallel and not runs[1][0].problem.parallel
+    assert runs[0][0].solver._plan[1] == runs[1][0].solver._plan[1] == 2
+    same_runs(*runs)
+
+
+@pytest.mark.parametrize("domains", [1, 2])
+def test_collapsing_arch_same_bits_on_any_threads(domains):
+    """The thin arch of tests/validation/test_arch.py (15 voussoirs, t/R = 0.09, the default
+    hybrid solver) over the first 0.1 s of its collapse (the crown down 4.5 mm): the same
+    bits on 1 and 2 threads and with the default threads, in one domain (its default: the
+    serial sweep, the parallel kernels on 2 threads) and in two (the sweep by domains)."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has one thread here")
+    model = semicircular_arch(radius=1.0, thickness=0.09, voussoirs=15, density=2000.0,
+                              friction=0.6)
+    runs = []
+    try:
+        for threads in (1, 2, None):
+            sim = sx.Simulation(model, dt=1e-3,
+                                solver=sx.Hybrid(threads=threads, domains=domains))
+            state = sim.initial_state()
+            sim.run(state, 0.1)
+            runs.append((sim, state))
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    crown = model.body("voussoir 8")
+    assert model.body_q0[crown, 1] - runs[0][1].body_q[crown, 1] > 1e-3  # it is collapsing
+    assert runs[1][0].problem.parallel and not runs[0][0].problem.parallel
+    same_runs(runs[0], runs[1])
+    same_runs(runs[0], runs[2])
 
 
 def test_bad_settings():
@@ -168,7 +250,7 @@ def test_parallel_kernels_are_the_serial_ones():
     q0[free, 1] += 0.06 * np.minimum(q0[free, 1], 4 * 0.065)
     model = dataclasses.replace(model, body_q0=q0)
     runs = []
-    for threads, domains in ((None, None), (2, 1)):
+    for threads, domains in ((1, 1), (2, 1)):
         sim = sx.Simulation(model, dt=1e-3, solver=sx.NLGS(threads=threads, domains=domains))
         state = sim.initial_state()
         counts = []

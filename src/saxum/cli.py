@@ -740,8 +740,11 @@ def _parser() -> argparse.ArgumentParser:
                    help="override a scenario key, e.g. --set solver.dt=5e-4 (repeatable)")
     _unset_option(p)
     p.add_argument("--threads", type=int, default=None, metavar="N",
-                   help="the step on N threads, NLGS's contacts swept by domains (0: all "
-                        "cores; the same as --set solver.threads=N)")
+                   help="the step on N threads (0: all cores; default: all cores for "
+                        "models of 4096 free blocks or more, else one, or SAXUM_THREADS); "
+                        "the same results for every N: NLGS's domains, set by the model's "
+                        "size or solver.domains, fix them; the same as --set "
+                        "solver.threads=N)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 

@@ -65,6 +65,7 @@ from __future__ import annotations
 import concurrent.futures
 import dataclasses
 import math
+import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -506,8 +507,15 @@ def collapse_curve(path, periods, stands: float, collapses: float, *,
             for p in periods]
     if processes == 1 or len(jobs) == 1:
         return [_curve_point(job) for job in jobs]
-    with concurrent.futures.ProcessPoolExecutor(max_workers=processes) as pool:
+    with concurrent.futures.ProcessPoolExecutor(max_workers=processes,
+                                                initializer=_one_thread) as pool:
         return list(pool.map(_curve_point, jobs))
+
+
+def _one_thread() -> None:
+    """A worker process of collapse_curve, one per core: one thread each by default (the
+    same results: saxum.solver.nlgs.step_plan)."""
+    os.environ.setdefault("SAXUM_THREADS", "1")
 
 
 @dataclass(frozen=True)

@@ -231,6 +231,10 @@ def _run_one(task: dict) -> dict:
                 "loads": scenario.loads.model_copy(update={"ground_motion": ground})})
             duration = float(ground.motion(dim).time[-1]) + task["after"]
             model = scenario.build_model()
+        if scenario.solver.threads is None:
+            # a worker per core: one thread each (the same results: solver.threads)
+            scenario = scenario.model_copy(update={
+                "solver": scenario.solver.model_copy(update={"threads": 1})})
         sim = scenario.build_simulation(model)
         row.update(_advance(sim, model, duration, scenario.output.interval, task))
     except Exception as err:  # noqa: BLE001 - a failed run is a row with its error

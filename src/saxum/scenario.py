@@ -1031,10 +1031,11 @@ class SolverSpec(_Strict):
     "hybrid" (NLGS that switches to the conic fixed point or semismooth Newton where its
     error stalls or at the cap: saxum.solver.Hybrid), or "nlgs" alone; None (the default):
     "hybrid", or "nlgs" for a model with joint laws or deformable blocks, which only NLGS
-    solves (saxum.solver.laws_local, saxum.solver.nlgs_fe); threads: NLGS's and the step's
-    (None: one, in the serial order; n >= 1: the sweep by domains and the parallel kernels on
-    n threads, 0 all cores), domains: the sweep's (None: the machine's cores;
-    saxum.solver.NLGS)."""
+    solves (saxum.solver.laws_local, saxum.solver.nlgs_fe); domains: NLGS's sweep's, which fix
+    its order and so the result (None: from the model's size only, one below 4096 free blocks;
+    1: the serial order), threads: NLGS's and the step's, which change the speed only (None:
+    all cores where there are two domains or more, else one; n >= 1: n, 0 all cores;
+    saxum.solver.NLGS, saxum.solver.nlgs.step_plan)."""
 
     dt: Positive = 1e-3
     theta: Annotated[Real, Field(ge=0.5, le=1.0)] | None = None

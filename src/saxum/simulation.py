@@ -36,6 +36,7 @@ from .solver import (
     PositionProjection,
 )
 from .solver.laws_local import update_joints
+from .solver.nlgs import step_plan
 from .state import State
 from .steplog import STEP_OUTCOMES, StepLog, StepReport, natural_map_note
 
@@ -106,10 +107,12 @@ class Simulation:
         if solver is None:
             solver = NLGS() if self.problem.joint_laws or model.fe is not None else Hybrid()
         self.solver = solver
-        self._threads = getattr(solver, "threads", None)
-        """numba's threads for the step's parallel kernels (the solver's setting; None: one,
-        the serial kernels)."""
-        self.problem.parallel = self._threads is not None
+        self._threads = (step_plan(solver.threads, solver.domains, model)[0]
+                         if hasattr(solver, "threads") else 1)
+        """numba's threads for the step's parallel kernels (from the solver's threads and
+        domains, saxum.solver.nlgs.step_plan; a solver without them: one); on one thread,
+        the serial kernels (the same numbers)."""
+        self.problem.parallel = self._threads > 1
         self.detector = detector_for(model, detection)
         self.detector.parallel = self.problem.parallel
         self.projection = PositionProjection(model, self.detector.interpenetration)
@@ -288,8 +291,8 @@ class Simulation:
         h = self.integrator.dt
         theta = self.integrator.theta
         t0, t1 = state.time, state.start_time + (state.step + 1) * h
-        if self._threads is not None:
-            nb.set_num_threads(self._threads or nb.config.NUMBA_NUM_THREADS)
+        if self.problem.parallel:
+            nb.set_num_threads(self._threads)
 
         if self.model.accelerations or self.model.forces or self.model.field_loads:
             self._step_force(state.time, t1, self._force, state.body_q)

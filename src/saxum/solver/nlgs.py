@@ -32,9 +32,29 @@ supports, an exact solution of the step's problem when the impulses can balance 
 inside the Coulomb cones), and sweeps on from it: when it exists the next sweep changes nothing
 beyond round-off and the step converges by the same criterion; when it does not (a mechanism),
 the sweeps go on from where they were.
+
+Parallel sweep (NLGS.threads, NLGS.domains; nlgs_2d_domains, nlgs_3d_domains). The free blocks,
+in the model's order, are cut into domains (body_domains: bands of courses for the walls of
+saxum.structures); a sweep takes the domains' own contacts in parallel, then the contacts
+across the even cuts between domains in parallel, then the odd cuts, then any across two
+cuts, each group in the serial order (partition_contacts). Groups swept together share no
+free block, so each update still reads the velocities that every update before it in the
+partition's order has left: a Gauss-Seidel sweep in a fixed order, a function of the model and
+the number of domains only, so the same bits on any number of threads. The number of domains
+is itself a function of the model only (step_plan: one below _PARALLEL_BODIES free blocks, which
+is the serial sweep, nlgs_2d's or nlgs_3d's order), never of the machine, so a model gives the
+same bits on machines of any number of cores; the threads change the speed only. The
+decomposition follows the domain-wise sequential NLGS of Shojaaee, Shaebani, Brendel, Torok &
+Wolf (J. Comput. Phys. 231, 612-628, 2012), with one difference: there the contacts at the
+domains' boundaries are updated in parallel and the domains exchange their velocities after
+each iteration (a Jacobi step at the boundaries, which costs extra iterations and makes the
+iterates depend on the decomposition, load-balanced as the run goes), here they are swept
+after the domains, in order, so the sweep stays Gauss-Seidel and the result depends on the
+domains only.
 """
 
 import math
+import os
 from dataclasses import dataclass
 
 import numba as nb
@@ -79,9 +99,17 @@ pays ends the putting off. 0: every slow step tries at once (saxum before issue 
 benchmarks/rest_cost.py)."""
 
 
-_DOMAIN_BODIES = 256
-"""The fewest free bodies per domain of nlgs_2d_domains, nlgs_3d_domains (body_domains):
-smaller domains would leave more of the contacts on their cuts."""
+_DOMAIN_BODIES = 2048
+"""The fewest free bodies per domain of nlgs_2d_domains, nlgs_3d_domains by default
+(default_domains): smaller domains would leave more of the contacts on their cuts, and the
+parallel step's fixed costs would weigh more."""
+_PARALLEL_BODIES = 2 * _DOMAIN_BODIES
+"""The fewest free bodies of a model that the default cuts into domains (default_domains), and
+so runs on all cores by default (step_plan); below, one domain: the serial sweep on one
+thread, the serial kernels. On 2 cores the parallel step of a wall at rest (one sweep a step:
+its fixed costs weigh the most) paid from about 4000 free blocks and cost up to 3.5 times the
+serial step's thread time below 1000 (benchmarks/thread_default.py, BENCHMARKS.md "The default
+thread count"; a loaded machine, so a conservative choice)."""
 
 
 _TREND_SWEEPS = 1000
@@ -99,14 +127,15 @@ class NLGS(ContactSolver):
     converged tries the rest solution (saxum.solver.equilibrium) and sweeps on from it if
     there is one (0: never; at least 20 000 / contacts sweeps, _REST_WORK); follow_loads: a
     step that follows steps which ended at rest starts from their rest solutions extrapolated
-    to its loads (saxum.solver.load_following). threads: None sweeps rigid dry contacts
-    in nlgs_2d's (nlgs_3d's) order on one thread; a number n >= 1 (0: all cores) sweeps them
-    domain by domain on n threads (nlgs_2d_domains, nlgs_3d_domains: `domains` runs of the
-    blocks' order, the domains' own contacts in parallel, then those across their cuts), the
-    same bit for bit for every n but not the serial order, so not bit for bit the serial
-    result. domains: how many
-    (None: the machine's cores, numba's threads, but at most one per 256 free blocks), which
-    fixes that order: the same bits on machines of different cores where it is given.
+    to its loads (saxum.solver.load_following). domains: how many runs of the blocks' order
+    rigid dry contacts are swept by (nlgs_2d_domains, nlgs_3d_domains: the domains' own
+    contacts in parallel, then those across their cuts: module doc, "Parallel sweep"), which
+    fixes the sweep's order and so the result; None (the default): a function of the model
+    only (default_domains: one below 4096 free blocks; SAXUM_DOMAINS, if set, replaces it);
+    1: nlgs_2d's (nlgs_3d's) serial order. threads: numba's threads for the sweep (and the
+    step's parallel kernels: saxum.simulation), which change the speed, never the result;
+    None (the default): all cores where the model makes two domains or more, else one, the
+    serial kernels (step_plan; SAXUM_THREADS, if set, replaces it); 0: all cores.
     Deformable models ignore both. criterion: the error compared with the tolerance,
     "delassus" (saxum's, module doc) or LMGC90's "quad", "maxm", "qm/16" (_check_error,
     docs/criteria.md; rigid blocks, swept in the serial order whatever threads says).
@@ -158,7 +187,7 @@ class NLGS(ContactSolver):
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
                              f"(0: all cores; the machine's numba threads), got {self.threads}")
         if self.domains is not None and self.domains < 1:
-            raise InputError(f"solver.domains must be >= 1 (or absent: the machine's cores), "
+            raise InputError(f"solver.domains must be >= 1 (or absent: from the model's size), "
                              f"got {self.domains}")
         self.rest_attempts = 0
         """Solves (steps and projections) that looked for a rest solution..."""
@@ -183,6 +212,11 @@ class NLGS(ContactSolver):
         (_REST_BACKOFF)."""
         self._rest_found = False
         """Whether the last step found a rest solution (_REST_BACKOFF)."""
+        self._plan = (1, 1)
+        """step_plan's (threads, domains) of the model solved."""
+        self._split = False
+        """Whether rigid dry contacts are swept by domains (nlgs_2d_domains, nlgs_3d_domains):
+        more than one domain, by saxum's criterion."""
         self._domains = None
         """body_domains' (domain, n), ghost and inv_mass_x (nlgs_2d_domains, nlgs_3d_domains),
         of the model solved."""
@@ -222,6 +256,8 @@ class NLGS(ContactSolver):
             self._mass = np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
                                    where=inv_mass > 0.0)
             self._domains = self._partitioned = None
+            self._plan = step_plan(self.threads, self.domains, problem.model)
+            self._split = self._plan[1] > 1 and self._sums is None
         if getattr(problem, "fe", None) is not None:
             if self._sums is not None:
                 raise InputError(f"solver.criterion {self.criterion!r} is for rigid blocks: "
@@ -247,8 +283,8 @@ class NLGS(ContactSolver):
         args = (c.candidate, c.antagonist, problem.h_cand, problem.h_ant, problem.delassus,
                 problem.bias, problem.friction, active, problem.count, inv_mass,
                 self._mass, v_free, v, self._v_prev, impulse, self._work, joint, law_map)
-        if self.threads is not None and self._sums is None:
-            nb.set_num_threads(self.threads or nb.config.NUMBA_NUM_THREADS)
+        if self._split:
+            nb.set_num_threads(self._plan[0])
             sweep = nlgs_3d_domains if dim == 3 else nlgs_2d_domains
             args += self._partition(problem.model, c.candidate, c.antagonist, active,
                                     problem.count, width)
@@ -359,7 +395,7 @@ class NLGS(ContactSolver):
         if self._domains is None:
             inv_mass = model.body_inv_mass
             fixed = ~(inv_mass > 0.0).any(axis=1)
-            domain, n = body_domains(~fixed, self.domains)
+            domain, n = body_domains(~fixed, self._plan[1])
             ghost = np.full(len(fixed), -1, dtype=np.int64)
             ghost[fixed] = np.arange(fixed.sum())
             inv_mass_x = np.zeros((len(fixed) + 2 * n * int(fixed.sum()), inv_mass.shape[1]))
@@ -1135,19 +1171,67 @@ def _parallel_change(v, v_prev, v_free, mass, sums):
 def body_domains(free: np.ndarray, domains: int | None) -> tuple[np.ndarray, int]:
     """The domains of partition_contacts: the free bodies, in the model's order, cut into
     n runs of as many bodies, n = domains (at most one per free body), or where it is None
-    the machine's cores (numba's threads) but at most one per _DOMAIN_BODIES free bodies (at
-    least 1). The structures of saxum.structures number their blocks course by course, so a
+    default_domains'. The structures of saxum.structures number their blocks course by course, so a
     domain is a band of courses whose velocities lie together in memory, and the cuts between
     domains cross few joints; blocks numbered at random give domains that share most
     contacts (then swept in order, on one thread). Returns (domain per body, fixed bodies
     -1; n): a function of the model and `domains` only, not of the threads."""
     index = np.flatnonzero(free)
     domain = np.full(len(free), -1, dtype=np.int64)
-    if domains is None:
-        domains = min(nb.config.NUMBA_NUM_THREADS, len(index) // _DOMAIN_BODIES)
-    n = max(1, min(domains, len(index)))
+    n = _domain_count(len(index), domains)
     domain[index] = np.arange(len(index)) * n // max(1, len(index))
     return domain, n
+
+
+def default_domains(free: int) -> int:
+    """The default number of domains of a model of `free` free bodies, a function of the model
+    only (so the same bits on machines of any cores): 1 below _PARALLEL_BODIES, else the
+    largest power of two of at least _DOMAIN_BODIES bodies each (2 from 4096, 4 from 8192, 8
+    from 16 384, ...): powers of two share out evenly on the usual core counts, and the step
+    of a large model can use as many cores as it has domains."""
+    if free < _PARALLEL_BODIES:
+        return 1
+    return 1 << (free // _DOMAIN_BODIES).bit_length() - 1
+
+
+
+def _domain_count(free: int, domains: int | None) -> int:
+    """body_domains' n for `free` free bodies: `domains` (default_domains' where None), at
+    least 1 and at most one per free body."""
+    return max(1, min(default_domains(free) if domains is None else domains, free))
+
+
+def step_plan(threads: int | None, domains: int | None, model) -> tuple[int, int]:
+    """(numba threads, domains) of the steps of `model` under NLGS's settings `threads` and
+    `domains`. The domains fix NLGS's order and so the result: where None, SAXUM_DOMAINS if
+    set, else default_domains (the model's free blocks only, never the machine). The threads
+    change the speed only (the sweep by domains and the parallel kernels give the same bits
+    on any number): where None, SAXUM_THREADS if set, else all cores (numba's
+    NUMBA_NUM_THREADS) where there are two domains or more and no deformable blocks (whose
+    NLGS, nlgs_fe, has no sweep by domains), else one: a small model keeps the serial kernels.
+    0: all cores. The step runs the parallel kernels on more than one thread, NLGS by domains
+    with more than one domain."""
+    cores = nb.config.NUMBA_NUM_THREADS
+    threads = _from_environment("SAXUM_THREADS", threads, 0, cores)
+    domains = _from_environment("SAXUM_DOMAINS", domains, 1, None)
+    free = int((model.body_inv_mass > 0.0).any(axis=1).sum())
+    n = _domain_count(free, domains)
+    if threads is None:
+        threads = cores if n >= 2 and model.fe is None else 1
+    return threads or cores, n
+
+
+def _from_environment(name: str, value: int | None, least: int, most: int | None):
+    """value, or where it is None the environment variable `name` (an integer in
+    least..most) if set, else None."""
+    text = os.environ.get(name, "").strip()
+    if value is not None or not text:
+        return value
+    if not text.isdigit() or int(text) < least or (most is not None and int(text) > most):
+        bound = f"{least}..{most}" if most is not None else f">= {least}"
+        raise InputError(f"environment variable {name}={text!r}: an integer {bound} is "
+                         f"expected (or unset it)")
+    return int(text)
 
 
 @nb.njit(parallel=True, cache=True)
