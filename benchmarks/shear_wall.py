@@ -102,14 +102,17 @@ def lumped(k_joint: float, length: float, modulus: float) -> float:
     return 1.0 / (1.0 / k_joint + length / modulus)
 
 
-def joint_law(length: float, cap: tuple[float, float] = (0.0, 0.0)) -> sx.ContactLaw:
+def joint_law(length: float, cap: tuple[float, float, float] = (0.0, 0.0, 0.0)
+              ) -> sx.ContactLaw:
     """The cohesive law of a joint across a brick dimension `length` [m]; cap = (f_c [Pa],
-    C_ss [-]), f_c > 0: with a compression cap of strength f_c, G_FC and C_ss."""
+    C_ss [-], kappa_p [m]), f_c > 0: with a compression cap of strength f_c, G_FC and C_ss,
+    hardening from f_c / 3 to f_c at the plastic closure kappa_p if kappa_p > 0."""
     g = E_BRICK / (2.0 * (1.0 + NU_BRICK))
     return sx.ContactLaw(friction=TAN_PHI, kind=LawKind.COHESIVE,
                          k_n=lumped(K_N, length, E_BRICK), k_t=lumped(K_S, length, g),
                          f_t=F_T, cohesion=COHESION, g_i=G_I, g_ii=G_II, points=3,
-                         f_c=cap[0], g_fc=G_FC if cap[0] > 0.0 else 0.0, c_ss=cap[1])
+                         f_c=cap[0], g_fc=G_FC if cap[0] > 0.0 else 0.0, c_ss=cap[1],
+                         kappa_p=cap[2])
 
 
 def brick_law(shear: tuple[float, float, float] = (C_BRICK, TAN_PHI_BRICK, G_II_BRICK)
@@ -135,7 +138,7 @@ def smooth(t: float, t0: float, t1: float) -> float:
 def build(precompression: float, press: float, hold: float, speed: float,
           constant: bool = False, split: bool = False,
           brick_shear: tuple[float, float, float] = (C_BRICK, TAN_PHI_BRICK, G_II_BRICK),
-          cap: tuple[float, float] = (0.0, 0.0)):
+          cap: tuple[float, float, float] = (0.0, 0.0, 0.0)):
     """(model, beam index, index of what pushes the beam or -1): the wall, the ground and the top
     beam. The beam is DRIVEN: it lowers by the bed joints' closure under `precompression`
     [Pa] over `press` [s], holds for `hold` [s], then moves sideways at `speed` [m/s]; or,
@@ -143,7 +146,7 @@ def build(precompression: float, press: float, hold: float, speed: float,
     set to 0) under the force precompression x width, rising over `press`, and pushed
     sideways by a DRIVEN block at its left end (a frictionless contact). brick_shear: the
     brick cracks' (split) cohesion [Pa], friction [-], G_II [J/m^2]. cap: the mortar
-    joints' (f_c [Pa], C_ss [-]) (joint_law)."""
+    joints' (f_c [Pa], C_ss [-], kappa_p [m]) (joint_law)."""
     b = sx.ModelBuilder()
     b.add_block([(-0.5, -0.2), (WIDTH + 0.5, -0.2), (WIDTH + 0.5, 0.0), (-0.5, 0.0)],
                 kind=sx.BodyKind.FIXED, group="ground", name="ground")
@@ -270,7 +273,7 @@ def draw(model: sx.Model, q: np.ndarray, contacts: sx.Contacts, path: str, title
 def push(precompression: float, *, dt: float = 1e-4, speed: float = 0.01, drift: float = 3e-3,
          press: float = 0.05, hold: float = 0.05, constant: bool = False, split: bool = False,
          brick_shear: tuple[float, float, float] = (C_BRICK, TAN_PHI_BRICK, G_II_BRICK),
-         cap: tuple[float, float] = (0.0, 0.0)):
+         cap: tuple[float, float, float] = (0.0, 0.0, 0.0)):
     """Run the test; returns (top displacements [m], horizontal loads [N] on the 100 mm wall,
     vertical loads [N], the contacts and positions at the peak's step, the model, the contacts
     and positions at the end). brick_shear, cap: as build's."""
@@ -366,13 +369,16 @@ def main() -> None:
                         help="the cap's f_c [MPa] (with --cap)")
     parser.add_argument("--c-ss", type=float, default=C_SS,
                         help="the cap's C_ss [-] (with --cap)")
+    parser.add_argument("--kappa-p", type=float, default=0.0,
+                        help="the plastic closure [mm] at which the cap, hardening from f_c / 3,"
+                             " reaches f_c (with --cap; 0: no hardening; Lourenco's: 0.09)")
     args = parser.parse_args()
     start = time.perf_counter()
     u, fx, fy, contacts, q, model, end, q_end = push(
         args.precompression * 1e6, dt=args.dt, speed=args.speed, drift=args.drift,
         press=args.press, hold=args.hold, constant=args.constant, split=args.split,
         brick_shear=(args.brick_shear[0] * 1e6, args.brick_shear[1], args.brick_shear[2]),
-        cap=(args.f_c * 1e6, args.c_ss) if args.cap else (0.0, 0.0))
+        cap=(args.f_c * 1e6, args.c_ss, args.kappa_p * 1e-3) if args.cap else (0.0, 0.0, 0.0))
     wall_time = time.perf_counter() - start
     k = int(np.argmax(fx))
     n = contacts.count
