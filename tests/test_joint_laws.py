@@ -2,6 +2,7 @@
 untouched bit for bit, the joint state carried by contact identity and never healing, the
 scenario keys and their errors, and a resumed run with damage bit for bit."""
 
+import math
 import os
 import signal
 import textwrap
@@ -247,6 +248,21 @@ def test_a_parameter_of_another_kind_and_a_missing_one_are_named():
         sx.ContactLaw(friction=0.6, eta=1.0, **COHESIVE)
     with pytest.raises(sx.InputError, match="kind ELASTIC needs k_n > 0"):
         sx.ContactLaw(friction=0.6, kind=sx.LawKind.ELASTIC)
+
+
+def test_bad_cap_hardening_is_named():
+    """kappa_p (the cap's hardening, saxum.laws) needs the cap, and is a length >= 0."""
+    with pytest.raises(sx.InputError, match="kappa_p = 0.001 m .* needs f_c and g_fc"):
+        sx.ContactLaw(friction=0.6, kappa_p=1e-3, **COHESIVE)
+    with pytest.raises(sx.InputError, match="kappa_p must be a finite number >= 0"):
+        sx.ContactLaw(friction=0.6, kappa_p=-1e-3, f_c=1e6, g_fc=500.0, **COHESIVE)
+    with pytest.raises(sx.InputError, match="kappa_p must be a finite number >= 0"):
+        sx.ContactLaw(friction=0.6, kappa_p=math.nan, f_c=1e6, g_fc=500.0, **COHESIVE)
+    with pytest.raises(sx.InputError, match="kappa_p is not a parameter of kind ELASTIC"):
+        sx.ContactLaw(friction=0.6, kind=sx.LawKind.ELASTIC, k_n=1e10, kappa_p=1e-3)
+    text = WALL.replace("g_ii = 2.0\n", "g_ii = 2.0\nkappa_p = -1e-3\n")
+    with pytest.raises(sx.InputError, match="kappa_p"):
+        parse_scenario(text)
 
 
 def test_a_cohesive_law_for_groups_that_never_touch_is_an_error():

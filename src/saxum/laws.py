@@ -87,12 +87,20 @@ parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_loc
   law (tension and damage included) written on the elastic part g + w. The bound is the cap
   of Lourenco and Rots' interface (their "cap mode"), the ellipse
       sigma^2 + C_ss tau^2 <= sigma_c(w)^2,
-  tau the joint's shear stress (C_ss [-] >= 0, optional), in a simpler form: theirs
-  hardens from f_c / 3 to f_c before it softens (here elastic up to the cap), its plastic
-  flow is normal to the ellipse (here the closure alone grows: w, no plastic slip), and
-  tau is the shear stress of the step before (explicit, like the damage); the shear stays
-  Mohr-Coulomb's on the capped sigma. The slope of the softening at its peak, f_c^2 / G_fc,
-  must not exceed k_n (else it snaps back): G_fc >= f_c^2 / k_n.
+  tau the joint's shear stress (C_ss [-] >= 0, optional), in a simpler form: its plastic
+  flow is normal to the ellipse (here the closure alone grows: w, no plastic slip, so
+  their hardening variable kappa is w), and tau is the shear stress of the step before
+  (explicit, like the damage); the shear stays Mohr-Coulomb's on the capped sigma. With
+  kappa_p > 0 [m] the cap hardens first, as theirs does, from sigma_i = f_c / 3 (the joint
+  yields there) to f_c at the plastic closure kappa_p, along their parabola, then softens
+  as above from there:
+      sigma_c(w) = f_c / 3 + (2 f_c / 3) sqrt(2 w / kappa_p - w^2 / kappa_p^2)  (w < kappa_p),
+      sigma_c(w) = f_c exp(-f_c (w - kappa_p) / G_fc)                          (w >= kappa_p),
+  which dissipates f_c kappa_p (1 / 3 + pi / 6) per unit area up to the peak and G_fc after
+  it (their softening, parabolic to sigma_m and then exponential to a residual sigma_r, is
+  simplified to this exponential, so that G_fc keeps its meaning: the energy after the
+  peak). The slope of the softening at its peak, f_c^2 / G_fc, must not exceed k_n (else
+  it snaps back): G_fc >= f_c^2 / k_n.
 """
 
 import math
@@ -146,6 +154,9 @@ class Parameter(IntEnum):
     """Compressive fracture energy G_fc [J/m^2] of the cap (COHESIVE, with f_c)."""
     C_SS = 10
     """Shear coefficient C_ss [-] of the cap's ellipse (COHESIVE, with f_c; 0: none)."""
+    KAPPA_P = 11
+    """Plastic closure kappa_p [m] at which the cap's hardening from f_c / 3 reaches f_c
+    (COHESIVE, with f_c; 0: no hardening, elastic up to f_c)."""
 
 
 INITIAL_GAP_KINDS = (LawKind.SIGNORINI_COULOMB, LawKind.GAP_SIGNORINI_COULOMB)
@@ -159,7 +170,7 @@ _USED = {
     LawKind.VISCOUS_COULOMB: {"eta": True},
     LawKind.COHESIVE: {"k_n": True, "k_t": True, "f_t": True, "cohesion": True, "g_i": True,
                        "g_ii": True, "f_c": False, "g_fc": False,
-                       "c_ss": False},
+                       "c_ss": False, "kappa_p": False},
 }
 """Parameters per joint law: name -> required (True) or optional (False, default 0)."""
 
@@ -169,7 +180,7 @@ class ContactLaw:
     """A contact law: friction coefficient mu [-], kind, restitution e_n [-] (RESTITUTION only),
     and the joint laws' parameters (see `Parameter` and the module doc; SI units):
     k_n, k_t [Pa/m], c_n, eta [Pa s/m], f_t, cohesion, f_c [Pa], g_i, g_ii, g_fc [J/m^2],
-    c_ss [-].
+    c_ss [-], kappa_p [m].
 
     points: contact points of a face-to-face contact, for laws written in stresses
     (saxum.detection.polygons, .polyhedra). 2 (default): the ends of the common segment (3D:
@@ -207,6 +218,7 @@ class ContactLaw:
     f_c: float = 0.0
     g_fc: float = 0.0
     c_ss: float = 0.0
+    kappa_p: float = 0.0
     name: str = field(default="", compare=False)
     """How messages name the law (e.g. "[[laws]] 2 (mortar, mortar)")."""
     points: int = 2
@@ -285,6 +297,10 @@ class ContactLaw:
                 raise InputError(f"{who}: c_ss = {self.c_ss:g} is the shear term of the "
                                  "compression cap, which needs f_c and g_fc; give them or "
                                  "drop c_ss")
+            if self.kappa_p > 0.0 and not self.f_c > 0.0:
+                raise InputError(f"{who}: kappa_p = {self.kappa_p:g} m is the plastic closure "
+                                 "at which the compression cap's hardening peaks, which needs "
+                                 "f_c and g_fc; give them or drop kappa_p")
             # exponential softening, slope f_c^2 / G_fc at the peak: steeper than k_n would
             # snap back
             least = self.f_c ** 2 / self.k_n

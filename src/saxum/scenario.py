@@ -691,6 +691,9 @@ class LawSpec(_Strict):
     c_ss: NonNegative = 0.0
     """Shear coefficient C_ss [-] of the cap's ellipse sigma^2 + C_ss tau^2 <= sigma_c^2
     (cohesive, optional, with f_c)."""
+    kappa_p: NonNegative = 0.0
+    """Plastic closure kappa_p [m] at which the cap, hardening from f_c / 3, reaches f_c
+    (cohesive, optional, with f_c; 0: no hardening)."""
     alert: Annotated[Real, Field(gt=0.0, allow_inf_nan=False)] | None = None
     """Alert distance [m] of this law's contacts (ContactLaw.alert); none: detection.alert."""
     points: int = 2
@@ -729,7 +732,7 @@ class LawSpec(_Strict):
                           restitution=self.restitution, k_n=self.k_n, k_t=self.k_t,
                           c_n=self.c_n, eta=self.eta, f_t=self.f_t, cohesion=self.cohesion,
                           g_i=self.g_i, g_ii=self.g_ii, f_c=self.f_c, g_fc=self.g_fc,
-                          c_ss=self.c_ss, name=name, points=self.points,
+                          c_ss=self.c_ss, kappa_p=self.kappa_p, name=name, points=self.points,
                           alert=self.alert, bond_at=self.bond_at,
                           initial_gap=self.initial_gap)
 

@@ -75,7 +75,8 @@ _K_N, _K_T, _C_N, _ETA = (int(Parameter.K_N), int(Parameter.K_T), int(Parameter.
                           int(Parameter.ETA))
 _F_T, _COH, _G_I, _G_II = (int(Parameter.F_T), int(Parameter.COHESION), int(Parameter.G_I),
                            int(Parameter.G_II))
-_F_C, _G_FC, _C_SS = int(Parameter.F_C), int(Parameter.G_FC), int(Parameter.C_SS)
+_F_C, _G_FC, _C_SS, _KAPPA_P = (int(Parameter.F_C), int(Parameter.G_FC), int(Parameter.C_SS),
+                                int(Parameter.KAPPA_P))
 
 
 def law_map_width(dim: int) -> int:
@@ -338,9 +339,15 @@ def update_joints(law, gap, area, impulse, active, slip, damage, history, crush,
 
 @nb.njit(inline="always")
 def cap_stress(p, w):
-    """The cap's compressive strength sigma_c(w) = f_c exp(-f_c w / G_fc) [Pa] at plastic
-    closure w [m] (saxum.laws), p a row of Model.law_parameter."""
-    return p[_F_C] * math.exp(-p[_F_C] * w / p[_G_FC])
+    """The cap's compressive strength sigma_c(w) [Pa] at plastic closure w [m] (saxum.laws),
+    p a row of Model.law_parameter: with kappa_p > 0, f_c / 3 + (2 f_c / 3)
+    sqrt(x (2 - x)), x = w / kappa_p, while w < kappa_p; then f_c exp(-f_c (w - kappa_p) /
+    G_fc) (kappa_p = 0: from w = 0)."""
+    f_c, kappa_p = p[_F_C], p[_KAPPA_P]
+    if w < kappa_p:
+        x = w / kappa_p
+        return f_c / 3.0 + 2.0 * f_c / 3.0 * math.sqrt(x * (2.0 - x))
+    return f_c * math.exp(-f_c * (w - kappa_p) / p[_G_FC])
 
 
 @nb.njit(inline="always")
