@@ -19,11 +19,7 @@ U^b the local velocity at t_i and U the one at t_i+1 [m/s], A the contact's area
 - parallel part (VISCOUS_COULOMB, COHESIVE): R = R_d + R_l, R_l = -D U - e with D diagonal,
   R_d Signorini-Coulomb on U. Eliminating U = W R + q:
       U = W' R_d + q',  W' = (I + W D)^-1 W,  q' = (I + W D)^-1 (q - W e),
-  then R = R_d - D U - e. Viscous: D_t = h A eta, R_d the gap law's (its b_n), for a closed
-  contact; an open one (u_n + b_n >= 0 with no impulse from it: the dry law's open case)
-  carries nothing, viscous part included. (Where the coupling W_nt c u_t / (1 + W_tt c),
-  c = h A eta, alone would open a contact that u_n + b_n < 0 closes, the law has no closed
-  solution and the parallel problem's answer is kept: the viscous part with R_d,n = 0.)
+  then R = R_d - D U - e. Viscous: D_t = h A eta, R_d the gap law's (its b_n).
 - COHESIVE (a bonded joint; beta = 1 - d): the normal stress is k_n (-g_theta) in compression
   and -beta k_n g_theta in tension (saxum.laws), a kink at g_theta = 0 solved as two
   branches. Compression: R_d is the compliant contact, ELASTIC's with c_n = 0 (C_n added to
@@ -54,8 +50,8 @@ T (dim x dim), r (dim), R_c (inf without a cap)];
 the sweep kernels visit the flagged rows after the dry ones and call `law_solve_2d` /
 `law_solve_3d`: u' = P u + s'' (u the kernel's local velocity with b_n added, so
 s'' = -P W e + b - P b), the dry solve on W', then R = R_d - D U - e with
-U = W' R_d + u' - b (flag 2 and R_d,n = 0: R = T u + r instead; flag 1 and u_n + b_n >= 0:
-R = 0, open). For compliance, P = I, D = e = 0.
+U = W' R_d + u' - b (flag 2 and R_d,n = 0: R = T u + r instead). For compliance, P = I,
+D = e = 0.
 `update_joints` advances the state after the solve (slip, history, damage, crush:
 saxum.laws).
 """
@@ -230,11 +226,7 @@ def _parallel(w, dd, ee, bb, m, row, o_w, o_p, o_s, o_d, o_e):
 def law_solve_2d(m, ut, un, bn, inv_nn, inv_tn, inv_tt, slide_plus, slide_minus, mu):
     """Total impulse (R_t, R_n) [N s] of a contact with a joint law in 2D: law_map row m, the
     kernel's local velocity (u_t, u_n + b_n) [m/s], b_n, and the factors of W'
-    (saxum.solver.local2d.factorize_contact_2d). A contact that no impulse keeps closed
-    (u_n + b_n >= 0), other than an open bonded joint's (flag 2), carries none: a viscous
-    joint's shear acts on a closed contact only."""
-    if m[0] < 1.5 and un >= 0.0:
-        return 0.0, 0.0
+    (saxum.solver.local2d.factorize_contact_2d)."""
     qt = m[5] * ut + m[6] * un + m[9]
     qn = m[7] * ut + m[8] * un + m[10]
     rdt, rdn = solve_factored_contact_2d(m[1], m[2], m[4], inv_nn, inv_tn, inv_tt, slide_plus,
@@ -254,9 +246,6 @@ def law_solve_2d(m, ut, un, bn, inv_nn, inv_tn, inv_tt, slide_plus, slide_minus,
 def law_solve_3d(m, u, bn, mu, wp, rr):
     """law_solve_2d in 3D: u [m/s] (t, n + b_n, s) in, rr [N s] the impulse (in: the dry
     part's starting guess; out: the total); wp: 3 x 3 work memory for W'."""
-    if m[0] < 1.5 and u[1] >= 0.0:  # open (law_solve_2d)
-        rr[0], rr[1], rr[2] = 0.0, 0.0, 0.0
-        return
     u0, u1, u2 = u[0], u[1], u[2]
     u[0] = m[10] * u0 + m[11] * u1 + m[12] * u2 + m[19]
     u[1] = m[13] * u0 + m[14] * u1 + m[15] * u2 + m[20]
