@@ -33,18 +33,23 @@ law (LMGC90 keeps g0 only where its solver first met the contact, on its first s
 Joint laws in stresses (per unit of the contact's `area` A [m^2; 2D: m per metre of depth];
 parameters in `Parameter`, solved by the same NLGS through saxum.solver.laws_local):
 
-- ELASTIC (after LMGC90's ELAS_REP_STD / VISCO_ELAS_REP_STD): a normal spring k_n [Pa/m] and
+- ELASTIC (after LMGC90's ELASTIC_REPELL_CLB / VISCO_ELASTIC_REPELL_CLB, in stresses and
+  theta-weighted: docs/method.md compares them): a normal spring k_n [Pa/m] and
   dashpot c_n [Pa s/m] that only push, sigma_n = max(0, -k_n g - c_n dg/dt), g the gap (its
   negative part the joint's closure), and a tangential spring k_t [Pa/m] in series with a
   Coulomb slider, |tau| <= mu sigma_n (k_t = 0: rigid-plastic Coulomb). No projection: the
   closure is the spring's. A point with no area (edge against edge in 3D) falls back to
   Signorini-Coulomb.
-- VISCOUS_COULOMB: the gap law's Signorini condition, and friction with a viscous term in
-  parallel, |R_t + h A eta U_t| <= mu R_n (eta [Pa s/m]): the shear stress is a Coulomb
-  part bounded by mu sigma_n plus eta times the sliding velocity (the "viscous friction" of
-  the NSCD method, NSCD.md; V. Acary & B. Brogliato, Numerical Methods for Nonsmooth
-  Dynamical Systems, Springer 2008, sec. 7: a smooth force in parallel with the non-smooth
-  law).
+- VISCOUS_COULOMB: the gap law's Signorini condition, and Coulomb friction plus a viscous
+  term, |R_t| <= mu R_n + h A eta |U_t| with R_t = -(mu R_n + h A eta |U_t|) U_t / |U_t|
+  when U_t != 0 (eta [Pa s/m], U_t [m/s] the sliding velocity at the end of the step): the
+  shear stress is mu sigma_n + eta v_t while sliding, at most mu sigma_n while sticking.
+  Solved as a dashpot in parallel, |R_t + h A eta U_t| <= mu R_n, the same law (the "viscous
+  friction" of the NSCD method, NSCD.md; V. Acary & B. Brogliato, Numerical Methods for
+  Nonsmooth Dynamical Systems, Springer 2008, sec. 7: a smooth force in parallel with the
+  non-smooth law). The viscous part acts on every active contact of the law, open ones
+  within the alert distance too. LMGC90 has no such law (its "viscous law with Coulomb
+  threshold" caps the viscous force at mu R_n instead: docs/method.md).
 - COHESIVE: a mortar joint, a bond in parallel with a Coulomb contact (the adhesion-friction
   coupling of M. Raous, L. Cangemi & M. Cocu, CMAME 177 (1999) 383-399, and F. Monerie &
   V. Acary, Rev. Eur. Elem. Finis 10 (2001) 489-503). With d in [0, 1] the damage and g the
