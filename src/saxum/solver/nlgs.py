@@ -615,6 +615,13 @@ _ANDERSON_GUARD = 100.0
 before any mix is undone, and the sweeps go on without mixes (a guard against a mix that
 throws the iterate away; the change per sweep is not monotone: after a good mix its first
 sweeps change up to ~25 times what the sweeps before it did, then less, on the 0.7 g wall)."""
+_ANDERSON_GUARD_3D = 1.0
+"""_ANDERSON_GUARD for 3D contacts (nlgs_3d_anderson): a mix is undone where the cycle after it
+ends above the least error at the end of a cycle. With 100, as in 2D, the mixes go on near the
+solution and hold the error there: the shaken 3D L wall's cold first step (768 contacts) then
+reaches 1e-6 in 1283 sweeps against plain sweeps' 2227, but stalls at 1.9e-6 on the way to
+1e-8 (plain: 29866 sweeps); with 1, 2290 and 21680 (docs/method.md, "Anderson acceleration
+in 3D")."""
 _ANDERSON_DROP = 1e-10
 """A difference of residuals that is within this (relative) of the span of the earlier
 ones is left out of the mix (its coefficient would be round-off)."""
@@ -671,6 +678,7 @@ def _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free,
     last one: no mix after the last sweep allowed. Returns (sweeps done, final error)."""
     depth = history_v.shape[0] - 2
     lead = _ANDERSON_CYCLE - depth - 1
+    guard = _ANDERSON_GUARD if local3d is None else _ANDERSON_GUARD_3D
     error = np.inf
     least = np.inf  # the least error at the end of a cycle, before its mix...
     mixed = np.inf  # ... and that of the last (the sweep that gave its y_m+1)
@@ -690,7 +698,7 @@ def _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free,
         error = _relative_change(v, v_prev, v_free, mass)
         if error <= tolerance:
             break
-        if k == _ANDERSON_CYCLE and error > _ANDERSON_GUARD * least:
+        if k == _ANDERSON_CYCLE and error > guard * least:
             # the last mix made things worse by more than the sweeps' own ups and downs:
             # back to where it started, and no more mixes
             _copy_iterate(history_v[depth + 1], history_r[depth + 1], v, impulse, active,
