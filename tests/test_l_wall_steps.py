@@ -34,6 +34,51 @@ def _step(name: str) -> tuple[AssembledProblem, np.ndarray]:
     return local, data["r"]
 
 
+_FCLIB = [1, 0, 2]
+"""Saxum's contact frame (t, n, s) in FCLIB's order (n, t, s): row r of saxum's is FCLIB's
+_FCLIB[r]."""
+
+
+def kernel_problem(name: str) -> dict:
+    """A stored step as nlgs_3d's arguments (benchmarks/anderson3d.py too): per contact the
+    two bodies its rows of H* touch (candidate, antagonist), their rows in saxum's frame, W's
+    diagonal blocks; v_free from q's tangential rows (H*_T v_free = q_T: H*_T has full column
+    rank on the free bodies, so this is the step's v_free to round-off) and b_n = q_n - H*_n
+    v_free; the impulses and velocities of NLGS's stored iterate r (v = v_free + M^-1 H*^T r)
+    and the problem (AssembledProblem) that measures the natural-map error."""
+    local, r = _step(name)
+    hstar = local.hstar.tocsr()
+    count = local.mu.size
+    bodies = local.inv_mass.size // 6
+    rows = hstar.toarray().reshape(count, 3, bodies, 6)
+    touched = np.abs(rows).sum(axis=(1, 3)) > 0.0
+    if not np.all(touched.sum(axis=1) == 2):
+        raise ValueError(f"{name}: every contact must touch two bodies")
+    pair = np.nonzero(touched)[1].reshape(count, 2)
+    cand, ant = pair[:, 0].copy(), pair[:, 1].copy()
+    at = np.arange(count)
+    h_cand = rows[at, :, cand][:, _FCLIB]
+    h_ant = rows[at, :, ant][:, _FCLIB]
+    w = local.w.toarray() if sp.issparse(local.w) else local.w
+    blocks = (3 * at[:, None] + np.array(_FCLIB)[None, :])
+    delassus = w[blocks[:, :, None], blocks[:, None, :]]
+    free = local.inv_mass > 0.0
+    tangential = np.concatenate([3 * at + 1, 3 * at + 2])
+    v_free = np.zeros(local.inv_mass.size)
+    v_free[free] = np.linalg.lstsq(hstar[tangential][:, free].toarray(),
+                                   local.q[tangential], rcond=None)[0]
+    bias = (local.q - hstar @ v_free)[3 * at]
+    inv_mass = local.inv_mass.reshape(bodies, 6)
+    v = v_free + local.inv_mass * (hstar.T @ r)
+    return {"cand": cand, "ant": ant, "h_cand": h_cand, "h_ant": h_ant, "delassus": delassus,
+            "bias": bias, "friction": local.mu.copy(), "active": np.ones(count, dtype=bool),
+            "count": count, "inv_mass": inv_mass,
+            "mass": np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
+                              where=inv_mass > 0.0),
+            "v_free": v_free.reshape(bodies, 6), "v": v.reshape(bodies, 6),
+            "impulse": r.reshape(count, 3)[:, _FCLIB].copy(), "local": local}
+
+
 def test_the_proximal_stage_finishes_a_step_fischer_burmeister_newton_leaves():
     """The hybrid's 3D attempt on step 41 (Hybrid._attempt, Newton hopeful and the proximal
     point near): Fischer-Burmeister Newton from NLGS's iterate does not reach the tolerance
