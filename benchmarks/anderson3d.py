@@ -17,7 +17,6 @@ wall (benchmarks/convergence.py, wall3d-shaken: 72 bricks under 0.7 g along x, d
 """
 
 import argparse
-import dataclasses
 import statistics
 import sys
 import time
@@ -124,7 +123,7 @@ def main() -> None:
             names = ("nlgs", "conic", "newton", "smoothing", "proximal")
             print(f"{variant}: {len(r['above'])} of {args.steps} steps above the tolerance "
                   f"{r['above']}, natural-map error up to {r['natural_max']:.2g}; finished by "
-                  + ", ".join(f"{n} {k}" for n, k in zip(names, r["finished"]) if k)
+                  + ", ".join(f"{n} {k}" for n, k in zip(names, r["finished"], strict=False) if k)
                   + f"; {r['sweeps_mean']:.0f} sweeps a step, {r['cpu_ms_mean']:.0f} ms of CPU a "
                   f"step; largest displacement {r['largest_displacement_m']:.4f} m", flush=True)
 
