@@ -59,9 +59,9 @@ def kernel_problem(name: str) -> dict:
     at = np.arange(count)
     h_cand = rows[at, :, cand][:, _FCLIB]
     h_ant = rows[at, :, ant][:, _FCLIB]
-    w = local.w.toarray() if sp.issparse(local.w) else local.w
-    blocks = (3 * at[:, None] + np.array(_FCLIB)[None, :])
-    delassus = w[blocks[:, :, None], blocks[:, None, :]]
+    # W's diagonal blocks H*_a M^-1 H*_a^T, in saxum's frame
+    delassus = np.einsum("arbk,bk,asbk->ars", rows, local.inv_mass.reshape(bodies, 6),
+                         rows)[:, _FCLIB][:, :, _FCLIB]
     free = local.inv_mass > 0.0
     tangential = np.concatenate([3 * at + 1, 3 * at + 2])
     v_free = np.zeros(local.inv_mass.size)

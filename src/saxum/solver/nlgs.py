@@ -123,10 +123,11 @@ class NLGS(ContactSolver):
     and the steps after it add their own. Steps that do work of their own without an onset
     (a collapsing arch: 30-145 sweeps) are not refined: their accuracy is overtaken by the
     motion, and refining them cost 1.2-1.9 times the sweeps for nothing.
-    accelerate: the refinement's sweeps of a 2D rigid model of dry contacts, swept serially by
-    saxum's criterion, with restarted Anderson acceleration (nlgs_2d_anderson): the same
-    criterion on plain sweeps, reached in 2 to 2.5 times fewer on the onsets of the 0.7 g
-    wall (docs/method.md, "Anderson acceleration of the refinement")."""
+    accelerate: the refinement's sweeps of a rigid model of dry contacts, swept serially by
+    saxum's criterion, with restarted Anderson acceleration (nlgs_2d_anderson,
+    nlgs_3d_anderson): the same criterion on plain sweeps, reached in 2 to 2.5 times fewer on
+    the onsets of the 0.7 g wall (docs/method.md, "Anderson acceleration of the refinement"),
+    in 3D at most one cycle of sweeps more than plain ones ("Anderson acceleration in 3D")."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -256,7 +257,7 @@ class NLGS(ContactSolver):
             args += (self._sums, CRITERIA.index(self.criterion))
         args += (self.tolerance,)
         # the refinement's sweeps with Anderson acceleration (accelerate), where they are
-        # nlgs_2d's of dry contacts by saxum's criterion
+        # nlgs_2d's or nlgs_3d's of dry contacts by saxum's criterion
         accelerated = (self.accelerate and sweep in (nlgs_2d, nlgs_3d) and joint is None
                        and self._sums is None)
         if accelerated and self._accelerate_all:
