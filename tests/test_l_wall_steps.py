@@ -34,6 +34,51 @@ def _step(name: str) -> tuple[AssembledProblem, np.ndarray]:
     return local, data["r"]
 
 
+_FCLIB = [1, 0, 2]
+"""Saxum's contact frame (t, n, s) in FCLIB's order (n, t, s): row r of saxum's is FCLIB's
+_FCLIB[r]."""
+
+
+def kernel_problem(name: str) -> dict:
+    """A stored step as nlgs_3d's arguments (benchmarks/anderson3d.py too): per contact the
+    two bodies its rows of H* touch (candidate, antagonist), their rows in saxum's frame, W's
+    diagonal blocks; v_free from q's tangential rows (H*_T v_free = q_T: H*_T has full column
+    rank on the free bodies, so this is the step's v_free to round-off) and b_n = q_n - H*_n
+    v_free; the impulses and velocities of NLGS's stored iterate r (v = v_free + M^-1 H*^T r)
+    and the problem (AssembledProblem) that measures the natural-map error."""
+    local, r = _step(name)
+    hstar = local.hstar.tocsr()
+    count = local.mu.size
+    bodies = local.inv_mass.size // 6
+    rows = hstar.toarray().reshape(count, 3, bodies, 6)
+    touched = np.abs(rows).sum(axis=(1, 3)) > 0.0
+    if not np.all(touched.sum(axis=1) == 2):
+        raise ValueError(f"{name}: every contact must touch two bodies")
+    pair = np.nonzero(touched)[1].reshape(count, 2)
+    cand, ant = pair[:, 0].copy(), pair[:, 1].copy()
+    at = np.arange(count)
+    h_cand = rows[at, :, cand][:, _FCLIB]
+    h_ant = rows[at, :, ant][:, _FCLIB]
+    # W's diagonal blocks H*_a M^-1 H*_a^T, in saxum's frame
+    delassus = np.einsum("arbk,bk,asbk->ars", rows, local.inv_mass.reshape(bodies, 6),
+                         rows)[:, _FCLIB][:, :, _FCLIB]
+    free = local.inv_mass > 0.0
+    tangential = np.concatenate([3 * at + 1, 3 * at + 2])
+    v_free = np.zeros(local.inv_mass.size)
+    v_free[free] = np.linalg.lstsq(hstar[tangential][:, free].toarray(),
+                                   local.q[tangential], rcond=None)[0]
+    bias = (local.q - hstar @ v_free)[3 * at]
+    inv_mass = local.inv_mass.reshape(bodies, 6)
+    v = v_free + local.inv_mass * (hstar.T @ r)
+    return {"cand": cand, "ant": ant, "h_cand": h_cand, "h_ant": h_ant, "delassus": delassus,
+            "bias": bias, "friction": local.mu.copy(), "active": np.ones(count, dtype=bool),
+            "count": count, "inv_mass": inv_mass,
+            "mass": np.divide(1.0, inv_mass, out=np.zeros_like(inv_mass),
+                              where=inv_mass > 0.0),
+            "v_free": v_free.reshape(bodies, 6), "v": v.reshape(bodies, 6),
+            "impulse": r.reshape(count, 3)[:, _FCLIB].copy(), "local": local}
+
+
 def test_the_proximal_stage_finishes_a_step_fischer_burmeister_newton_leaves():
     """The hybrid's 3D attempt on step 41 (Hybrid._attempt, Newton hopeful and the proximal
     point near): Fischer-Burmeister Newton from NLGS's iterate does not reach the tolerance
@@ -109,3 +154,65 @@ def test_a_near_3d_step_is_tried_whatever_the_back_off(monkeypatch, natural, tri
     report = sim.step(state)
     assert not report.converged
     assert calls == ([(True, True)] if tried else [])
+
+
+def _sweeps_3d(p: dict, accelerated: bool, tolerance: float, sweeps: int):
+    """nlgs_3d's (nlgs_3d_anderson's) sweeps on kernel_problem p from its stored iterate:
+    ((sweeps done, error), impulse, v)."""
+    from saxum.solver.nlgs import _ANDERSON_DEPTH, nlgs_3d, nlgs_3d_anderson
+
+    v, impulse = p["v"].copy(), p["impulse"].copy()
+    args = (p["cand"], p["ant"], p["h_cand"], p["h_ant"], p["delassus"], p["bias"],
+            p["friction"], p["active"], p["count"], p["inv_mass"], p["mass"], p["v_free"], v,
+            np.empty_like(v), impulse, np.empty((p["count"], 38)))
+    if accelerated:
+        history = (np.empty((_ANDERSON_DEPTH + 2,) + v.shape),
+                   np.empty((_ANDERSON_DEPTH + 2, p["count"], 3)))
+        out = nlgs_3d_anderson(*args, *history, tolerance, sweeps, 1.0)
+    else:
+        out = nlgs_3d(*args, None, None, None, 0, tolerance, sweeps, 1.0)
+    return out, impulse, v
+
+
+@pytest.fixture(scope="module")
+def onset19():
+    return kernel_problem("l_wall_step19.npz")
+
+
+def test_anderson_does_not_cure_the_first_onset_step(onset19):
+    """Step 19 from NLGS's capped iterate, sweeps to NLGS's tolerance 1e-6 (docs/method.md,
+    "Anderson acceleration in 3D"). The stored step is the one the run saw: NLGS's first sweep
+    from its iterate changes it by 1.36e-6 (its criterion at the cap, docs/method.md (f)).
+    Plain sweeps reach 1e-6 after 21 485 more (measured), far past the step's cap of 5000.
+    Anderson's first mix is undone by the 3D guard (_ANDERSON_GUARD_3D: the cycle after it ends
+    above the cycle before), after which it sweeps as the plain sweeps do from their 20th: it
+    takes exactly one cycle more (a bound, not a cure: the mixes of the sweeps' velocities do
+    not follow the slow motion of this step's impulses, 0.2 of |r| away), to the same
+    natural-map error (1.6e-5, to 1e-9 relative: the same sweeps)."""
+    from saxum.solver.nlgs import _ANDERSON_CYCLE
+
+    (first, error), _, _ = _sweeps_3d(onset19, False, 0.0, 1)
+    assert error == pytest.approx(1.36e-6, rel=0.01)  # measured in the run
+    (plain, plain_error), r_plain, _ = _sweeps_3d(onset19, False, 1e-6, 25_000)
+    (fast, fast_error), r_fast, _ = _sweeps_3d(onset19, True, 1e-6, 25_000)
+    assert plain_error <= 1e-6 and fast_error <= 1e-6
+    assert fast == plain + _ANDERSON_CYCLE
+    local = onset19["local"]
+    assert local.natural_map_error(r_fast) == pytest.approx(local.natural_map_error(r_plain),
+                                                            rel=1e-9)
+    assert local.natural_map_error(r_fast) > 1e-6  # still not a solution by the natural map
+
+
+def test_anderson_3d_is_deterministic_and_plain_within_a_cycle(onset19):
+    """Two accelerated runs of 200 sweeps (ten mixes tried) give the same bits; and a solve
+    that converges within the first cycle (tolerance 2e-6: NLGS's first sweep from the stored
+    iterate changes it by 1.36e-6) has no mix, so its result is that of the plain sweeps, to
+    round-off of the same arithmetic (1e-15 of the impulses)."""
+    (n1, e1), r1, v1 = _sweeps_3d(onset19, True, 0.0, 200)
+    (n2, e2), r2, v2 = _sweeps_3d(onset19, True, 0.0, 200)
+    assert (n1, e1) == (n2, e2)
+    assert np.array_equal(r1, r2) and np.array_equal(v1, v2)
+    (n, _), r_fast, _ = _sweeps_3d(onset19, True, 2e-6, 19)
+    (m, _), r_plain, _ = _sweeps_3d(onset19, False, 2e-6, 19)
+    assert n == m == 1
+    assert np.allclose(r_fast, r_plain, rtol=0.0, atol=1e-15 * np.abs(r_plain).max())

@@ -152,10 +152,11 @@ class NLGS(ContactSolver):
     and the steps after it add their own. Steps that do work of their own without an onset
     (a collapsing arch: 30-145 sweeps) are not refined: their accuracy is overtaken by the
     motion, and refining them cost 1.2-1.9 times the sweeps for nothing.
-    accelerate: the refinement's sweeps of a 2D rigid model of dry contacts, swept serially by
-    saxum's criterion, with restarted Anderson acceleration (nlgs_2d_anderson): the same
-    criterion on plain sweeps, reached in 2 to 2.5 times fewer on the onsets of the 0.7 g
-    wall (docs/method.md, "Anderson acceleration of the refinement")."""
+    accelerate: the refinement's sweeps of a rigid model of dry contacts, swept serially by
+    saxum's criterion, with restarted Anderson acceleration (nlgs_2d_anderson,
+    nlgs_3d_anderson): the same criterion on plain sweeps, reached in 2 to 2.5 times fewer on
+    the onsets of the 0.7 g wall (docs/method.md, "Anderson acceleration of the refinement"),
+    in 3D at most one cycle of sweeps more than plain ones ("Anderson acceleration in 3D")."""
 
     tolerance: float = 1e-6
     max_iterations: int = 5000
@@ -203,7 +204,7 @@ class NLGS(ContactSolver):
         """Every sweep of the solves with acceleration where accelerate allows it (Hybrid's
         refinement, whose sweeps are a solve of its own)."""
         self._history = (np.empty((0, 0, 0)), np.empty((0, 0, 2)))
-        """nlgs_2d_anderson's work memory (history_v, history_r)."""
+        """nlgs_2d_anderson's (nlgs_3d_anderson's) work memory (history_v, history_r)."""
         self._trend = True
         """Measure the error's trend at the cap (saxum.solver.hybrid measures its own)."""
         self._sticking_failed = False
@@ -292,8 +293,8 @@ class NLGS(ContactSolver):
             args += (self._sums, CRITERIA.index(self.criterion))
         args += (self.tolerance,)
         # the refinement's sweeps with Anderson acceleration (accelerate), where they are
-        # nlgs_2d's of dry contacts by saxum's criterion
-        accelerated = (self.accelerate and sweep is nlgs_2d and joint is None
+        # nlgs_2d's or nlgs_3d's of dry contacts by saxum's criterion
+        accelerated = (self.accelerate and sweep in (nlgs_2d, nlgs_3d) and joint is None
                        and self._sums is None)
         if accelerated and self._accelerate_all:
             sweep = self._anderson(v, problem.count)
@@ -370,17 +371,20 @@ class NLGS(ContactSolver):
         return SolverReport(iterations, error, converged, "nlgs", rate=rate, stalled=stalled)
 
     def _anderson(self, v: np.ndarray, count: int):
-        """nlgs_2d_anderson on nlgs_2d's arguments, with its work memory for velocities like
-        v and count contacts."""
+        """nlgs_2d_anderson (nlgs_3d_anderson) on nlgs_2d's (nlgs_3d's) arguments, with its
+        work memory for velocities like v and count contacts."""
         history_v, history_r = self._history
-        if history_v.shape[1:] != v.shape or history_r.shape[1] < count:
+        dim = 2 if v.shape[1] == 3 else 3
+        if (history_v.shape[1:] != v.shape or history_r.shape[1] < count
+                or history_r.shape[2] != dim):
             shape = (_ANDERSON_DEPTH + 2,)
             self._history = history_v, history_r = (
                 np.empty(shape + v.shape),
-                np.empty(shape + (max(count, 2 * history_r.shape[1]), 2)))
+                np.empty(shape + (max(count, 2 * history_r.shape[1]), dim)))
+        kernel = nlgs_2d_anderson if dim == 2 else nlgs_3d_anderson
 
         def sweeps(*args):
-            return nlgs_2d_anderson(*args[:16], history_v, history_r, *args[-3:])
+            return kernel(*args[:16], history_v, history_r, *args[-3:])
         return sweeps
 
     def _back_off(self) -> None:
@@ -658,6 +662,13 @@ _ANDERSON_GUARD = 100.0
 before any mix is undone, and the sweeps go on without mixes (a guard against a mix that
 throws the iterate away; the change per sweep is not monotone: after a good mix its first
 sweeps change up to ~25 times what the sweeps before it did, then less, on the 0.7 g wall)."""
+_ANDERSON_GUARD_3D = 1.0
+"""_ANDERSON_GUARD for 3D contacts (nlgs_3d_anderson): a mix is undone where the cycle after it
+ends above the least error at the end of a cycle. With 100, as in 2D, the mixes go on near the
+solution and hold the error there: the shaken 3D L wall's cold first step (768 contacts) then
+reaches 1e-6 in 1283 sweeps against plain sweeps' 2227, but stalls at 1.9e-6 on the way to
+1e-8 (plain: 29866 sweeps); with 1, 2290 and 21680 (docs/method.md, "Anderson acceleration
+in 3D")."""
 _ANDERSON_DROP = 1e-10
 """A difference of residuals that is within this (relative) of the span of the earlier
 ones is left out of the mix (its coefficient would be round-off)."""
@@ -668,25 +679,53 @@ def nlgs_2d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
                      inv_mass, mass, v_free, v, v_prev, impulse, work, history_v, history_r,
                      tolerance, max_iterations, relaxation):
     """nlgs_2d's sweeps of dry contacts by saxum's criterion, with restarted Anderson
-    acceleration (type II; D. G. Anderson, J. ACM 12, 1965; H. F. Walker and P. Ni, SIAM J.
-    Numer. Anal. 49, 2011): after every _ANDERSON_CYCLE sweeps, from the last m + 1 sweeps'
-    iterates y_0 .. y_m+1 (y_i+1 = G(y_i), G a sweep) and residuals f_i = y_i+1 - y_i measured
-    as the criterion does, in the M-norm of the velocities,
+    acceleration (_anderson_sweeps). history_v (m + 2, bodies, 3), history_r (m + 2, >= count,
+    2): work memory. Returns (sweeps done, final error)."""
+    if _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, None,
+                    None) == 0:
+        return 0, 0.0
+    return _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free, v,
+                            v_prev, impulse, work, history_v, history_r, None, tolerance,
+                            max_iterations, relaxation)
+
+
+@nb.njit(cache=True)
+def nlgs_3d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count,
+                     inv_mass, mass, v_free, v, v_prev, impulse, work, history_v, history_r,
+                     tolerance, max_iterations, relaxation):
+    """nlgs_3d's sweeps of dry contacts by saxum's criterion, with restarted Anderson
+    acceleration (_anderson_sweeps; the mixed impulses projected onto the 3D Coulomb cones).
+    history_v (m + 2, bodies, 6), history_r (m + 2, >= count, 3): work memory. Returns
+    (sweeps done, final error)."""
+    if _pack_dry_3d(h_cand, h_ant, delassus, bias, friction, active, count, work) == 0:
+        return 0, 0.0
+    return _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free, v,
+                            v_prev, impulse, work, history_v, history_r, np.empty((2, 3)),
+                            tolerance, max_iterations, relaxation)
+
+
+@nb.njit(cache=True)
+def _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free, v, v_prev,
+                     impulse, work, history_v, history_r, local3d, tolerance, max_iterations,
+                     relaxation):
+    """Sweeps of dry contacts (nlgs_2d's where local3d is None, nlgs_3d's else: local3d (2, 3)
+    its single-contact work memory; `work` packed) by saxum's criterion, with restarted
+    Anderson acceleration (type II; D. G. Anderson, J. ACM 12, 1965; H. F. Walker and P. Ni,
+    SIAM J. Numer. Anal. 49, 2011): after every _ANDERSON_CYCLE sweeps, from the last m + 1
+    sweeps' iterates y_0 .. y_m+1 (y_i+1 = G(y_i), G a sweep) and residuals f_i = y_i+1 - y_i
+    measured as the criterion does, in the M-norm of the velocities,
         gamma = argmin |f_m - sum_l gamma_l (f_l+1 - f_l)|_M,
         y = y_m+1 - sum_l gamma_l (y_l+2 - y_l+1),
     for the impulses and the velocities alike (v is affine in R: v = v_free + M^-1 H R), then
     each impulse projected onto its Coulomb cone (its change pushed into v). Where a sweep's
     change converges like rho^k with rho near 1 (Gauss-Seidel on an assembly's slowest modes:
-    the onset of a slide), the mix removes the m slowest directions at once. Safeguard: where
-    the sweep after a mix changes more than the sweep before it, the iterate goes back to
-    y_m+1. Every sweep is a sweep of nlgs_2d and the error is that of the last one (a mix is
-    never the last change). history_v (m + 2, bodies, 3), history_r (m + 2, >= count, 2):
-    work memory. Returns (sweeps done, final error)."""
-    if _pack_all_2d(h_cand, h_ant, delassus, bias, friction, active, count, work, None,
-                    None) == 0:
-        return 0, 0.0
+    the onset of a slide), the mix removes the m slowest directions at once. Safeguard
+    (_ANDERSON_GUARD): a mix after which the cycle's last sweep changes too much is undone and
+    the sweeps go on without mixes. Every sweep is a plain sweep and the error is that of the
+    last one: no mix after the last sweep allowed. Returns (sweeps done, final error)."""
     depth = history_v.shape[0] - 2
     lead = _ANDERSON_CYCLE - depth - 1
+    guard = _ANDERSON_GUARD if local3d is None else _ANDERSON_GUARD_3D
     error = np.inf
     least = np.inf  # the least error at the end of a cycle, before its mix...
     mixed = np.inf  # ... and that of the last (the sweep that gave its y_m+1)
@@ -697,11 +736,17 @@ def nlgs_2d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
     while it < max_iterations:
         it += 1
         k += 1
-        _dry_sweep_2d(cand, ant, active, count, work, v, impulse, inv_mass, relaxation, None)
+        if local3d is None:
+            _dry_sweep_2d(cand, ant, active, count, work, v, impulse, inv_mass, relaxation,
+                          None)
+        else:
+            _dry_sweep_3d(0, count, False, active, np.empty(0, dtype=np.int64), cand, ant,
+                          work, delassus, v, impulse, inv_mass, relaxation, None, local3d[0],
+                          local3d[1])
         error = _relative_change(v, v_prev, v_free, mass)
         if error <= tolerance:
             break
-        if k == _ANDERSON_CYCLE and error > _ANDERSON_GUARD * least:
+        if k == _ANDERSON_CYCLE and error > guard * least:
             # the last mix made things worse by more than the sweeps' own ups and downs:
             # back to where it started, and no more mixes
             _copy_iterate(history_v[depth + 1], history_r[depth + 1], v, impulse, active,
@@ -714,9 +759,9 @@ def nlgs_2d_anderson(cand, ant, h_cand, h_ant, delassus, bias, friction, active,
         if k >= lead:
             _copy_iterate(v, impulse, history_v[k - lead], history_r[k - lead], active,
                           count)
-        if k == _ANDERSON_CYCLE:
+        if k == _ANDERSON_CYCLE and it < max_iterations:
             _anderson_mix(cand, ant, work, v, impulse, inv_mass, mass, active, count,
-                          history_v, history_r)
+                          history_v, history_r, local3d)
             _relative_change(v, v_prev, v_free, mass)
             mixed = error
             least = min(least, error)
@@ -732,15 +777,16 @@ def _copy_iterate(v, impulse, to_v, to_r, active, count):
             to_v[i, j] = v[i, j]
     for a in range(count):
         if active[a]:
-            to_r[a, 0] = impulse[a, 0]
-            to_r[a, 1] = impulse[a, 1]
+            for j in range(impulse.shape[1]):
+                to_r[a, j] = impulse[a, j]
 
 
 @nb.njit(cache=True)
 def _anderson_mix(cand, ant, work, v, impulse, inv_mass, mass, active, count, history_v,
-                  history_r):
-    """v, impulse = nlgs_2d_anderson's mix of the iterates in history_v, history_r, the
-    impulses projected onto their cones."""
+                  history_r, local3d):
+    """v, impulse = _anderson_sweeps's mix of the iterates in history_v, history_r, the
+    impulses projected onto their cones (2D where local3d is None, else 3D, local3d[1] work
+    memory)."""
     depth = history_v.shape[0] - 2
     nb_, dof = v.shape[0], v.shape[1]
     rows = nb_ * dof
@@ -794,22 +840,54 @@ def _anderson_mix(cand, ant, work, v, impulse, inv_mass, mass, active, count, hi
     for a in range(count):
         if not active[a]:
             continue
-        rt = history_r[depth + 1, a, 0]
-        rn = history_r[depth + 1, a, 1]
-        for c in range(depth):
-            rt -= gamma[c] * (history_r[c + 2, a, 0] - history_r[c + 1, a, 0])
-            rn -= gamma[c] * (history_r[c + 2, a, 1] - history_r[c + 1, a, 1])
-        impulse[a, 0] = rt
-        impulse[a, 1] = rn
-        mu = work[a, 17]
-        if abs(rt) <= mu * rn:
-            continue
-        pt = pn = 0.0  # the polar cone: the origin
-        if mu * abs(rt) > -rn:  # onto the cone's edge on rt's side
-            t = (mu * abs(rt) + rn) / (1.0 + mu * mu)
-            pt = math.copysign(mu * t, rt)
-            pn = t
-        _push_2d(a, cand, ant, work[a], v, impulse, inv_mass, 1.0, pt, pn)
+        for j in range(impulse.shape[1]):
+            y = history_r[depth + 1, a, j]
+            for c in range(depth):
+                y -= gamma[c] * (history_r[c + 2, a, j] - history_r[c + 1, a, j])
+            impulse[a, j] = y
+        if local3d is None:
+            _project_2d(a, cand, ant, work[a], v, impulse, inv_mass)
+        else:
+            _project_3d(a, cand, ant, work[a], v, impulse, inv_mass, local3d[1])
+
+
+@nb.njit(inline="always")
+def _project_2d(a, cand, ant, row, v, impulse, inv_mass):
+    """Contact a's impulse [N s] projected onto its Coulomb cone |r_t| <= mu r_n (mu row[17],
+    the row of nlgs_2d's `work`), its change pushed into v."""
+    rt = impulse[a, 0]
+    rn = impulse[a, 1]
+    mu = row[17]
+    if abs(rt) <= mu * rn:
+        return
+    pt = pn = 0.0  # the polar cone: the origin
+    if mu * abs(rt) > -rn:  # onto the cone's edge on rt's side
+        t = (mu * abs(rt) + rn) / (1.0 + mu * mu)
+        pt = math.copysign(mu * t, rt)
+        pn = t
+    _push_2d(a, cand, ant, row, v, impulse, inv_mass, 1.0, pt, pn)
+
+
+@nb.njit(inline="always")
+def _project_3d(a, cand, ant, row, v, impulse, inv_mass, rr):
+    """Contact a's impulse (t, n, s) [N s] projected onto its Coulomb cone
+    |(r_t, r_s)| <= mu r_n (mu row[37], the row of nlgs_3d's `work`), its change pushed into
+    v; rr: a 3-vector, work memory."""
+    rt = impulse[a, 0]
+    rn = impulse[a, 1]
+    rs = impulse[a, 2]
+    mu = row[37]
+    slip = math.sqrt(rt * rt + rs * rs)
+    if slip <= mu * rn:
+        return
+    rr[0] = rr[1] = rr[2] = 0.0  # the polar cone: the origin
+    if mu * slip > -rn:  # onto the cone's edge along (r_t, r_s)
+        t = (mu * slip + rn) / (1.0 + mu * mu)
+        scale = mu * t / slip
+        rr[0] = scale * rt
+        rr[1] = t
+        rr[2] = scale * rs
+    _push_3d(a, cand, ant, row, v, impulse, inv_mass, 1.0, rr)
 
 
 @nb.njit(inline="always")
@@ -1569,11 +1647,7 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
     row of `work` (at least count x 38): the candidate's three rows (6 dof each), the
     antagonist's rotational parts (its translational rows are minus the candidate's, as for
     any rigid 3D contact: saxum.bodies.rigid3d.contact_jacobians), W, b_n and mu."""
-    nactive = 0
-    for a in range(count):
-        if active[a]:
-            nactive += 1
-            _pack_3d(work, a, h_cand, h_ant, delassus, bias, friction, a)
+    nactive = _pack_dry_3d(h_cand, h_ant, delassus, bias, friction, active, count, work)
     if joints is not None:
         nactive += _pack_joints_3d(h_cand, h_ant, delassus, bias, friction, work, joints)
     if nactive == 0:
@@ -1601,6 +1675,17 @@ def nlgs_3d(cand, ant, h_cand, h_ant, delassus, bias, friction, active, count, i
         if error <= tolerance:
             break
     return it, error
+
+
+@nb.njit(inline="always")
+def _pack_dry_3d(h_cand, h_ant, delassus, bias, friction, active, count, work):
+    """The active dry contacts' rows of nlgs_3d's `work`; returns how many."""
+    nactive = 0
+    for a in range(count):
+        if active[a]:
+            nactive += 1
+            _pack_3d(work, a, h_cand, h_ant, delassus, bias, friction, a)
+    return nactive
 
 
 @nb.njit(inline="always")
