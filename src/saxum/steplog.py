@@ -16,7 +16,9 @@ the sweeps ran out while it was still falling; or the contact solve converged an
 gap-based law's position projection did not."""
 
 
-@dataclass(frozen=True)
+# slotted, not frozen: one is made every step, and a frozen dataclass's __init__ sets each of
+# its fields through object.__setattr__ (several us a step on a small model); read-only by use
+@dataclass(slots=True)
 class StepReport:
     """One step: end time [s], solver sweeps, final error [-], converged (the contact solve and
     the projection, if any), contacts found, contacts carrying load (R_n > 0), largest

@@ -283,8 +283,8 @@ class Detector:
             contacts.count, self.kept_faces = polygon_contacts(*args, *out)
         if m.has_round:
             self._round_contacts(q, contacts)
-        contacts.side_kind[: contacts.count] = 0
-        if m.fe is not None:
+        if m.fe is not None:  # side_kind is read and written for deformable blocks only
+            contacts.side_kind[: contacts.count] = 0
             self._node_contacts(q, contacts)
 
     def _blocks_in_place(self, block: int) -> bool:

@@ -34,7 +34,7 @@ def error_trend(errors: list[float], sweeps: int) -> tuple[float, bool]:
     return rate, rate > 1.0 - STALLED
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)  # made every step: slotted, not frozen (saxum.steplog.StepReport)
 class SolverReport:
     """What a solver did on one step: iterations (Gauss-Seidel sweeps), final error,
     converged or not, and which solver finished the step (an entry of SOLVER_NAMES: "nlgs",

@@ -184,6 +184,8 @@ class NLGS(ContactSolver):
                              f"{self.criterion!r}")
         check_refinement(self)
         self._sums = None if self.criterion == "delassus" else np.zeros(8)
+        self._criterion = CRITERIA.index(self.criterion)
+        """The criterion's index for the kernels (_check_error)."""
         if self.threads is not None and not 0 <= self.threads <= nb.config.NUMBA_NUM_THREADS:
             raise InputError(f"solver.threads must be in 0..{nb.config.NUMBA_NUM_THREADS} "
                              f"(0: all cores; the machine's numba threads), got {self.threads}")
@@ -290,7 +292,7 @@ class NLGS(ContactSolver):
             args += self._partition(problem.model, c.candidate, c.antagonist, active,
                                     problem.count, width)
         else:
-            args += (self._sums, CRITERIA.index(self.criterion))
+            args += (self._sums, self._criterion)
         args += (self.tolerance,)
         # the refinement's sweeps with Anderson acceleration (accelerate), where they are
         # nlgs_2d's or nlgs_3d's of dry contacts by saxum's criterion
