@@ -296,8 +296,10 @@ class NLGS(ContactSolver):
         args += (self.tolerance,)
         # the refinement's sweeps with Anderson acceleration (accelerate), where they are
         # nlgs_2d's or nlgs_3d's of dry contacts by saxum's criterion
-        accelerated = (self.accelerate and sweep in (nlgs_2d, nlgs_3d) and joint is None
-                       and self._sums is None)
+        # (a model with joint laws whose step has none of their contacts sweeps as a dry one,
+        # so it is accelerated alike: the same bits as the dry path)
+        accelerated = (self.accelerate and sweep in (nlgs_2d, nlgs_3d)
+                       and (joint is None or len(joint) == 0) and self._sums is None)
         if accelerated and self._accelerate_all:
             sweep = self._anderson(v, problem.count)
         # the step's own problem (the projection's has no v_begin and no rest solution); the
