@@ -736,6 +736,7 @@ def _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free,
     mixing = True
     it = 0
     k = 0  # sweeps since the last mix
+    no_order = np.empty(0, dtype=np.int64)  # _dry_sweep_3d's, unread in nlgs_3d's order
     _relative_change(v, v_prev, v_free, mass)
     while it < max_iterations:
         it += 1
@@ -744,9 +745,8 @@ def _anderson_sweeps(cand, ant, delassus, active, count, inv_mass, mass, v_free,
             _dry_sweep_2d(cand, ant, active, count, work, v, impulse, inv_mass, relaxation,
                           None)
         else:
-            _dry_sweep_3d(0, count, False, active, np.empty(0, dtype=np.int64), cand, ant,
-                          work, delassus, v, impulse, inv_mass, relaxation, None, local3d[0],
-                          local3d[1])
+            _dry_sweep_3d(0, count, False, active, no_order, cand, ant, work, delassus, v,
+                          impulse, inv_mass, relaxation, None, local3d[0], local3d[1])
         error = _relative_change(v, v_prev, v_free, mass)
         if error <= tolerance:
             break
